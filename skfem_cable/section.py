@@ -1,0 +1,70 @@
+"""Cross-section and material of a cable (paper Table 1 symbols ``E_t, A_t, I_t, rho_t``)."""
+
+import math
+from dataclasses import dataclass
+
+
+def check_positive(name, value, allow_zero=False):
+    """Return ``float(value)``; raise ``ValueError`` naming ``name`` unless it is finite and
+    positive (or non-negative with ``allow_zero``)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    ok = math.isfinite(v) and (v >= 0 if allow_zero else v > 0)
+    if not ok:
+        bound = ">= 0" if allow_zero else "> 0"
+        raise ValueError(f"{name} must be finite and {bound}, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Section:
+    """Homogeneous cable section.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus (Pa), > 0.
+    A : float
+        Cross-section area (m^2), > 0.
+    I : float
+        Second moment of area (m^4), > 0.
+    rho : float
+        Density (kg/m^3), > 0.
+    gamma_axial, gamma_bending : float
+        Internal (Kelvin-Voigt) damping coefficients ``gamma_x, gamma_b`` of Eq. 36 in
+        seconds, >= 0: ``N = EA (eps + gamma_x eps_dot)``, ``M = EI (kappa + gamma_b kappa_dot)``.
+    """
+
+    E: float
+    A: float
+    I: float
+    rho: float
+    gamma_axial: float = 0.0
+    gamma_bending: float = 0.0
+
+    def __post_init__(self):
+        for name in ("E", "A", "I", "rho"):
+            object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        for name in ("gamma_axial", "gamma_bending"):
+            value = check_positive(name, getattr(self, name), allow_zero=True)
+            object.__setattr__(self, name, value)
+
+    @classmethod
+    def circular(cls, radius, E, rho, **damping):
+        """Solid circular section of the given ``radius`` (m), ``A = pi r^2``, ``I = pi r^4/4``."""
+        r = check_positive("radius", radius)
+        return cls(E=E, A=math.pi * r**2, I=math.pi * r**4 / 4, rho=rho, **damping)
+
+    @property
+    def EA(self):
+        return self.E * self.A
+
+    @property
+    def EI(self):
+        return self.E * self.I
+
+    @property
+    def mass_per_length(self):
+        return self.rho * self.A

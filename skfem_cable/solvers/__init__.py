@@ -1,0 +1,1 @@
+"""Solvers that see only the system's residual/tangent interface."""

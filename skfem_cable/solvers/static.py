@@ -1,0 +1,185 @@
+"""Static equilibrium: Newton's method with exact tangent, load stepping with automatic
+bisection, and a backtracking line search."""
+
+import numpy as np
+
+from ..linalg import PatternSolver, SingularMatrixError
+from ..state import State
+
+
+class StaticConvergenceError(RuntimeError):
+    """Newton did not converge; ``last_converged`` holds the last equilibrium reached."""
+
+    def __init__(self, message, last_converged):
+        super().__init__(message)
+        self.last_converged = last_converged
+
+
+def constraint_scale(system, q, lam):
+    """Scale of the constraint rows: the mean stiffness diagonal, so that both blocks of the
+    KKT matrix have comparable magnitude."""
+    lay = system.layout
+    data = np.zeros(lay.nnz)
+    system.assemble(q, lam, data=data)
+    A = lay.matrix(data)
+    d = np.abs(A.diagonal()[: system.n_dofs])
+    s = float(np.mean(d)) if d.size else 1.0
+    return s if s > 0 and np.isfinite(s) else 1.0
+
+
+def line_search_alpha(residual, q, lam, dx, r0, factor, scale, max_steps=3):
+    """Step length along the Newton direction from the projected residual
+    ``s(alpha) = dx . r(x + alpha dx)`` (a root of ``s`` is a stationary point of the energy
+    along ``dx`` for conservative problems): the full step is kept when ``|s(1)|`` dropped
+    to half of ``|s(0)|``, otherwise a few safeguarded secant steps toward ``s = 0``."""
+    n = len(q)
+    s0 = dx @ r0
+    if s0 == 0:
+        return 1.0
+    a_lo, s_lo, alpha = 0.0, s0, 1.0
+    for _ in range(max_steps):
+        r, _ = residual(q + alpha * dx[:n], lam + alpha * scale * dx[n:], factor)
+        s1 = dx @ r
+        if not np.isfinite(s1):
+            alpha *= 0.25
+            continue
+        if abs(s1) <= 0.5 * abs(s0):
+            return alpha
+        if s1 == s_lo:
+            return alpha
+        alpha_new = a_lo - s_lo * (alpha - a_lo) / (s1 - s_lo)
+        a_lo, s_lo = alpha, s1
+        alpha = float(np.clip(alpha_new, 0.1, 1.0))
+    return alpha
+
+
+def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line_search=True,
+                 max_bisections=8, method="auto", return_last_converged=False):
+    """Solve ``f_int(q) - f_ext(q) + C_q^T lambda = 0``, ``C(q) = 0``.
+
+    Parameters
+    ----------
+    system : System
+    load_steps : int
+        Number of equal load increments (the load factor goes from 1/load_steps to 1); a
+        step that fails is bisected up to ``max_bisections`` times.
+    tol : float
+        Convergence: ``|r_q| <= tol * f_ref`` and ``|C| <= tol * L_ref`` with ``f_ref`` the
+        largest of the external, internal and constraint forces and ``L_ref`` the system size;
+        or a Newton correction below ``tol * L_ref``; or a correction below
+        ``sqrt(tol) * L_ref`` that no longer contracts.  The last two detect the round-off
+        floor: in absolute coordinates the strain carries an error of about ``1e-16 L/h``,
+        so the residual of a very stiff cable stalls near ``EA * 1e-16 L/h`` before
+        reaching ``tol`` at small loads.
+    max_iter : int
+        Newton iterations per load step.
+    initial : State, optional
+        Starting configuration (default: the bodies' initial coordinates).
+    line_search : bool
+        Backtrack on the scaled residual norm.
+    method : {"auto", "banded", "sparse"}
+        Linear solver (see ``linalg.PatternSolver``).
+    return_last_converged : bool
+        On failure return the last converged state (with ``stats["converged"] = False``)
+        instead of raising ``StaticConvergenceError``.
+
+    Returns
+    -------
+    State
+        With ``stats``: ``iterations`` (per load step), ``residual``, ``load_factor``,
+        ``factorizations``.
+    """
+    if int(load_steps) != load_steps or load_steps < 1:
+        raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
+    if not (0 < tol < 1):
+        raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
+    lay = system.layout
+    n = system.n_dofs
+    solver = PatternSolver(lay.indptr, lay.indices, method)
+    q = (system.q0 if initial is None else initial.q).copy()
+    lam = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
+    scale = constraint_scale(system, q, lam)
+    pos = system.q0.reshape(-1, 3)
+    L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300)
+    stats = {"iterations": [], "load_factor": [], "residual": [], "factorizations": 0}
+    converged_state = State(system, q.copy(), lam.copy(), stats)
+
+    def residual(q, lam, factor, data=None):
+        r, info = system.assemble(q, lam, factor, scale=scale, data=data)
+        return r, info["force_ref"]
+
+    def merit(r, f_ref):
+        rq = np.linalg.norm(r[:n]) / max(f_ref, 1e-300)
+        rc = np.linalg.norm(r[n:]) / scale / L_ref
+        return max(rq, rc)
+
+    done, step = 0.0, 1.0 / load_steps
+    previous = None
+    bisections = 0
+    while done < 1.0 - 1e-14:
+        factor = min(1.0, done + step)
+        qk, lamk = q.copy(), lam.copy()
+        if previous is not None and done > previous[2]:
+            # secant predictor from the last two equilibria
+            w = (factor - done) / (done - previous[2])
+            qk += w * (q - previous[0])
+            lamk += w * (lam - previous[1])
+        history = []
+        ok = False
+        dx_prev = np.inf
+        for it in range(max_iter + 1):
+            data = np.zeros(lay.nnz)
+            r, f_ref = residual(qk, lamk, factor, data)
+            m = merit(r, f_ref)
+            history.append(m)
+            if not np.isfinite(m):
+                break
+            if m <= tol:
+                ok = True
+                break
+            if it == max_iter:
+                break
+            try:
+                solver.factor(data)
+            except SingularMatrixError as err:
+                history.append(f"singular matrix at unknown {err.index}")
+                break
+            dx = solver.solve(-r)
+            dxn = np.max(np.abs(dx[:n]))
+            if dxn <= tol * L_ref or (dxn <= np.sqrt(tol) * L_ref and dxn >= 0.5 * dx_prev):
+                # the correction is negligible, or stopped contracting at a small size:
+                # the round-off floor of the residual is reached
+                qk = qk + dx[:n]
+                lamk = lamk + scale * dx[n:]
+                ok = True
+                break
+            dx_prev = dxn
+            alpha = line_search_alpha(residual, qk, lamk, dx, r, factor, scale) if line_search else 1.0
+            qk = qk + alpha * dx[:n]
+            lamk = lamk + alpha * scale * dx[n:]
+        stats["factorizations"] = solver.factorizations
+        if ok:
+            previous = (q, lam, done)
+            q, lam, done = qk, lamk, factor
+            stats["iterations"].append(it)
+            stats["load_factor"].append(factor)
+            stats["residual"].append(history[-1])
+            converged_state = State(system, q.copy(), lam.copy(), stats)
+            if bisections:
+                step = min(2 * step, 1.0 / load_steps)
+                bisections -= 1
+            continue
+        if bisections < max_bisections:
+            step *= 0.5
+            bisections += 1
+            continue
+        msg = (f"static solve did not converge at load factor {factor:.6g} (load step "
+               f"{len(stats['iterations']) + 1}, increment {step:.3g}): residual history "
+               f"{[h if isinstance(h, str) else float(f'{h:.3e}') for h in history]}")
+        if return_last_converged:
+            converged_state.stats["converged"] = False
+            converged_state.stats["message"] = msg
+            return converged_state
+        raise StaticConvergenceError(msg, converged_state)
+    converged_state.stats["converged"] = True
+    return converged_state
