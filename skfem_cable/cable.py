@@ -65,13 +65,15 @@ class Cable:
             raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
         x = mesh.p[0]
         if np.any(np.diff(x) <= 0) or np.any(mesh.t[1] != mesh.t[0] + 1):
-            raise ValueError("mesh nodes must be sorted along the arc length (use MeshLine(np.sort(x)))")
+            raise ValueError("mesh nodes must be sorted along the arc length "
+                             "(use MeshLine(np.sort(x)))")
         n = len(x)
         positions = np.asarray(positions, dtype=float)
         slopes = np.asarray(slopes, dtype=float)
         for label, arr in (("positions", positions), ("slopes", slopes)):
             if arr.shape != (n, 3) or not np.all(np.isfinite(arr)):
-                raise ValueError(f"{label} must be a finite array of shape ({n}, 3), got {arr.shape}")
+                raise ValueError(f"{label} must be a finite array of shape ({n}, 3), "
+                                 f"got {arr.shape}")
         self.mesh = mesh
         self.section = section
         self.kind = kind
@@ -145,7 +147,8 @@ class Cable:
         """Consistent generalized force ``int S^T f dx`` of a uniform line load (N/m)."""
         f = np.asarray(force_per_length, dtype=float)
         if f.shape != (3,) or not np.all(np.isfinite(f)):
-            raise ValueError(f"force_per_length must be a finite 3-vector, got {force_per_length!r}")
+            raise ValueError("force_per_length must be a finite 3-vector, "
+                             f"got {force_per_length!r}")
         return asm(LinearForm(lambda v, w: f[0] * v[0] + f[1] * v[1] + f[2] * v[2]), self.basis)
 
     # --- elastic forces -------------------------------------------------------------------
@@ -205,8 +208,15 @@ class Cable:
         return 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
 
     def tension(self, q, s):
-        """Axial force ``N = EA eps`` (N)."""
-        return self.section.EA * self.strain(q, s)
+        """Axial force ``N = EA eps |r_x|`` (N) carried by the cross-section.
+
+        With the Green strain of Eq. 24 the energy ``EA/2 eps^2`` gives the force
+        ``dW/d|r_x| = EA eps |r_x|``; ``EA eps`` alone (the second Piola-Kirchhoff force)
+        differs from it by the factor ``|r_x| = 1 + O(eps)``.
+        """
+        _, a, _ = self.interpolate(q, s)
+        p = np.einsum("...i,...i", a, a)
+        return self.section.EA * 0.5 * (p - 1.0) * np.sqrt(p)
 
     def curvature(self, q, s):
         """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24)."""

@@ -104,7 +104,8 @@ def pin(node, target=None):
         else:
             p = np.asarray(target, dtype=float)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
-                raise ValueError(f"pin target must be a finite 3-vector, a Node or None, got {target!r}")
+                raise ValueError("pin target must be a finite 3-vector, a Node or None, "
+                                 f"got {target!r}")
         return LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3), p, f"pin {node!r}", labels)
     Gt = getattr(target, "position_matrix", np.eye(3))
     J = np.hstack([np.eye(3), -Gt])

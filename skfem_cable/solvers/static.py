@@ -154,7 +154,9 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
                 ok = True
                 break
             dx_prev = dxn
-            alpha = line_search_alpha(residual, qk, lamk, dx, r, factor, scale) if line_search else 1.0
+            alpha = 1.0
+            if line_search:
+                alpha = line_search_alpha(residual, qk, lamk, dx, r, factor, scale)
             qk = qk + alpha * dx[:n]
             lamk = lamk + alpha * scale * dx[n:]
         stats["factorizations"] = solver.factorizations

@@ -1,0 +1,34 @@
+"""Closed-form reference solutions used by the validation tests, demos and benchmarks."""
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
+
+
+def elastica_tip_load(k):
+    """Tip of an inextensible cantilever under a transverse tip load ``P`` (dead load).
+
+    With ``k = P L^2 / EI`` the tip rotation ``theta0`` follows from
+    ``sqrt(k) = K(p) - F(phi1, p)``, ``p = sin(pi/4 + theta0/2)``,
+    ``sin(phi1) = 1/(sqrt(2) p)`` (Bisshopp & Drucker 1945); then
+    ``x_tip/L = 2 p cos(phi1) / sqrt(k)`` and ``w/L = 1 - 2 (E(p) - E(phi1, p)) / sqrt(k)``.
+
+    Returns
+    -------
+    u, w : float
+        Horizontal shortening ``u/L = 1 - x_tip/L`` and deflection ``w/L``.
+    """
+    if not k > 0:
+        raise ValueError(f"k must be > 0, got {k!r}")
+    sk = np.sqrt(k)
+
+    def mismatch(m):
+        phi1 = np.arcsin(1.0 / np.sqrt(2.0 * m))
+        return ellipk(m) - ellipkinc(phi1, m) - sk
+
+    m = brentq(mismatch, 0.5 + 1e-15, 1.0 - 1e-15, xtol=1e-15, rtol=1e-15)
+    p = np.sqrt(m)
+    phi1 = np.arcsin(1.0 / (np.sqrt(2.0) * p))
+    u = 1.0 - 2.0 * p * np.cos(phi1) / sk
+    w = 1.0 - 2.0 * (ellipe(m) - ellipeinc(phi1, m)) / sk
+    return float(u), float(w)

@@ -1,0 +1,141 @@
+"""Elastic energy, force and tangent of the cable: numba vs numpy, analytic vs finite
+differences, and finite values in degenerate states."""
+
+import numpy as np
+import pytest
+
+from skfem_cable import Cable, Section
+
+SEC = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0)
+
+
+def make_cable(kind, n=5):
+    return Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], n, SEC, kind=kind)
+
+
+def states(cable):
+    """Random curved, stretched, compressed and straight configurations."""
+    rng = np.random.default_rng(42)
+    q0 = cable.q0.reshape(-1, 2, 3)
+    s = cable.mesh.p[0]
+    R = 1.3
+    arc = np.zeros_like(q0)
+    arc[:, 0] = np.column_stack([R * np.sin(s / R), R * (1 - np.cos(s / R)), 0.1 * s])
+    arc[:, 1] = np.column_stack([np.cos(s / R), np.sin(s / R), 0.1 + 0 * s])
+    stretched = q0 * np.array([1.02, 1.0])[None, :, None] * np.array([1.0, 1.02])[None, :, None]
+    compressed = q0 * 0.9
+    return {
+        "curved": arc.ravel() + 0.01 * rng.standard_normal(cable.n_dofs),
+        "random": cable.q0 + 0.05 * rng.standard_normal(cable.n_dofs),
+        "stretched": stretched.ravel(),
+        "compressed": compressed.ravel(),
+        "straight": cable.q0.copy(),
+    }
+
+
+def numba_eval(cable, q):
+    f = np.zeros(cable.n_dofs)
+    ne = cable.n_elements
+    nnz = 144 * ne
+    data = np.zeros(nnz)
+    scatter = np.arange(nnz).reshape(ne, 12, 12)
+    energy = cable.elastic(q, f, data, scatter)
+    K = np.zeros((cable.n_dofs,) * 2)
+    ed = cable.element_dofs
+    np.add.at(K, (ed[:, :, None], ed[:, None, :]), data.reshape(ne, 12, 12))
+    return energy.sum(), f, K
+
+
+def numpy_eval(cable, q):
+    energy, fe, Ke = cable.elastic_reference(q)
+    f = np.zeros(cable.n_dofs)
+    np.add.at(f, cable.element_dofs, fe.reshape(-1, 12))
+    K = np.zeros((cable.n_dofs,) * 2)
+    ed = cable.element_dofs
+    np.add.at(K, (ed[:, :, None], ed[:, None, :]), Ke.reshape(-1, 12, 12))
+    return energy.sum(), f, K
+
+
+@pytest.mark.parametrize("kind", ["cable", "truss"])
+def test_numba_and_numpy_paths_agree(kind):
+    cable = make_cable(kind)
+    for name, q in states(cable).items():
+        U1, f1, K1 = numba_eval(cable, q)
+        U2, f2, K2 = numpy_eval(cable, q)
+        assert U1 == pytest.approx(U2, rel=1e-12, abs=1e-300), name
+        assert np.allclose(f1, f2, rtol=0, atol=1e-12 * max(np.abs(f2).max(), 1e-300)), name
+        assert np.allclose(K1, K2, rtol=0, atol=1e-12 * np.abs(K2).max()), name
+
+
+@pytest.mark.parametrize("kind", ["cable", "truss"])
+def test_force_and_tangent_match_finite_differences(kind):
+    cable = make_cable(kind)
+    for name, q in states(cable).items():
+        U, f, K = numba_eval(cable, q)
+        h = 1e-6
+        E = np.eye(cable.n_dofs)
+        fd_f = np.array([(numba_eval(cable, q + h * e)[0] - numba_eval(cable, q - h * e)[0])
+                         / (2 * h) for e in E])
+        fd_K = np.array([(numba_eval(cable, q + h * e)[1] - numba_eval(cable, q - h * e)[1])
+                         / (2 * h) for e in E]).T
+        fscale = max(np.abs(f).max(), h * np.abs(K).max())  # f = 0 when unstressed
+        assert np.abs(fd_f - f).max() <= 1e-6 * fscale, name
+        assert np.abs(fd_K - K).max() <= 1e-6 * np.abs(K).max(), name
+
+
+def test_bending_force_and_tangent_alone_match_finite_differences():
+    """The bending part is many orders smaller than the axial part: check it separately."""
+    cable = make_cable("cable")
+    truss = make_cable("truss")
+    for name, q in states(cable).items():
+        def bending(q):
+            U1, f1, K1 = numba_eval(cable, q)
+            U2, f2, K2 = numba_eval(truss, q)
+            return U1 - U2, f1 - f2, K1 - K2
+        U, f, K = bending(q)
+        h = 1e-6
+        E = np.eye(cable.n_dofs)
+        fd_f = np.array([(bending(q + h * e)[0] - bending(q - h * e)[0]) / (2 * h) for e in E])
+        fd_K = np.array([(bending(q + h * e)[1] - bending(q - h * e)[1]) / (2 * h) for e in E]).T
+        if name == "straight":
+            assert U == 0 and np.abs(f).max() < 1e-20
+            assert np.all(np.isfinite(K)) and np.abs(K).max() > 0
+            continue
+        assert np.abs(fd_f - f).max() <= 1e-5 * np.abs(f).max(), name
+        assert np.abs(fd_K - K).max() <= 1e-5 * np.abs(K).max(), name
+
+
+def test_degenerate_states_are_finite():
+    cable = make_cable("cable", n=6)
+    s = cable.mesh.p[0]
+    L = cable.length
+    folded = np.zeros((len(s), 2, 3))
+    folded[:, 0, 0] = np.minimum(s, L - s)
+    folded[:, 1, 0] = np.where(s < L / 2, 1.0, -1.0)
+    folded[np.isclose(s, L / 2), 1, 0] = 0.0
+    collapsed = np.zeros(cable.n_dofs)
+    for q in (folded.ravel(), collapsed, 0.2 * cable.q0):
+        U, f, K = numba_eval(cable, q)
+        assert np.isfinite(U) and np.all(np.isfinite(f)) and np.all(np.isfinite(K))
+
+
+def test_section_validation_names_parameter():
+    with pytest.raises(ValueError, match="E must be finite and > 0"):
+        Section(E=-1.0, A=1.0, I=1.0, rho=1.0)
+    with pytest.raises(ValueError, match="rho"):
+        Section(E=1.0, A=1.0, I=1.0, rho=float("nan"))
+    with pytest.raises(ValueError, match="gamma_axial must be finite and >= 0"):
+        Section(E=1.0, A=1.0, I=1.0, rho=1.0, gamma_axial=-0.1)
+    with pytest.raises(ValueError, match="radius"):
+        Section.circular(radius=0.0, E=1.0, rho=1.0)
+    circ = Section.circular(radius=0.01, E=7e10, rho=7800.0)
+    assert circ.A == pytest.approx(np.pi * 1e-4) and circ.I == pytest.approx(np.pi * 1e-8 / 4)
+
+
+def test_cable_input_validation():
+    with pytest.raises(ValueError, match="kind"):
+        Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, kind="rope")
+    with pytest.raises(ValueError, match="n_elements"):
+        Cable.straight([0, 0, 0], [1, 0, 0], 0, SEC)
+    with pytest.raises(ValueError, match="start and end"):
+        Cable.straight([0, 0, 0], [0, 0, 0], 2, SEC)
