@@ -33,7 +33,7 @@ def measure(n_elements, repeat=7):
 
     def assemble():
         data[:] = 0.0
-        system.assemble(q, lam, data=data)
+        system.evaluate(q, None, 0.0, lam, data=data)
 
     assemble()
     solver = PatternSolver(lay.indptr, lay.indices)

@@ -32,3 +32,20 @@ def elastica_tip_load(k):
     u = 1.0 - 2.0 * p * np.cos(phi1) / sk
     w = 1.0 - 2.0 * (ellipe(m) - ellipeinc(phi1, m)) / sk
     return float(u), float(w)
+
+
+def compound_pendulum_period(length, amplitude, g=9.81):
+    """Period of a uniform rigid bar pivoted at one end, released at rest at ``amplitude``
+    (rad from the downward vertical): ``T = 4 K(sin^2(amplitude/2)) / omega0`` with
+    ``omega0^2 = 3 g / (2 L)``."""
+    omega0 = np.sqrt(1.5 * g / length)
+    return float(4.0 * ellipk(np.sin(0.5 * amplitude) ** 2) / omega0)
+
+
+def string_frequency(length, tension, mass_per_length, EI=0.0, n=1):
+    """``n``-th transverse frequency (Hz) of a taut pinned string, with the first-order
+    bending correction of a tensioned pinned beam:
+    ``f_n = n/(2L) sqrt(T/mu) sqrt(1 + EI (n pi / L)^2 / T)``."""
+    k = n * np.pi / length
+    return float(n / (2 * length) * np.sqrt(tension / mass_per_length)
+                 * np.sqrt(1 + EI * k * k / tension))

@@ -9,9 +9,11 @@ from skfem.quadrature import get_quadrature
 from .element import ElementLineCableHermite, hermite
 from .kernels import cable as cable_kernel
 from .kernels import reference
+from .kernels.density import SLOPE_FLOOR
 from .section import Section
 
 KINDS = ("cable", "truss")
+_EMPTY = np.zeros(0)
 
 
 class Node:
@@ -132,6 +134,23 @@ class Cable:
         return 6 * index + np.arange(6)
 
     @property
+    def position_mask(self):
+        """True for position coordinates, False for slopes."""
+        return np.tile(np.repeat([True, False], 3), self.n_nodes)
+
+    def describe_dof(self, index):
+        """Which node and component a local coordinate is, e.g. ``node 3 r_x[1]``."""
+        node, k = divmod(int(index), 6)
+        return f"node {node} {'r' if k < 3 else 'r_x'}[{k % 3}]"
+
+    @property
+    def damped(self):
+        """Whether internal damping is active (``gamma_axial``, or ``gamma_bending`` of a
+        cable with bending)."""
+        sec = self.section
+        return sec.gamma_axial > 0 or (self.bending and sec.gamma_bending > 0)
+
+    @property
     def bending(self):
         return self.kind == "cable"
 
@@ -154,31 +173,43 @@ class Cable:
     # --- elastic forces -------------------------------------------------------------------
     @property
     def EI_active(self):
+        """Bending stiffness in use (0 for a truss)."""
         return self.section.EI if self.bending else 0.0
 
-    def elastic(self, q, f, data=None, scatter=None, cK=1.0, energy=None, edofs=None):
-        """Add ``dU/dq`` to ``f`` and ``cK d2U/dq2`` into ``data`` through ``scatter`` (numba
-        kernel); returns the energy ``[axial, bending]``.
+    def forces(self, q, v, f, data=None, scatter=None, cK=1.0, cC=0.0, energy=None,
+               power=None, edofs=None, f_damping=None):
+        """Add the elastic and damping force ``dU/dq + dD/dv`` to ``f`` and
+        ``cK d f/dq + cC d f/dv`` into ``data`` through ``scatter`` (numba kernel).
 
-        ``q`` and ``f`` are the cable's own coordinates, or global vectors when ``edofs`` (the
-        global DOFs of every element, shape ``(ne, 12)``) is given.
+        ``q``, ``v`` and ``f`` are the cable's own vectors, or global ones when ``edofs``
+        (the global DOFs of every element, shape ``(ne, 12)``) is given.  ``energy`` and
+        ``power`` (length 2) accumulate the axial/bending energy and dissipated power;
+        ``f_damping`` (like ``f``) the damping force alone.  ``v = None``: no damping.
         """
+        sec = self.section
         if edofs is None:
             edofs = self.element_dofs
-        if energy is None:
-            energy = np.zeros(2)
         if scatter is None:
             scatter = np.zeros((0, 12, 12), dtype=np.int64)
             data = np.zeros(0)
-        cable_kernel.force_tangent(q, edofs, self.Sx, self.Sxx, self.weights,
-                                   self.section.EA, self.EI_active, f, data, scatter, cK, energy)
-        return energy
+        energy = np.zeros(2) if energy is None else energy
+        power = np.zeros(2) if power is None else power
+        cable_kernel.force_tangent(q, q if v is None else v, edofs, self.Sx, self.Sxx,
+                                   self.weights, self.h, sec.EA, self.EI_active,
+                                   sec.gamma_axial if v is not None else 0.0,
+                                   sec.gamma_bending if v is not None else 0.0,
+                                   f, _EMPTY if f_damping is None else f_damping, data, scatter,
+                                   cK, cC, energy, power)
+        return energy, power
 
-    def elastic_reference(self, q):
-        """Energy, force and dense-per-element tangent with the vectorised numpy path."""
+    def forces_reference(self, q, v=None):
+        """Per-element energy, power, force and tangents ``(K, C)`` by the numpy path."""
+        sec = self.section
         qe = q[self.element_dofs].reshape(-1, 4, 3)
-        return reference.element_force_tangent(qe, self.Sx, self.Sxx, self.weights,
-                                               self.section.EA, self.EI_active)
+        ve = np.zeros_like(qe) if v is None else v[self.element_dofs].reshape(-1, 4, 3)
+        damping = (0.0, 0.0) if v is None else (sec.gamma_axial, sec.gamma_bending)
+        return reference.element_forces(qe, ve, self.Sx, self.Sxx, self.weights, self.h,
+                                        sec.EA, self.EI_active, *damping)
 
     # --- evaluation at arc length --------------------------------------------------------
     def locate(self, s):
@@ -208,18 +239,28 @@ class Cable:
         return 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
 
     def tension(self, q, s):
-        """Axial force ``N = EA eps |r_x|`` (N) carried by the cross-section.
+        """Axial force in the section (N): ``N = EA eps |r_x| - EI kappa^2 / |r_x|``.
 
-        With the Green strain of Eq. 24 the energy ``EA/2 eps^2`` gives the force
-        ``dW/d|r_x| = EA eps |r_x|``; ``EA eps`` alone (the second Piola-Kirchhoff force)
-        differs from it by the factor ``|r_x| = 1 + O(eps)``.
+        The first term is the force of the Green-strain law (``dW/d|r_x|`` of
+        ``EA/2 eps^2``; ``EA eps`` alone, the second Piola-Kirchhoff force, differs by the
+        factor ``|r_x| = 1 + O(eps)``); the second is the axial part of the section force
+        ``n = W_a - (W_b)'`` coming from the bending energy, whose curvature is measured per
+        current length (zero for a truss and negligible for taut tethers).
         """
-        _, a, _ = self.interpolate(q, s)
-        p = np.einsum("...i,...i", a, a)
-        return self.section.EA * 0.5 * (p - 1.0) * np.sqrt(p)
+        _, a, b = self.interpolate(q, s)
+        p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
+        lam = np.sqrt(p)
+        N = self.section.EA * 0.5 * (p - 1.0) * lam
+        if self.bending:
+            N = N - self.section.EI * _kappa2(a, b, p) / lam
+        return N
 
     def curvature(self, q, s):
-        """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24)."""
+        """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24), 1/m."""
         _, a, b = self.interpolate(q, s)
-        p = np.einsum("...i,...i", a, a)
-        return np.linalg.norm(np.cross(a, b), axis=-1) / np.maximum(p, 1e-300) ** 1.5
+        p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
+        return np.sqrt(_kappa2(a, b, p))
+
+
+def _kappa2(a, b, p):
+    return np.einsum("...i,...i", np.cross(a, b), np.cross(a, b)) / p**3

@@ -34,3 +34,15 @@ class PointMoment:
         p = a @ a
         Mx = np.cross(self.moment, np.eye(3)).T  # Mx @ v = M x v
         return Mx / p - 2.0 * np.outer(np.cross(self.moment, a), a) / p**2
+
+
+class TimeLoad:
+    """Time-dependent force ``force(t)`` (N) on three position coordinates ``dofs``."""
+
+    def __init__(self, dofs, force):
+        self.dofs = dofs
+        self.fn = force
+        self.force(0.0)
+
+    def force(self, t):
+        return _vector3(self.fn(t), f"force({t!r})")

@@ -4,16 +4,18 @@ import numpy as np
 
 
 class State:
-    """Coordinates ``q``, multipliers ``lam`` and solver statistics.
+    """Coordinates ``q``, multipliers ``lam``, optional velocities ``v`` and solver
+    statistics (an initial condition for ``simulate`` is a ``State`` with ``v``).
 
     ``position``, ``slope``, ``tension``, ``strain`` and ``curvature`` evaluate a cable's
     fields at reference arc lengths ``s`` (scalar or array; results ``s.shape + (3,)`` for
     vectors).
     """
 
-    def __init__(self, system, q, lam=None, stats=None):
+    def __init__(self, system, q, lam=None, stats=None, v=None):
         self.system = system
         self.q = np.asarray(q, dtype=float)
+        self.v = None if v is None else np.asarray(v, dtype=float)
         self.lam = np.zeros(system.n_constraints) if lam is None else np.asarray(lam, float)
         self.stats = dict(stats or {})
 

@@ -1,13 +1,15 @@
 """A multibody system: bodies stacked into one coordinate vector (Eq. 4), constraints with
-Lagrange multipliers, and loads; assembly of residual and KKT matrix on a fixed pattern.
+Lagrange multipliers, point masses and loads; residual and KKT matrix on a fixed pattern.
 
-The KKT matrix of the unknowns ``(q, lambda')`` is
+The KKT (iteration) matrix of the unknowns ``(q, lambda')`` is
 
-    [[cM M + cK (K + H(lambda) - dF_ext/dq),  s C_q^T],
-     [s C_q,                                   0      ]]
+    [[cM M + cC D + cK (K + H(lambda) - dF_ext/dq),  s C_q^T],
+     [s C_q,                                          0      ]]
 
-with ``K`` the elastic tangent, ``H`` the constraint Hessian term of Eq. 15 and ``s`` a
-constraint scaling (``lambda = s lambda'``) chosen by the solvers for conditioning.
+with ``K`` and ``D`` the stiffness and damping tangents of the bodies (Eqs. 13-15), ``H`` the
+constraint Hessian term of Eq. 15 and ``s`` a constraint scaling (``lambda = s lambda'``)
+chosen by the solvers for conditioning.  The constant part (mass and linear constraint
+Jacobians) is precomputed as CSR data vectors (``Layout.mass_data``, ``Layout.linear_data``).
 """
 
 import numpy as np
@@ -15,15 +17,16 @@ import scipy.sparse as sp
 
 from . import constraints as cons
 from .cable import Cable, Node
-from .loads import PointMoment, _vector3
+from .loads import PointMoment, TimeLoad, _vector3
+from .section import check_positive
 
 
 class System:
-    """Bodies, constraints and loads.
+    """Bodies, constraints, point masses and loads.
 
     Parameters
     ----------
-    bodies : sequence of Cable
+    bodies : sequence of bodies (``Cable``)
     """
 
     def __init__(self, bodies):
@@ -33,13 +36,17 @@ class System:
         self.offsets = {}
         n = 0
         for body in self.bodies:
+            if id(body) in self.offsets:
+                raise ValueError(f"body {body.name!r} appears twice in bodies")
             self.offsets[id(body)] = n
             n += body.n_dofs
         self.n_dofs = n
         self.constraints = []
         self.moments = []
-        self.f_const = np.zeros(n)
+        self.time_loads = []
+        self.point_masses = []
         self.gravity = np.zeros(3)
+        self._f_fixed = np.zeros(n)
         self._layout = None
 
     # --- building -------------------------------------------------------------------------
@@ -55,10 +62,13 @@ class System:
             return self._offset(item.body) + item.body.node_dofs(item.index)
         return self._offset(item) + np.arange(item.n_dofs)
 
-    def add_constraint(self, constraint):
-        self.constraints.append(constraint)
+    def _changed(self):
         self._layout = None
         return self
+
+    def add_constraint(self, constraint):
+        self.constraints.append(constraint)
+        return self._changed()
 
     def clamp(self, node, direction=None):
         """Clamp a node: position and slope direction fixed. Returns the system."""
@@ -70,28 +80,34 @@ class System:
         return self.add_constraint(cons.pin(node, target))
 
     def add_point_load(self, node, force):
-        """Constant force (N) at a node's position."""
-        self.f_const[self.dofs(node)[:3]] += _vector3(force, "force")
-        return self
+        """Force (N) at a node's position: a 3-vector, or a callable ``force(t)`` returning
+        one (a time-dependent load, whose work is booked as external work)."""
+        dofs = self.dofs(node)[:3]
+        if callable(force):
+            self.time_loads.append(TimeLoad(dofs, force))
+        else:
+            self._f_fixed[dofs] += _vector3(force, "force")
+        return self._changed()
 
     def add_point_moment(self, node, moment):
         """Moment (N m, fixed in space) at a cable node; see ``loads.PointMoment``."""
         self.moments.append(PointMoment(node, moment))
-        self._layout = None
-        return self
+        return self._changed()
 
     def add_gravity(self, g):
-        """Uniform gravity (m/s^2) on every body: consistent nodal forces ``int S^T rho A g``."""
-        g = _vector3(g, "g")
-        self.gravity = self.gravity + g
-        for body in self.bodies:
-            self.f_const[self.dofs(body)] += body.line_load(body.section.mass_per_length * g)
-        return self
+        """Uniform gravity (m/s^2) on every body and point mass (consistent nodal forces)."""
+        self.gravity = self.gravity + _vector3(g, "g")
+        return self._changed()
 
     def add_line_load(self, cable, force_per_length):
         """Uniform distributed load (N/m, fixed in space) along a cable."""
-        self.f_const[self.dofs(cable)] += cable.line_load(force_per_length)
-        return self
+        self._f_fixed[self.dofs(cable)] += cable.line_load(force_per_length)
+        return self._changed()
+
+    def add_point_mass(self, node, mass):
+        """Point mass (kg) at a node's position (e.g. a remote unit or a tip mass)."""
+        self.point_masses.append((self.dofs(node)[:3], check_positive("mass", mass)))
+        return self._changed()
 
     # --- layout ---------------------------------------------------------------------------
     @property
@@ -108,106 +124,146 @@ class System:
             self._layout = Layout(self)
         return self._layout
 
+    @property
+    def f_const(self):
+        """Constant generalized external force: fixed loads plus gravity."""
+        return self.layout.f_const
+
     def mass_matrix(self):
-        """Global constant mass matrix (Eq. 11)."""
-        return sp.block_diag([b.mass_matrix() for b in self.bodies], format="csr")
+        """Global constant mass matrix (Eq. 11) including point masses."""
+        M = sp.block_diag([b.mass_matrix() for b in self.bodies], format="lil")
+        for dofs, m in self.point_masses:
+            for d in dofs:
+                M[d, d] += m
+        return M.tocsr()
 
     def cables(self):
         return [b for b in self.bodies if isinstance(b, Cable)]
 
+    def describe_dof(self, index):
+        """Human-readable owner of a global unknown (body and node, or constraint)."""
+        if index < self.n_dofs:
+            for body in self.bodies:
+                off = self._offset(body)
+                if off <= index < off + body.n_dofs:
+                    local = index - off
+                    return f"{body.name} coordinate {local} ({body.describe_dof(local)})"
+        k = index - self.n_dofs
+        for c in self.constraints:
+            if k < c.n_eq:
+                return f"constraint {c.name} equation {c.labels[k]}"
+            k -= c.n_eq
+        return f"unknown {index}"
+
     # --- evaluation -------------------------------------------------------------------------
     def constraint_values(self, q):
+        r = np.zeros(self.layout.n_c)
+        self._constraints(q, np.zeros(self.layout.n_c), np.zeros(self.n_dofs), r, 1.0)
+        return r
+
+    def constraint_accel_term(self, q, v):
+        """``(C_q v)_q v`` of Eq. 2 for every constraint (zero for linear ones)."""
+        out = np.zeros(self.layout.n_c)
+        for k in self.layout.nonlinear:
+            d = self.layout.cdofs[k]
+            out[self.layout.crows[k]] = self.constraints[k].accel_term(q[d], v[d])
+        return out
+
+    def _constraints(self, q, lam, f_con, r_c, scale, data=None, cK=1.0):
         lay = self.layout
-        return np.concatenate([c.value(q[d]) for c, d in zip(self.constraints, lay.cdofs)]) \
-            if self.constraints else np.zeros(0)
+        if lay.C_lin is not None:
+            r_c[lay.lin_rows] = scale * (lay.C_lin @ q - lay.c_lin)
+            f_con += lay.C_lin_T @ lam[lay.lin_rows]
+        for k in lay.nonlinear:
+            c, d, rows = self.constraints[k], lay.cdofs[k], lay.crows[k]
+            qc = q[d]
+            Jc = c.jacobian(qc)
+            f_con[d] += Jc.T @ lam[rows]
+            r_c[rows] = scale * c.value(qc)
+            if data is not None:
+                data[lay.jac_index[k]] += scale * Jc.ravel()
+                data[lay.jacT_index[k]] += scale * Jc.T.ravel()
+                data[lay.hess_index[k]] += cK * c.hessian(qc, lam[rows]).ravel()
 
-    def elastic_energy(self, q):
-        """``[axial, bending]`` elastic energy of all cables."""
-        energy = np.zeros(2)
-        for body in self.cables():
-            body.elastic(q[self.dofs(body)], np.zeros(body.n_dofs), energy=energy)
-        return energy
+    def evaluate(self, q, v, t, lam, load_factor=1.0, cK=1.0, cC=0.0, scale=1.0, data=None):
+        """Residual of the equations of motion without inertia, and tangents.
 
-    def assemble(self, q, lam, load_factor=1.0, cK=1.0, scale=1.0, data=None):
-        """Residual of the equilibrium equations without inertia and, if ``data`` is given,
-        add the KKT matrix values (``cK`` times the stiffness blocks) to it.
+        ``r = [f_int(q, v) - load_factor f_ext(q, t) + C_q^T lambda, scale C(q)]`` with
+        ``lambda = lam`` the true multipliers.  If ``data`` (CSR values of the KKT pattern,
+        holding the caller's constant part ``Layout.mass_data``/``Layout.linear_data``) is
+        given, ``cK`` times the stiffness and ``cC`` times the damping tangent are added.
 
         Returns
         -------
-        r : ndarray
-            ``[f_int - load_factor f_ext + C_q^T lambda, scale * C]`` with ``lambda = lam``
-            the true multipliers.
+        r : ndarray (n_dofs + n_constraints,)
         info : dict
-            ``energy`` (``[axial, bending]``) and ``force_ref``, the largest norm of the
-            internal, external and constraint forces (a scale for convergence tests).
+            ``energy`` (axial, bending), ``power`` (dissipated, axial and bending),
+            ``f_damping`` (damping force, or None), ``f_nc`` (non-conservative external
+            force: time-dependent loads and moments) and ``force_ref`` (largest norm of the
+            internal, external and constraint forces: a scale for convergence tests).
         """
         lay = self.layout
         n = self.n_dofs
         f_int = np.zeros(n)
+        f_damp = np.zeros(n) if (v is not None and lay.damped) else None
         energy = np.zeros(2)
+        power = np.zeros(2)
         want = data is not None
         for body, edofs, scatter in zip(self.bodies, lay.body_edofs, lay.body_scatter):
-            body.elastic(q, f_int, data, scatter if want else None, cK, energy, edofs)
-        f_ext = load_factor * self.f_const
+            body.forces(q, v, f_int, data, scatter if want else None, cK, cC, energy, power,
+                        edofs, f_damp)
+        f_nc = np.zeros(n)
+        for load in self.time_loads:
+            f_nc[load.dofs] += load.force(t)
         for mom, d, idx in zip(self.moments, lay.mdofs, lay.moment_index):
             a = q[d]
-            f_ext[d] += load_factor * mom.force(a)
+            f_nc[d] += mom.force(a)
             if want:
                 np.add.at(data, idx, -cK * load_factor * mom.stiffness(a).ravel())
+        f_ext = load_factor * (lay.f_const + f_nc)
         f_con = np.zeros(n)
         r = np.empty(n + lay.n_c)
-        for k, (c, d) in enumerate(zip(self.constraints, lay.cdofs)):
-            rows = lay.crows[k]
-            qc = q[d]
-            Jc = c.jacobian(qc)
-            f_con[d] += Jc.T @ lam[rows - n]
-            r[rows] = scale * c.value(qc)
-            if want:
-                data[lay.jac_index[k]] += scale * Jc.ravel()
-                data[lay.jacT_index[k]] += scale * Jc.T.ravel()
-                H = c.hessian(qc, lam[rows - n])
-                if H is not None:
-                    data[lay.hess_index[k]] += cK * H.ravel()
+        self._constraints(q, lam, f_con, r[n:], scale, data, cK)
         r[:n] = f_int - f_ext + f_con
         force_ref = max(np.linalg.norm(f_int), np.linalg.norm(f_ext), np.linalg.norm(f_con))
-        return r, {"energy": energy, "force_ref": force_ref}
+        return r, {"energy": energy, "power": power, "f_damping": f_damp,
+                   "f_nc": load_factor * f_nc, "force_ref": force_ref}
 
 
 class Layout:
-    """Fixed KKT sparsity pattern of a system and the scatter maps into its CSR data."""
+    """Fixed KKT sparsity pattern of a system, the scatter maps into its CSR data, and the
+    constant parts (mass, linear constraints, constant loads)."""
 
     def __init__(self, system):
         n = system.n_dofs
-        rows, cols = [], []
-        blocks = []
+        rows, cols, shapes = [], [], []
 
         def block(r, c):
             r, c = np.broadcast_arrays(r, c)
-            blocks.append(r.shape)
+            shapes.append(r.shape)
             rows.append(r.ravel())
             cols.append(c.ravel())
-            return len(blocks) - 1
+            return len(shapes) - 1
 
         self.body_edofs = [body.element_dofs + system.dofs(body)[0] for body in system.bodies]
         body_blocks = [block(ed[:, :, None], ed[:, None, :]) for ed in self.body_edofs]
         self.mdofs = [m.dofs(system) for m in system.moments]
         moment_blocks = [block(d[:, None], d[None, :]) for d in self.mdofs]
         self.cdofs, self.crows = [], []
-        row = n
+        row = 0
         jac_blocks, jacT_blocks, hess_blocks = [], [], []
         for c in system.constraints:
             d = np.asarray(c.dofs(system), dtype=np.int64)
             rr = row + np.arange(c.n_eq)
             self.cdofs.append(d)
             self.crows.append(rr)
-            jac_blocks.append(block(rr[:, None], d[None, :]))
-            jacT_blocks.append(block(d[:, None], rr[None, :]))
+            jac_blocks.append(block(n + rr[:, None], d[None, :]))
+            jacT_blocks.append(block(d[:, None], n + rr[None, :]))
             hess_blocks.append(None if c.linear else block(d[:, None], d[None, :]))
             row += c.n_eq
-        self.n_c = row - n
-        N = row
-        diag = np.arange(N)
-        block(diag, diag)
+        self.n_c = row
+        N = n + row
+        block(np.arange(N), np.arange(N))
         R = np.concatenate(rows)
         C = np.concatenate(cols)
         key = R * N + C
@@ -217,11 +273,10 @@ class Layout:
         self.nnz = len(ukey)
         self.N = N
         pos = np.searchsorted(ukey, key)
-
         start = np.concatenate([[0], np.cumsum([r.size for r in rows])])
 
         def index(b):
-            return pos[start[b]: start[b + 1]].reshape(blocks[b])
+            return pos[start[b]: start[b + 1]].reshape(shapes[b])
 
         self.body_scatter = [np.ascontiguousarray(index(b)) for b in body_blocks]
         self.moment_index = [index(b).ravel() for b in moment_blocks]
@@ -229,8 +284,50 @@ class Layout:
         self.jacT_index = [index(b).ravel() for b in jacT_blocks]
         self.hess_index = [None if b is None else index(b).ravel() for b in hess_blocks]
         M = system.mass_matrix().tocoo()
+        self.mass = M.tocsr()
         self.mass_data = np.bincount(np.searchsorted(ukey, M.row * N + M.col), weights=M.data,
                                      minlength=self.nnz)
+        self.mass_diagonal = M.diagonal()
+        # linear constraints: one sparse matrix and their constant KKT entries
+        linear = [k for k, c in enumerate(system.constraints) if c.linear]
+        self.nonlinear = [k for k, c in enumerate(system.constraints) if not c.linear]
+        self.linear_data = np.zeros(self.nnz)
+        self.C_lin, self.lin_rows = None, np.zeros(0, dtype=np.int64)
+        if linear:
+            q0 = system.q0
+            Jr, Jc, Jv, c_lin = [], [], [], []
+            for k in linear:
+                c, d = system.constraints[k], self.cdofs[k]
+                J = c.jacobian(q0[d])
+                Jr.append(np.repeat(self.crows[k], J.shape[1]))
+                Jc.append(np.tile(d, J.shape[0]))
+                Jv.append(J.ravel())
+                c_lin.append(J @ q0[d] - c.value(q0[d]))
+                self.linear_data[self.jac_index[k]] += J.ravel()
+                self.linear_data[self.jacT_index[k]] += J.T.ravel()
+            self.lin_rows = np.concatenate([self.crows[k] for k in linear])
+            local = np.empty(row, dtype=np.int64)
+            local[self.lin_rows] = np.arange(len(self.lin_rows))
+            self.C_lin = sp.csr_matrix((np.concatenate(Jv), (local[np.concatenate(Jr)],
+                                        np.concatenate(Jc))), shape=(len(self.lin_rows), n))
+            self.c_lin = np.concatenate(c_lin)
+            self.C_lin_T = self.C_lin.T.tocsr()
+        self.damped = any(getattr(b, "damped", False) for b in system.bodies)
+        # constant generalized forces: fixed loads, gravity on bodies and point masses
+        f = system._f_fixed.copy()
+        if np.any(system.gravity):
+            for body in system.bodies:
+                f[system.dofs(body)] += body.line_load(body.section.mass_per_length
+                                                       * system.gravity)
+            for dofs, m in system.point_masses:
+                f[dofs] += m * system.gravity
+        self.f_const = f
+        # coordinate scales for convergence tests: system size for positions, 1 for slopes
+        is_position = np.concatenate([b.position_mask for b in system.bodies])
+        q0 = system.q0
+        extent = np.ptp(q0[is_position].reshape(-1, 3), axis=0).max() if is_position.any() else 1
+        self.length_scale = float(max(extent, 1e-300))
+        self.coordinate_scale = np.where(is_position, self.length_scale, 1.0)
 
     def matrix(self, data):
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.N, self.N))

@@ -1,36 +1,26 @@
-"""Numba kernel: elastic force and tangent of all cable elements in one pass.
+"""Numba kernel: elastic and damping forces and tangents of all cable elements in one pass.
 
-Same mathematics as ``kernels.reference`` (the chain rule through the Hermite-function
-derivatives of the densities in ``kernels.density``), written as loops over elements and
-Gauss points that gather from the global coordinate vector and scatter straight into the
-global force vector and the CSR data array of a fixed sparsity pattern.
+Same mathematics as ``kernels.reference`` (densities of ``kernels.density`` pulled back by
+one chain rule through ``S6 = [S_x; S_xx]``), written as loops over elements and Gauss
+points that gather from the global coordinate and velocity vectors and scatter straight
+into the global force vector and the CSR data array of a fixed sparsity pattern.
 """
+
+import math
 
 import numpy as np
 from numba import njit
 
-from .density import SLOPE_FLOOR
+from .density import CURVATURE_RATE_DELTA, SLOPE_FLOOR
 
 
 @njit(cache=True)
-def _axial(a, EA, Wa, Waa):
-    p = a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
-    eps = 0.5 * (p - 1.0)
-    for i in range(3):
-        Wa[i] += EA * eps * a[i]
-        for j in range(3):
-            Waa[i, j] += EA * a[i] * a[j]
-        Waa[i, i] += EA * eps
-    return 0.5 * EA * eps * eps
-
-
-@njit(cache=True)
-def _bending(a, b, EI, Wa, Wb, Waa, Wab, Wbb):
+def _squared_curvature(a, b, grad, hess):
+    """``kappa^2`` of ``(a, b)``; writes its gradient (6,) and Hessian (6, 6)."""
     p = max(a[0] * a[0] + a[1] * a[1] + a[2] * a[2], SLOPE_FLOOR)
     c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
     bb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2]
     g = p * bb - c * c
-    h = 0.5 * EI
     p3 = 1.0 / (p * p * p)
     p4 = p3 / p
     p5 = p4 / p
@@ -40,99 +30,171 @@ def _bending(a, b, EI, Wa, Wb, Waa, Wab, Wbb):
         ga[i] = 2.0 * bb * a[i] - 2.0 * c * b[i]
         gb[i] = 2.0 * p * b[i] - 2.0 * c * a[i]
     for i in range(3):
-        Wa[i] += h * (ga[i] * p3 - 6.0 * g * p4 * a[i])
-        Wb[i] += h * gb[i] * p3
+        grad[i] = ga[i] * p3 - 6.0 * g * p4 * a[i]
+        grad[3 + i] = gb[i] * p3
         for j in range(3):
             d = 1.0 if i == j else 0.0
             gaa = 2.0 * bb * d - 2.0 * b[i] * b[j]
             gab = 4.0 * a[i] * b[j] - 2.0 * b[i] * a[j] - 2.0 * c * d
             gbb = 2.0 * p * d - 2.0 * a[i] * a[j]
-            Waa[i, j] += h * (gaa * p3 - 6.0 * p4 * (ga[i] * a[j] + a[i] * ga[j])
-                              - 6.0 * g * p4 * d + 48.0 * g * p5 * a[i] * a[j])
-            Wab[i, j] += h * (gab * p3 - 6.0 * p4 * a[i] * gb[j])
-            Wbb[i, j] += h * gbb * p3
-    return h * g * p3
+            hess[i, j] = (gaa * p3 - 6.0 * p4 * (ga[i] * a[j] + a[i] * ga[j])
+                          - 6.0 * g * p4 * d + 48.0 * g * p5 * a[i] * a[j])
+            kab = gab * p3 - 6.0 * p4 * a[i] * gb[j]
+            hess[i, 3 + j] = kab
+            hess[3 + j, i] = kab
+            hess[3 + i, 3 + j] = gbb * p3
+    return g * p3
 
 
 @njit(cache=True)
-def force_tangent(q, edofs, Sx, Sxx, w, EA, EI, f, data, scatter, cK, energy):
-    """Add the elastic force ``dU/dq`` to ``f`` and ``cK * d2U/dq2`` to ``data``.
+def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
+                  f, fd, data, scatter, cK, cC, energy, power):
+    """Add elastic and damping forces to ``f`` and ``cK K + cC C`` into ``data``.
 
     Parameters
     ----------
-    q : ndarray (n,)
-        Global coordinates.
+    q, v : ndarray (n,)
+        Global coordinates and velocities (``v`` unused without damping).
     edofs : int ndarray (ne, 12)
         Global DOF of each element coordinate (Eq. 8).
     Sx, Sxx, w : ndarray (ne, nq, 4), (ne, nq, 4), (ne, nq)
         Shape-function derivative tables and weights.
-    EA, EI : float
-        Stiffnesses; ``EI = 0`` skips bending (truss).
+    h : ndarray (ne,)
+        Element lengths (curvature-rate regularisation).
+    EA, EI, gamma_a, gamma_b : float
+        Stiffnesses (``EI = 0``: truss) and damping coefficients (0: off).
     f : ndarray (n,)
-        Force accumulator.
+        Force accumulator: ``dU/dq + dD/dv``.
+    fd : ndarray (n,)
+        Accumulator of the damping part ``dD/dv`` alone (energy bookkeeping); may be
+        empty.
     data : ndarray
         CSR data accumulator; ignored when ``scatter`` has no rows.
     scatter : int ndarray (ne, 12, 12) or (0, 12, 12)
-        Index of each element-matrix entry in ``data``; empty to skip the tangent.
-    cK : float
-        Factor applied to the tangent.
-    energy : ndarray (2,)
-        Accumulates the axial and the bending energy.
+        Index of each element-matrix entry in ``data``; empty to skip the tangents.
+    cK, cC : float
+        Factors of the stiffness ``df/dq`` and damping ``df/dv`` tangents.
+    energy, power : ndarray (2,)
+        Accumulate axial and bending energy, and axial and bending dissipated power.
     """
     ne, nq = w.shape
     want_matrix = scatter.shape[0] == ne
+    damped = gamma_a > 0.0 or (gamma_b > 0.0 and EI > 0.0)
+    keep_fd = damped and fd.shape[0] > 0
     qe = np.empty((4, 3))
-    a = np.empty(3)
-    b = np.empty(3)
-    Wa = np.empty(3)
-    Wb = np.empty(3)
-    Waa = np.empty((3, 3))
-    Wab = np.empty((3, 3))
-    Wbb = np.empty((3, 3))
+    ve = np.zeros((4, 3))
+    x = np.empty(6)
+    xd = np.empty(6)
+    G = np.empty(6)
+    H = np.empty((6, 6))
+    Hc = np.empty((6, 6))
+    kg = np.empty(6)
+    kh = np.empty((6, 6))
+    dkd = np.empty(6)
     fe = np.empty(12)
+    fde = np.empty(12)
+    Gd = np.empty(6)
     Ke = np.empty((12, 12))
+    S6 = np.empty((2, 4))
     for e in range(ne):
         for A in range(4):
             for i in range(3):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
+                if damped:
+                    ve[A, i] = v[edofs[e, 3 * A + i]]
         fe[:] = 0.0
+        fde[:] = 0.0
         Ke[:] = 0.0
+        delta2 = (CURVATURE_RATE_DELTA / h[e]) ** 2
         for g in range(nq):
-            a[:] = 0.0
-            b[:] = 0.0
             for A in range(4):
+                S6[0, A] = Sx[e, g, A]
+                S6[1, A] = Sxx[e, g, A]
+            for U in range(2):
                 for i in range(3):
-                    a[i] += Sx[e, g, A] * qe[A, i]
-                    b[i] += Sxx[e, g, A] * qe[A, i]
-            Wa[:] = 0.0
-            Wb[:] = 0.0
-            Waa[:] = 0.0
-            Wab[:] = 0.0
-            Wbb[:] = 0.0
+                    sx = 0.0
+                    sv = 0.0
+                    for A in range(4):
+                        sx += S6[U, A] * qe[A, i]
+                        sv += S6[U, A] * ve[A, i]
+                    x[3 * U + i] = sx
+                    xd[3 * U + i] = sv
+            G[:] = 0.0
+            Gd[:] = 0.0
+            H[:] = 0.0
+            Hc[:] = 0.0
             wg = w[e, g]
-            energy[0] += wg * _axial(a, EA, Wa, Waa)
-            if EI > 0.0:
-                energy[1] += wg * _bending(a, b, EI, Wa, Wb, Waa, Wab, Wbb)
-            for A in range(4):
-                sa = Sx[e, g, A]
-                ta = Sxx[e, g, A]
+            # axial energy (Eqs. 86-94)
+            p = x[0] * x[0] + x[1] * x[1] + x[2] * x[2]
+            eps = 0.5 * (p - 1.0)
+            energy[0] += wg * 0.5 * EA * eps * eps
+            for i in range(3):
+                G[i] += EA * eps * x[i]
+                for j in range(3):
+                    H[i, j] += EA * x[i] * x[j]
+                H[i, i] += EA * eps
+            if gamma_a > 0.0:
+                # axial damping (Eqs. 108-112)
+                c = gamma_a * EA
+                edot = x[0] * xd[0] + x[1] * xd[1] + x[2] * xd[2]
+                power[0] += wg * c * edot * edot
                 for i in range(3):
-                    fe[3 * A + i] += wg * (sa * Wa[i] + ta * Wb[i])
+                    Gd[i] += c * edot * x[i]
+                    for j in range(3):
+                        Hc[i, j] += c * x[i] * x[j]
+                        H[i, j] += c * x[i] * xd[j]
+                    H[i, i] += c * edot
+            if EI > 0.0:
+                # bending energy through the squared curvature (Eqs. 95-107)
+                k2 = _squared_curvature(x[:3], x[3:], kg, kh)
+                energy[1] += wg * 0.5 * EI * k2
+                for i in range(6):
+                    G[i] += 0.5 * EI * kg[i]
+                    for j in range(6):
+                        H[i, j] += 0.5 * EI * kh[i, j]
+                if gamma_b > 0.0:
+                    # bending damping with the regularised curvature rate (Eqs. 113-127)
+                    c = gamma_b * EI
+                    s = math.sqrt(k2 + delta2)
+                    k2dot = 0.0
+                    for i in range(6):
+                        k2dot += kg[i] * xd[i]
+                    kdot = k2dot / (2.0 * s)
+                    power[1] += wg * c * kdot * kdot
+                    for i in range(6):
+                        hx = 0.0
+                        for j in range(6):
+                            hx += kh[i, j] * xd[j]
+                        dkd[i] = hx / (2.0 * s) - k2dot * kg[i] / (4.0 * s**3)
+                    for i in range(6):
+                        gi = kg[i] / (2.0 * s)
+                        Gd[i] += c * kdot * gi
+                        for j in range(6):
+                            gj = kg[j] / (2.0 * s)
+                            Hc[i, j] += c * gi * gj
+                            H[i, j] += c * (gi * dkd[j] + kdot * (
+                                kh[i, j] / (2.0 * s) - kg[i] * kg[j] / (4.0 * s**3)))
+            for A in range(4):
+                for i in range(3):
+                    fd_i = wg * (S6[0, A] * Gd[i] + S6[1, A] * Gd[3 + i])
+                    fde[3 * A + i] += fd_i
+                    fe[3 * A + i] += wg * (S6[0, A] * G[i] + S6[1, A] * G[3 + i]) + fd_i
             if want_matrix:
                 for A in range(4):
-                    sa = wg * Sx[e, g, A]
-                    ta = wg * Sxx[e, g, A]
                     for B in range(4):
-                        sb = Sx[e, g, B]
-                        tb = Sxx[e, g, B]
-                        for i in range(3):
-                            for j in range(3):
-                                Ke[3 * A + i, 3 * B + j] += (
-                                    sa * sb * Waa[i, j] + sa * tb * Wab[i, j]
-                                    + ta * sb * Wab[j, i] + ta * tb * Wbb[i, j])
+                        for U in range(2):
+                            for V in range(2):
+                                sab = wg * S6[U, A] * S6[V, B]
+                                for i in range(3):
+                                    for j in range(3):
+                                        Ke[3 * A + i, 3 * B + j] += sab * (
+                                            cK * H[3 * U + i, 3 * V + j]
+                                            + cC * Hc[3 * U + i, 3 * V + j])
         for k in range(12):
             f[edofs[e, k]] += fe[k]
+            if keep_fd:
+                fd[edofs[e, k]] += fde[k]
         if want_matrix:
             for k in range(12):
                 for m in range(12):
-                    data[scatter[e, k, m]] += cK * Ke[k, m]
+                    data[scatter[e, k, m]] += Ke[k, m]

@@ -1,13 +1,14 @@
-"""Vectorised numpy evaluation of the cable's elastic energy, force and tangent.
+"""Vectorised numpy evaluation of the cable's elastic and damping forces and tangents.
 
-This is the readable reference for ``kernels.cable`` (numba): both evaluate
-``U = sum_e sum_g w_g W(a_g, b_g)`` with ``a = S_x e``, ``b = S_xx e`` (Eqs. 87, 96) and
+This is the readable reference for ``kernels.cable`` (numba).  Both evaluate, with
+``x = (a, b) = (S_x e, S_xx e)`` (Eqs. 87, 96) at every Gauss point and the 2x4 table
+``S6 = [S_x; S_xx]``,
 
-``f_A = sum_g w (S_x[A] W_a + S_xx[A] W_b)``,
-``K_AB = sum_g w (S_x[A] S_x[B] W_aa + S_x[A] S_xx[B] W_ab + S_xx[A] S_x[B] W_ab^T
-+ S_xx[A] S_xx[B] W_bb)``,
+``f_A = sum_g w S6[U, A] G_U``,  ``K_AB = sum_g w S6[U, A] S6[V, B] H_UV``,
 
-where ``A, B`` run over the four 3-vector blocks of the element coordinates (Eq. 19).
+where ``G = W_x + D_xdot`` and ``H = W_xx + D_xdot,x`` (or ``D_xdot,xdot`` for the damping
+matrix) come from ``kernels.density`` and ``A, B`` run over the four 3-vector blocks of the
+element coordinates (Eq. 19).
 """
 
 import numpy as np
@@ -15,39 +16,69 @@ import numpy as np
 from . import density
 
 
-def element_force_tangent(qe, Sx, Sxx, w, EA, EI):
-    """Energy, internal force ``dU/de`` and tangent ``d2U/de2`` of every element.
+def element_forces(qe, ve, Sx, Sxx, w, h, EA, EI, gamma_axial=0.0, gamma_bending=0.0):
+    """Energies, dissipated powers, forces and tangents of every element.
 
     Parameters
     ----------
-    qe : ndarray, shape (ne, 4, 3)
-        Element coordinates ``[r_i, r_x,i, r_j, r_x,j]``.
+    qe, ve : ndarray, shape (ne, 4, 3)
+        Element coordinates ``[r_i, r_x,i, r_j, r_x,j]`` and their velocities.
     Sx, Sxx : ndarray, shape (ne, nq, 4)
         First and second ``x``-derivatives of the Hermite functions at the Gauss points.
     w : ndarray, shape (ne, nq)
-        Quadrature weights times the element Jacobian.
+        Quadrature weights times the element length.
+    h : ndarray, shape (ne,)
+        Element lengths (set the curvature-rate regularisation).
     EA, EI : float
         Axial and bending stiffness; ``EI = 0`` gives the truss.
+    gamma_axial, gamma_bending : float
+        Damping coefficients of Eq. 36.
 
     Returns
     -------
-    energy : ndarray, shape (ne,)
-    f : ndarray, shape (ne, 4, 3)
-    K : ndarray, shape (ne, 4, 3, 4, 3)
+    energy, power : ndarray, shape (ne, 2)
+        Axial and bending elastic energy; axial and bending dissipated power.
+    f : ndarray, shape (ne, 12)
+        Elastic plus damping force ``dU/de + dD/de_dot``.
+    K, C : ndarray, shape (ne, 12, 12)
+        ``d f / d e`` and ``d f / d e_dot``.
     """
-    a = np.einsum("eqA,eAi->eqi", Sx, qe)
-    W, W_a, W_aa = density.axial(a, EA)
-    f = np.einsum("eq,eqA,eqi->eAi", w, Sx, W_a)
-    K = np.einsum("eq,eqA,eqB,eqij->eAiBj", w, Sx, Sx, W_aa)
-    energy = np.einsum("eq,eq->e", w, W)
+    ne, nq = w.shape
+    S6 = np.stack([Sx, Sxx], axis=2)
+    x = np.einsum("eqUA,eAi->eqUi", S6, qe).reshape(ne, nq, 6)
+    xdot = np.einsum("eqUA,eAi->eqUi", S6, ve).reshape(ne, nq, 6)
+    a, adot = x[..., :3], xdot[..., :3]
+    G = np.zeros((ne, nq, 6))
+    H = np.zeros((ne, nq, 6, 6))
+    Hc = np.zeros((ne, nq, 6, 6))
+    energy = np.zeros((ne, nq, 2))
+    power = np.zeros((ne, nq, 2))
+    energy[..., 0], G[..., :3], H[..., :3, :3] = density.axial(a, EA)
+    if gamma_axial > 0:
+        P, Dv, Dvv, Dvx = density.axial_damping(a, adot, EA, gamma_axial)
+        power[..., 0] = P
+        G[..., :3] += Dv
+        Hc[..., :3, :3] += Dvv
+        H[..., :3, :3] += Dvx
     if EI > 0:
-        b = np.einsum("eqA,eAi->eqi", Sxx, qe)
-        Wb, Wb_a, Wb_b, Wb_aa, Wb_ab, Wb_bb = density.bending(a, b, EI)
-        energy = energy + np.einsum("eq,eq->e", w, Wb)
-        f = (f + np.einsum("eq,eqA,eqi->eAi", w, Sx, Wb_a)
-             + np.einsum("eq,eqA,eqi->eAi", w, Sxx, Wb_b))
-        K = (K + np.einsum("eq,eqA,eqB,eqij->eAiBj", w, Sx, Sx, Wb_aa)
-             + np.einsum("eq,eqA,eqB,eqij->eAiBj", w, Sx, Sxx, Wb_ab)
-             + np.einsum("eq,eqA,eqB,eqji->eAiBj", w, Sxx, Sx, Wb_ab)
-             + np.einsum("eq,eqA,eqB,eqij->eAiBj", w, Sxx, Sxx, Wb_bb))
-    return energy, f, K
+        k2, grad, hess = density.squared_curvature(a, x[..., 3:])
+        energy[..., 1] = 0.5 * EI * k2
+        G += 0.5 * EI * grad
+        H += 0.5 * EI * hess
+        if gamma_bending > 0:
+            delta = (density.CURVATURE_RATE_DELTA / h)[:, None]
+            P, Dv, Dvv, Dvx = density.bending_damping(x, xdot, k2, grad, hess, EI,
+                                                      gamma_bending, delta)
+            power[..., 1] = P
+            G += Dv
+            Hc += Dvv
+            H += Dvx
+    G = G.reshape(ne, nq, 2, 3)
+    f = np.einsum("eq,eqUA,eqUi->eAi", w, S6, G).reshape(ne, 12)
+
+    def chain(M):
+        M = M.reshape(ne, nq, 2, 3, 2, 3)
+        return np.einsum("eq,eqUA,eqVB,eqUiVj->eAiBj", w, S6, S6, M).reshape(ne, 12, 12)
+
+    return (np.einsum("eq,eqk->ek", w, energy), np.einsum("eq,eqk->ek", w, power), f,
+            chain(H), chain(Hc))

@@ -34,8 +34,8 @@ def modes(system, state=None, k=6, sigma=None):
     q = system.q0 if state is None else state.q
     lam = np.zeros(lay.n_c) if state is None else state.lam
     scale = constraint_scale(system, q, lam)
-    data = np.zeros(lay.nnz)
-    system.assemble(q, lam, scale=scale, data=data)
+    data = scale * lay.linear_data
+    system.evaluate(q, None, 0.0, lam, scale=scale, data=data)
     mass = lay.mass_data
     if sigma is None:
         diag = lay.matrix(data).diagonal()[:n]

@@ -20,36 +20,36 @@ def constraint_scale(system, q, lam):
     KKT matrix have comparable magnitude."""
     lay = system.layout
     data = np.zeros(lay.nnz)
-    system.assemble(q, lam, data=data)
-    A = lay.matrix(data)
-    d = np.abs(A.diagonal()[: system.n_dofs])
+    system.evaluate(q, None, 0.0, lam, data=data)
+    d = np.abs(lay.matrix(data).diagonal()[: system.n_dofs])
     s = float(np.mean(d)) if d.size else 1.0
     return s if s > 0 and np.isfinite(s) else 1.0
 
 
-def line_search_alpha(residual, q, lam, dx, r0, factor, scale, max_steps=3):
-    """Step length along the Newton direction from the projected residual
-    ``s(alpha) = dx . r(x + alpha dx)`` (a root of ``s`` is a stationary point of the energy
-    along ``dx`` for conservative problems): the full step is kept when ``|s(1)|`` dropped
-    to half of ``|s(0)|``, otherwise a few safeguarded secant steps toward ``s = 0``."""
+def line_search_alpha(residual, merit, q, lam, dx, r0, m0, factor, scale, max_steps=3):
+    """Step length along the Newton direction: the full step unless it multiplies the scaled
+    residual by more than 10 (or makes it non-finite); then safeguarded secant steps on the
+    projected residual ``s(alpha) = dx . r(x + alpha dx)``, whose root is a stationary point
+    of the energy along ``dx`` for conservative problems."""
     n = len(q)
-    s0 = dx @ r0
-    if s0 == 0:
+    r1, f1 = residual(q + dx[:n], lam + scale * dx[n:], factor)
+    m1 = merit(r1, f1)
+    if np.isfinite(m1) and m1 <= 10.0 * m0:
         return 1.0
+    s0 = dx @ r0
     a_lo, s_lo, alpha = 0.0, s0, 1.0
+    s1 = dx @ r1
     for _ in range(max_steps):
-        r, _ = residual(q + alpha * dx[:n], lam + alpha * scale * dx[n:], factor)
-        s1 = dx @ r
         if not np.isfinite(s1):
             alpha *= 0.25
-            continue
-        if abs(s1) <= 0.5 * abs(s0):
+        elif abs(s1) <= 0.5 * abs(s0) or s1 == s_lo:
             return alpha
-        if s1 == s_lo:
-            return alpha
-        alpha_new = a_lo - s_lo * (alpha - a_lo) / (s1 - s_lo)
-        a_lo, s_lo = alpha, s1
-        alpha = float(np.clip(alpha_new, 0.1, 1.0))
+        else:
+            alpha_new = a_lo - s_lo * (alpha - a_lo) / (s1 - s_lo)
+            a_lo, s_lo = alpha, s1
+            alpha = float(np.clip(alpha_new, 0.1, 1.0))
+        r, _ = residual(q + alpha * dx[:n], lam + alpha * scale * dx[n:], factor)
+        s1 = dx @ r
     return alpha
 
 
@@ -76,7 +76,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     initial : State, optional
         Starting configuration (default: the bodies' initial coordinates).
     line_search : bool
-        Backtrack on the scaled residual norm.
+        Shorten Newton steps that blow the residual up (see ``line_search_alpha``).
     method : {"auto", "banded", "sparse"}
         Linear solver (see ``linalg.PatternSolver``).
     return_last_converged : bool
@@ -105,7 +105,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     converged_state = State(system, q.copy(), lam.copy(), stats)
 
     def residual(q, lam, factor, data=None):
-        r, info = system.assemble(q, lam, factor, scale=scale, data=data)
+        r, info = system.evaluate(q, None, 0.0, lam, factor, scale=scale, data=data)
         return r, info["force_ref"]
 
     def merit(r, f_ref):
@@ -128,7 +128,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
         ok = False
         dx_prev = np.inf
         for it in range(max_iter + 1):
-            data = np.zeros(lay.nnz)
+            data = scale * lay.linear_data
             r, f_ref = residual(qk, lamk, factor, data)
             m = merit(r, f_ref)
             history.append(m)
@@ -156,7 +156,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             dx_prev = dxn
             alpha = 1.0
             if line_search:
-                alpha = line_search_alpha(residual, qk, lamk, dx, r, factor, scale)
+                alpha = line_search_alpha(residual, merit, qk, lamk, dx, r, m, factor, scale)
             qk = qk + alpha * dx[:n]
             lamk = lamk + alpha * scale * dx[n:]
         stats["factorizations"] = solver.factorizations
@@ -165,7 +165,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             q, lam, done = qk, lamk, factor
             stats["iterations"].append(it)
             stats["load_factor"].append(factor)
-            stats["residual"].append(history[-1])
+            stats["residual"].append(merit(*residual(qk, lamk, factor)))
             converged_state = State(system, q.copy(), lam.copy(), stats)
             if bisections:
                 step = min(2 * step, 1.0 / load_steps)

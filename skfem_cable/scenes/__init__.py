@@ -1,0 +1,1 @@
+"""Scenes: functions that build systems and initial states for classic problems."""

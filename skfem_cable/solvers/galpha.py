@@ -1,0 +1,403 @@
+"""Generalized-alpha integration of the index-3 DAE (paper Sect. 2, Eqs. 1-3, 12-15).
+
+    M q'' + f(q, q', t) + C_q^T lambda = 0,   C(q) = 0,
+
+with ``f`` the internal (elastic + damping) minus the external forces, by the method of
+Arnold & Bruls (2007): pseudo-accelerations ``abar`` with
+``(1 - alpha_m) abar_{n+1} + alpha_m abar_n = (1 - alpha_f) a_{n+1} + alpha_f a_n``,
+``q_{n+1} = q_n + h v_n + h^2 ((1/2 - beta) abar_n + beta abar_{n+1})`` and
+``v_{n+1} = v_n + h ((1 - gamma) abar_n + gamma abar_{n+1})``; the equations hold exactly
+at ``t_{n+1}``, so the position constraints are satisfied at every step.
+
+Newton's iteration matrix is ``S_t = [[M beta' + C_t gamma' + K_t, C_q^T], [C_q, 0]]``
+(Eq. 13), ``beta' = (1 - alpha_m) / (beta h^2 (1 - alpha_f))``, ``gamma' = gamma/(beta h)``.
+For conditioning independent of ``h`` (Bottasso, Bauchau & Cardona 2008) the dynamic rows
+are divided by ``beta'`` and the constraint rows and multipliers scaled by the mean nodal
+mass ``m``: the matrix solved is ``[[M + C_t gamma'/beta' + K_t/beta', m C_q^T], [m C_q, 0]]``
+with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0``.
+"""
+
+import time
+
+import numpy as np
+
+from ..linalg import PatternSolver, SingularMatrixError
+from ..progress import Progress
+from ..result import Result, RunWriter, read_run
+
+
+class SimulationError(RuntimeError):
+    """A step failed below the smallest allowed step size; ``result`` holds the steps
+    computed so far (also on disk when the run has an output directory)."""
+
+    def __init__(self, message, result):
+        super().__init__(message)
+        self.result = result
+
+
+def galpha_parameters(rho_inf):
+    """``alpha_m, alpha_f, gamma, beta`` from the spectral radius at infinity (paper,
+    Sect. 2 "DAE integration"; Chung & Hulbert 1993)."""
+    if not 0.0 <= rho_inf <= 1.0:
+        raise ValueError(f"rho_inf must lie in [0, 1], got {rho_inf!r}")
+    alpha_m = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+    alpha_f = rho_inf / (rho_inf + 1.0)
+    gamma = 0.5 + alpha_f - alpha_m
+    beta = 0.25 * (gamma + 0.5) ** 2
+    return alpha_m, alpha_f, gamma, beta
+
+
+class GeneralizedAlpha:
+    """Integrator state and one step of the generalized-alpha method.
+
+    Parameters
+    ----------
+    system : System
+    rho_inf : float in [0, 1]
+        Spectral radius at infinite frequency (1: no numerical dissipation).
+    tol : float
+        Newton converges when the scaled residual (``r_q / (beta' M_ii)`` and the
+        constraint violation, in units of the coordinates) and the last correction are both
+        below ``tol`` times the coordinate scale (system size for positions, 1 for slopes);
+        a residual below ``1e3 tol`` that no longer decreases is accepted as the round-off
+        floor once the correction is below ``tol``.
+    max_iter : int
+        Newton iterations per step.
+    newton : {"full", "modified"}
+        ``"full"`` refactors every iteration; ``"modified"`` reuses the factorization across
+        iterations and steps while Newton contracts by at least ``1/2`` per iteration (it
+        pays only when the tangent changes slowly: a stiff cable that rotates turns its
+        stiff axial direction away from the factored one, and full Newton is faster).
+    method : {"auto", "banded", "sparse"}
+        Linear solver of the iteration matrix.
+    """
+
+    def __init__(self, system, rho_inf=0.8, tol=1e-9, max_iter=12, newton="full",
+                 method="auto"):
+        if newton not in ("modified", "full"):
+            raise ValueError(f"newton must be 'modified' or 'full', got {newton!r}")
+        if not 0 < tol < 1:
+            raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
+        if int(max_iter) != max_iter or max_iter < 1:
+            raise ValueError(f"max_iter must be a positive integer, got {max_iter!r}")
+        self.system = system
+        self.rho_inf = float(rho_inf)
+        self.alpha_m, self.alpha_f, self.gamma, self.beta = galpha_parameters(rho_inf)
+        self.tol, self.max_iter, self.newton = tol, int(max_iter), newton
+        lay = system.layout
+        self.lay = lay
+        self.n = system.n_dofs
+        self.solver = PatternSolver(lay.indptr, lay.indices, method)
+        self.mbar = float(np.mean(lay.mass_diagonal))
+        if not self.mbar > 0:
+            raise ValueError("the system has no mass")
+        self.base = lay.mass_data + self.mbar * lay.linear_data
+        self.xscale = lay.coordinate_scale
+        self.L_ref = lay.length_scale
+        self.h_factored = None
+        self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
+
+    # --- initial state ----------------------------------------------------------------------
+    def initialize(self, q, v, t):
+        """Consistent initial state: checks ``C(q) = 0``, projects ``v`` onto ``C_q v = 0``
+        (mass-orthogonally), and solves for ``a`` and ``lambda`` from Eq. 3."""
+        system, lay, n = self.system, self.lay, self.n
+        C = system.constraint_values(q)
+        if C.size and np.max(np.abs(C)) > 1e-8 * self.L_ref:
+            k = int(np.argmax(np.abs(C)))
+            raise ValueError(f"initial positions violate {system.describe_dof(n + k)} by "
+                             f"{C[k]:.3e}; start from positions that satisfy the constraints")
+        data = self.base.copy()
+        r, _ = system.evaluate(q, v, t, np.zeros(lay.n_c), cK=0.0, cC=0.0, scale=self.mbar,
+                               data=data)
+        self.solver.factor(data)
+        self.stats["factorizations"] += 1
+        rhs = np.zeros(lay.N)
+        rhs[:n] = lay.mass @ v
+        proj = self.solver.solve(rhs)
+        v = proj[:n]
+        r, info = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar)
+        rhs = -r
+        rhs[n:] = -self.mbar * system.constraint_accel_term(q, v)
+        sol = self.solver.solve(rhs)
+        self.h_factored = None
+        self.t, self.q, self.v = float(t), q.copy(), v.copy()
+        self.a = sol[:n]
+        self.abar = self.a.copy()
+        self.lam = self.mbar * sol[n:]
+        self._book(info, reset=True)
+        self.iterations = 0
+
+    def _book(self, info, dq=None, reset=False):
+        """Energy bookkeeping: work of the damping and non-conservative external forces
+        over the step, ``dq . (f_n + f_{n+1}) / 2`` (exact for the trapezoidal rule)."""
+        fd = info["f_damping"]
+        fd = np.zeros(self.n) if fd is None else fd
+        fnc = info["f_nc"]
+        if reset:
+            self.dissipated = 0.0
+            self.external_work = 0.0
+        else:
+            self.dissipated += 0.5 * dq @ (self.fd + fd)
+            self.external_work += 0.5 * dq @ (self.fnc + fnc)
+        self.fd, self.fnc = fd, fnc
+        self.elastic = info["energy"].copy()
+
+    # --- checkpoint -------------------------------------------------------------------------
+    STATE = ("t", "q", "v", "a", "abar", "lam", "fd", "fnc", "dissipated", "external_work",
+             "elastic", "iterations")
+
+    def snapshot(self):
+        """Everything a continuation needs to be bit-for-bit identical, including the
+        state at which the current iteration matrix was factored (it is rebuilt from it)."""
+        snap = {k: np.copy(getattr(self, k)) for k in self.STATE}
+        if self.h_factored is not None:
+            snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
+        return snap
+
+    def restore(self, snap):
+        for k in self.STATE:
+            value = np.array(snap[k])
+            setattr(self, k, value if value.ndim else value.item())
+        self.t = float(self.t)
+        self.h_factored = None
+        if "fact_h" in snap:
+            at = {k: np.array(snap["fact_" + k]) for k in ("q", "v", "t", "lam", "h")}
+            self._factor(at["q"], at["v"], float(at["t"]), at["lam"], float(at["h"]))
+
+    def _coefficients(self, h):
+        bp = (1.0 - self.alpha_m) / (self.beta * h * h * (1.0 - self.alpha_f))
+        return bp, self.gamma / (self.beta * h)
+
+    def _factor(self, q, v, t, lam, h, data=None):
+        """Factor the iteration matrix at ``(q, v, t, lam)`` for step ``h``."""
+        if data is None:
+            bp, gp = self._coefficients(h)
+            data = self.base.copy()
+            self.system.evaluate(q, v, t, lam, cK=1.0 / bp, cC=gp / bp, scale=self.mbar,
+                                 data=data)
+        self.solver.factor(data)
+        self.stats["factorizations"] += 1
+        self.h_factored = h
+        self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h}
+
+    def energies(self):
+        lay = self.lay
+        return {"kinetic": 0.5 * self.v @ (lay.mass @ self.v), "axial": self.elastic[0],
+                "bending": self.elastic[1], "potential": -lay.f_const @ self.q,
+                "dissipated": self.dissipated, "external_work": self.external_work}
+
+    # --- one step ---------------------------------------------------------------------------
+    def step(self, h):
+        """Advance by ``h``; returns ``(success, message)`` and updates the state only on
+        success (scipy ``OdeSolver`` style)."""
+        ok, msg = self._try_step(h, fresh=self.newton == "full")
+        if not ok and self.newton == "modified":
+            ok, msg = self._try_step(h, fresh=True)
+        return ok, msg
+
+    def _try_step(self, h, fresh):
+        system, lay, n = self.system, self.lay, self.n
+        am, af, gm, bt = self.alpha_m, self.alpha_f, self.gamma, self.beta
+        bp, gp = self._coefficients(h)
+        t1 = self.t + h
+        abar1 = (af * self.a - am * self.abar) / (1.0 - am)
+        q1 = self.q + h * self.v + h * h * ((0.5 - bt) * self.abar + bt * abar1)
+        v1 = self.v + h * ((1.0 - gm) * self.abar + gm * abar1)
+        a1 = np.zeros(n)
+        lam1 = self.lam.copy()
+        need = fresh or self.h_factored != h
+        history = []
+        dq_err = np.inf
+        dq_prev = np.inf
+        for it in range(self.max_iter + 1):
+            data = self.base.copy() if need else None
+            r, info = system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
+                                      scale=self.mbar, data=data)
+            r[:n] = (lay.mass @ a1 + r[:n]) / bp
+            res = np.abs(r[:n]) / (lay.mass_diagonal * self.xscale)
+            res_c = np.abs(r[n:]) / (self.mbar * self.L_ref)
+            err = max(res.max(initial=0.0), res_c.max(initial=0.0))
+            history.append(err)
+            if not np.isfinite(err):
+                return False, self._diagnose(t1, h, history, res, res_c, "non-finite residual")
+            if it > 0 and dq_err <= self.tol and (
+                    err <= self.tol or (err <= 1e3 * self.tol and err >= 0.5 * history[-2])):
+                # converged, or the residual stalled at its round-off floor (stiff cables:
+                # the strain carries an absolute error of about 1e-16 L/h)
+                break
+            if it == self.max_iter:
+                return False, self._diagnose(t1, h, history, res, res_c, "no convergence")
+            if need:
+                try:
+                    self._factor(q1, v1, t1, lam1, h, data)
+                except SingularMatrixError as exc:
+                    self.h_factored = None
+                    where = system.describe_dof(exc.index) if exc.index >= 0 else "?"
+                    return False, f"t={t1:.6g}, h={h:.3g}: singular iteration matrix at {where}"
+                need = self.newton == "full"
+            dx = self.solver.solve(-r)
+            dq = dx[:n]
+            q1 += dq
+            v1 += gp * dq
+            a1 += bp * dq
+            lam1 += (bp * self.mbar) * dx[n:]
+            dq_err = np.max(np.abs(dq) / self.xscale)
+            if dq_err > 0.5 * dq_prev or it >= 4:
+                need = True
+            dq_prev = dq_err
+            self.stats["newton"] += 1
+        dq_step = q1 - self.q
+        self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
+        # (1 - am) abar1_new = (1 - af) a1 + af a_n - am abar_n
+        self.abar = ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
+        self.a = a1
+        self.iterations = it
+        self._book(info, dq_step)
+        self.stats["steps"] += 1
+        return True, "converged"
+
+    def _diagnose(self, t, h, history, res, res_c, what):
+        system, n = self.system, self.n
+        parts = [f"t={t:.6g}, h={h:.3g}: {what}; scaled residual history "
+                 f"{[float(f'{e:.3e}') for e in history]}"]
+        for label, values, offset in (("dynamic", res, 0), ("constraint", res_c, n)):
+            if not values.size:
+                continue
+            bad = ~np.isfinite(values)
+            i = int(np.argmax(bad)) if bad.any() else int(np.argmax(values))
+            kind = "non-finite" if bad.any() else "largest"
+            parts.append(f"{kind} {label} residual at {system.describe_dof(offset + i)}")
+        return "; ".join(parts)
+
+
+def _initial_arrays(system, initial):
+    if initial is None:
+        return system.q0.copy(), np.zeros(system.n_dofs)
+    q = np.asarray(initial.q, dtype=float)
+    v = getattr(initial, "v", None)
+    v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
+    if q.shape != (system.n_dofs,) or v.shape != (system.n_dofs,):
+        raise ValueError(f"initial.q and initial.v must have shape ({system.n_dofs},)")
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        raise ValueError("initial.q and initial.v must be finite")
+    return q.copy(), v.copy()
+
+
+def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1, output=None,
+             chunk=200, restart_from=None, tol=1e-9, max_iter=12, newton="full",
+             max_halvings=10, progress=None, method="auto"):
+    """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
+
+    Parameters
+    ----------
+    system : System
+    t_end, dt : float
+        End time and step (s); the last step is shortened to end exactly at ``t_end``.
+    rho_inf : float in [0, 1]
+        Spectral radius at infinity (numerical damping of high frequencies).
+    initial : State, optional
+        Initial ``q`` and ``v`` (default: the bodies' coordinates at rest).  Velocities
+        are projected onto the constraints; consistent accelerations and multipliers are
+        computed.
+    every : int
+        Save every ``every``-th step (and the first and last).
+    output : path, optional
+        Run directory: saved steps are written in compressed chunks of ``chunk`` steps
+        with a checkpoint, so an interrupted run keeps everything up to the last chunk.
+    restart_from : path, optional
+        Continue the run in this directory (written with ``output``) from its checkpoint;
+        the continuation is bit-for-bit the uninterrupted run.
+    tol, max_iter, newton, method
+        See ``GeneralizedAlpha``.
+    max_halvings : int
+        A failed step is retried as two half steps, recursively, down to
+        ``dt / 2**max_halvings``; below that ``SimulationError`` is raised.
+    progress : bool, optional
+        Progress bar with ETA on stderr (default: when stderr is a terminal).
+
+    Returns
+    -------
+    Result
+    """
+    for name, value in (("t_end", t_end), ("dt", dt), ("t_start", t_start)):
+        if not np.isfinite(value):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+    if not dt > 0:
+        raise ValueError(f"dt must be > 0, got {dt!r}")
+    if not t_end > t_start:
+        raise ValueError(f"t_end must be > t_start = {t_start}, got {t_end!r}")
+    if int(every) != every or every < 1:
+        raise ValueError(f"every must be a positive integer, got {every!r}")
+    integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method)
+    n_steps = int(np.ceil((t_end - t_start) / dt - 1e-9))
+    settings = np.array([t_start, t_end, dt, rho_inf, every, tol, max_iter])
+    if restart_from is not None:
+        records, ck = read_run(restart_from)
+        if not np.allclose(ck["settings"][[0, 2, 3, 4, 5, 6]], settings[[0, 2, 3, 4, 5, 6]]):
+            raise ValueError("restart_from: t_start, dt, rho_inf, every, tol and max_iter must "
+                             "match the interrupted run")
+        integ.restore(ck)
+        integ.stats.update({k: int(ck["stat_" + k]) for k in integ.stats})
+        start_index = int(ck["index"])
+        output = restart_from if output is None else output
+        writer = RunWriter(output, chunk)
+        for name in writer.records:
+            writer.records[name] = list(records[name])
+        writer.flushed = len(writer)
+        writer.chunks = int(ck["chunks"])
+    else:
+        q, v = _initial_arrays(system, initial)
+        integ.initialize(q, v, t_start)
+        start_index = 0
+        writer = RunWriter(output, chunk)
+    wall0 = time.perf_counter()
+    bar = Progress(t_start, t_end, progress)
+
+    def record(index):
+        writer.append(t=integ.t, q=integ.q.copy(), v=integ.v.copy(), a=integ.a.copy(),
+                      lam=integ.lam.copy(), iterations=integ.iterations, **integ.energies())
+        snap = integ.snapshot()
+        snap.update(index=index, settings=settings,
+                    **{"stat_" + k: val for k, val in integ.stats.items()})
+        return snap
+
+    def advance(h, depth):
+        ok, msg = integ.step(h)
+        if ok:
+            return
+        integ.stats["rejected"] += 1
+        if depth >= max_halvings:
+            raise SimulationError(f"step failed at the smallest step size {h:.3g} "
+                                  f"(dt/2^{depth}): {msg}", None)
+        advance(0.5 * h, depth + 1)
+        advance(0.5 * h, depth + 1)
+
+    snap = record(0) if start_index == 0 else None
+    try:
+        for i in range(start_index + 1, n_steps + 1):
+            t_target = t_end if i == n_steps else t_start + i * dt
+            advance(t_target - integ.t, 0)
+            if i % every == 0 or i == n_steps:
+                snap = record(i)
+                if writer.due():
+                    writer.flush(snap)
+            bar.update(integ.t)
+    except SimulationError as err:
+        err.result = Result(system, writer.arrays(), _stats(integ, wall0))
+        raise
+    finally:
+        # whatever stopped the run (an error, Ctrl-C), the saved steps reach the disk
+        if snap is not None and len(writer) > writer.flushed:
+            writer.flush(snap)
+        bar.close()
+    if snap is not None:
+        writer.flush(snap)
+    return Result(system, writer.arrays(), _stats(integ, wall0))
+
+
+def _stats(integ, wall0):
+    stats = dict(integ.stats)
+    stats["wall_time"] = time.perf_counter() - wall0
+    stats["solver"] = integ.solver.method
+    return stats
