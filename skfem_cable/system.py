@@ -264,8 +264,8 @@ class Layout:
         self.n_c = row
         N = n + row
         block(np.arange(N), np.arange(N))
-        R = np.concatenate(rows)
-        C = np.concatenate(cols)
+        R = np.concatenate(rows).astype(np.int64)
+        C = np.concatenate(cols).astype(np.int64)
         key = R * N + C
         ukey = np.unique(key)
         self.indptr = np.searchsorted(ukey // N, np.arange(N + 1)).astype(np.int64)
@@ -285,7 +285,8 @@ class Layout:
         self.hess_index = [None if b is None else index(b).ravel() for b in hess_blocks]
         M = system.mass_matrix().tocoo()
         self.mass = M.tocsr()
-        self.mass_data = np.bincount(np.searchsorted(ukey, M.row * N + M.col), weights=M.data,
+        mass_keys = M.row.astype(np.int64) * N + M.col
+        self.mass_data = np.bincount(np.searchsorted(ukey, mass_keys), weights=M.data,
                                      minlength=self.nnz)
         self.mass_diagonal = M.diagonal()
         # linear constraints: one sparse matrix and their constant KKT entries
