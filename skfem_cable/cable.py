@@ -170,6 +170,10 @@ class Cable:
                              f"got {force_per_length!r}")
         return asm(LinearForm(lambda v, w: f[0] * v[0] + f[1] * v[1] + f[2] * v[2]), self.basis)
 
+    def gravity_load(self, g):
+        """Consistent generalized force of uniform gravity ``g`` (m/s^2)."""
+        return self.line_load(self.section.mass_per_length * np.asarray(g, dtype=float))
+
     # --- elastic forces -------------------------------------------------------------------
     @property
     def EI_active(self):

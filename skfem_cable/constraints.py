@@ -92,25 +92,26 @@ def pin(node, target=None):
     """Spherical joint (Eq. 53): the position of ``node`` equals ``target``.
 
     ``target`` is ``None`` (ground at the node's initial position), a 3-vector (a ground
-    point) or another ``Node`` / body point (anything with ``position_dofs`` and
-    ``position_matrix``).
+    point), another ``Node``, or a rigid-body point (``RigidBody.point``): all linear in
+    the coordinates, ``C = r_node - G(x) d``.
     """
     if not isinstance(node, Node):
         raise TypeError(f"pin expects a Node (cable.node(i)), got {type(node).__name__}")
     labels = ["Fx", "Fy", "Fz"]
-    if target is None or not hasattr(target, "position_dofs"):
+    if target is None or not hasattr(target, "body"):
         if target is None:
             p = node.body.q0[node.body.node_dofs(node.index)[:3]]
         else:
             p = np.asarray(target, dtype=float)
             if p.shape != (3,) or not np.all(np.isfinite(p)):
-                raise ValueError("pin target must be a finite 3-vector, a Node or None, "
-                                 f"got {target!r}")
-        return LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3), p, f"pin {node!r}", labels)
-    Gt = getattr(target, "position_matrix", np.eye(3))
-    J = np.hstack([np.eye(3), -Gt])
+                raise ValueError("pin target must be a finite 3-vector, a Node, a body point "
+                                 f"or None, got {target!r}")
+        return LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3), p, f"pin {node!r}",
+                                labels)
+    G = np.eye(3) if isinstance(target, Node) else target.position_matrix
+    J = np.hstack([np.eye(3), -G])
 
     def dofs(s):
-        return np.concatenate([s.dofs(node)[:3], s.dofs(target)[: Gt.shape[1]]])
+        return np.concatenate([s.position_map(node)[0], s.position_map(target)[0]])
 
     return LinearConstraint(dofs, J, np.zeros(3), f"pin {node!r}-{target!r}", labels)

@@ -17,7 +17,7 @@ import scipy.sparse as sp
 
 from . import constraints as cons
 from .cable import Cable, Node
-from .loads import PointMoment, TimeLoad, _vector3
+from .loads import Centrifugal, PointMoment, TimeLoad, _vector3
 from .section import check_positive
 
 
@@ -41,9 +41,9 @@ class System:
             self.offsets[id(body)] = n
             n += body.n_dofs
         self.n_dofs = n
-        self.constraints = []
-        self.moments = []
-        self.time_loads = []
+        self.constraints = [c for body in self.bodies
+                            for c in getattr(body, "internal_constraints", list)()]
+        self.loads = []
         self.point_masses = []
         self.gravity = np.zeros(3)
         self._f_fixed = np.zeros(n)
@@ -82,17 +82,25 @@ class System:
     def add_point_load(self, node, force):
         """Force (N) at a node's position: a 3-vector, or a callable ``force(t)`` returning
         one (a time-dependent load, whose work is booked as external work)."""
-        dofs = self.dofs(node)[:3]
         if callable(force):
-            self.time_loads.append(TimeLoad(dofs, force))
-        else:
-            self._f_fixed[dofs] += _vector3(force, "force")
+            return self.add_load(TimeLoad(node, force))
+        self._f_fixed[self.dofs(node)[:3]] += _vector3(force, "force")
+        return self._changed()
+
+    def add_load(self, load):
+        """A configuration- or time-dependent load (see ``loads``); its work is booked as
+        external work."""
+        self.loads.append(load)
         return self._changed()
 
     def add_point_moment(self, node, moment):
         """Moment (N m, fixed in space) at a cable node; see ``loads.PointMoment``."""
-        self.moments.append(PointMoment(node, moment))
-        return self._changed()
+        return self.add_load(PointMoment(node, moment))
+
+    def add_centrifugal(self, omega):
+        """Centrifugal forces of a frame rotating at ``omega`` (rad/s): for steady spinning
+        states (``solve_static``) and their modes (``modes(..., spin=omega)``)."""
+        return self.add_load(Centrifugal(omega))
 
     def add_gravity(self, g):
         """Uniform gravity (m/s^2) on every body and point mass (consistent nodal forces)."""
@@ -105,9 +113,18 @@ class System:
         return self._changed()
 
     def add_point_mass(self, node, mass):
-        """Point mass (kg) at a node's position (e.g. a remote unit or a tip mass)."""
-        self.point_masses.append((self.dofs(node)[:3], check_positive("mass", mass)))
+        """Point mass (kg) at a node's position (e.g. a remote unit or a tip mass), or at a
+        body point (anything with ``body`` and ``position_matrix``)."""
+        dofs, G = self.position_map(node)
+        self.point_masses.append((dofs, G, check_positive("mass", mass)))
         return self._changed()
+
+    def position_map(self, point):
+        """``(dofs, G)`` with ``position = G @ q[dofs]`` for a cable ``Node`` or a body
+        point."""
+        if isinstance(point, Node):
+            return self.dofs(point)[:3], np.eye(3)
+        return self.dofs(point.body), point.position_matrix
 
     # --- layout ---------------------------------------------------------------------------
     @property
@@ -131,10 +148,11 @@ class System:
 
     def mass_matrix(self):
         """Global constant mass matrix (Eq. 11) including point masses."""
-        M = sp.block_diag([b.mass_matrix() for b in self.bodies], format="lil")
-        for dofs, m in self.point_masses:
-            for d in dofs:
-                M[d, d] += m
+        M = sp.block_diag([b.mass_matrix() for b in self.bodies], format="csr")
+        for dofs, G, m in self.point_masses:
+            rows, cols = np.meshgrid(dofs, dofs, indexing="ij")
+            M = M + sp.csr_matrix((m * (G.T @ G).ravel(), (rows.ravel(), cols.ravel())),
+                                  shape=M.shape)
         return M.tocsr()
 
     def cables(self):
@@ -154,6 +172,26 @@ class System:
                 return f"constraint {c.name} equation {c.labels[k]}"
             k -= c.n_eq
         return f"unknown {index}"
+
+    def rigid_motion_velocity(self, q, omega, center=(0, 0, 0), velocity=(0, 0, 0)):
+        """Velocities of a rigid motion of the whole system: ``velocity + omega x (r - center)``
+        for position coordinates and ``omega x r_x`` for slopes (Eqs. 81-82)."""
+        omega = _vector3(omega, "omega")
+        blocks = np.asarray(q, dtype=float).reshape(-1, 3)
+        is_position = np.concatenate([b.position_mask for b in self.bodies]).reshape(-1, 3)[:, 0]
+        rel = np.where(is_position[:, None], blocks - _vector3(center, "center"), blocks)
+        v = np.cross(omega, rel) + np.where(is_position[:, None], _vector3(velocity, "velocity"), 0)
+        return v.ravel()
+
+    def angular_momentum(self, q, v, center=(0, 0, 0)):
+        """Angular momentum about ``center``: ``sum_AB M_AB e_A x e_B_dot`` over the 3-vector
+        blocks of the coordinates (exact for ANCF cables, natural coordinates and point
+        masses, whose positions are linear in the coordinates)."""
+        is_position = np.concatenate([b.position_mask for b in self.bodies]).reshape(-1, 3)[:, 0]
+        blocks = np.asarray(q, dtype=float).reshape(-1, 3)
+        rel = np.where(is_position[:, None], blocks - np.asarray(center, dtype=float), blocks)
+        p = (self.layout.mass @ v).reshape(-1, 3)
+        return np.cross(rel, p).sum(axis=0)
 
     # --- evaluation -------------------------------------------------------------------------
     def constraint_values(self, q):
@@ -210,16 +248,12 @@ class System:
         power = np.zeros(2)
         want = data is not None
         for body, edofs, scatter in zip(self.bodies, lay.body_edofs, lay.body_scatter):
-            body.forces(q, v, f_int, data, scatter if want else None, cK, cC, energy, power,
-                        edofs, f_damp)
+            if hasattr(body, "forces"):
+                body.forces(q, v, f_int, data, scatter if want else None, cK, cC, energy,
+                            power, edofs, f_damp)
         f_nc = np.zeros(n)
-        for load in self.time_loads:
-            f_nc[load.dofs] += load.force(t)
-        for mom, d, idx in zip(self.moments, lay.mdofs, lay.moment_index):
-            a = q[d]
-            f_nc[d] += mom.force(a)
-            if want:
-                np.add.at(data, idx, -cK * load_factor * mom.stiffness(a).ravel())
+        for load, index in zip(self.loads, lay.load_index):
+            load.apply(q, t, f_nc, data, index, -cK * load_factor)
         f_ext = load_factor * (lay.f_const + f_nc)
         f_con = np.zeros(n)
         r = np.empty(n + lay.n_c)
@@ -247,8 +281,10 @@ class Layout:
 
         self.body_edofs = [body.element_dofs + system.dofs(body)[0] for body in system.bodies]
         body_blocks = [block(ed[:, :, None], ed[:, None, :]) for ed in self.body_edofs]
-        self.mdofs = [m.dofs(system) for m in system.moments]
-        moment_blocks = [block(d[:, None], d[None, :]) for d in self.mdofs]
+        load_blocks = []
+        for load in system.loads:
+            rc = load.bind(system)
+            load_blocks.append(None if rc is None else block(*rc))
         self.cdofs, self.crows = [], []
         row = 0
         jac_blocks, jacT_blocks, hess_blocks = [], [], []
@@ -279,7 +315,7 @@ class Layout:
             return pos[start[b]: start[b + 1]].reshape(shapes[b])
 
         self.body_scatter = [np.ascontiguousarray(index(b)) for b in body_blocks]
-        self.moment_index = [index(b).ravel() for b in moment_blocks]
+        self.load_index = [None if b is None else index(b) for b in load_blocks]
         self.jac_index = [index(b).ravel() for b in jac_blocks]
         self.jacT_index = [index(b).ravel() for b in jacT_blocks]
         self.hess_index = [None if b is None else index(b).ravel() for b in hess_blocks]
@@ -318,10 +354,9 @@ class Layout:
         f = system._f_fixed.copy()
         if np.any(system.gravity):
             for body in system.bodies:
-                f[system.dofs(body)] += body.line_load(body.section.mass_per_length
-                                                       * system.gravity)
-            for dofs, m in system.point_masses:
-                f[dofs] += m * system.gravity
+                f[system.dofs(body)] += body.gravity_load(system.gravity)
+            for dofs, G, m in system.point_masses:
+                f[dofs] += m * G.T @ system.gravity
         self.f_const = f
         # coordinate scales for convergence tests: system size for positions, 1 for slopes
         is_position = np.concatenate([b.position_mask for b in system.bodies])
