@@ -17,8 +17,12 @@ import scipy.sparse as sp
 
 from . import constraints as cons
 from .cable import Cable, Node
+from .kernels import cable as cable_kernel
 from .loads import Centrifugal, PointMoment, TimeLoad, _vector3
 from .section import check_positive
+
+_EMPTY = np.zeros(0)
+_NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
 
 
 class System:
@@ -247,10 +251,8 @@ class System:
         energy = np.zeros(2)
         power = np.zeros(2)
         want = data is not None
-        for body, edofs, scatter in zip(self.bodies, lay.body_edofs, lay.body_scatter):
-            if hasattr(body, "forces"):
-                body.forces(q, v, f_int, data, scatter if want else None, cK, cC, energy,
-                            power, edofs, f_damp)
+        for group in lay.cable_groups:
+            group.forces(q, v, f_int, data if want else None, cK, cC, energy, power, f_damp)
         f_nc = np.zeros(n)
         for load, index in zip(self.loads, lay.load_index):
             load.apply(q, t, f_nc, data, index, -cK * load_factor)
@@ -314,7 +316,8 @@ class Layout:
         def index(b):
             return pos[start[b]: start[b + 1]].reshape(shapes[b])
 
-        self.body_scatter = [np.ascontiguousarray(index(b)) for b in body_blocks]
+        body_scatter = [np.ascontiguousarray(index(b)) for b in body_blocks]
+        self.cable_groups = CableGroup.collect(system.bodies, self.body_edofs, body_scatter)
         self.load_index = [None if b is None else index(b) for b in load_blocks]
         self.jac_index = [index(b).ravel() for b in jac_blocks]
         self.jacT_index = [index(b).ravel() for b in jacT_blocks]
@@ -367,3 +370,38 @@ class Layout:
 
     def matrix(self, data):
         return sp.csr_matrix((data, self.indices, self.indptr), shape=(self.N, self.N))
+
+
+class CableGroup:
+    """Cables with the same section, kind and quadrature, evaluated by one kernel call over
+    the concatenation of their elements (an E-sail's tethers are one group)."""
+
+    def __init__(self, cables, edofs, scatter):
+        first = cables[0]
+        self.section, self.EI = first.section, first.EI_active
+        self.edofs = np.ascontiguousarray(np.concatenate(edofs))
+        self.scatter = np.ascontiguousarray(np.concatenate(scatter))
+        for name in ("S", "Sx", "Sxx", "weights", "h"):
+            setattr(self, name, np.ascontiguousarray(np.concatenate(
+                [getattr(c, name) for c in cables])))
+
+    @classmethod
+    def collect(cls, bodies, edofs, scatter):
+        groups = {}
+        for body, ed, sc in zip(bodies, edofs, scatter):
+            if isinstance(body, Cable):
+                key = (body.section, body.EI_active, body.Sx.shape[1])
+                groups.setdefault(key, []).append((body, ed, sc))
+        return [cls(*zip(*members)) for members in groups.values()]
+
+    def forces(self, q, v, f, data, cK, cC, energy, power, f_damping):
+        """As ``Cable.forces`` for all cables of the group (global vectors)."""
+        sec = self.section
+        damped = v is not None
+        cable_kernel.force_tangent(
+            q, q if v is None else v, self.edofs, self.Sx, self.Sxx, self.weights, self.h,
+            sec.EA, self.EI, sec.gamma_axial if damped else 0.0,
+            sec.gamma_bending if damped else 0.0, f,
+            _EMPTY if f_damping is None else f_damping,
+            _EMPTY if data is None else data,
+            self.scatter if data is not None else _NO_SCATTER, cK, cC, energy, power)

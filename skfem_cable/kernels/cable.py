@@ -15,8 +15,9 @@ from .density import CURVATURE_RATE_DELTA, SLOPE_FLOOR
 
 
 @njit(cache=True)
-def _squared_curvature(a, b, grad, hess):
-    """``kappa^2`` of ``(a, b)``; writes its gradient (6,) and Hessian (6, 6)."""
+def _squared_curvature(a, b, grad, hess, want_hess):
+    """``kappa^2`` of ``(a, b)``; writes its gradient (6,) and, if ``want_hess``, its
+    Hessian (6, 6)."""
     p = max(a[0] * a[0] + a[1] * a[1] + a[2] * a[2], SLOPE_FLOOR)
     c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
     bb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2]
@@ -24,25 +25,26 @@ def _squared_curvature(a, b, grad, hess):
     p3 = 1.0 / (p * p * p)
     p4 = p3 / p
     p5 = p4 / p
-    ga = np.empty(3)
-    gb = np.empty(3)
     for i in range(3):
-        ga[i] = 2.0 * bb * a[i] - 2.0 * c * b[i]
-        gb[i] = 2.0 * p * b[i] - 2.0 * c * a[i]
-    for i in range(3):
-        grad[i] = ga[i] * p3 - 6.0 * g * p4 * a[i]
-        grad[3 + i] = gb[i] * p3
-        for j in range(3):
-            d = 1.0 if i == j else 0.0
-            gaa = 2.0 * bb * d - 2.0 * b[i] * b[j]
-            gab = 4.0 * a[i] * b[j] - 2.0 * b[i] * a[j] - 2.0 * c * d
-            gbb = 2.0 * p * d - 2.0 * a[i] * a[j]
-            hess[i, j] = (gaa * p3 - 6.0 * p4 * (ga[i] * a[j] + a[i] * ga[j])
-                          - 6.0 * g * p4 * d + 48.0 * g * p5 * a[i] * a[j])
-            kab = gab * p3 - 6.0 * p4 * a[i] * gb[j]
-            hess[i, 3 + j] = kab
-            hess[3 + j, i] = kab
-            hess[3 + i, 3 + j] = gbb * p3
+        gai = 2.0 * bb * a[i] - 2.0 * c * b[i]
+        grad[i] = gai * p3 - 6.0 * g * p4 * a[i]
+        grad[3 + i] = (2.0 * p * b[i] - 2.0 * c * a[i]) * p3
+    if want_hess:
+        for i in range(3):
+            gai = 2.0 * bb * a[i] - 2.0 * c * b[i]
+            for j in range(3):
+                gaj = 2.0 * bb * a[j] - 2.0 * c * b[j]
+                gbj = 2.0 * p * b[j] - 2.0 * c * a[j]
+                d = 1.0 if i == j else 0.0
+                gaa = 2.0 * bb * d - 2.0 * b[i] * b[j]
+                gab = 4.0 * a[i] * b[j] - 2.0 * b[i] * a[j] - 2.0 * c * d
+                gbb = 2.0 * p * d - 2.0 * a[i] * a[j]
+                hess[i, j] = (gaa * p3 - 6.0 * p4 * (gai * a[j] + a[i] * gaj)
+                              - 6.0 * g * p4 * d + 48.0 * g * p5 * a[i] * a[j])
+                kab = gab * p3 - 6.0 * p4 * a[i] * gbj
+                hess[i, 3 + j] = kab
+                hess[3 + j, i] = kab
+                hess[3 + i, 3 + j] = gbb * p3
     return g * p3
 
 
@@ -146,12 +148,13 @@ def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
                     H[i, i] += c * edot
             if EI > 0.0:
                 # bending energy through the squared curvature (Eqs. 95-107)
-                k2 = _squared_curvature(x[:3], x[3:], kg, kh)
+                k2 = _squared_curvature(x[:3], x[3:], kg, kh, want_matrix)
                 energy[1] += wg * 0.5 * EI * k2
                 for i in range(6):
                     G[i] += 0.5 * EI * kg[i]
-                    for j in range(6):
-                        H[i, j] += 0.5 * EI * kh[i, j]
+                    if want_matrix:
+                        for j in range(6):
+                            H[i, j] += 0.5 * EI * kh[i, j]
                 if gamma_b > 0.0:
                     # bending damping with the regularised curvature rate (Eqs. 113-127)
                     c = gamma_b * EI
@@ -162,18 +165,20 @@ def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
                     kdot = k2dot / (2.0 * s)
                     power[1] += wg * c * kdot * kdot
                     for i in range(6):
-                        hx = 0.0
-                        for j in range(6):
-                            hx += kh[i, j] * xd[j]
-                        dkd[i] = hx / (2.0 * s) - k2dot * kg[i] / (4.0 * s**3)
-                    for i in range(6):
-                        gi = kg[i] / (2.0 * s)
-                        Gd[i] += c * kdot * gi
-                        for j in range(6):
-                            gj = kg[j] / (2.0 * s)
-                            Hc[i, j] += c * gi * gj
-                            H[i, j] += c * (gi * dkd[j] + kdot * (
-                                kh[i, j] / (2.0 * s) - kg[i] * kg[j] / (4.0 * s**3)))
+                        Gd[i] += c * kdot * kg[i] / (2.0 * s)
+                    if want_matrix:
+                        for i in range(6):
+                            hx = 0.0
+                            for j in range(6):
+                                hx += kh[i, j] * xd[j]
+                            dkd[i] = hx / (2.0 * s) - k2dot * kg[i] / (4.0 * s**3)
+                        for i in range(6):
+                            gi = kg[i] / (2.0 * s)
+                            for j in range(6):
+                                gj = kg[j] / (2.0 * s)
+                                Hc[i, j] += c * gi * gj
+                                H[i, j] += c * (gi * dkd[j] + kdot * (
+                                    kh[i, j] / (2.0 * s) - kg[i] * kg[j] / (4.0 * s**3)))
             for A in range(4):
                 for i in range(3):
                     fd_i = wg * (S6[0, A] * Gd[i] + S6[1, A] * Gd[3 + i])

@@ -1,0 +1,105 @@
+"""The solar-wind Coulomb force on charged tethers (paper Sect. 2.2.3, Eqs. 27-35)."""
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .kernels import coulomb as kernel
+from .section import check_positive
+
+#: Astronomical unit (m).
+AU = 1.495978707e11
+
+
+@dataclass
+class SolarWind:
+    """Solar-wind plasma at the sail (defaults: 1 AU averages of Sect. 2.2.3).
+
+    Parameters
+    ----------
+    speed : float
+        Bulk speed ``u`` (m/s).
+    density : float
+        Proton density ``n0`` (1/m^3).
+    V1 : float
+        Voltage of the bulk kinetic energy of a proton (V).
+    proton_mass, eps0 : float
+        ``m_i`` (kg) and the vacuum permittivity (F/m).
+    """
+
+    speed: float = 4.0e5
+    density: float = 7.3e6
+    V1: float = 1.0e3
+    proton_mass: float = 1.67e-27
+    eps0: float = 8.854e-12
+
+    def __post_init__(self):
+        for name in ("speed", "density", "proton_mass", "eps0"):
+            setattr(self, name, check_positive(name, getattr(self, name)))
+        self.V1 = check_positive("V1", self.V1, allow_zero=True)
+
+    def force_per_length(self, voltage):
+        """``0.18 max(0, V0 - V1) sqrt(eps0 m_i n0) u`` (N/m): the force per unit length on
+        a tether perpendicular to the wind (Eq. 29)."""
+        return (0.18 * max(0.0, voltage - self.V1)
+                * np.sqrt(self.eps0 * self.proton_mass * self.density) * self.speed)
+
+
+class SolarWindForce:
+    """Coulomb drag of the solar wind on a set of cables, a load for ``System.add_load``.
+
+    Parameters
+    ----------
+    cables : sequence of Cable
+    voltage : float, callable, or sequence of them (one per cable)
+        Tether voltage ``V0`` (V); a callable ``V0(t)`` modulates it in time.
+    wind : SolarWind
+    sun_position : array_like (3,)
+        Position of the Sun in the simulation frame I (``-R0``, Eq. 32).
+    """
+
+    def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0)):
+        self.cables = list(cables)
+        if callable(voltage) or np.ndim(voltage) == 0:
+            voltage = [voltage] * len(self.cables)
+        if len(voltage) != len(self.cables):
+            raise ValueError(f"voltage needs one value per cable ({len(self.cables)}), "
+                             f"got {len(voltage)}")
+        for k, v in enumerate(voltage):
+            if not callable(v) and not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"voltage[{k}] must be >= 0 V or a callable, got {v!r}")
+        self.voltage = list(voltage)
+        self.wind = wind or SolarWind()
+        self.sun = np.asarray(sun_position, dtype=float)
+        per = [np.full(c.n_elements, k) for k, c in enumerate(self.cables)]
+        self.cable_of_element = np.concatenate(per)
+        self.S = np.ascontiguousarray(np.concatenate([c.S for c in self.cables]))
+        self.Sx = np.ascontiguousarray(np.concatenate([c.Sx for c in self.cables]))
+        self.w = np.ascontiguousarray(np.concatenate([c.weights for c in self.cables]))
+        self._constant = None
+        if not any(callable(v) for v in self.voltage):
+            self._constant = self.coefficients(0.0)
+
+    def voltages(self, t):
+        return np.array([v(t) if callable(v) else v for v in self.voltage], dtype=float)
+
+    def coefficients(self, t):
+        """Force per unit length on a perpendicular tether, per element (N/m)."""
+        if self._constant is not None:
+            return self._constant
+        per_cable = np.array([self.wind.force_per_length(V) for V in self.voltages(t)])
+        return per_cable[self.cable_of_element]
+
+    def bind(self, system):
+        self.edofs = np.ascontiguousarray(np.concatenate(
+            [c.element_dofs + system.dofs(c)[0] for c in self.cables]))
+        return self.edofs[:, :, None], self.edofs[:, None, :]
+
+    def apply(self, q, t, f, data, index, coef, resultant=None):
+        scatter = index if data is not None else np.zeros((0, 12, 12), dtype=np.int64)
+        resultant = np.zeros(3) if resultant is None else resultant
+        kernel.force_tangent(q, self.edofs, self.S, self.Sx, self.w, self.coefficients(t),
+                             self.sun, f, data if data is not None else np.zeros(0), scatter,
+                             coef, resultant)
+        return resultant
+

@@ -1,0 +1,92 @@
+"""Numba kernel of the solar-wind Coulomb force on cables (paper Eqs. 29-35).
+
+At every Gauss point ``f = c u_perp`` with ``u_perp = (I - t t^T) i_R`` (Eqs. 29-30),
+``t = r_x / |r_x|`` the tether tangent and ``i_R = (r - r_sun) / |r - r_sun|`` the radial
+direction from the Sun (Eq. 32); ``c`` (N/m) is the per-element product of the force
+coefficient of Eq. 29 and the wind speed.  The tangent has the two parts
+``df/dr = c (I - t t^T)(I - i_R i_R^T) / |r - r_sun|`` and
+``df/dr_x = -c (t i_R^T + (t . i_R) I)(I - t t^T) / |r_x|`` (Eq. 35 and the dependence of
+``i_R`` on the position, negligible at 1 AU but kept exact).
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def force_tangent(q, edofs, S, Sx, w, coef, sun, f, data, scatter, cK, resultant):
+    """Add the generalized Coulomb force ``int S^T f dx`` (Eq. 34) to ``f`` and
+    ``cK d/dq`` of it into ``data`` through ``scatter`` (skipped when empty); adds the
+    force resultant ``int f dx`` to ``resultant`` (3,)."""
+    ne, nq = w.shape
+    want = scatter.shape[0] == ne
+    qe = np.empty((4, 3))
+    r = np.empty(3)
+    a = np.empty(3)
+    fr = np.empty((3, 3))
+    fa = np.empty((3, 3))
+    Pt = np.empty((3, 3))
+    Pr = np.empty((3, 3))
+    fe = np.empty(12)
+    Ke = np.empty((12, 12))
+    for e in range(ne):
+        c = coef[e]
+        if c == 0.0:
+            continue
+        for A in range(4):
+            for i in range(3):
+                qe[A, i] = q[edofs[e, 3 * A + i]]
+        fe[:] = 0.0
+        Ke[:] = 0.0
+        for g in range(nq):
+            for i in range(3):
+                r[i] = 0.0
+                a[i] = 0.0
+                for A in range(4):
+                    r[i] += S[e, g, A] * qe[A, i]
+                    a[i] += Sx[e, g, A] * qe[A, i]
+                r[i] -= sun[i]
+            rho = math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
+            p = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+            for i in range(3):
+                r[i] /= rho
+                a[i] /= p
+            ti = r[0] * a[0] + r[1] * a[1] + r[2] * a[2]
+            wg = w[e, g]
+            for i in range(3):
+                fi = c * (r[i] - ti * a[i])
+                resultant[i] += wg * fi
+                for A in range(4):
+                    fe[3 * A + i] += wg * S[e, g, A] * fi
+            if want:
+                for i in range(3):
+                    for j in range(3):
+                        d = 1.0 if i == j else 0.0
+                        Pt[i, j] = d - a[i] * a[j]
+                        Pr[i, j] = d - r[i] * r[j]
+                for i in range(3):
+                    for j in range(3):
+                        sr = 0.0
+                        sa = 0.0
+                        for k in range(3):
+                            sr += Pt[i, k] * Pr[k, j]
+                            d = 1.0 if i == k else 0.0
+                            sa += (a[i] * r[k] + ti * d) * Pt[k, j]
+                        fr[i, j] = c * sr / rho
+                        fa[i, j] = -c * sa / p
+                for A in range(4):
+                    sA = wg * S[e, g, A]
+                    for B in range(4):
+                        sB = S[e, g, B]
+                        xB = Sx[e, g, B]
+                        for i in range(3):
+                            for j in range(3):
+                                Ke[3 * A + i, 3 * B + j] += sA * (sB * fr[i, j] + xB * fa[i, j])
+        for k in range(12):
+            f[edofs[e, k]] += fe[k]
+        if want:
+            for k in range(12):
+                for m in range(12):
+                    data[scatter[e, k, m]] += cK * Ke[k, m]

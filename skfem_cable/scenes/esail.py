@@ -1,0 +1,294 @@
+"""The electric solar-wind sail of the paper (Sects. 2.1, 3, 4.1): a rigid cylindrical hub
+in natural coordinates, ``p`` ANCF tethers pinned to its rim, remote units at their tips,
+the solar-wind Coulomb force, and the auxiliary outputs of Sect. 3.
+
+Frames (Sect. 2.1): H heliocentric ecliptic; I parallel to H with origin at ``R0`` (the hub
+centre at t = 0), in which the system is formulated; O the orbit frame (``Z_O`` radial from
+the Sun); B the hub body frame (``X_B`` the spin axis); E the frame of the remote units'
+mean plane.
+
+Departures from the paper, each a slip of the text (see ``docs/esail.md``): tether ``i``
+sits at ``zeta_i = 2 pi (i - 1)/p`` in the hub mid-plane (Eqs. 57, 79; Eq. 54 writes
+``2 pi i / p`` and measures from base point A); the initial stretch is the exact steady
+rotating-cable solution anchored at the hub rim (Eq. 79 ignores the hub radius in the
+strain, which would open the joints by ``R eps``); angles are measured from ``Z_O`` for both
+the thrust and the reaction (Eqs. 74, 77 write an elevation); the precession angle is the
+azimuth of the projection of ``X_E`` (``atan2``, not ``acos``); ``reaction_force`` is the force
+the tethers apply to the hub (the paper's multipliers carry the opposite sign).
+"""
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..cable import Cable
+from ..coulomb import AU, SolarWind, SolarWindForce
+from ..frames import R1, dcm_321, euler_321, euler_323, orbit_frame
+from ..rigid import RigidBody
+from ..section import Section, check_positive
+from ..state import State
+from ..system import System
+
+
+@dataclass
+class BaselineConfig:
+    """Table 1 of the paper and Sect. 4.1 (SI units); every field is editable.
+
+    ``voltage`` is one value for all tethers, a sequence with one per tether, or callables
+    ``V(t)`` (voltage modulation).
+    """
+
+    n_tethers: int = 12
+    tether_length: float = 10e3
+    tether_area: float = 4.28e-9
+    tether_inertia: float = 1.47e-18
+    tether_density: float = 7653.0
+    tether_E: float = 70e9
+    gamma_axial: float = 1.0
+    gamma_bending: float = 1.0
+    voltage: object = 20e3
+    remote_mass: float = 1.5
+    hub_height: float = 2.0
+    hub_radius: float = 1.0
+    hub_density: float = 884.0
+    spin_rate: float = 4e-3
+    R0: tuple = (np.sqrt(0.5) * AU, np.sqrt(0.5) * AU, 0.0)
+    wind: SolarWind = field(default_factory=SolarWind)
+
+    def validate(self):
+        """Raise ``ValueError`` naming the first invalid field."""
+        if int(self.n_tethers) != self.n_tethers or self.n_tethers < 1:
+            raise ValueError(f"n_tethers must be a positive integer, got {self.n_tethers!r}")
+        for name in ("tether_length", "tether_area", "tether_inertia", "tether_density",
+                     "tether_E", "remote_mass", "hub_height", "hub_radius", "hub_density",
+                     "spin_rate"):
+            check_positive(name, getattr(self, name))
+        for name in ("gamma_axial", "gamma_bending"):
+            check_positive(name, getattr(self, name), allow_zero=True)
+        R0 = np.asarray(self.R0, dtype=float)
+        if R0.shape != (3,) or not np.all(np.isfinite(R0)) or np.hypot(R0[0], R0[1]) == 0:
+            raise ValueError(f"R0 must be a finite 3-vector off the ecliptic pole, got {self.R0!r}")
+        return self
+
+    @property
+    def spin_period(self):
+        """Nominal spin period ``T_s = 2 pi / omega_0`` (s)."""
+        return 2 * np.pi / self.spin_rate
+
+    @property
+    def section(self):
+        return Section(E=self.tether_E, A=self.tether_area, I=self.tether_inertia,
+                       rho=self.tether_density, gamma_axial=self.gamma_axial,
+                       gamma_bending=self.gamma_bending)
+
+
+@dataclass
+class ESailScene:
+    """A built E-sail: the system, its bodies, the initial state and what ``outputs``
+    needs (``zeta`` tether angles, ``anchors`` in the body frame, ``R0``)."""
+
+    config: BaselineConfig
+    alpha: float
+    system: System
+    hub: RigidBody
+    tethers: list
+    anchors: np.ndarray
+    zeta: np.ndarray
+    wind_force: SolarWindForce
+    initial: State
+    R0: np.ndarray
+
+
+def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass, omega):
+    """Steady radial state of a cable spinning at ``omega`` about an axis, anchored at
+    ``hub_radius`` with a tip mass: ``T' = -mu omega^2 r``, ``r' = lambda(T)`` with the
+    Green-strain law ``T = EA (lambda^2 - 1) lambda / 2``, ``r(0) = hub_radius``,
+    ``T(L) = m omega^2 r(L)``.  Returns the radius ``r`` and the stretch ``lambda`` at the
+    reference arc lengths ``s`` (fixed-point iteration on a fine grid, converged to
+    round-off)."""
+    grid = np.union1d(np.linspace(0.0, length, 20001), s)
+    r = hub_radius + grid
+    for _ in range(50):
+        centrifugal = mass_per_length * omega**2 * r
+        tail = np.concatenate([[0.0], np.cumsum(0.5 * (centrifugal[1:] + centrifugal[:-1])
+                                                * np.diff(grid))])
+        T = tip_mass * omega**2 * r[-1] + tail[-1] - tail
+        lam = np.ones_like(T)
+        for _ in range(30):  # Newton on lam^3 - lam = 2 T / EA
+            lam -= (lam**3 - lam - 2 * T / EA) / (3 * lam**2 - 1)
+        r_new = hub_radius + np.concatenate([[0.0], np.cumsum(0.5 * (lam[1:] + lam[:-1])
+                                                             * np.diff(grid))])
+        done = np.max(np.abs(r_new - r)) <= 1e-15 * r[-1]
+        r = r_new
+        if done:
+            break
+    return np.interp(s, grid, r), np.interp(s, grid, lam)
+
+
+def build(config, alpha_deg, n_elements, kind="cable"):
+    """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
+    ``n_elements`` elements per tether of ``kind`` ("cable" or "truss").
+
+    The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
+    relative to O, all tethers radial in the hub mid-plane, stretched by the steady
+    rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
+    rigid rotation (Eqs. 79-82).
+    """
+    cfg = config.validate()
+    if int(n_elements) != n_elements or n_elements < 1:
+        raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
+    if not np.isfinite(alpha_deg) or abs(alpha_deg) > 90:
+        raise ValueError(f"alpha_deg must lie in [-90, 90], got {alpha_deg!r}")
+    alpha = np.deg2rad(alpha_deg)
+    R0 = np.asarray(cfg.R0, dtype=float)
+    C_I_O = orbit_frame(R0)
+    C_B_O = dcm_321(0.0, alpha - np.pi / 2, 0.0)
+    C_I_B = C_I_O @ C_B_O.T
+    hub = RigidBody.cylinder(cfg.hub_radius, cfg.hub_height, cfg.hub_density,
+                             rotation=C_I_B, name="hub")
+    sec = cfg.section
+    p = int(cfg.n_tethers)
+    zeta = 2 * np.pi * np.arange(p) / p
+    radial_B = np.column_stack([np.zeros(p), np.cos(zeta), np.sin(zeta)])
+    anchors = cfg.hub_radius * radial_B
+    s = np.linspace(0.0, cfg.tether_length, int(n_elements) + 1)
+    r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
+                                    sec.mass_per_length, cfg.remote_mass, cfg.spin_rate)
+    tethers = []
+    for i in range(p):
+        e = C_I_B @ radial_B[i]
+        cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
+                                     sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
+                      kind=kind, name=f"tether{i + 1}")
+        tethers.append(cable)
+    system = System([hub, *tethers])
+    for cable, x in zip(tethers, anchors):
+        system.pin(cable.node(0), hub.point(x))
+        system.add_point_mass(cable.node(-1), cfg.remote_mass)
+    wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=-R0)
+    system.add_load(wind_force)
+    q0 = system.q0
+    omega_I = C_I_B @ np.array([cfg.spin_rate, 0.0, 0.0])
+    v0 = system.rigid_motion_velocity(q0, omega_I)
+    return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
+                      State(system, q0, v=v0), R0)
+
+
+def _angles(vec_Z):
+    """Coning (out of the spin plane) and lagging angles of vectors in the tether frames Z
+    (Eqs. 59, 61)."""
+    gamma = np.arctan2(vec_Z[..., 0], np.hypot(vec_Z[..., 1], vec_Z[..., 2]))
+    beta = np.arctan2(vec_Z[..., 2], vec_Z[..., 1])
+    return gamma, beta
+
+
+def outputs(scene, result):
+    """Auxiliary variables of Sect. 3 as time series (leading axis: the saved steps).
+
+    Returns a dict with ``t`` and: ``coning``, ``lagging``, ``root_coning``,
+    ``root_lagging``, ``length_ratio`` (nt, p); ``omega_B`` (nt, 3, rad/s); ``euler_B``
+    (psi, theta, phi) and ``euler_E`` (Psi, Theta, Phi) (nt, 3, rad); ``sailing_angle``,
+    ``precession_angle`` (nt, rad); ``thrust`` (I) and ``thrust_O`` (nt, 3, N),
+    ``thrust_angle`` (from ``Z_O``, rad), ``thrust_moment`` (about the anchors, I, N m);
+    ``coulomb_force_B``, ``coulomb_moment_B`` per tether (nt, p, 3, body frame);
+    ``reaction_force`` (force of the tethers on the hub, I) and ``reaction_force_O``,
+    ``reaction_moment`` (about the hub centre, I), ``reaction_angle`` (from ``Z_O``); and
+    the energies of ``result.energy``.
+    """
+    system, hub = scene.system, scene.hub
+    d = result.q[:, system.dofs(hub)]
+    C_I_B = hub.rotation(d)
+    origin = hub.positions(d, np.zeros(3))
+    C_I_O = orbit_frame(scene.R0 + origin)
+    out = {"t": result.t}
+    rho_Z, tau_Z, ratio = [], [], []
+    for zeta, cable in zip(scene.zeta, scene.tethers):
+        qc = result.q[:, system.dofs(cable)]
+        nodes = qc.reshape(len(result.t), -1, 2, 3)
+        C_Z_I = R1(zeta) @ np.swapaxes(C_I_B, -1, -2)
+        rho_Z.append(np.einsum("tij,tj->ti", C_Z_I, nodes[:, -1, 0] - nodes[:, 0, 0]))
+        tau_Z.append(np.einsum("tij,tj->ti", C_Z_I, nodes[:, 0, 1]))
+        a = np.einsum("egA,teAi->tegi", cable.Sx, qc[:, cable.element_dofs].reshape(
+            len(result.t), cable.n_elements, 4, 3))
+        ratio.append(np.einsum("eg,teg->t", cable.weights, np.linalg.norm(a, axis=-1))
+                     / cable.length)
+    out["coning"], out["lagging"] = _angles(np.stack(rho_Z, axis=1))
+    out["root_coning"], out["root_lagging"] = _angles(np.stack(tau_Z, axis=1))
+    out["length_ratio"] = np.stack(ratio, axis=1)
+    out["omega_B"] = hub.angular_velocity(d, result.v[:, system.dofs(hub)])
+    C_B_O = np.swapaxes(C_I_B, -1, -2) @ C_I_O
+    out["euler_B"] = euler_321(C_B_O)
+    # E frame: normal of the least-squares plane of the remote units (Eqs. 67-70)
+    tips = np.stack([result.q[:, system.dofs(c)[-6:-3]] for c in scene.tethers], axis=1)
+    centre = tips.mean(axis=1, keepdims=True)
+    normal = np.linalg.svd(tips - centre)[2][:, -1]
+    normal *= np.sign(np.einsum("ti,ti->t", normal, C_I_B[:, :, 0]))[:, None]
+    k_E = np.cross(normal, tips[:, 0] - centre[:, 0])
+    k_E /= np.linalg.norm(k_E, axis=1, keepdims=True)
+    C_I_E = np.stack([normal, np.cross(k_E, normal), k_E], axis=-1)
+    out["euler_E"] = euler_323(np.swapaxes(C_I_E, -1, -2) @ C_I_O)
+    out["sailing_angle"] = np.arccos(np.clip(np.einsum("ti,ti->t", C_I_B[:, :, 0],
+                                                       C_I_O[:, :, 2]), -1, 1))
+    i_E_O = np.einsum("tji,tj->ti", C_I_O, normal)
+    out["precession_angle"] = np.arctan2(i_E_O[:, 1], i_E_O[:, 0])
+    # Coulomb resultants (Eqs. 72-76) by the same quadrature as the force
+    force_B, moment_B = _coulomb_resultants(scene, result, C_I_B)
+    thrust = np.einsum("tij,tpj->ti", C_I_B, force_B)
+    out["coulomb_force_B"], out["coulomb_moment_B"] = force_B, moment_B
+    out["thrust"] = thrust
+    out["thrust_O"] = np.einsum("tji,tj->ti", C_I_O, thrust)
+    out["thrust_angle"] = _angle_from_z(out["thrust_O"])
+    out["thrust_moment"] = np.einsum("tij,tpj->ti", C_I_B, moment_B)
+    # reactions on the hub from the joint multipliers (Eqs. 77-78)
+    pins = [result.multipliers[c.name] for c in system.constraints if c.name.startswith("pin")]
+    lam = np.stack(pins, axis=1)
+    out["reaction_force"] = lam.sum(axis=1)
+    out["reaction_force_O"] = np.einsum("tji,tj->ti", C_I_O, out["reaction_force"])
+    anchors_I = hub.positions(d, scene.anchors)
+    out["reaction_moment"] = np.cross(anchors_I - origin[:, None], lam).sum(axis=1)
+    out["reaction_angle"] = _angle_from_z(out["reaction_force_O"])
+    out.update(result.energy)
+    return out
+
+
+def _angle_from_z(F_O):
+    return np.arctan2(np.hypot(F_O[..., 0], F_O[..., 1]), F_O[..., 2])
+
+
+def _coulomb_resultants(scene, result, C_I_B):
+    """Per-tether Coulomb force ``int f dx`` and moment ``int (r - r_anchor) x f dx`` about
+    the anchor, in the body frame, (nt, p, 3) each."""
+    wf, system = scene.wind_force, scene.system
+    nt, p = len(result.t), len(scene.tethers)
+    force = np.zeros((nt, p, 3))
+    moment = np.zeros((nt, p, 3))
+    for k, t in enumerate(result.t):
+        coef = wf.coefficients(t)
+        start = 0
+        for i, cable in enumerate(scene.tethers):
+            qc = result.q[k, system.dofs(cable)]
+            qe = qc[cable.element_dofs].reshape(-1, 4, 3)
+            r = np.einsum("egA,eAi->egi", cable.S, qe)
+            a = np.einsum("egA,eAi->egi", cable.Sx, qe)
+            iR = r - wf.sun
+            iR /= np.linalg.norm(iR, axis=-1, keepdims=True)
+            tvec = a / np.linalg.norm(a, axis=-1, keepdims=True)
+            f = (iR - np.einsum("egi,egi->eg", tvec, iR)[..., None] * tvec)
+            f *= coef[start: start + cable.n_elements, None, None]
+            start += cable.n_elements
+            fw = f * cable.weights[..., None]
+            force[k, i] = fw.sum(axis=(0, 1))
+            moment[k, i] = np.cross(r - qc[:3], fw).sum(axis=(0, 1))
+    RT = np.swapaxes(C_I_B, -1, -2)
+    return np.einsum("tij,tpj->tpi", RT, force), np.einsum("tij,tpj->tpi", RT, moment)
+
+
+def psd(t, x, segments=4):
+    """Welch power spectral density of samples ``x`` (leading axis time) at uniform times
+    ``t``: returns frequencies (Hz) and densities."""
+    from scipy.signal import welch
+
+    t = np.asarray(t, dtype=float)
+    nper = max(8, len(t) // segments)
+    return welch(np.asarray(x) - np.mean(x, axis=0), fs=1.0 / (t[1] - t[0]), nperseg=nper,
+                 axis=0)
