@@ -18,6 +18,7 @@ import scipy.sparse as sp
 from . import constraints as cons
 from .cable import Cable, Node
 from .kernels import cable as cable_kernel
+from .linalg import FastCSR
 from .loads import Centrifugal, PointMoment, TimeLoad, _vector3
 from .section import check_positive
 
@@ -253,6 +254,9 @@ class System:
         want = data is not None
         for group in lay.cable_groups:
             group.forces(q, v, f_int, data if want else None, cK, cC, energy, power, f_damp)
+        for body, edofs, scatter in lay.other_forces:
+            body.forces(q, v, f_int, data, scatter if want else None, cK, cC, energy, power,
+                        edofs, f_damp)
         f_nc = np.zeros(n)
         for load, index in zip(self.loads, lay.load_index):
             load.apply(q, t, f_nc, data, index, -cK * load_factor)
@@ -318,12 +322,16 @@ class Layout:
 
         body_scatter = [np.ascontiguousarray(index(b)) for b in body_blocks]
         self.cable_groups = CableGroup.collect(system.bodies, self.body_edofs, body_scatter)
+        # bodies with forces of their own (e.g. user-defined element types)
+        self.other_forces = [(b, ed, sc) for b, ed, sc in zip(system.bodies, self.body_edofs,
+                                                              body_scatter)
+                             if hasattr(b, "forces") and type(b) is not Cable]
         self.load_index = [None if b is None else index(b) for b in load_blocks]
         self.jac_index = [index(b).ravel() for b in jac_blocks]
         self.jacT_index = [index(b).ravel() for b in jacT_blocks]
         self.hess_index = [None if b is None else index(b).ravel() for b in hess_blocks]
         M = system.mass_matrix().tocoo()
-        self.mass = M.tocsr()
+        self.mass = FastCSR(M)
         mass_keys = M.row.astype(np.int64) * N + M.col
         self.mass_data = np.bincount(np.searchsorted(ukey, mass_keys), weights=M.data,
                                      minlength=self.nnz)
@@ -348,10 +356,11 @@ class Layout:
             self.lin_rows = np.concatenate([self.crows[k] for k in linear])
             local = np.empty(row, dtype=np.int64)
             local[self.lin_rows] = np.arange(len(self.lin_rows))
-            self.C_lin = sp.csr_matrix((np.concatenate(Jv), (local[np.concatenate(Jr)],
-                                        np.concatenate(Jc))), shape=(len(self.lin_rows), n))
+            C_lin = sp.csr_matrix((np.concatenate(Jv), (local[np.concatenate(Jr)],
+                                   np.concatenate(Jc))), shape=(len(self.lin_rows), n))
+            self.C_lin = FastCSR(C_lin)
             self.c_lin = np.concatenate(c_lin)
-            self.C_lin_T = self.C_lin.T.tocsr()
+            self.C_lin_T = FastCSR(C_lin.T)
         self.damped = any(getattr(b, "damped", False) for b in system.bodies)
         # constant generalized forces: fixed loads, gravity on bodies and point masses
         f = system._f_fixed.copy()
@@ -373,8 +382,9 @@ class Layout:
 
 
 class CableGroup:
-    """Cables with the same section, kind and quadrature, evaluated by one kernel call over
-    the concatenation of their elements (an E-sail's tethers are one group)."""
+    """Cables (exactly ``Cable``, not subclasses) with the same section, kind and quadrature,
+    evaluated by one kernel call over the concatenation of their elements (an E-sail's
+    tethers are one group)."""
 
     def __init__(self, cables, edofs, scatter):
         first = cables[0]
@@ -389,7 +399,7 @@ class CableGroup:
     def collect(cls, bodies, edofs, scatter):
         groups = {}
         for body, ed, sc in zip(bodies, edofs, scatter):
-            if isinstance(body, Cable):
+            if type(body) is Cable:  # subclasses may override forces: called one by one
                 key = (body.section, body.EI_active, body.Sx.shape[1])
                 groups.setdefault(key, []).append((body, ed, sc))
         return [cls(*zip(*members)) for members in groups.values()]

@@ -14,17 +14,20 @@ from numba import njit
 from .density import CURVATURE_RATE_DELTA, SLOPE_FLOOR
 
 
-@njit(cache=True)
-def _squared_curvature(a, b, grad, hess, want_hess):
-    """``kappa^2`` of ``(a, b)``; writes its gradient (6,) and, if ``want_hess``, its
+@njit(cache=True, inline="always")
+def _squared_curvature(x, grad, hess, want_hess):
+    """``kappa^2`` of ``x = (a, b)``; writes its gradient (6,) and, if ``want_hess``, its
     Hessian (6, 6)."""
-    p = max(a[0] * a[0] + a[1] * a[1] + a[2] * a[2], SLOPE_FLOOR)
-    c = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-    bb = b[0] * b[0] + b[1] * b[1] + b[2] * b[2]
+    a0, a1, a2, b0, b1, b2 = x[0], x[1], x[2], x[3], x[4], x[5]
+    p = max(a0 * a0 + a1 * a1 + a2 * a2, SLOPE_FLOOR)
+    c = a0 * b0 + a1 * b1 + a2 * b2
+    bb = b0 * b0 + b1 * b1 + b2 * b2
     g = p * bb - c * c
     p3 = 1.0 / (p * p * p)
     p4 = p3 / p
     p5 = p4 / p
+    a = x[:3]
+    b = x[3:]
     for i in range(3):
         gai = 2.0 * bb * a[i] - 2.0 * c * b[i]
         grad[i] = gai * p3 - 6.0 * g * p4 * a[i]
@@ -123,8 +126,9 @@ def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
                     xd[3 * U + i] = sv
             G[:] = 0.0
             Gd[:] = 0.0
-            H[:] = 0.0
-            Hc[:] = 0.0
+            if want_matrix:
+                H[:] = 0.0
+                Hc[:] = 0.0
             wg = w[e, g]
             # axial energy (Eqs. 86-94)
             p = x[0] * x[0] + x[1] * x[1] + x[2] * x[2]
@@ -132,9 +136,11 @@ def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
             energy[0] += wg * 0.5 * EA * eps * eps
             for i in range(3):
                 G[i] += EA * eps * x[i]
-                for j in range(3):
-                    H[i, j] += EA * x[i] * x[j]
-                H[i, i] += EA * eps
+            if want_matrix:
+                for i in range(3):
+                    for j in range(3):
+                        H[i, j] += EA * x[i] * x[j]
+                    H[i, i] += EA * eps
             if gamma_a > 0.0:
                 # axial damping (Eqs. 108-112)
                 c = gamma_a * EA
@@ -142,13 +148,15 @@ def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
                 power[0] += wg * c * edot * edot
                 for i in range(3):
                     Gd[i] += c * edot * x[i]
-                    for j in range(3):
-                        Hc[i, j] += c * x[i] * x[j]
-                        H[i, j] += c * x[i] * xd[j]
-                    H[i, i] += c * edot
+                if want_matrix:
+                    for i in range(3):
+                        for j in range(3):
+                            Hc[i, j] += c * x[i] * x[j]
+                            H[i, j] += c * x[i] * xd[j]
+                        H[i, i] += c * edot
             if EI > 0.0:
                 # bending energy through the squared curvature (Eqs. 95-107)
-                k2 = _squared_curvature(x[:3], x[3:], kg, kh, want_matrix)
+                k2 = _squared_curvature(x, kg, kh, want_matrix)
                 energy[1] += wg * 0.5 * EI * k2
                 for i in range(6):
                     G[i] += 0.5 * EI * kg[i]

@@ -283,6 +283,31 @@ def _coulomb_resultants(scene, result, C_I_B):
     return np.einsum("tij,tpj->tpi", RT, force), np.einsum("tij,tpj->tpi", RT, moment)
 
 
+def rigid_coning(config, out, tether=0):
+    """Coning angle of a rigid tether from the pendulum equation Eq. 83,
+    ``gamma'' + gamma omega_1^2 (1 + eps) = -M_c3^B / ((m_u + m_t/3) L0^2)`` with
+    ``eps = 3 R (2 m_u + m_t) / (2 L0 (3 m_u + m_t))`` (Eq. 84), driven by the simulated
+    spin rate ``omega_1`` and Coulomb moment of the tether; starts in the spin plane at
+    rest relative to the hub.  Returns ``gamma(t)`` at ``out["t"]``."""
+    from scipy.integrate import solve_ivp
+
+    t = out["t"]
+    L0, R, mu = config.tether_length, config.hub_radius, config.remote_mass
+    mt = config.section.mass_per_length * L0
+    eps = 3 * R * (2 * mu + mt) / (2 * L0 * (3 * mu + mt))
+    inertia = (mu + mt / 3) * L0**2
+    w1 = out["omega_B"][:, 0]
+    Mz = out["coulomb_moment_B"][:, tether, 2]
+
+    def rhs(s, y):
+        w = np.interp(s, t, w1)
+        return [y[1], -y[0] * w * w * (1 + eps) - np.interp(s, t, Mz) / inertia]
+
+    sol = solve_ivp(rhs, (t[0], t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-10, atol=1e-14,
+                    max_step=(t[1] - t[0]) * 5)
+    return sol.y[0]
+
+
 def psd(t, x, segments=4):
     """Welch power spectral density of samples ``x`` (leading axis time) at uniform times
     ``t``: returns frequencies (Hz) and densities."""

@@ -74,7 +74,7 @@ class GeneralizedAlpha:
         Linear solver of the iteration matrix.
     """
 
-    def __init__(self, system, rho_inf=0.8, tol=1e-9, max_iter=12, newton="modified",
+    def __init__(self, system, rho_inf=0.8, tol=1e-11, max_iter=12, newton="modified",
                  method="auto"):
         if newton not in ("modified", "full"):
             raise ValueError(f"newton must be 'modified' or 'full', got {newton!r}")
@@ -298,7 +298,7 @@ def _initial_arrays(system, initial):
 
 
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1, output=None,
-             chunk=200, restart_from=None, tol=1e-9, max_iter=12, newton="modified",
+             chunk=200, restart_from=None, tol=1e-11, max_iter=12, newton="modified",
              max_halvings=10, progress=None, method="auto"):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 

@@ -10,8 +10,14 @@ from ..solvers.static import constraint_scale
 DENSE_LIMIT = 600
 
 
-def modes(system, state=None, k=6, sigma=None):
+def modes(system, state=None, k=6, sigma=None, spin=None):
     """Lowest ``k`` natural frequencies (Hz) and mode shapes about ``state``.
+
+    With ``spin`` (rad/s, a 3-vector) the system is taken in a frame rotating at that rate
+    (add ``System.add_centrifugal(spin)`` so that ``state`` is a steady spinning state and
+    the tangent holds the centrifugal softening): the Coriolis (gyroscopic) matrix
+    ``2 M (I (x) [spin]_x)`` enters and the quadratic eigenproblem is solved densely in
+    first-order form; shapes are then complex.
 
     Solves ``(K_t + H(lambda)) phi = omega^2 M phi`` subject to ``C_q phi = 0`` through the
     KKT pencil, by shift-invert about ``sigma`` (rad^2/s^2; default a small negative shift
@@ -36,6 +42,8 @@ def modes(system, state=None, k=6, sigma=None):
     scale = constraint_scale(system, q, lam)
     data = scale * lay.linear_data
     system.evaluate(q, None, 0.0, lam, scale=scale, data=data)
+    if spin is not None:
+        return _gyroscopic_modes(system, lay.matrix(data), scale, k, spin)
     mass = lay.mass_data
     if sigma is None:
         diag = lay.matrix(data).diagonal()[:n]
@@ -62,3 +70,36 @@ def modes(system, state=None, k=6, sigma=None):
         shapes[i] /= np.sqrt(abs(shapes[i] @ (Mq @ shapes[i])))
     freqs = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
     return freqs, shapes
+
+
+def _gyroscopic_modes(system, kkt, scale, k, spin):
+    """``(lambda^2 M + lambda G + K) x + C^T mu = 0``, ``C x = 0`` in first-order form
+    ``A z = lambda B z``, ``z = (x, lambda x, mu)``; frequencies are ``|Im lambda| / 2 pi``."""
+    from scipy.linalg import eig
+
+    from ..loads import spin_matrix
+
+    n, N = system.n_dofs, kkt.shape[0]
+    if 2 * n + (N - n) > 4000:
+        raise ValueError("modes with spin are solved densely: the system is too large "
+                         f"({n} coordinates; at most about 2000)")
+    K = kkt.toarray()
+    M = system.layout.mass.scipy.toarray()
+    G = 2.0 * spin_matrix(system.layout.mass.scipy, np.asarray(spin, dtype=float), 1).toarray()
+    m = N - n
+    Z = np.zeros
+    A = np.block([[Z((n, n)), np.eye(n), Z((n, m))],
+                  [-K[:n, :n], -G, -K[:n, n:]],
+                  [K[n:, :n], Z((m, n)), Z((m, m))]])
+    B = np.block([[np.eye(n), Z((n, n)), Z((n, m))],
+                  [Z((n, n)), M, Z((n, m))],
+                  [Z((m, n)), Z((m, n)), Z((m, m))]])
+    lam, vec = eig(A, B)
+    finite = np.isfinite(lam) & (lam.imag >= 0)
+    lam, vec = lam[finite], vec[:, finite]
+    order = np.argsort(np.abs(lam))[:k]
+    shapes = vec[:n, order].T
+    for i in range(len(shapes)):
+        shapes[i] /= np.sqrt(abs(np.conj(shapes[i]) @ M @ shapes[i]))
+    del scale
+    return np.abs(lam[order]) / (2 * np.pi), shapes

@@ -1,0 +1,146 @@
+"""Speed of the rod-chain tether: the O(n) mass solve against dense and sparse solvers, and
+the cost of one RK4 step versus the number of rods.
+
+Run ``python benchmarks/rodchain_speed.py`` (``--quick`` stops at n = 10^4).  Times are
+the best of several repeats of averaged loops (seconds per call), right-hand sides of
+shape (n, 3) as in the equations of motion.
+
+Solvers of ``M x = b`` compared:
+
+* ``O(n)``: ``RodChain.solve_mass`` (Eqs. 28-30, numba);
+* ``LU``: ``numpy.linalg.solve`` on the dense ``M`` (LAPACK gesv, factorises every call,
+  as a generic ODE code would for a non-constant mass matrix);
+* ``chol``: ``scipy.linalg.cho_solve`` with ``M`` factorised once (LAPACK potrs, the best a
+  dense method can do for a constant ``M``);
+* ``splu``: the factored form ``x = Phi^{-1} G^{-1} Phi^{-T} b`` with the tridiagonal ``G``
+  (Eq. 25) factorised once by SuperLU (``scipy.sparse.linalg.splu``);
+* ``spsolve``: the same with ``scipy.sparse.linalg.spsolve`` (factorises every call).
+
+Dense solvers run up to ``DENSE_MAX`` (M takes 8 n^2 bytes; LU costs O(n^3)).
+"""
+
+import sys
+import time
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.linalg import cho_factor, cho_solve
+from scipy.sparse.linalg import splu, spsolve
+
+from skfem_cable.rodchain import RodChain
+
+DENSE_MAX = 4000
+
+
+def best_time(fn, budget=0.2, repeats=5):
+    """Best over ``repeats`` of the mean time of a loop lasting about ``budget / repeats``."""
+    fn()
+    start = time.perf_counter()
+    fn()
+    once = max(time.perf_counter() - start, 1e-7)
+    loops = max(1, int(budget / repeats / once))
+    best = np.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for _ in range(loops):
+            fn()
+        best = min(best, (time.perf_counter() - start) / loops)
+    return best
+
+
+def g_matrix(masses):
+    """Tridiagonal ``G`` of Eq. 25 (sparse CSC)."""
+    diag = masses / 3.0
+    diag[:-1] += masses[1:] / 3.0
+    off = masses[1:] / 6.0
+    return sp.diags([off, diag, off], [-1, 0, 1], format="csc")
+
+
+def factored_solve(solve_g, b):
+    """``Phi^{-1} G^{-1} Phi^{-T} b`` with ``Phi^{-1} = I - eps`` (Eqs. 22, 28)."""
+    y = b.copy()
+    y[:-1] -= b[1:]
+    z = solve_g(y)
+    z[1:] -= z[:-1].copy()
+    return z
+
+
+def exponent(ns, ts, n_min):
+    sel = [i for i, n in enumerate(ns) if n >= n_min and np.isfinite(ts[i])]
+    return np.polyfit(np.log([ns[i] for i in sel]), np.log([ts[i] for i in sel]), 1)[0]
+
+
+def solve_table(ns):
+    rng = np.random.default_rng(0)
+    print("M x = b, b of shape (n, 3): seconds per solve and ratios to the O(n) solve")
+    head = ["n", "O(n)", "us/rod", "LU", "chol", "splu", "spsolve", "LU/O(n)", "chol/O(n)",
+            "splu/O(n)", "diff to LU"]
+    print(("{:>8s}" + "{:>11s}" * (len(head) - 1)).format(*head))
+    fast = []
+    for n in ns:
+        chain = RodChain(rng.uniform(0.5, 2.0, n), np.ones(n), np.ones(n))
+        b = rng.standard_normal((n, 3))
+        t_fast = best_time(lambda chain=chain, b=b: chain.solve_mass(b))
+        G = g_matrix(chain.masses)
+        lu_g = splu(G)
+        t_splu = best_time(lambda lu_g=lu_g, b=b: factored_solve(lu_g.solve, b))
+        t_spsolve = best_time(lambda G=G, b=b: factored_solve(lambda y: spsolve(G, y), b),
+                              budget=0.1, repeats=3)
+        x_ref = factored_solve(lu_g.solve, b)
+        assert np.allclose(chain.solve_mass(b), x_ref, rtol=1e-9, atol=1e-12 * np.abs(x_ref).max())
+        t_lu = t_chol = diff = np.nan
+        if n <= DENSE_MAX:
+            M = chain.mass_matrix()
+            x_lu = np.linalg.solve(M, b)
+            diff = np.linalg.norm(chain.solve_mass(b) - x_lu) / np.linalg.norm(x_lu)
+            t_lu = best_time(lambda M=M, b=b: np.linalg.solve(M, b), budget=0.3, repeats=3)
+            cf = cho_factor(M)
+            t_chol = best_time(lambda cf=cf, b=b: cho_solve(cf, b), budget=0.2, repeats=3)
+        fast.append(t_fast)
+        row = [t_fast, 1e6 * t_fast / n, t_lu, t_chol, t_splu, t_spsolve,
+               t_lu / t_fast, t_chol / t_fast, t_splu / t_fast, diff]
+        print(f"{n:8d}" + "".join(f"{x:11.3g}" if np.isfinite(x) else f"{'-':>11s}" for x in row))
+    print(f"growth exponent of the O(n) solve for n >= 1000: {exponent(ns, fast, 1000):.2f}")
+    print("(diff to LU: |x - x_LU| / |x_LU|, dominated by LU's own error ~ cond(M) eps ~ n^2 eps)")
+    return fast
+
+
+def rk4_table(ns):
+    print("\nOne RK4 step (4 right-hand sides incl. the O(n) solve), hanging chain")
+    head = ["n", "steps", "s/step", "us/rod", "callable s/step", "callable/plain"]
+    print(("{:>8s}" + "{:>16s}" * (len(head) - 1)).format(*head))
+    g = np.array([0.0, -9.81, 0.0])
+    costs = []
+    for n in ns:
+        chain = RodChain.uniform(n, mass=1e-3, length=1.0, E=1e11, A=1e-6)  # strain < 1 %
+        q0 = chain.static_equilibrium(g)
+        q0[:, 0] += 0.01  # a little transverse offset so that everything moves
+        v0 = np.zeros_like(q0)
+        dt = 0.5 * chain.stable_dt()
+        steps = int(max(4, min(20000, 4e6 / n)))
+
+        def run(steps=steps, chain=chain, q0=q0, v0=v0, dt=dt, **kw):
+            chain.simulate(q0, v0, steps * dt, dt, gravity=g, output_every=steps, **kw)
+
+        t_step = best_time(run, budget=0.5, repeats=3) / steps
+        t_py = np.nan
+        if n <= 10_000:  # a callable line load: Python RK4 loop and Gauss quadrature
+            py_steps = max(4, steps // 20)
+
+            def run_py(steps=py_steps, run=run):
+                run(steps=steps, line_load=lambda t, r, v: np.zeros_like(r))
+
+            t_py = best_time(run_py, budget=0.5, repeats=3) / py_steps
+        costs.append(t_step)
+        row = [t_step, 1e6 * t_step / n, t_py, t_py / t_step]
+        print(f"{n:8d}{steps:16d}" + "".join(f"{x:16.3g}" if np.isfinite(x) else f"{'-':>16s}"
+                                               for x in row))
+    print(f"growth exponent of the RK4 step for n >= 1000: {exponent(ns, costs, 1000):.2f}")
+
+
+if __name__ == "__main__":
+    quick = "--quick" in sys.argv[1:]
+    top = 10_000 if quick else 100_000
+    solve_table([n for n in (10, 20, 50, 100, 200, 500, 1000, 2000, 4000, 10_000, 30_000,
+                             100_000) if n <= top])
+    rk4_table([n for n in (10, 30, 100, 300, 1000, 3000, 10_000, 30_000, 100_000) if n <= top])
