@@ -228,7 +228,8 @@ class System:
                 data[lay.jacT_index[k]] += scale * Jc.T.ravel()
                 data[lay.hess_index[k]] += cK * c.hessian(qc, lam[rows]).ravel()
 
-    def evaluate(self, q, v, t, lam, load_factor=1.0, cK=1.0, cC=0.0, scale=1.0, data=None):
+    def evaluate(self, q, v, t, lam, load_factor=1.0, cK=1.0, cC=0.0, scale=1.0, data=None,
+                 reference_force=False):
         """Residual of the equations of motion without inertia, and tangents.
 
         ``r = [f_int(q, v) - load_factor f_ext(q, t) + C_q^T lambda, scale C(q)]`` with
@@ -242,8 +243,9 @@ class System:
         info : dict
             ``energy`` (axial, bending), ``power`` (dissipated, axial and bending),
             ``f_damping`` (damping force, or None), ``f_nc`` (non-conservative external
-            force: time-dependent loads and moments) and ``force_ref`` (largest norm of the
-            internal, external and constraint forces: a scale for convergence tests).
+            force: time-dependent loads and moments) and, with ``reference_force``,
+            ``force_ref`` (largest norm of the internal, external and constraint forces: a
+            scale for convergence tests).
         """
         lay = self.layout
         n = self.n_dofs
@@ -265,9 +267,12 @@ class System:
         r = np.empty(n + lay.n_c)
         self._constraints(q, lam, f_con, r[n:], scale, data, cK)
         r[:n] = f_int - f_ext + f_con
-        force_ref = max(np.linalg.norm(f_int), np.linalg.norm(f_ext), np.linalg.norm(f_con))
-        return r, {"energy": energy, "power": power, "f_damping": f_damp,
-                   "f_nc": load_factor * f_nc, "force_ref": force_ref}
+        info = {"energy": energy, "power": power, "f_damping": f_damp,
+                "f_nc": load_factor * f_nc}
+        if reference_force:
+            info["force_ref"] = max(np.linalg.norm(f_int), np.linalg.norm(f_ext),
+                                    np.linalg.norm(f_con))
+        return r, info
 
 
 class Layout:

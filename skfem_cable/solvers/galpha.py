@@ -95,7 +95,12 @@ class GeneralizedAlpha:
             raise ValueError("the system has no mass")
         self.base = lay.mass_data + self.mbar * lay.linear_data
         self.xscale = lay.coordinate_scale
+        self.inv_xscale = 1.0 / self.xscale
         self.L_ref = lay.length_scale
+        # the scaled residual: dynamic rows r_q / (beta' M_ii) and constraint rows in units
+        # of the coordinates, divided by the coordinate scale
+        self.res_weight = 1.0 / (lay.mass_diagonal * self.xscale)
+        self.con_weight = 1.0 / (self.mbar * self.L_ref)
         self.h_factored = None
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
 
@@ -222,12 +227,11 @@ class GeneralizedAlpha:
             r, info = system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
                                       scale=self.mbar, data=data)
             r[:n] = (lay.mass @ a1 + r[:n]) / bp
-            res = np.abs(r[:n]) / (lay.mass_diagonal * self.xscale)
-            res_c = np.abs(r[n:]) / (self.mbar * self.L_ref)
-            err = max(res.max(initial=0.0), res_c.max(initial=0.0))
+            err = max(np.max(np.abs(r[:n]) * self.res_weight, initial=0.0),
+                      np.max(np.abs(r[n:]), initial=0.0) * self.con_weight)
             history.append(err)
             if not np.isfinite(err):
-                return False, self._diagnose(t1, h, history, res, res_c, "non-finite residual")
+                return False, self._diagnose(t1, h, history, r, "non-finite residual")
             if it > 0 and dq_err <= self.tol and (err <= self.tol or (
                     exact and err <= 1e3 * self.tol and err >= 0.5 * history[-2])):
                 # converged, or (after an exact-tangent correction) the residual stalled at
@@ -237,7 +241,7 @@ class GeneralizedAlpha:
             if it > 0 and not exact and err > self.tol and err >= 0.5 * history[-2]:
                 need = True  # the stale tangent no longer reduces the residual
             if it == self.max_iter:
-                return False, self._diagnose(t1, h, history, res, res_c, "no convergence")
+                return False, self._diagnose(t1, h, history, r, "no convergence")
             exact = need
             if need:
                 if data is None:  # tangent requested after this evaluation: rebuild it
@@ -257,7 +261,7 @@ class GeneralizedAlpha:
             v1 += gp * dq
             a1 += bp * dq
             lam1 += (bp * self.mbar) * dx[n:]
-            dq_err = np.max(np.abs(dq) / self.xscale)
+            dq_err = np.max(np.abs(dq) * self.inv_xscale)
             if dq_err > self.tol and (dq_err > 0.25 * dq_prev or it >= 3):
                 need = True  # modified Newton contracts too slowly: refresh the tangent
             dq_prev = dq_err
@@ -272,8 +276,10 @@ class GeneralizedAlpha:
         self.stats["steps"] += 1
         return True, "converged"
 
-    def _diagnose(self, t, h, history, res, res_c, what):
+    def _diagnose(self, t, h, history, r, what):
         system, n = self.system, self.n
+        res = np.abs(r[:n]) * self.res_weight
+        res_c = np.abs(r[n:]) * self.con_weight
         parts = [f"t={t:.6g}, h={h:.3g}: {what}; scaled residual history "
                  f"{[float(f'{e:.3e}') for e in history]}"]
         for label, values, offset in (("dynamic", res, 0), ("constraint", res_c, n)):

@@ -105,7 +105,8 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     converged_state = State(system, q.copy(), lam.copy(), stats)
 
     def residual(q, lam, factor, data=None):
-        r, info = system.evaluate(q, None, 0.0, lam, factor, scale=scale, data=data)
+        r, info = system.evaluate(q, None, 0.0, lam, factor, scale=scale, data=data,
+                                  reference_force=True)
         return r, info["force_ref"]
 
     def merit(r, f_ref):
