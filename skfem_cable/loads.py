@@ -52,7 +52,7 @@ class PointMoment:
 
 
 class TimeLoad:
-    """Time-dependent force ``force(t)`` (N) at a node's position."""
+    """Time-dependent force ``force(t)`` (N) at a cable node or a rigid-body point."""
 
     def __init__(self, node, force):
         self.node = node
@@ -60,14 +60,14 @@ class TimeLoad:
         self.force(0.0)
 
     def bind(self, system):
-        self.dofs = system.dofs(self.node)[:3]
+        self.dofs, self.G = system.position_map(self.node)
         return None
 
     def force(self, t):
         return _vector3(self.fn(t), f"force({t!r})")
 
     def apply(self, q, t, f, data, index, coef):
-        f[self.dofs] += self.force(t)
+        f[self.dofs] += self.G.T @ self.force(t)
 
 
 class Centrifugal:

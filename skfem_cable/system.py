@@ -85,11 +85,13 @@ class System:
         return self.add_constraint(cons.pin(node, target))
 
     def add_point_load(self, node, force):
-        """Force (N) at a node's position: a 3-vector, or a callable ``force(t)`` returning
-        one (a time-dependent load, whose work is booked as external work)."""
+        """Force (N) at a cable node or a rigid-body point (``RigidBody.point``): a 3-vector,
+        or a callable ``force(t)`` returning one (a time-dependent load, whose work is
+        booked as external work)."""
         if callable(force):
             return self.add_load(TimeLoad(node, force))
-        self._f_fixed[self.dofs(node)[:3]] += _vector3(force, "force")
+        dofs, G = self.position_map(node)
+        self._f_fixed[dofs] += G.T @ _vector3(force, "force")
         return self._changed()
 
     def add_load(self, load):

@@ -147,3 +147,22 @@ def test_hub_pinned_to_ground_is_a_compound_pendulum():
     vx = hub.positions(r.v, [1.0, 0, 0])[:, 0]
     c = zero_crossings(r.t, x + 1.0, vx)  # pivot at x = -1: free end crosses the vertical
     assert 2 * (c[1] - c[0]) == pytest.approx(T, rel=1e-5)
+
+
+def test_force_at_a_body_point_gives_force_and_moment():
+    """A force F at body point x on a free body: the generalized force G(x)^T F yields
+    m a_c = F and I_c dw/dt = (x - c) x F at t = 0 (from rest)."""
+    hub = RigidBody.cylinder(radius=1.0, height=2.0, density=884.0)
+    system = sc.System([hub])
+    x = np.array([0.7, 0.2, -0.9])
+    F = np.array([3.0, -1.0, 2.0])
+    system.add_point_load(hub.point(x), F)
+    from skfem_cable.solvers.galpha import GeneralizedAlpha
+
+    integ = GeneralizedAlpha(system)
+    integ.initialize(hub.q0, np.zeros(12), 0.0)
+    a_c = hub.positions(integ.a[None], np.zeros(3))[0]
+    assert np.allclose(a_c, F / hub.mass, rtol=1e-10)
+    I_c = np.diag([hub.mass / 2, hub.mass * 7 / 12, hub.mass * 7 / 12])
+    w_dot = hub.angular_velocity(hub.q0, integ.a)  # d omega/dt from rest
+    assert np.allclose(I_c @ w_dot, np.cross(x, F), rtol=1e-10)

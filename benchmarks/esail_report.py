@@ -1,0 +1,152 @@
+"""Reproduce the E-sail paper (Sects. 4.2-4.3) and measure speed.
+
+Prints markdown tables: the baseline runs (thrust, thrust angle, energy, frequencies, the
+rigid coning equation), the convergence study of Fig. 4 (elements per tether, cable and
+truss), and the speed figures (baseline wall time, growth with tethers and elements).
+Run ``python benchmarks/esail_report.py [--quick]`` (``--quick``: one spin period and fewer
+cases, a few minutes).
+"""
+
+import sys
+import time
+
+import numpy as np
+from skfem import MeshLine
+
+import skfem_cable as sc
+from skfem_cable.coulomb import SolarWind
+from skfem_cable.scenes import esail
+
+
+def run(alpha, n_elements=5, kind="cable", periods=3.0, every=10, **config):
+    cfg = esail.BaselineConfig(**config)
+    scene = esail.build(cfg, alpha_deg=alpha, n_elements=n_elements, kind=kind)
+    start = time.perf_counter()
+    result = sc.simulate(scene.system, t_end=periods * cfg.spin_period, dt=0.1, rho_inf=0.25,
+                         initial=scene.initial, every=every, progress=False)
+    wall = time.perf_counter() - start
+    return cfg, scene, result, esail.outputs(scene, result), wall
+
+
+def max_strain(scene, result, tether=0):
+    cable = scene.tethers[tether]
+    qc = result.q[:, scene.system.dofs(cable)]
+    s = np.linspace(0, cable.length, 101)
+    return float(cable.strain(qc, s).max())
+
+
+def table2_modes(cfg, n_elements=5):
+    """Modes of one spinning tether with its remote unit in the rotating frame."""
+    sec, L, Om, R = cfg.section, cfg.tether_length, cfg.spin_rate, cfg.hub_radius
+    s = np.linspace(0, L, n_elements + 1)
+    r, lam = esail.rotating_cable_stretch(s, R, L, sec.EA, sec.mass_per_length,
+                                          cfg.remote_mass, Om)
+    e = np.array([0.0, 1.0, 0.0])
+    cable = sc.Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e)
+    system = sc.System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1),
+                                                                  cfg.remote_mass)
+    system.add_centrifugal([Om, 0, 0])
+    f, _ = sc.modes(system, sc.solve_static(system), k=12, spin=[Om, 0, 0])
+    return f
+
+
+def psd_peaks(t, x, n=3):
+    f, P = esail.psd(t, x, segments=1)
+    i = [k for k in range(1, len(P) - 1) if P[k] > P[k - 1] and P[k] >= P[k + 1]]
+    return f[sorted(i, key=lambda k: -P[k])[:n]]
+
+
+def baseline(periods):
+    print(f"## Baseline, 12 tethers x 5 cable elements, dt = 0.1 s, rho_inf = 0.25, "
+          f"{periods:g} T_s\n")
+    print("| case | wall [s] | steps | Newton | factorizations | rejected | |F_c| [N] "
+          "| thrust angle [deg] | max |E - E0|/E0 | balance/E0 |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    runs = {}
+    for alpha, V in ((0.0, 20e3), (10.0, 20e3), (10.0, 0.0)):
+        cfg, scene, res, out, wall = run(alpha, periods=periods, voltage=V)
+        runs[(alpha, V)] = (cfg, scene, res, out)
+        E = out["total"]
+        st = res.stats
+        print(f"| alpha={alpha:g}, V0={V / 1e3:g} kV | {wall:.1f} | {st['steps']} | "
+              f"{st['newton']} | {st['factorizations']} | {st['rejected']} | "
+              f"{np.linalg.norm(out['thrust'], axis=1).mean():.5e} | "
+              f"{np.rad2deg(out['thrust_angle']).mean():.3f} | "
+              f"{np.abs(E / E[0] - 1).max():.2e} | {np.abs(out['balance']).max() / E[0]:.2e} |")
+    cfg, scene, res, out = runs[(0.0, 20e3)]
+    F0 = cfg.n_tethers * cfg.tether_length * SolarWind().force_per_length(20e3)
+    proj = F0 * np.mean(np.cos(out["coning"]) ** 2, axis=1)
+    ratio = np.linalg.norm(out["thrust"], axis=1) / proj
+    print(f"\nSun-facing thrust / (12 x 10 km x {F0 / 120e3:.4e} N/m x <cos^2 coning>): "
+          f"{ratio.min():.6f} ... {ratio.max():.6f}")
+    _, _, _, out10 = runs[(10.0, 20e3)]
+    a = np.deg2rad(10)
+    drop = np.linalg.norm(out10["thrust"], axis=1).mean() / np.linalg.norm(
+        out["thrust"], axis=1).mean()
+    flat = 0.5 * np.hypot(1 + np.cos(a) ** 2, np.sin(a) * np.cos(a))
+    angle = np.rad2deg(out10["thrust_angle"])
+    print(f"alpha = 10 deg: |F| / |F(alpha=0)| = {drop:.5f} (flat-sail spin average "
+          f"{flat:.5f}); thrust angle {angle.min():.3f} ... {angle.max():.3f} deg (alpha/2 = 5)")
+    rigid = esail.rigid_coning(cfg, out10, 0)
+    gamma = out10["coning"][:, 0]
+    amp = np.abs(gamma).max()
+    diff = np.abs(rigid - gamma).max()
+    print(f"Eq. 83 (rigid coning) vs tether 1: max difference {np.rad2deg(diff):.4f} deg = "
+          f"{diff / amp:.3f} of the amplitude {np.rad2deg(amp):.4f} deg\n")
+    f = table2_modes(cfg)
+    t = out10["t"]
+
+    def peaks(name):
+        return ", ".join(f"{x:.3e}" for x in psd_peaks(t, out10[name][:, 0]))
+
+    axial = f[np.argmin(np.abs(f - 2.17e-2))]
+    print("| mode | Table 2 [Hz] | modes() [Hz] | PSD peaks, alpha = 10 [Hz] |")
+    print("|---|---|---|---|")
+    print(f"| spin (coning) | 6.37e-4 | {f[1]:.4e} | coning: {peaks('coning')} |")
+    print(f"| 1st bending | 7.34e-3 | {f[2]:.4e} (in-plane), {f[3]:.4e} (out) | "
+          f"lagging: {peaks('lagging')} |")
+    print(f"| 1st axial | 2.17e-2 | {axial:.4e} | length ratio: {peaks('length_ratio')} |")
+    print(f"\nPSD resolution 1/T = {1 / (t[-1] - t[0]):.2e} Hz\n")
+
+
+def convergence(periods, elements=(1, 3, 5, 7, 9)):
+    print(f"## Convergence (Fig. 4), alpha = 10 deg, {periods:g} T_s, normalised by one cable "
+          "element\n")
+    print("| kind | elements | |F_c| | thrust angle | max strain | wall [s] | wall / 1 cable |")
+    print("|---|---|---|---|---|---|---|")
+    ref = None
+    for kind in ("cable", "truss"):
+        for n in elements:
+            cfg, scene, res, out, wall = run(10.0, n, kind, periods=periods)
+            F = np.linalg.norm(out["thrust"][-1])
+            ang = out["thrust_angle"][-1]
+            eps = max_strain(scene, res)
+            if ref is None:
+                ref = (F, ang, eps, wall)
+            print(f"| {kind} | {n} | {F / ref[0]:.5f} | {ang / ref[1]:.5f} | {eps / ref[2]:.4f} "
+                  f"| {wall:.1f} | {wall / ref[3]:.2f} |")
+    print()
+
+
+def speed(steps=300):
+    print(f"## Cost per step ({steps} steps of 0.1 s)\n")
+    print("| tethers | elements/tether | ms/step | Newton/step |")
+    print("|---|---|---|---|")
+    for p, n in [(4, 5), (12, 5), (24, 5), (48, 5), (12, 1), (12, 10), (12, 20), (12, 50)]:
+        cfg = esail.BaselineConfig(n_tethers=p)
+        scene = esail.build(cfg, 10.0, n)
+        sc.simulate(scene.system, t_end=1.0, dt=0.1, initial=scene.initial, rho_inf=0.25)
+        start = time.perf_counter()
+        r = sc.simulate(scene.system, t_end=steps * 0.1, dt=0.1, rho_inf=0.25,
+                        initial=scene.initial, every=steps)
+        wall = time.perf_counter() - start
+        print(f"| {p} | {n} | {1e3 * wall / steps:.3f} | {r.stats['newton'] / steps:.2f} |")
+    print()
+
+
+if __name__ == "__main__":
+    quick = "--quick" in sys.argv
+    periods = 1.0 if quick else 3.0
+    baseline(periods)
+    convergence(periods, elements=(1, 3, 5) if quick else (1, 3, 5, 7, 9))
+    speed()
