@@ -308,6 +308,33 @@ def rigid_coning(config, out, tether=0):
     return sol.y[0]
 
 
+def spinning_modes(config, alpha_deg=0.0, n_elements=5, kind="cable", k=200):
+    """Natural frequencies (Hz) of the whole sail about its steady spin, in the frame
+    rotating with the nominal spin (``modes(..., spin=...)``): the initial state of
+    ``build`` is the steady state (the centrifugal, elastic and joint forces balance to
+    round-off; the joint and hub multipliers follow by least squares).  The Coulomb force
+    is left out (sail off)."""
+    from ..solvers.modal import modes
+
+    cfg = BaselineConfig(**{**config.__dict__, "voltage": 0.0})
+    scene = build(cfg, alpha_deg, n_elements, kind)
+    system = scene.system
+    q = system.q0
+    C_I_B = scene.hub.rotation(q[system.dofs(scene.hub)])
+    omega = C_I_B @ np.array([cfg.spin_rate, 0.0, 0.0])
+    system.add_centrifugal(omega)
+    lay = system.layout
+    n = system.n_dofs
+    r, _ = system.evaluate(q, None, 0.0, np.zeros(lay.n_c))
+    J = lay.matrix(lay.linear_data).toarray()[n:, :n]
+    for j in lay.nonlinear:
+        d = lay.cdofs[j]
+        J[np.ix_(lay.crows[j], d)] = system.constraints[j].jacobian(q[d])
+    lam = np.linalg.lstsq(J.T, -r[:n], rcond=None)[0]
+    freqs, _ = modes(system, State(system, q, lam), k=k, spin=omega)
+    return freqs
+
+
 def psd(t, x, segments=4):
     """Welch power spectral density of samples ``x`` (leading axis time) at uniform times
     ``t``: returns frequencies (Hz) and densities."""
