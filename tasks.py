@@ -1,9 +1,11 @@
-"""Single entry point for a fresh machine: ``python3 tasks.py demo|test|bench|lint``.
+"""Single entry point for a fresh machine: ``python3 tasks.py demo|test|docs|bench|lint``.
 
 Each task creates (or reuses) the local virtual environment ``.venv``, installs the
-package with its test extra when ``pyproject.toml`` changed since the last install,
-and runs the task inside it.  Only Python 3 (with ``venv``) and network access to
-PyPI are required.
+package with its test and docs extras when ``pyproject.toml`` changed since the last
+install, and runs the task inside it.  ``demo`` and ``test`` first run
+``scripts/install_system_deps.sh`` (the EGL/Mesa libraries off-screen rendering needs; it
+installs them when run as root on Debian/Ubuntu and is a no-op otherwise).  Only Python 3
+(with ``venv``) and network access to PyPI are required.
 """
 
 import hashlib
@@ -16,17 +18,20 @@ ROOT = Path(__file__).resolve().parent
 VENV = ROOT / ".venv"
 PY = VENV / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
 STAMP = VENV / ".skfem_cable-installed"
+SYSTEM_DEPS = ROOT / "scripts" / "install_system_deps.sh"
 
 TASKS = {
-    "demo": [["demos/cantilever.py"]],
+    "demo": [["demos/esail_baseline.py"]],
     "test": [["-m", "pytest", "-q"]],
-    "bench": [["benchmarks/kernel_cost.py"]],
+    "docs": [["-m", "mkdocs", "build", "--strict", "--quiet"]],
+    "bench": [["-m", "skfem_cable.cli", "bench"]],
     "lint": [["-m", "ruff", "check", "."]],
 }
+NEEDS_RENDERING = ("demo", "test")
 
 
 def ensure_venv():
-    """Create ``.venv`` and install ``.[test]`` when missing or out of date."""
+    """Create ``.venv`` and install ``.[test,docs]`` when missing or out of date."""
     if not PY.exists():
         subprocess.run([sys.executable, "-m", "venv", str(VENV)], check=True)
     digest = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
@@ -34,7 +39,7 @@ def ensure_venv():
         return
     pip = [str(PY), "-m", "pip", "install", "--disable-pip-version-check", "-q"]
     subprocess.run(pip + ["--upgrade", "pip"], check=True)
-    subprocess.run(pip + ["-e", f"{ROOT}[test]"], check=True)
+    subprocess.run(pip + ["-e", f"{ROOT}[test,docs]"], check=True)
     STAMP.write_text(digest)
 
 
@@ -44,6 +49,8 @@ def main(argv):
         return 2
     ensure_venv()
     task, extra = argv[0], argv[1:]
+    if task in NEEDS_RENDERING and SYSTEM_DEPS.exists() and os.name != "nt":
+        subprocess.run(["bash", str(SYSTEM_DEPS)], cwd=ROOT)
     for cmd in TASKS[task]:
         rc = subprocess.run([str(PY), *cmd, *extra], cwd=ROOT).returncode
         if task == "test" and rc == 5:

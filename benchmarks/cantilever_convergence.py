@@ -11,17 +11,15 @@ import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.scenes import classics
 
 
 def tip_error(k, n_elements):
-    section = sc.Section(E=1e9, A=1e-4, I=1e-11, rho=7850.0)
-    cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], n_elements, section)
-    system = sc.System([cable]).clamp(cable.node(0))
-    system.add_point_load(cable.node(-1), [0, -k * section.EI, 0])
+    scene = classics.cantilever(n_elements, k)
     start = time.perf_counter()
-    state = sc.solve_static(system, load_steps=20)
+    state = sc.solve_static(scene.system, load_steps=20)
     wall = time.perf_counter() - start
-    tip = state.position(cable, 1.0)
+    tip = state.position(scene.cable, 1.0)
     u_ex, w_ex = elastica_tip_load(k)
     return max(abs(1 - tip[0] - u_ex) / u_ex, abs(-tip[1] - w_ex) / w_ex), wall
 

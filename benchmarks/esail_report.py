@@ -11,7 +11,6 @@ import sys
 import time
 
 import numpy as np
-from skfem import MeshLine
 
 import skfem_cable as sc
 from skfem_cable.coulomb import SolarWind
@@ -37,17 +36,9 @@ def max_strain(scene, result, tether=0):
 
 def table2_modes(cfg, n_elements=5):
     """Modes of one spinning tether with its remote unit in the rotating frame."""
-    sec, L, Om, R = cfg.section, cfg.tether_length, cfg.spin_rate, cfg.hub_radius
-    s = np.linspace(0, L, n_elements + 1)
-    r, lam = esail.rotating_cable_stretch(s, R, L, sec.EA, sec.mass_per_length,
-                                          cfg.remote_mass, Om)
-    e = np.array([0.0, 1.0, 0.0])
-    cable = sc.Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e)
-    system = sc.System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1),
-                                                                  cfg.remote_mass)
-    system.add_centrifugal([Om, 0, 0])
-    f, _ = sc.modes(system, sc.solve_static(system), k=12, spin=[Om, 0, 0])
-    return f
+    system = esail.spinning_tether(cfg, n_elements)
+    spin = [cfg.spin_rate, 0, 0]
+    return sc.modes(system, sc.solve_static(system), k=12, spin=spin)[0]
 
 
 def psd_peaks(t, x, n=3):

@@ -1,12 +1,19 @@
 """skfem_cable: tethers, cables and E-sails on scikit-fem.
 
-Public API: ``Section``, ``Cable``, ``System``, ``solve_static``, ``modes``, ``simulate``,
-``State``, ``Result``.
+Public API: ``Section``, ``Cable``, ``RigidBody``, ``System``, ``solve_static``,
+``modes``, ``simulate``, ``State``, ``Result``, ``SolarWind``, ``SolarWindForce``,
+``RodChain``; the E-sail scene ``esail``; ``export`` (ParaView files) and ``plot``.
 """
 
+from . import export as export  # VTU files for ParaView
+from . import plot as plot  # renders and figures
 from .cable import Cable, Node
+from .coulomb import SolarWind, SolarWindForce
 from .element import ElementLineCableHermite
 from .result import Result
+from .rigid import RigidBody
+from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anchor
+from .scenes import esail as esail
 from .section import Section
 from .solvers.galpha import SimulationError, simulate
 from .solvers.modal import modes
@@ -19,11 +26,19 @@ __all__ = [
     "ElementLineCableHermite",
     "Node",
     "Result",
+    "RigidBody",
+    "RodChain",
+    "RodChainDivergence",
+    "RodChainResult",
     "SimulationError",
     "Section",
+    "SolarWind",
+    "SolarWindForce",
     "State",
     "StaticConvergenceError",
     "System",
+    "circular_anchor",
+    "esail",
     "modes",
     "simulate",
     "solve_static",

@@ -323,6 +323,7 @@ class Layout:
         self.N = N
         pos = np.searchsorted(ukey, key)
         start = np.concatenate([[0], np.cumsum([r.size for r in rows])])
+        self.diagonal_index = np.searchsorted(ukey, np.arange(N) * (N + 1))
 
         def index(b):
             return pos[start[b]: start[b + 1]].reshape(shapes[b])

@@ -3,7 +3,6 @@ frames and outputs on a short run, rotating-frame modes against Table 2."""
 
 import numpy as np
 import pytest
-from skfem import MeshLine
 
 import skfem_cable as sc
 from skfem_cable.coulomb import AU, SolarWind, SolarWindForce
@@ -148,15 +147,8 @@ def test_modes_of_the_spinning_tether_against_table2():
     Its first bending pair is at 4.47e-3/4.51e-3 Hz, not Table 2's 7.34e-3 Hz: a taut
     string with T ~ m Omega^2 L = 0.24 N has c / 2L = 4.28e-3 Hz (docs/esail.md)."""
     cfg = esail.BaselineConfig()
-    sec, L, Om, R = cfg.section, cfg.tether_length, cfg.spin_rate, cfg.hub_radius
-    s = np.linspace(0, L, 6)
-    r, lam = esail.rotating_cable_stretch(s, R, L, sec.EA, sec.mass_per_length,
-                                          cfg.remote_mass, Om)
-    e = np.array([0.0, 1.0, 0.0])
-    cable = sc.Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e)
-    system = sc.System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1),
-                                                                  cfg.remote_mass)
-    system.add_centrifugal([Om, 0, 0])
+    Om = cfg.spin_rate
+    system = esail.spinning_tether(cfg, n_elements=5)
     state = sc.solve_static(system)
     assert np.abs(state.q - system.q0).max() < 1e-8
     f, _ = sc.modes(system, state, k=12, spin=[Om, 0, 0])
@@ -164,3 +156,22 @@ def test_modes_of_the_spinning_tether_against_table2():
     axial = f[np.argmin(np.abs(f - 2.17e-2))]
     assert axial == pytest.approx(2.17e-2, rel=5e-3)
     assert f[2] == pytest.approx(4.468e-3, rel=1e-3) and f[3] == pytest.approx(4.513e-3, rel=1e-3)
+
+
+def test_esail_scene_of_the_command_line_fills_a_run_directory(tmp_path):
+    """``skfem-cable run esail`` (reduced): series, outputs, the paper's figures, summary."""
+    import json
+
+    from skfem_cable.runner import RunOptions
+    from skfem_cable.scenes import catalog
+
+    summary = catalog.run_scene("esail", RunOptions(out=tmp_path, t_end=30.0, elements=2,
+                                                    alpha=10.0, progress=False))
+    outputs = summary["outputs"]
+    assert outputs["thrust_angle_mean_deg"] == pytest.approx(4.96, abs=0.02)
+    saved = np.load(tmp_path / "esail_outputs.npz")
+    assert saved["thrust_O"].shape == (len(saved["t"]), 3)
+    for name in ("esail_tether", "esail_hub", "esail_forces", "esail_energy", "esail_psd"):
+        assert (tmp_path / "plots" / f"{name}.png").stat().st_size > 10_000
+    assert json.loads((tmp_path / "summary.json").read_text())["scene"] == "esail"
+    assert (tmp_path / "series.pvd").exists()

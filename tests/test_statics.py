@@ -6,17 +6,16 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.scenes import classics
 
 #: EA L^2 / EI = 1e7: inextensible within 1e-7 of the tip load
-SEC = sc.Section(E=1e9, A=1e-4, I=1e-11, rho=7850.0)
+SEC = classics.ELASTICA_SECTION
 
 
-def tip_load_cantilever(k, n_elements, section=SEC):
-    cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], n_elements, section)
-    system = sc.System([cable]).clamp(cable.node(0))
-    system.add_point_load(cable.node(-1), [0, -k * section.EI, 0])
-    state = sc.solve_static(system, load_steps=20)
-    tip = state.position(cable, 1.0)
+def tip_load_cantilever(k, n_elements):
+    scene = classics.cantilever(n_elements, k)
+    state = sc.solve_static(scene.system, load_steps=20)
+    tip = state.position(scene.cable, 1.0)
     return 1.0 - tip[0], -tip[1], state
 
 

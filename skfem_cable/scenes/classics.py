@@ -28,6 +28,20 @@ def _at_rest(system, q):
     return State(system, q, v=np.zeros(system.n_dofs))
 
 
+#: Section of the elastica cantilever: ``EA L^2 / EI = 1e7`` for ``L = 1 m`` (inextensible
+#: within 1e-7 of the tip load).
+ELASTICA_SECTION = Section(E=1e9, A=1e-4, I=1e-11, rho=7850.0)
+
+
+def cantilever(n_elements=16, k=5.0, length=1.0, section=ELASTICA_SECTION):
+    """Cantilever along x clamped at the origin (position and slope direction) with a
+    transverse dead load ``P = k EI / L^2`` along -y at its tip (the elastica)."""
+    cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, section)
+    system = System([cable]).clamp(cable.node(0))
+    system.add_point_load(cable.node(-1), [0, -k * section.EI / length**2, 0])
+    return Scene(system, cable, _at_rest(system, cable.q0.copy()))
+
+
 def pendulum(n_elements=16, length=1.2, radius=0.01, E=7e10, rho=7800.0, g=9.81,
              kind="cable", **damping):
     """Flexible pendulum: a cable pinned (spherical joint) at the origin, released at rest

@@ -308,6 +308,24 @@ def rigid_coning(config, out, tether=0):
     return sol.y[0]
 
 
+def spinning_tether(config, n_elements=5):
+    """One tether of the sail in the frame rotating with the nominal spin about x: pinned
+    at the hub rim (to ground), its remote unit at the tip, centrifugal loads, starting
+    from the analytic steady stretch (the system of Table 2's frequencies)."""
+    from skfem import MeshLine
+
+    sec, L = config.section, config.tether_length
+    s = np.linspace(0.0, L, int(n_elements) + 1)
+    r, lam = rotating_cable_stretch(s, config.hub_radius, L, sec.EA, sec.mass_per_length,
+                                    config.remote_mass, config.spin_rate)
+    e = np.array([0.0, 1.0, 0.0])
+    cable = Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e, name="tether1")
+    system = System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1),
+                                                               config.remote_mass)
+    system.add_centrifugal([config.spin_rate, 0.0, 0.0])
+    return system
+
+
 def spinning_modes(config, alpha_deg=0.0, n_elements=5, kind="cable", k=200):
     """Natural frequencies (Hz) of the whole sail about its steady spin, in the frame
     rotating with the nominal spin (``modes(..., spin=...)``): the initial state of
@@ -344,3 +362,86 @@ def psd(t, x, segments=4):
     nper = max(8, len(t) // segments)
     return welch(np.asarray(x) - np.mean(x, axis=0), fs=1.0 / (t[1] - t[0]), nperseg=nper,
                  axis=0)
+
+
+def figures(out, plots_dir, tether=0):
+    """The paper's kinds of figures (Figs. 6-10) from ``outputs``: tether angles, hub
+    rates and attitude, thrust and reactions in the orbit frame, energies, PSDs with the
+    Table 2 frequencies marked.  Returns the paths written."""
+    from pathlib import Path
+
+    from .. import plot
+
+    d = Path(plots_dir)
+    d.mkdir(parents=True, exist_ok=True)
+    t, deg = out["t"], np.rad2deg(1.0)
+    k = tether
+    paths = [d / "esail_tether.png", d / "esail_hub.png", d / "esail_forces.png",
+             d / "esail_energy.png", d / "esail_psd.png"]
+    plot.histories(t, {"coning [deg]": {"tip": deg * out["coning"][:, k],
+                                        "root": deg * out["root_coning"][:, k]},
+                       "lagging [deg]": {"tip": deg * out["lagging"][:, k],
+                                         "root": deg * out["root_lagging"][:, k]},
+                       "L / L0": out["length_ratio"][:, k]}, paths[0],
+                   title=f"tether {k + 1}")
+    plot.histories(t, {"omega_B [rad/s]": {f"w{i + 1}": out["omega_B"][:, i]
+                                           for i in range(3)},
+                       "hub Euler [deg]": {n: deg * out["euler_B"][:, i]
+                                           for i, n in enumerate(("psi", "theta", "phi"))},
+                       "sail Euler [deg]": {n: deg * out["euler_E"][:, i]
+                                            for i, n in enumerate(("Psi", "Theta", "Phi"))}},
+                   paths[1], title="hub rates and attitudes")
+    plot.histories(t, {"thrust (O) [N]": {c: out["thrust_O"][:, i]
+                                          for i, c in enumerate("xyz")},
+                       "reaction on hub (O) [N]": {c: out["reaction_force_O"][:, i]
+                                                   for i, c in enumerate("xyz")},
+                       "angles from Z_O [deg]": {"thrust": deg * out["thrust_angle"],
+                                                 "reaction": deg * out["reaction_angle"]}},
+                   paths[2], title="thrust and reactions")
+    plot.histories(t, {"energy [J]": {n: out[n] - out[n][0]
+                                      for n in ("kinetic", "elastic", "total")},
+                       "work, dissipation [J]": {"wind work": out["external_work"],
+                                                 "dissipated": out["dissipated"],
+                                                 "balance": out["balance"]}},
+                   paths[3], title="energies (changes from t = 0)")
+    plot.psd(t, {"coning": out["coning"][:, k], "lagging": out["lagging"][:, k],
+                 "L / L0": out["length_ratio"][:, k]}, paths[4],
+             title=f"tether {k + 1}",
+             markers={"spin": 6.37e-4, "bending": 4.47e-3, "axial": 2.18e-2})
+    return paths
+
+
+def run(options):
+    """The ``esail`` scene of ``skfem-cable run``: the baseline sail (``--alpha``, default
+    10 deg; ``--elements`` per tether, default 5) for three spin periods at dt = 0.1 s,
+    rho_inf = 0.25; the run directory gets the paper's figures and ``esail_outputs.npz``
+    (every output of ``outputs``) besides the standard series, results and summary."""
+    from pathlib import Path
+
+    from ..runner import run_dynamic
+
+    cfg = BaselineConfig()
+    alpha = options.value("alpha", 10.0)
+    scene = build(cfg, alpha, options.value("elements", 5))
+
+    def key_numbers(result):
+        out = outputs(scene, result)
+        if options.out is not None:
+            np.savez_compressed(Path(options.out) / "esail_outputs.npz", **out)
+            if options.plots:
+                figures(out, Path(options.out) / "plots")
+        thrust = np.linalg.norm(out["thrust"], axis=1)
+        return {"thrust_mean_N": thrust.mean(),
+                "thrust_angle_mean_deg": np.rad2deg(out["thrust_angle"]).mean(),
+                "coning_max_deg": np.rad2deg(np.abs(out["coning"])).max(),
+                "lagging_max_deg": np.rad2deg(np.abs(out["lagging"])).max(),
+                "omega1_final": out["omega_B"][-1, 0],
+                "energy_balance_rel": np.abs(out["balance"]).max() / out["total"][0],
+                "wind_work_J": out["external_work"][-1]}
+
+    defaults = {"t_end": 3 * cfg.spin_period, "dt": 0.1, "every": 10, "rho_inf": 0.25,
+                "series_every": 15}
+    parameters = {"alpha_deg": alpha, "elements_per_tether": scene.tethers[0].n_elements,
+                  "tethers": cfg.n_tethers, "kind": "cable"}
+    return run_dynamic("esail", scene.system, scene.initial, options, defaults, parameters,
+                       key_numbers)[0]

@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 
+from ..export import SeriesWriter
 from ..linalg import PatternSolver, SingularMatrixError
 from ..progress import Progress
 from ..result import Result, RunWriter, read_run
@@ -56,11 +57,13 @@ class GeneralizedAlpha:
     rho_inf : float in [0, 1]
         Spectral radius at infinite frequency (1: no numerical dissipation).
     tol : float
-        Newton converges when the scaled residual (``r_q / (beta' M_ii)`` and the
-        constraint violation, in units of the coordinates) and the last correction are both
-        below ``tol`` times the coordinate scale (system size for positions, 1 for slopes);
-        a residual below ``1e3 tol`` that no longer decreases is accepted as the round-off
-        floor once the correction is below ``tol``.
+        Newton converges when the scaled residual (``r_q / S_ii`` with ``S`` the iteration
+        matrix, and the constraint violation, both in units of the coordinates) and the last
+        correction are below ``tol`` times the coordinate scale (system size for positions,
+        1 for slopes).  After an exact-tangent correction, residual and correction below
+        ``1e3 tol`` that stopped contracting are accepted as the round-off floor.  The
+        default 1e-11 keeps the Newton error below the truncation error of slow, large
+        systems (a correction ``dq`` left in place is a velocity error ``gamma' dq``).
     max_iter : int
         Newton iterations per step.
     newton : {"modified", "full"}
@@ -97,8 +100,11 @@ class GeneralizedAlpha:
         self.xscale = lay.coordinate_scale
         self.inv_xscale = 1.0 / self.xscale
         self.L_ref = lay.length_scale
-        # the scaled residual: dynamic rows r_q / (beta' M_ii) and constraint rows in units
-        # of the coordinates, divided by the coordinate scale
+        # the scaled residual: dynamic rows divided by the diagonal of the iteration matrix
+        # (a Jacobi estimate of the correction, in units of the coordinates; refreshed at
+        # every factorization, the mass diagonal before the first) and constraint rows in
+        # units of the coordinates, both divided by the coordinate scale
+        self.diag_index = lay.diagonal_index[: self.n]
         self.res_weight = 1.0 / (lay.mass_diagonal * self.xscale)
         self.con_weight = 1.0 / (self.mbar * self.L_ref)
         self.h_factored = None
@@ -185,6 +191,7 @@ class GeneralizedAlpha:
                                  data=data)
         self.solver.factor(data)
         self.stats["factorizations"] += 1
+        self.res_weight = 1.0 / (np.abs(data[self.diag_index]) * self.xscale)
         self.h_factored = h
         self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h}
 
@@ -219,8 +226,7 @@ class GeneralizedAlpha:
         # steps t_i - t_(i-1) of simulate differ in the last bits)
         need = fresh or self.h_factored is None or abs(self.h_factored - h) > 1e-9 * h
         history = []
-        dq_err = np.inf
-        dq_prev = np.inf
+        dq_err = dq_before = np.inf
         exact = False
         for it in range(self.max_iter + 1):
             data = self.base.copy() if need else None
@@ -232,11 +238,12 @@ class GeneralizedAlpha:
             history.append(err)
             if not np.isfinite(err):
                 return False, self._diagnose(t1, h, history, r, "non-finite residual")
-            if it > 0 and dq_err <= self.tol and (err <= self.tol or (
-                    exact and err <= 1e3 * self.tol and err >= 0.5 * history[-2])):
-                # converged, or (after an exact-tangent correction) the residual stalled at
-                # its round-off floor (stiff cables: the strain carries an absolute error
-                # of about 1e-16 L/h)
+            if it > 0 and ((err <= self.tol and dq_err <= self.tol) or (
+                    exact and err <= 1e3 * self.tol and dq_err <= 1e3 * self.tol
+                    and (err >= 0.5 * history[-2] or dq_err >= 0.5 * dq_before))):
+                # converged, or (after an exact-tangent correction) residual and correction
+                # stalled at their round-off floor (stiff cables: the strain carries an
+                # absolute error of about 1e-16 L/h)
                 break
             if it > 0 and not exact and err > self.tol and err >= 0.5 * history[-2]:
                 need = True  # the stale tangent no longer reduces the residual
@@ -261,10 +268,9 @@ class GeneralizedAlpha:
             v1 += gp * dq
             a1 += bp * dq
             lam1 += (bp * self.mbar) * dx[n:]
-            dq_err = np.max(np.abs(dq) * self.inv_xscale)
-            if dq_err > self.tol and (dq_err > 0.25 * dq_prev or it >= 3):
+            dq_before, dq_err = dq_err, np.max(np.abs(dq) * self.inv_xscale)
+            if dq_err > self.tol and (dq_err > 0.25 * dq_before or it >= 3):
                 need = True  # modified Newton contracts too slowly: refresh the tangent
-            dq_prev = dq_err
             self.stats["newton"] += 1
         dq_step = q1 - self.q
         self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
@@ -307,7 +313,7 @@ def _initial_arrays(system, initial):
 
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1, output=None,
              chunk=200, restart_from=None, tol=1e-11, max_iter=12, newton="modified",
-             max_halvings=10, progress=None, method="auto"):
+             max_halvings=10, progress=None, method="auto", series_every=1):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -325,7 +331,12 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         Save every ``every``-th step (and the first and last).
     output : path, optional
         Run directory: saved steps are written in compressed chunks of ``chunk`` steps
-        with a checkpoint, so an interrupted run keeps everything up to the last chunk.
+        with a checkpoint, so an interrupted run keeps everything up to the last chunk;
+        and a ParaView series (``series.pvd`` with one ``.vtu`` per saved step, see
+        ``export.SeriesWriter``), updated as the run goes.
+    series_every : int
+        With ``output``: a ``.vtu`` for every ``series_every``-th saved step (and the
+        last).
     restart_from : path, optional
         Continue the run in this directory (written with ``output``) from its checkpoint;
         the continuation is bit-for-bit the uninterrupted run.
@@ -372,12 +383,18 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         integ.initialize(q, v, t_start)
         start_index = 0
         writer = RunWriter(output, chunk)
+    if int(series_every) != series_every or series_every < 1:
+        raise ValueError(f"series_every must be a positive integer, got {series_every!r}")
+    series = None if output is None else SeriesWriter(output, system,
+                                                      append=restart_from is not None)
     wall0 = time.perf_counter()
     bar = Progress(t_start, t_end, progress)
 
     def record(index):
         writer.append(t=integ.t, q=integ.q.copy(), v=integ.v.copy(), a=integ.a.copy(),
                       lam=integ.lam.copy(), iterations=integ.iterations, **integ.energies())
+        if series is not None and ((len(writer) - 1) % series_every == 0 or index == n_steps):
+            series.write(integ.t, integ.q, integ.v)
         snap = integ.snapshot()
         snap.update(index=index, settings=settings,
                     **{"stat_" + k: val for k, val in integ.stats.items()})

@@ -1,0 +1,179 @@
+"""The ``skfem-cable`` command: ``run`` a scene, ``validate`` against references, ``bench``.
+
+Run ``skfem-cable --help`` or ``skfem-cable COMMAND --help``.
+"""
+
+import argparse
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+from .solvers.galpha import SimulationError
+from .solvers.static import StaticConvergenceError
+
+#: The benchmark scripts run by ``skfem-cable bench`` (a source checkout's ``benchmarks/``).
+BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
+
+EPILOG = """examples:
+  skfem-cable run pendulum --out runs/pendulum
+  skfem-cable run demos/spinning_hub.toml --t-end 2 --out runs/hub --animate
+  skfem-cable validate
+  skfem-cable bench kernel_cost step_cost
+"""
+
+
+def _positive_float(text):
+    value = float(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def _positive_int(text):
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text}")
+    return value
+
+
+def _wrap(text):
+    return textwrap.fill(text, width=79)
+
+
+def build_parser():
+    """The argument parser (exposed for the documentation and the tests)."""
+    from .scenes.catalog import SCENES
+
+    parser = argparse.ArgumentParser(
+        prog="skfem-cable", description=_wrap("Simulate tethers, cables and E-sails "
+        "(ANCF cables, rigid bodies, generalized-alpha dynamics) and look at the results."),
+        epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    scenes = "\n".join(f"  {name:<16} {entry.help}" for name, entry in sorted(SCENES.items()))
+    run = sub.add_parser(
+        "run", help="run a built-in scene or a TOML scene file into a run directory",
+        description=_wrap("Run a scene. A run directory (--out) receives the raw results "
+        "(chunk_*.npz, checkpoint.npz), the VTU series series.pvd + vtu/ for ParaView, "
+        "summary.json (parameters, wall time, steps, Newton statistics, key outputs) and "
+        "plots/. Without --out only the summary is printed."),
+        epilog=f"scenes:\n{scenes}\n  FILE.toml        a scene file (schema: docs/scene_files.md)",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    run.add_argument("scene", metavar="SCENE", help="built-in scene name or path of a .toml file")
+    run.add_argument("--t-end", type=_positive_float, metavar="T",
+                     help="end time in s (default: the scene's)")
+    run.add_argument("--dt", type=_positive_float, metavar="DT",
+                     help="time step in s (hanging-chain: output spacing; default: the scene's)")
+    run.add_argument("--elements", type=_positive_int, metavar="N",
+                     help="elements per cable (hanging-chain: number of rods)")
+    run.add_argument("--alpha", type=float, metavar="DEG",
+                     help="sailing angle in degrees (esail only)")
+    run.add_argument("--out", type=Path, metavar="DIR", help="run directory to write")
+    run.add_argument("--every", type=_positive_int, metavar="K",
+                     help="save every K-th step (default: the scene's)")
+    run.add_argument("--no-progress", action="store_true",
+                     help="no progress bar (default: shown when stderr is a terminal)")
+    run.add_argument("--no-plots", action="store_true",
+                     help="write no figures or snapshot into the run directory")
+    run.add_argument("--animate", action="store_true",
+                     help="also render animation.gif of the run (needs OpenGL)")
+
+    val = sub.add_parser(
+        "validate", help="run the validation cases and print a table against the references",
+        description=_wrap("Run reduced validation cases (statics, modes, pendulum period, "
+        "waves, damping) and print reference, ours, relative error and tolerance. Exit "
+        "status 1 if a case fails."))
+    val.add_argument("cases", nargs="*", metavar="CASE",
+                     help="cases to run (default: all; see --list)")
+    val.add_argument("--list", action="store_true", help="list the cases and exit")
+
+    bench = sub.add_parser(
+        "bench", help="run the benchmark scripts of benchmarks/",
+        description=_wrap("Run the benchmark scripts (speed and speed-vs-error tables) of "
+        "a source checkout's benchmarks/ folder, one after the other, with this Python."))
+    bench.add_argument("names", nargs="*", metavar="NAME",
+                       help="benchmarks to run, without .py (default: all; see --list)")
+    bench.add_argument("--list", action="store_true", help="list the benchmarks and exit")
+    bench.add_argument("--out", type=Path, metavar="DIR",
+                       help="also save each benchmark's output as DIR/NAME.txt")
+    return parser
+
+
+def cmd_run(args):
+    from .runner import RunOptions, format_summary
+    from .scenes.catalog import run_scene
+
+    options = RunOptions(out=args.out, t_end=args.t_end, dt=args.dt, elements=args.elements,
+                         alpha=args.alpha, every=args.every,
+                         progress=False if args.no_progress else None,
+                         plots=not args.no_plots, animate=args.animate)
+    summary = run_scene(args.scene, options)
+    print(format_summary(summary))
+    if args.out is not None:
+        print(f"run directory: {args.out}")
+    return 0
+
+
+def cmd_validate(args):
+    from . import validation
+
+    if args.list:
+        for case in validation.CASES:
+            print(f"{case.name:<22} {case.reference}")
+        return 0
+    rows = validation.run(args.cases)
+    print(validation.format_table(rows))
+    return 0 if all(r["passed"] for r in rows) else 1
+
+
+def benchmark_scripts():
+    """``{name: path}`` of the scripts in ``benchmarks/``."""
+    return {p.stem: p for p in sorted(BENCHMARKS.glob("*.py"))}
+
+
+def cmd_bench(args):
+    scripts = benchmark_scripts()
+    if not scripts:
+        raise FileNotFoundError(f"no benchmark scripts in {BENCHMARKS} (they are part of a "
+                                "source checkout)")
+    if args.list:
+        for name, path in scripts.items():
+            print(f"{name:<24} {path}")
+        return 0
+    unknown = [n for n in args.names if n not in scripts]
+    if unknown:
+        raise ValueError(f"unknown benchmark {unknown[0]!r}: use one of {', '.join(scripts)}")
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+    status = 0
+    for name in args.names or list(scripts):
+        print(f"== {name}", flush=True)
+        proc = subprocess.run([sys.executable, str(scripts[name])], stdout=subprocess.PIPE,
+                              text=True)
+        print(proc.stdout, end="", flush=True)
+        if args.out is not None:
+            (args.out / f"{name}.txt").write_text(proc.stdout)
+        if proc.returncode != 0:
+            print(f"benchmark {name} failed with exit code {proc.returncode}", file=sys.stderr)
+            status = 1
+    return status
+
+
+COMMANDS = {"run": cmd_run, "validate": cmd_validate, "bench": cmd_bench}
+
+
+def main(argv=None):
+    """Entry point of ``skfem-cable``; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return COMMANDS[args.command](args)
+    except (ValueError, FileNotFoundError, ImportError, SimulationError,
+            StaticConvergenceError) as err:
+        print(f"skfem-cable {args.command}: error: {err}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

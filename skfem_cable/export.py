@@ -1,0 +1,289 @@
+"""Export of configurations and runs to VTK files for ParaView (through meshio).
+
+scikit-fem's ``Mesh.save`` writes the 1-D parameter mesh of a cable, not the deformed 3-D
+curve, so the mesh is built here from the solution:
+
+* every cable is a smooth curve: its cubic Hermite interpolant sampled at
+  ``points_per_element`` points per element (``line`` cells), with the point data
+  ``position``, ``velocity``, ``tension``, ``axial_strain``, ``curvature``, ``arc_length``,
+  ``cable_id`` (index in ``System.cables()``) and ``element_id``;
+* a rigid body is a closed triangulated surface following its motion: a cylinder for
+  ``RigidBody.cylinder`` (axis along the body ``x`` axis), the tetrahedron of its base
+  points otherwise;
+* point masses are ``vertex`` cells.
+
+Fields that only cables carry (``tension``, ``axial_strain``, ``curvature``,
+``arc_length``) are NaN on rigid-body and point-mass points, and their ids are -1; ParaView
+and pyvista leave NaN out of colour ranges.  Every point has ``body_id`` (index in
+``System.bodies``) and every cell the cell data ``body_id`` and ``part`` (``PART_CABLE``,
+``PART_RIGID``, ``PART_POINT_MASS``).
+
+A time series is one ``.vtu`` per saved step and a ``.pvd`` collection listing them with
+their times, which ParaView (and ``pyvista.get_reader``) opens as an animation.
+"""
+
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+from .cable import Cable
+
+#: Values of the cell data ``part``.
+PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
+
+#: Point data that only cables carry (NaN elsewhere).
+CABLE_FIELDS = ("tension", "axial_strain", "curvature", "arc_length")
+
+
+def sample_cable(cable, q, v=None, points_per_element=8):
+    """Fields of a cable at ``points_per_element`` equally spaced points of each element.
+
+    Parameters
+    ----------
+    cable : Cable
+    q, v : ndarray (cable.n_dofs,)
+        The cable's coordinates and velocities (``v`` None: zero velocity).
+    points_per_element : int
+        Samples per element, the element's first node included; consecutive elements
+        share their common node, so there are ``n_elements * points_per_element + 1``
+        points.
+
+    Returns
+    -------
+    dict
+        ``arc_length`` and ``element_id`` (npts,), ``position`` and ``velocity``
+        (npts, 3), ``tension`` (N), ``axial_strain`` (Green strain) and ``curvature``
+        (1/m), each (npts,).
+    """
+    m = int(points_per_element)
+    if m != points_per_element or m < 1:
+        raise ValueError(f"points_per_element must be a positive integer, "
+                         f"got {points_per_element!r}")
+    x = cable.mesh.p[0]
+    ne = cable.n_elements
+    s = np.append((x[:-1, None] + cable.h[:, None] * (np.arange(m) / m)).ravel(), x[-1])
+    velocity = np.zeros((len(s), 3)) if v is None else cable.interpolate(v, s)[0]
+    return {"arc_length": s,
+            "element_id": np.append(np.repeat(np.arange(ne), m), ne - 1),
+            "position": cable.interpolate(q, s)[0],
+            "velocity": velocity,
+            "tension": cable.tension(q, s),
+            "axial_strain": cable.strain(q, s),
+            "curvature": cable.curvature(q, s)}
+
+
+def cylinder_surface(radius, height, resolution=32):
+    """Closed triangulated cylinder with its axis along ``x``, centred at the origin.
+
+    Returns ``points`` (2 resolution + 2, 3) and outward-oriented ``triangles``
+    (4 resolution, 3): the side wall and two caps fanned from their centres.
+    """
+    n = int(resolution)
+    if n != resolution or n < 3:
+        raise ValueError(f"resolution must be an integer >= 3, got {resolution!r}")
+    th = 2 * np.pi * np.arange(n) / n
+    ring = np.column_stack([np.zeros(n), radius * np.cos(th), radius * np.sin(th)])
+    bottom, top = ring - [height / 2, 0, 0], ring + [height / 2, 0, 0]
+    points = np.vstack([bottom, top, [[-height / 2, 0, 0], [height / 2, 0, 0]]])
+    k, k1 = np.arange(n), (np.arange(n) + 1) % n
+    cb, ct = np.full(n, 2 * n), np.full(n, 2 * n + 1)
+    triangles = np.vstack([np.column_stack([k, k1, n + k1]),
+                           np.column_stack([k, n + k1, n + k]),
+                           np.column_stack([cb, k1, k]),
+                           np.column_stack([ct, n + k, n + k1])])
+    return points, triangles
+
+
+def body_surface(body, resolution=32):
+    """Body-frame surface of a rigid body: its cylinder (``RigidBody.cylinder``) or the
+    tetrahedron of its base points, as ``points`` (n, 3) and outward ``triangles``."""
+    if hasattr(body, "radius") and hasattr(body, "height"):
+        return cylinder_surface(body.radius, body.height, resolution)
+    points = body.base_points
+    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+    centre = points.mean(axis=0)
+    for f in faces:
+        a, b, c = points[f]
+        if np.cross(b - a, c - a) @ (a - centre) < 0:
+            f[[1, 2]] = f[[2, 1]]
+    return points, faces
+
+
+class _Builder:
+    """Accumulates points, point data and cell blocks of the mesh of a system."""
+
+    def __init__(self):
+        self.points, self.data, self.cells = [], [], []
+        self.count = 0
+
+    def add(self, points, cell_type, connectivity, part, body_id, **data):
+        n = len(points)
+        fields = {"velocity": np.zeros((n, 3)), "body_id": np.full(n, body_id),
+                  "cable_id": np.full(n, -1), "element_id": np.full(n, -1)}
+        fields.update({name: np.full(n, np.nan) for name in CABLE_FIELDS})
+        fields.update(data)
+        self.points.append(np.asarray(points, dtype=float))
+        self.data.append(fields)
+        self.cells.append((cell_type, np.asarray(connectivity) + self.count, part, body_id))
+        self.count += n
+
+    def mesh(self):
+        points = np.vstack(self.points)
+        names = self.data[0].keys()
+        point_data = {name: np.concatenate([d[name] for d in self.data]) for name in names}
+        point_data["position"] = points
+        for name in ("body_id", "cable_id", "element_id"):
+            point_data[name] = point_data[name].astype(np.int32)
+        cells = [meshio.CellBlock(kind, conn.astype(np.int64)) for kind, conn, _, _ in self.cells]
+        cell_data = {"part": [np.full(len(c), p, np.int32) for _, c, p, _ in self.cells],
+                     "body_id": [np.full(len(c), b, np.int32) for _, c, _, b in self.cells]}
+        return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
+
+
+def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
+    """The deformed system as one ``meshio.Mesh`` (see the module docstring).
+
+    Parameters
+    ----------
+    system : System
+    q, v : ndarray (system.n_dofs,)
+        Coordinates and velocities (``v`` None: zero velocity).
+    points_per_element : int
+        Samples per cable element (``sample_cable``).
+    resolution : int
+        Segments around a cylinder.
+    """
+    q = np.asarray(q, dtype=float)
+    v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
+    out = _Builder()
+    cable_index = 0
+    for body_id, body in enumerate(system.bodies):
+        dofs = system.dofs(body)
+        if isinstance(body, Cable):
+            f = sample_cable(body, q[dofs], v[dofs], points_per_element)
+            n = len(f["arc_length"])
+            lines = np.column_stack([np.arange(n - 1), np.arange(1, n)])
+            out.add(f.pop("position"), "line", lines, PART_CABLE, body_id,
+                    cable_id=np.full(n, cable_index), **f)
+            cable_index += 1
+        elif hasattr(body, "positions"):
+            x, triangles = body_surface(body, resolution)
+            out.add(body.positions(q[dofs], x), "triangle", triangles, PART_RIGID, body_id,
+                    velocity=body.positions(v[dofs], x))
+    for dofs, G, _mass in system.point_masses:
+        owner = max(i for i, b in enumerate(system.bodies) if system.dofs(b)[0] <= dofs[0])
+        out.add((G @ q[dofs])[None], "vertex", [[0]], PART_POINT_MASS, owner,
+                velocity=(G @ v[dofs])[None])
+    return out.mesh()
+
+
+def _write_atomic(path, mesh):
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    meshio.write(tmp, mesh, file_format="vtu")
+    os.replace(tmp, path)
+
+
+def write_vtu(path, system, state, points_per_element=8, resolution=32):
+    """Write one configuration (a ``State``, with or without velocities) to ``path``
+    (``.vtu``); returns the path."""
+    path = Path(path)
+    _write_atomic(path, system_mesh(system, state.q, state.v, points_per_element, resolution))
+    return path
+
+
+def write_pvd(path, entries):
+    """Write a ``.pvd`` collection of ``(time, file)`` entries (files relative to the
+    ``.pvd``'s folder), atomically."""
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    coll = ET.SubElement(root, "Collection")
+    for t, file in entries:
+        ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part="0",
+                      file=str(file))
+    ET.indent(root)
+    path = Path(path)
+    tmp = path.with_name(path.name + ".tmp")
+    ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
+    os.replace(tmp, path)
+
+
+def read_pvd(path):
+    """The ``(time, file)`` entries of a ``.pvd`` collection."""
+    root = ET.parse(path).getroot()
+    return [(float(d.get("timestep")), d.get("file")) for d in root.iter("DataSet")]
+
+
+class SeriesWriter:
+    """Writes a time series into a run directory: ``vtu/<name>_NNNNNN.vtu`` per step and
+    ``<name>.pvd`` listing them, rewritten after every step (so an interrupted run can be
+    opened up to its last step).
+
+    Parameters
+    ----------
+    run_dir : path
+        Created if missing.
+    system : System
+    points_per_element, resolution : int
+        See ``system_mesh``.
+    append : bool
+        Continue the series already in ``run_dir`` (a restarted run): its entries are
+        kept up to the first time written again.  Otherwise the series starts afresh.
+    name : str
+        Base name of the files.
+
+    Examples
+    --------
+    >>> writer = SeriesWriter(run_dir, system)            # doctest: +SKIP
+    >>> for t, q, v in steps:                             # doctest: +SKIP
+    ...     writer.write(t, q, v)
+    >>> writer.close()                                    # doctest: +SKIP
+    """
+
+    def __init__(self, run_dir, system, points_per_element=8, resolution=32, append=False,
+                 name="series"):
+        self.dir = Path(run_dir)
+        (self.dir / "vtu").mkdir(parents=True, exist_ok=True)
+        self.system = system
+        self.points_per_element = points_per_element
+        self.resolution = resolution
+        self.name = name
+        self.pvd = self.dir / f"{name}.pvd"
+        self.entries = read_pvd(self.pvd) if append and self.pvd.exists() else []
+
+    def write(self, t, q, v=None):
+        """Write the step at time ``t``; entries at or after ``t`` are replaced.
+        Returns the path of the ``.vtu``."""
+        self.entries = [e for e in self.entries if e[0] < t]
+        file = Path("vtu") / f"{self.name}_{len(self.entries):06d}.vtu"
+        mesh = system_mesh(self.system, q, v, self.points_per_element, self.resolution)
+        _write_atomic(self.dir / file, mesh)
+        self.entries.append((float(t), file.as_posix()))
+        write_pvd(self.pvd, self.entries)
+        return self.dir / file
+
+    def close(self):
+        """Nothing is held open; kept for symmetry with other writers."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def write_series(result, run_dir, every=1, **options):
+    """Write every ``every``-th saved step of a ``Result`` (and the last) as a VTU series
+    in ``run_dir``; ``options`` go to ``SeriesWriter``.  Returns the ``.pvd`` path."""
+    if int(every) != every or every < 1:
+        raise ValueError(f"every must be a positive integer, got {every!r}")
+    indices = list(range(0, len(result), int(every)))
+    if indices and indices[-1] != len(result) - 1:
+        indices.append(len(result) - 1)
+    writer = SeriesWriter(run_dir, result.system, **options)
+    for i in indices:
+        writer.write(result.t[i], result.q[i], result.v[i])
+    writer.close()
+    return writer.pvd

@@ -1,0 +1,290 @@
+"""Runs into run directories, as ``skfem-cable run`` makes them.
+
+A run directory holds
+
+* the raw results of ``simulate(output=...)`` (``chunk_NNNNN.npz``, ``checkpoint.npz``;
+  read them back with ``Result.load(run_dir, system)``),
+* the VTU series ``series.pvd`` + ``vtu/`` (``export``), which ParaView opens as an
+  animation,
+* ``summary.json``: scene, parameters, wall time, steps, Newton statistics, key outputs
+  and the files written,
+* ``plots/``: energy and cable histories, tension spectra and a rendered snapshot
+  (``plot``), and ``animation.gif`` on request.
+"""
+
+import json
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import export, plot
+from .solvers.galpha import simulate
+
+SUMMARY = "summary.json"
+
+
+@dataclass
+class RunOptions:
+    """Options of a run (the ``skfem-cable run`` flags); ``None`` means the scene's
+    default."""
+
+    out: Path | None = None
+    t_end: float | None = None
+    dt: float | None = None
+    elements: int | None = None
+    alpha: float | None = None
+    every: int | None = None
+    progress: bool | None = None
+    plots: bool = True
+    animate: bool = False
+
+    def reject(self, scene, *names):
+        """Raise ``ValueError`` if one of the options ``names`` was given: it has no
+        meaning for ``scene``."""
+        given = [n for n in names if getattr(self, n) is not None]
+        if given:
+            flags = ", ".join("--" + n.replace("_", "-") for n in given)
+            raise ValueError(f"scene {scene!r} does not take {flags}")
+
+    def value(self, name, default):
+        """The option ``name``, or ``default`` when it was not given."""
+        value = getattr(self, name)
+        return default if value is None else value
+
+
+def jsonable(obj):
+    """``obj`` with numpy scalars and arrays turned into Python numbers and lists, and
+    paths into strings (non-finite floats become ``None``)."""
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return jsonable(obj.tolist())
+    if isinstance(obj, Path):
+        return str(obj)
+    if isinstance(obj, (np.integer, np.bool_)):
+        return obj.item()
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if np.isfinite(obj) else None
+    return obj
+
+
+def write_summary(out, summary):
+    """Write ``summary.json`` into the run directory ``out``; returns its path."""
+    path = Path(out) / SUMMARY
+    path.write_text(json.dumps(jsonable(summary), indent=2) + "\n")
+    return path
+
+
+def cable_outputs(system, q):
+    """Key numbers of every cable at coordinates ``q``: tip position, root and peak
+    tension, length and number of elements."""
+    out = {}
+    for cable in system.cables():
+        qc = q[system.dofs(cable)]
+        s = cable.mesh.p[0]
+        tension = cable.tension(qc, s)
+        out[cable.name] = {"tip_position": cable.interpolate(qc, cable.length)[0],
+                           "root_tension": tension[0], "max_tension": tension.max(),
+                           "length": cable.length, "elements": cable.n_elements}
+    return out
+
+
+def run_outputs(result):
+    """Key numbers of a dynamic run: the cables at the end and their tension extremes over
+    the run, and the energy budget."""
+    system = result.system
+    out = {"cables": cable_outputs(system, result.q[-1])}
+    for cable in system.cables():
+        T = result.tension(cable, cable.mesh.p[0])
+        out["cables"][cable.name].update(max_tension_run=T.max(), min_tension_run=T.min())
+    E = result.energy
+    scale = max(np.abs(E["total"]).max(), np.abs(E["kinetic"]).max(), 1e-300)
+    out["energy"] = {"total_initial": E["total"][0], "total_final": E["total"][-1],
+                     "dissipated": E["dissipated"][-1],
+                     "external_work": E["external_work"][-1],
+                     "max_abs_balance_relative": np.abs(E["balance"]).max() / scale}
+    return out
+
+
+def _warn(message):
+    print(f"skfem-cable: {message}", file=sys.stderr)
+
+
+def snapshot(out, system, state, name="final.png", title=None):
+    """Render ``state`` into ``out/plots/name`` when off-screen rendering works; returns
+    the path, or None (with a warning on stderr) when it does not."""
+    ok, reason = plot.rendering_available()
+    if not ok:
+        _warn(f"skipping the 3-D snapshot: {reason}")
+        return None
+    path = Path(out) / "plots" / name
+    path.parent.mkdir(parents=True, exist_ok=True)
+    plot.render(system, state, path, title=title)
+    return path
+
+
+def run_figures(out, result, animate=False):
+    """The standard figures of a dynamic run in ``out/plots`` (energies, cable histories,
+    root-tension spectra, final snapshot) and ``out/animation.gif`` if ``animate``.
+    Returns the paths written."""
+    plots = Path(out) / "plots"
+    plots.mkdir(parents=True, exist_ok=True)
+    paths = [plots / "energies.png", plots / "cables.png"]
+    plot.energies(result, paths[0])
+    plot.cable_histories(result, paths[1])
+    if len(result) >= 16 and result.system.cables():
+        signals = {c.name: result.tension(c, 0.0) for c in result.system.cables()}
+        paths.append(plots / "tension_psd.png")
+        plot.psd(result.t, signals, paths[-1], title="root tension")
+    final = snapshot(out, result.system, result.state(len(result) - 1),
+                     title=f"t = {result.t[-1]:.4g} s")
+    if final is not None:
+        paths.append(final)
+        if animate:
+            paths.append(Path(out) / "animation.gif")
+            plot.animate(result, paths[-1])
+    elif animate:
+        _warn("skipping the animation (no off-screen rendering)")
+    return paths
+
+
+def run_dynamic(name, system, initial, options, defaults, parameters=None, outputs=None,
+                points_per_element=8):
+    """Simulate ``system`` from ``initial`` and fill the run directory ``options.out``.
+
+    Parameters
+    ----------
+    name : str
+        Scene name (recorded in the summary).
+    system : System
+    initial : State or None
+    options : RunOptions
+        ``t_end``, ``dt``, ``every`` override ``defaults``; ``progress`` is passed on.
+    defaults : dict
+        ``t_end``, ``dt``, ``every``, and optionally ``rho_inf`` and other ``simulate``
+        keywords (``tol``, ``newton``, ...).
+    parameters : dict, optional
+        Scene parameters to record in the summary.
+    outputs : callable, optional
+        ``outputs(result) -> dict`` of scene-specific key numbers, added to the summary.
+    points_per_element : int
+        Cable samples per element in the VTU series.
+
+    Returns
+    -------
+    summary : dict
+    result : Result
+    """
+    wall0 = time.perf_counter()
+    settings = dict(defaults)
+    for key in ("t_end", "dt", "every"):
+        settings[key] = options.value(key, defaults[key])
+    out = None if options.out is None else Path(options.out)
+    if out is not None:
+        (out / "series.pvd").unlink(missing_ok=True)  # a series left by an earlier run
+    result = simulate(system, initial=initial, output=out, progress=options.progress,
+                      **settings)
+    stats = result.stats
+    summary = {"scene": name,
+               "parameters": {**(parameters or {}), **settings},
+               "wall_time": stats["wall_time"],
+               "steps": stats["steps"], "saved_steps": len(result),
+               "newton": {"iterations": stats["newton"],
+                          "per_step": stats["newton"] / max(stats["steps"], 1),
+                          "factorizations": stats["factorizations"],
+                          "rejected_steps": stats["rejected"], "solver": stats["solver"]},
+               "outputs": run_outputs(result)}
+    if outputs is not None:
+        summary["outputs"].update(outputs(result))
+    if out is not None:
+        pvd = out / "series.pvd"
+        if not pvd.exists():  # written here unless simulate wrote it during the run
+            export.write_series(result, out, points_per_element=points_per_element)
+        files = {"results": "chunk_*.npz, checkpoint.npz", "series": pvd.name}
+        if options.plots:
+            files["plots"] = [p.relative_to(out).as_posix()
+                              for p in run_figures(out, result, options.animate)]
+        summary["files"] = files
+        summary["total_wall_time"] = time.perf_counter() - wall0
+        write_summary(out, summary)
+    return summary, result
+
+
+def run_static(name, system, steps, options, parameters=None, outputs=None, title=None,
+               points_per_element=8):
+    """Fill the run directory ``options.out`` of a static analysis.
+
+    Parameters
+    ----------
+    name : str
+    system : System
+        The system of the last equilibrium (all ``steps`` share its bodies).
+    steps : list of (float, State)
+        Equilibria with the value recorded as their time in the VTU series (a load
+        factor or load parameter); the last one is rendered.
+    options : RunOptions
+    parameters, outputs : dict, optional
+        Scene parameters and key numbers for the summary (the cables' tip positions and
+        tensions at the last equilibrium are added).
+    title : str, optional
+        Title of the snapshot.
+
+    Returns
+    -------
+    dict
+        The summary.
+    """
+    final = steps[-1][1]
+    summary = {"scene": name, "parameters": parameters or {},
+               "outputs": {**(outputs or {}), "cables": cable_outputs(system, final.q)}}
+    if options.out is None:
+        return summary
+    writer = export.SeriesWriter(options.out, system, points_per_element)
+    for value, state in steps:
+        writer.write(value, state.q)
+    files = {"series": writer.pvd.name}
+    if options.plots:
+        path = snapshot(options.out, system, final, title=title)
+        files["plots"] = [] if path is None else [path.relative_to(options.out).as_posix()]
+    summary["files"] = files
+    write_summary(options.out, summary)
+    return summary
+
+
+def format_summary(summary):
+    """A few readable lines about a finished run (what the CLI prints)."""
+    lines = [f"scene {summary['scene']}"]
+    if "steps" in summary:
+        nw = summary["newton"]
+        lines.append(f"  {summary['steps']} steps in {summary['wall_time']:.2f} s, "
+                     f"{nw['per_step']:.2f} Newton iterations per step, "
+                     f"{nw['rejected_steps']} rejected")
+    lines.extend(_format_tree(summary.get("outputs", {}), "  "))
+    return "\n".join(lines)
+
+
+def _format_value(value):
+    value = np.asarray(value)
+    if value.ndim:
+        return np.array2string(value, precision=6)
+    return f"{value.item():.6g}" if value.dtype.kind == "f" else str(value)
+
+
+def _format_tree(tree, indent):
+    for key, value in tree.items():
+        if isinstance(value, dict):
+            yield f"{indent}{key}:"
+            yield from _format_tree(value, indent + "  ")
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            yield f"{indent}{key}:"
+            columns = list(value[0])
+            yield indent + "  " + " ".join(f"{c:>12}" for c in columns)
+            for row in value:
+                yield indent + "  " + " ".join(f"{_format_value(row[c]):>12}" for c in columns)
+        else:
+            yield f"{indent}{key}: {_format_value(value)}"
