@@ -66,6 +66,8 @@ def factored_solve(solve_g, b):
 
 
 def exponent(ns, ts, n_min):
+    """Fitted log-log slope over the sizes ``>= n_min`` (the larger half if none is)."""
+    n_min = min(n_min, sorted(ns)[len(ns) // 2])
     sel = [i for i, n in enumerate(ns) if n >= n_min and np.isfinite(ts[i])]
     return np.polyfit(np.log([ns[i] for i in sel]), np.log([ts[i] for i in sel]), 1)[0]
 

@@ -1,0 +1,53 @@
+"""The benchmark scripts run (at tiny sizes) and report sane numbers: benchmarks are not
+timed tests, but they must not rot."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+BENCH = Path(__file__).parents[1] / "benchmarks"
+
+
+def load(name):
+    spec = importlib.util.spec_from_file_location(name, BENCH / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_kernel_cost(capsys):
+    rows = load("kernel_cost").main(sizes=(10, 20))
+    assert [r[0] for r in rows] == [10, 20] and all(r[1] > 0 and r[2] > 0 for r in rows)
+    assert "growth exponent" in capsys.readouterr().out
+
+
+def test_step_cost(capsys):
+    rows = load("step_cost").main(sizes=(4, 8))
+    assert all(r[1] > 0 and r[2] >= 1 for r in rows)
+
+
+def test_cantilever_convergence(capsys):
+    errors = load("cantilever_convergence").main(ks=(1, 2, 5), elements=(8, 16))
+    assert errors[16][2] < errors[8][2] < 1e-2
+
+
+def test_pendulum_speed_error(capsys):
+    ref, rows = load("pendulum_speed_error").main(elements=(4,), steps=(4e-3,),
+                                                  reference=(4, 2e-3))
+    assert np.isfinite(ref).all() and 0 < rows[0][2] < 1e-3
+
+
+@pytest.mark.slow
+def test_esail_report_speed_table(capsys):
+    load("esail_report").speed(steps=5)
+    assert "ms/step" in capsys.readouterr().out
+
+
+def test_rodchain_speed(capsys):
+    bench = load("rodchain_speed")
+    bench.solve_table([10, 20, 40])
+    bench.rk4_table([10, 30])
+    out = capsys.readouterr().out
+    assert "10" in out and "30" in out
