@@ -18,13 +18,13 @@ def load(name):
 
 
 def test_kernel_cost(capsys):
-    rows = load("kernel_cost").main(sizes=(10, 20))
-    assert [r[0] for r in rows] == [10, 20] and all(r[1] > 0 and r[2] > 0 for r in rows)
+    rows = load("kernel_cost").main(sizes=(10, 20, 40))
+    assert [r[0] for r in rows] == [10, 20, 40] and all(r[1] > 0 and r[2] > 0 for r in rows)
     assert "growth exponent" in capsys.readouterr().out
 
 
 def test_step_cost(capsys):
-    rows = load("step_cost").main(sizes=(4, 8))
+    rows = load("step_cost").main(sizes=(4, 8, 16))
     assert all(r[1] > 0 and r[2] >= 1 for r in rows)
 
 
@@ -48,6 +48,6 @@ def test_esail_report_speed_table(capsys):
 def test_rodchain_speed(capsys):
     bench = load("rodchain_speed")
     bench.solve_table([10, 20, 40])
-    bench.rk4_table([10, 30])
+    bench.rk4_table([10, 30, 60])
     out = capsys.readouterr().out
     assert "10" in out and "30" in out
