@@ -23,9 +23,9 @@ def interpolation_errors(element, n_elements):
     u[basis.nodal_dofs[0]] = f
     u[basis.nodal_dofs[1]] = fx
     field = basis.interpolate(u)
-    xq = basis.global_coordinates().value[0]
+    xq = np.asarray(basis.global_coordinates())[0]
     exact = cubic(xq)
-    got = (field.value, field.grad[0], field.hess[0, 0])
+    got = (np.asarray(field), field.grad[0], field.hess[0, 0])
     return [np.max(np.abs(g - e)) / np.max(np.abs(e)) for g, e in zip(got, exact)]
 
 
