@@ -114,6 +114,3 @@ class FastCSR:
     def __matmul__(self, x):
         return _csr_matvec(self.indptr, self.indices, self.data, np.ascontiguousarray(x),
                            np.empty(self.shape[0]))
-
-    def diagonal(self):
-        return self.scipy.diagonal()
