@@ -275,8 +275,16 @@ def _format_value(value):
     return f"{value.item():.6g}" if value.dtype.kind == "f" else str(value)
 
 
+#: Printed members of a group of bodies at most (``summary.json`` keeps them all).
+MAX_PRINTED = 3
+
+
 def _format_tree(tree, indent):
-    for key, value in tree.items():
+    group = len(tree) > MAX_PRINTED + 1 and all(isinstance(v, dict) for v in tree.values())
+    for k, (key, value) in enumerate(tree.items()):
+        if group and k == MAX_PRINTED:
+            yield f"{indent}... {len(tree) - MAX_PRINTED} more in summary.json"
+            return
         if isinstance(value, dict):
             yield f"{indent}{key}:"
             yield from _format_tree(value, indent + "  ")

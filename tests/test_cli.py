@@ -165,3 +165,13 @@ def test_bench_lists_the_scripts_and_help_works(capsys):
         cli.main(["run", "--help"])
     assert exit_.value.code == 0
     assert "--t-end" in capsys.readouterr().out
+
+
+def test_printed_summary_abridges_large_groups_of_bodies():
+    from skfem_cable.runner import format_summary
+
+    summary = {"scene": "x", "outputs": {"cables": {f"c{i}": {"L": 1.0} for i in range(10)},
+                                         "thrust": 0.5}}
+    text = format_summary(summary)
+    assert "c2:" in text and "c3:" not in text and "... 7 more in summary.json" in text
+    assert "thrust: 0.5" in text
