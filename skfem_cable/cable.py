@@ -14,6 +14,22 @@ from .section import Section
 
 KINDS = ("cable", "truss")
 _EMPTY = np.zeros(0)
+_NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
+
+
+def kernel_forces(tables, section, EI, edofs, scatter, q, v, f, data, cK, cC, energy, power,
+                  f_damping):
+    """Call the numba kernel on the element tables (``Sx, Sxx, weights, h``) of one cable or
+    of a group of cables sharing ``section`` and bending stiffness ``EI``; ``v = None``
+    means no damping, ``data = None`` no tangent (see ``Cable.forces``)."""
+    damped = v is not None
+    want = data is not None and scatter is not None
+    cable_kernel.force_tangent(
+        q, v if damped else q, edofs, tables.Sx, tables.Sxx, tables.weights, tables.h,
+        section.EA, EI, section.gamma_axial if damped else 0.0,
+        section.gamma_bending if damped else 0.0, f,
+        _EMPTY if f_damping is None else f_damping, data if want else _EMPTY,
+        scatter if want else _NO_SCATTER, cK, cC, energy, power)
 
 
 class Node:
@@ -191,20 +207,12 @@ class Cable:
         ``power`` (length 2) accumulate the axial/bending energy and dissipated power;
         ``f_damping`` (like ``f``) the damping force alone.  ``v = None``: no damping.
         """
-        sec = self.section
         if edofs is None:
             edofs = self.element_dofs
-        if scatter is None:
-            scatter = np.zeros((0, 12, 12), dtype=np.int64)
-            data = np.zeros(0)
         energy = np.zeros(2) if energy is None else energy
         power = np.zeros(2) if power is None else power
-        cable_kernel.force_tangent(q, q if v is None else v, edofs, self.Sx, self.Sxx,
-                                   self.weights, self.h, sec.EA, self.EI_active,
-                                   sec.gamma_axial if v is not None else 0.0,
-                                   sec.gamma_bending if v is not None else 0.0,
-                                   f, _EMPTY if f_damping is None else f_damping, data, scatter,
-                                   cK, cC, energy, power)
+        kernel_forces(self, self.section, self.EI_active, edofs, scatter, q, v, f, data, cK,
+                      cC, energy, power, f_damping)
         return energy, power
 
     def forces_reference(self, q, v=None):

@@ -16,14 +16,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import constraints as cons
-from .cable import Cable, Node
-from .kernels import cable as cable_kernel
+from .cable import Cable, Node, kernel_forces
 from .linalg import FastCSR
 from .loads import Centrifugal, PointMoment, TimeLoad, _vector3
 from .section import check_positive
-
-_EMPTY = np.zeros(0)
-_NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
 
 
 class System:
@@ -399,7 +395,7 @@ class CableGroup:
         self.section, self.EI = first.section, first.EI_active
         self.edofs = np.ascontiguousarray(np.concatenate(edofs))
         self.scatter = np.ascontiguousarray(np.concatenate(scatter))
-        for name in ("S", "Sx", "Sxx", "weights", "h"):
+        for name in ("Sx", "Sxx", "weights", "h"):
             setattr(self, name, np.ascontiguousarray(np.concatenate(
                 [getattr(c, name) for c in cables])))
 
@@ -414,12 +410,5 @@ class CableGroup:
 
     def forces(self, q, v, f, data, cK, cC, energy, power, f_damping):
         """As ``Cable.forces`` for all cables of the group (global vectors)."""
-        sec = self.section
-        damped = v is not None
-        cable_kernel.force_tangent(
-            q, q if v is None else v, self.edofs, self.Sx, self.Sxx, self.weights, self.h,
-            sec.EA, self.EI, sec.gamma_axial if damped else 0.0,
-            sec.gamma_bending if damped else 0.0, f,
-            _EMPTY if f_damping is None else f_damping,
-            _EMPTY if data is None else data,
-            self.scatter if data is not None else _NO_SCATTER, cK, cC, energy, power)
+        kernel_forces(self, self.section, self.EI, self.edofs, self.scatter, q, v, f, data, cK,
+                      cC, energy, power, f_damping)

@@ -43,7 +43,7 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
     data = scale * lay.linear_data
     system.evaluate(q, None, 0.0, lam, scale=scale, data=data)
     if spin is not None:
-        return _gyroscopic_modes(system, lay.matrix(data), scale, k, spin)
+        return _gyroscopic_modes(system, lay.matrix(data), k, spin)
     mass = lay.mass_data
     if sigma is None:
         diag = lay.matrix(data).diagonal()[:n]
@@ -72,7 +72,7 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
     return freqs, shapes
 
 
-def _gyroscopic_modes(system, kkt, scale, k, spin):
+def _gyroscopic_modes(system, kkt, k, spin):
     """``(lambda^2 M + lambda G + K) x + C^T mu = 0``, ``C x = 0`` in first-order form
     ``A z = lambda B z``, ``z = (x, lambda x, mu)``; frequencies are ``|Im lambda| / 2 pi``."""
     from scipy.linalg import eig
@@ -101,5 +101,4 @@ def _gyroscopic_modes(system, kkt, scale, k, spin):
     shapes = vec[:n, order].T
     for i in range(len(shapes)):
         shapes[i] /= np.sqrt(abs(np.conj(shapes[i]) @ M @ shapes[i]))
-    del scale
     return np.abs(lam[order]) / (2 * np.pi), shapes
