@@ -45,24 +45,28 @@ def biot_density(a, b, EA, EI):
 class BiotCable(sc.Cable):
     """ANCF cable with the engineering strain (no internal damping)."""
 
-    def forces(self, q, v, f, data=None, scatter=None, cK=1.0, cC=0.0, energy=None,
-               power=None, edofs=None, f_damping=None):
-        """Add ``dU/dq`` to ``f`` and ``cK dU/dq/dq`` to ``data`` at ``scatter``."""
-        edofs = self.element_dofs if edofs is None else edofs
-        energy = np.zeros(2) if energy is None else energy
+    def bind(self, system):
+        """The element's ``Term`` (see ``docs/extending.md``): its tangent pattern is the
+        12 x 12 block of every element, its hook adds ``dU/dq`` and ``cK d2U/dq2``."""
+        edofs = self.global_element_dofs(system)
         ne = len(edofs)
         S6 = np.stack([self.Sx, self.Sxx], axis=2)  # (ne, nq, 2, 4): d/dx, d2/dx2
-        x = np.einsum("eqUA,eAi->eqUi", S6, q[edofs].reshape(ne, 4, 3))
-        W, G, H = biot_density(x[..., 0, :], x[..., 1, :], self.section.EA, self.EI_active)
         w = self.weights
-        fe = np.einsum("eq,eqUA,eqUi->eAi", w, S6, G.reshape(ne, -1, 2, 3)).reshape(ne, 12)
-        np.add.at(f, edofs, fe)
-        if scatter is not None and len(scatter):
-            H = H.reshape(ne, -1, 2, 3, 2, 3)
-            Ke = np.einsum("eq,eqUA,eqVB,eqUiVj->eAiBj", w, S6, S6, H).reshape(ne, 12, 12)
-            np.add.at(data, scatter, cK * Ke)
-        energy[0] += np.sum(w * W)  # all of it booked as "axial" for brevity
-        return energy, power
+        EA, EI = self.section.EA, self.EI_active
+
+        def add(ev, index):
+            x = np.einsum("eqUA,eAi->eqUi", S6, ev.q[edofs].reshape(ne, 4, 3))
+            W, G, H = biot_density(x[..., 0, :], x[..., 1, :], EA, EI)
+            fe = np.einsum("eq,eqUA,eqUi->eAi", w, S6, G.reshape(ne, -1, 2, 3))
+            np.add.at(ev.f, edofs, fe.reshape(ne, 12))
+            ev.energy[0] += np.sum(w * W)  # all of it booked as "axial" for brevity
+            if ev.want_tangent:
+                H = H.reshape(ne, -1, 2, 3, 2, 3)
+                Ke = np.einsum("eq,eqUA,eqVB,eqUiVj->eAiBj", w, S6, S6, H)
+                ev.add_tangent(index, Ke.reshape(ne, 12, 12))
+
+        return sc.Term(add=add, rows=edofs[:, :, None], cols=edofs[:, None, :],
+                       name=self.name)
 
     def strain(self, q, s):
         """Engineering strain ``|r_x| - 1``."""
@@ -71,10 +75,6 @@ class BiotCable(sc.Cable):
     def tension(self, q, s):
         """Axial force ``EA e`` (bending contribution left out)."""
         return self.section.EA * self.strain(q, s)
-
-    @property
-    def damped(self):
-        return False
 
 
 def pulled_bar(cls, load=0.1, n_elements=4):

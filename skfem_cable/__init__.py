@@ -8,8 +8,10 @@ Public API: ``Section``, ``Cable``, ``RigidBody``, ``System``, ``solve_static``,
 from . import export as export  # VTU files for ParaView
 from . import plot as plot  # renders and figures
 from .cable import Cable, Node
+from .contract import Evaluation, Observer, Term
 from .coulomb import SolarWind, SolarWindForce
 from .element import ElementLineCableHermite
+from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
 from .result import Result
 from .rigid import RigidBody
 from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anchor
@@ -23,6 +25,15 @@ from .system import System
 
 __all__ = [
     "Cable",
+    "Centrifugal",
+    "Evaluation",
+    "Gravity",
+    "LineLoad",
+    "Observer",
+    "PointLoad",
+    "PointMass",
+    "PointMoment",
+    "Term",
     "ElementLineCableHermite",
     "Node",
     "Result",

@@ -6,6 +6,7 @@ from skfem import Basis, BilinearForm, ElementVector, LinearForm, MeshLine, asm
 from skfem.helpers import dot
 from skfem.quadrature import get_quadrature
 
+from .contract import Term
 from .element import ElementLineCableHermite, hermite
 from .kernels import cable as cable_kernel
 from .kernels import reference
@@ -17,19 +18,49 @@ _EMPTY = np.zeros(0)
 _NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
 
 
-def kernel_forces(tables, section, EI, edofs, scatter, q, v, f, data, cK, cC, energy, power,
-                  f_damping):
-    """Call the numba kernel on the element tables (``Sx, Sxx, weights, h``) of one cable or
-    of a group of cables sharing ``section`` and bending stiffness ``EI``; ``v = None``
-    means no damping, ``data = None`` no tangent (see ``Cable.forces``)."""
-    damped = v is not None
-    want = data is not None and scatter is not None
-    cable_kernel.force_tangent(
-        q, v if damped else q, edofs, tables.Sx, tables.Sxx, tables.weights, tables.h,
-        section.EA, EI, section.gamma_axial if damped else 0.0,
-        section.gamma_bending if damped else 0.0, f,
-        _EMPTY if f_damping is None else f_damping, data if want else _EMPTY,
-        scatter if want else _NO_SCATTER, cK, cC, energy, power)
+class CableForces:
+    """The compiled elastic and damping forces of the elements of one or more cables that
+    share a law (section, bending stiffness, quadrature): the ``add`` hook of their
+    ``Term`` (see ``contract``).  Cables with the same law are merged into one instance,
+    so an E-sail's tethers are one kernel call.
+
+    Parameters
+    ----------
+    edofs : int ndarray (ne, 12)
+        Global coordinates of each element.
+    tables : tuple ``(Sx, Sxx, weights, h)``
+        Shape-function derivative tables, Gauss weights and element lengths.
+    law : tuple ``(EA, EI, gamma_axial, gamma_bending)``
+    """
+
+    def __init__(self, edofs, tables, law):
+        self.edofs = np.ascontiguousarray(edofs, dtype=np.int64)
+        self.tables = tuple(np.ascontiguousarray(t) for t in tables)
+        self.law = tuple(float(x) for x in law)
+        self.static_law = self.law[:2] + (0.0, 0.0)
+
+    def __call__(self, ev, index):
+        """Add the forces (Eqs. 86-127) and, if wanted, ``cK K + cC C`` (numba kernel)."""
+        want = ev.data is not None
+        out = (ev.f, ev.f_damping, ev.data if want else _EMPTY,
+               index if want else _NO_SCATTER, ev.energy, ev.power)
+        cable_kernel.force_tangent((ev.q, ev.v), (self.edofs, *self.tables),
+                                   self.law if ev.dynamic else self.static_law, out,
+                                   (ev.cK, ev.cC))
+
+    @staticmethod
+    def merge(terms):
+        """One term for the concatenated elements of ``terms`` (same law)."""
+        parts = [t.add for t in terms]
+        forces = CableForces(np.concatenate([p.edofs for p in parts]),
+                             [np.concatenate(tabs) for tabs in zip(*(p.tables for p in parts))],
+                             parts[0].law)
+        return forces.term(terms[0].key, " + ".join(t.name for t in terms))
+
+    def term(self, key, name):
+        ed = self.edofs
+        return Term(add=self, rows=ed[:, :, None], cols=ed[:, None, :], key=key,
+                    merge=CableForces.merge, name=name)
 
 
 class Node:
@@ -155,17 +186,14 @@ class Cable:
         """True for position coordinates, False for slopes."""
         return np.tile(np.repeat([True, False], 3), self.n_nodes)
 
+    def internal_constraints(self):
+        """None: an ANCF cable's coordinates are all free."""
+        return []
+
     def describe_dof(self, index):
         """Which node and component a local coordinate is, e.g. ``node 3 r_x[1]``."""
         node, k = divmod(int(index), 6)
         return f"node {node} {'r' if k < 3 else 'r_x'}[{k % 3}]"
-
-    @property
-    def damped(self):
-        """Whether internal damping is active (``gamma_axial``, or ``gamma_bending`` of a
-        cable with bending)."""
-        sec = self.section
-        return sec.gamma_axial > 0 or (self.bending and sec.gamma_bending > 0)
 
     @property
     def bending(self):
@@ -187,33 +215,26 @@ class Cable:
                              f"got {force_per_length!r}")
         return asm(LinearForm(lambda v, w: f[0] * v[0] + f[1] * v[1] + f[2] * v[2]), self.basis)
 
-    def gravity_load(self, g):
-        """Consistent generalized force of uniform gravity ``g`` (m/s^2)."""
-        return self.line_load(self.section.mass_per_length * np.asarray(g, dtype=float))
-
     # --- elastic forces -------------------------------------------------------------------
     @property
     def EI_active(self):
         """Bending stiffness in use (0 for a truss)."""
         return self.section.EI if self.bending else 0.0
 
-    def forces(self, q, v, f, data=None, scatter=None, cK=1.0, cC=0.0, energy=None,
-               power=None, edofs=None, f_damping=None):
-        """Add the elastic and damping force ``dU/dq + dD/dv`` to ``f`` and
-        ``cK d f/dq + cC d f/dv`` into ``data`` through ``scatter`` (numba kernel).
+    def global_element_dofs(self, system):
+        """Global coordinates of every element, int (ne, 12)."""
+        return self.element_dofs + system.dofs(self)[0]
 
-        ``q``, ``v`` and ``f`` are the cable's own vectors, or global ones when ``edofs``
-        (the global DOFs of every element, shape ``(ne, 12)``) is given.  ``energy`` and
-        ``power`` (length 2) accumulate the axial/bending energy and dissipated power;
-        ``f_damping`` (like ``f``) the damping force alone.  ``v = None``: no damping.
-        """
-        if edofs is None:
-            edofs = self.element_dofs
-        energy = np.zeros(2) if energy is None else energy
-        power = np.zeros(2) if power is None else power
-        kernel_forces(self, self.section, self.EI_active, edofs, scatter, q, v, f, data, cK,
-                      cC, energy, power, f_damping)
-        return energy, power
+    def bind(self, system):
+        """The term of the cable's elastic and damping forces (see ``contract``): the
+        compiled kernel of ``CableForces``, shared by all cables with the same section,
+        kind and quadrature.  A subclass with other physics overrides this hook."""
+        sec = self.section
+        law = (sec.EA, self.EI_active, sec.gamma_axial,
+               sec.gamma_bending if self.bending else 0.0)
+        forces = CableForces(self.global_element_dofs(system),
+                             (self.Sx, self.Sxx, self.weights, self.h), law)
+        return forces.term(("ancf-cable", law, self.Sx.shape[1]), self.name)
 
     def forces_reference(self, q, v=None):
         """Per-element energy, power, force and tangents ``(K, C)`` by the numpy path."""

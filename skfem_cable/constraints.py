@@ -1,12 +1,44 @@
-"""Holonomic constraints ``C(q) = 0`` imposed with Lagrange multipliers (paper Sect. 2.4).
+"""Holonomic constraints ``C(q, t) = 0`` imposed with Lagrange multipliers (paper Sect. 2.4).
 
-A constraint acts on a few global coordinates ``q[dofs]`` and provides its value, its
-Jacobian ``C_q`` and, when nonlinear, the Hessian term ``d(C_q^T lambda)/dq`` of Eq. 15.
+A constraint acts on a few global coordinates ``q[dofs]`` and provides (the contract of
+``contract``):
+
+* ``n_eq``, ``name``, ``labels`` (one per equation: names the multipliers);
+* ``linear``: True when the Jacobian ``C_q`` is constant (it then lives in one constant
+  sparse matrix; the value may still move in time through ``offset(t)``);
+* ``dofs(system)``: the global coordinates involved;
+* ``value(qc, t)``, ``jacobian(qc, t)``, ``hessian(qc, lam, t)`` (the term
+  ``d(C_q^T lambda)/dq`` of Eq. 15, None when zero);
+* ``velocity_term(qc, t)`` = ``C_t`` and ``accel_term(qc, vc, t)`` =
+  ``(C_q v)_q v + 2 C_qt v + C_tt`` (Eq. 2), for consistent initial velocities and
+  accelerations.
+
+Driven joints take callables of time.  Their time derivatives are given by the user
+(``velocity``, ``acceleration``) or computed by ``time_derivatives``.
 """
 
 import numpy as np
 
 from .cable import Node
+
+#: Step of the time differences of driven joints, relative to ``max(1, |t|)`` seconds.
+TIME_STEP = 1e-3
+
+
+def time_derivatives(fn, t, order):
+    """First (``order=1``) or second derivative of ``fn`` at ``t`` by central differences
+    with Richardson extrapolation (fourth order; step ``TIME_STEP * max(1, |t|)``): relative
+    error about ``(w h)^4 / 30`` for a motion of angular frequency ``w``, 1e-7 at
+    ``w = 100 rad/s``.  Give the derivatives explicitly for faster motions."""
+    h = TIME_STEP * max(1.0, abs(t))
+
+    def central(step):
+        if order == 1:
+            return (np.asarray(fn(t + step)) - np.asarray(fn(t - step))) / (2 * step)
+        return (np.asarray(fn(t + step)) - 2 * np.asarray(fn(t))
+                + np.asarray(fn(t - step))) / step**2
+
+    return (4 * central(0.5 * h) - central(h)) / 3
 
 
 def _unit(v, name):
@@ -17,6 +49,13 @@ def _unit(v, name):
     return v / n
 
 
+def _point(p, name, size=3):
+    p = np.asarray(p, dtype=float)
+    if p.shape != (size,) or not np.all(np.isfinite(p)):
+        raise ValueError(f"{name} must be a finite vector of length {size}, got {p!r}")
+    return p
+
+
 def orthonormal_complement(d):
     """Two unit vectors spanning the plane orthogonal to the unit vector ``d``."""
     seed = np.eye(3)[np.argmin(np.abs(d))]
@@ -25,16 +64,58 @@ def orthonormal_complement(d):
     return n1, np.cross(d, n1)
 
 
+class Motion:
+    """A prescribed vector ``x(t)`` with its first two time derivatives.
+
+    Parameters
+    ----------
+    fn : callable or array_like
+        ``fn(t)`` (a constant vector is a motion at rest).
+    velocity, acceleration : callable, optional
+        Exact derivatives; else ``time_derivatives``.
+    name : str
+        Parameter name used in error messages.
+    size : int
+        Length of the vector.
+    """
+
+    def __init__(self, fn, velocity=None, acceleration=None, name="target", size=3):
+        self.name, self.size = name, size
+        if callable(fn):
+            self.fn = fn
+            self.driven = True
+        else:
+            value = _point(fn, name, size)
+            self.fn = lambda t: value
+            self.driven = False
+        self.derivatives = (velocity, acceleration)
+        for label, d in zip(("velocity", "acceleration"), self.derivatives):
+            if d is not None and not callable(d):
+                raise TypeError(f"{label} must be a callable of time, got {d!r}")
+        self(0.0)
+
+    def __call__(self, t, order=0):
+        if order and not self.driven:
+            return np.zeros(self.size)
+        exact = self.derivatives[order - 1] if order else self.fn
+        if exact is not None:
+            label = f"{self.name} derivative {order}" if order else self.name
+            return _point(exact(t), f"{label} at t={t!r}", self.size)
+        return time_derivatives(
+            lambda s: _point(self.fn(s), f"{self.name} at t={s!r}", self.size), t, order)
+
+
 class LinearConstraint:
-    """``C(q) = J q[dofs] - c``: clamps and spherical joints between ANCF nodes, ground
-    points and natural-coordinate bodies are all linear (Eqs. 53-55).
+    """``C(q, t) = J q[dofs] - c(t)``: clamps and spherical joints between ANCF nodes, ground
+    points (fixed or moving) and natural-coordinate bodies are all linear (Eqs. 53-55).
 
     Parameters
     ----------
     dofs : callable
         ``dofs(system) -> int ndarray``: the global coordinates involved.
     J : ndarray, shape (n_eq, len(dofs))
-    c : ndarray, shape (n_eq,)
+    c : ndarray (n_eq,) or Motion
+        Constant offset, or a prescribed ``Motion`` (a driven joint).
     name : str
     labels : list of str
         One label per equation (names the multipliers, e.g. reaction components).
@@ -45,7 +126,8 @@ class LinearConstraint:
     def __init__(self, dofs, J, c, name, labels):
         self._dofs = dofs
         self.J = np.atleast_2d(np.asarray(J, dtype=float))
-        self.c = np.asarray(c, dtype=float)
+        self.motion = c if isinstance(c, Motion) else None
+        self.c = None if self.motion is not None else np.asarray(c, dtype=float)
         self.name = name
         self.labels = list(labels)
 
@@ -53,61 +135,158 @@ class LinearConstraint:
     def n_eq(self):
         return self.J.shape[0]
 
+    @property
+    def driven(self):
+        return self.motion is not None and self.motion.driven
+
     def dofs(self, system):
         return self._dofs(system)
 
-    def value(self, qc):
-        return self.J @ qc - self.c
+    def offset(self, t, order=0):
+        """``c(t)`` (or its derivative of the given order)."""
+        if self.motion is None:
+            return self.c if order == 0 else np.zeros_like(self.c)
+        return self.motion(t, order)
 
-    def jacobian(self, qc):
+    def value(self, qc, t=0.0):
+        return self.J @ qc - self.offset(t)
+
+    def jacobian(self, qc, t=0.0):
         return self.J
 
-    def hessian(self, qc, lam):
+    def hessian(self, qc, lam, t=0.0):
         return None
 
+    def velocity_term(self, qc, t=0.0):
+        return -self.offset(t, 1)
 
-def clamp(node, direction=None, position=None):
-    """Clamp ``node``: its position and the *direction* of its slope are fixed.
+    def accel_term(self, qc, vc, t=0.0):
+        return -self.offset(t, 2)
+
+
+class SlopeDirection:
+    """The slope of a node keeps the direction ``d(t)``: ``n_k(t) . r_x = 0`` for the two
+    unit vectors ``n_k(t)`` orthogonal to ``d(t)``.
+
+    ``n_k(t) = R(t) n_k0`` with ``R(t)`` the smallest rotation from ``d(t0)`` to ``d(t)``
+    (continuous while ``d`` does not turn by 180 degrees).  The Jacobian depends on time
+    only, so the constraint's Hessian is zero; its time derivatives come from
+    ``time_derivatives`` of ``n_k(t)``.
+    """
+
+    linear = False
+    n_eq = 2
+
+    def __init__(self, node, direction, t0=0.0):
+        self.node = node
+        self.direction = direction
+        self.d0 = _unit(direction(t0), "direction(t0)")
+        self.n0 = np.array(orthonormal_complement(self.d0))
+        self.name = f"slope direction {node!r}"
+        self.labels = ["M1", "M2"]
+
+    def normals(self, t):
+        """``n_1(t), n_2(t)`` as rows (2, 3)."""
+        d = _unit(self.direction(t), f"direction({t!r})")
+        axis = np.cross(self.d0, d)
+        s, c = np.linalg.norm(axis), self.d0 @ d
+        if c <= -1 + 1e-12:
+            raise ValueError(f"direction(t) turned by 180 degrees at t = {t}: the clamp "
+                             "frame is undefined")
+        K = np.cross(axis, np.eye(3)).T  # K @ x = axis x x
+        R = np.eye(3) + K + K @ K / (1 + c) if s > 0 else np.eye(3)
+        return self.n0 @ R.T
+
+    def dofs(self, system):
+        return system.dofs(self.node)[3:]
+
+    def value(self, qc, t=0.0):
+        return self.normals(t) @ qc
+
+    def jacobian(self, qc, t=0.0):
+        return self.normals(t)
+
+    def hessian(self, qc, lam, t=0.0):
+        return None
+
+    def velocity_term(self, qc, t=0.0):
+        return time_derivatives(self.normals, t, 1) @ qc
+
+    def accel_term(self, qc, vc, t=0.0):
+        return (2 * time_derivatives(self.normals, t, 1) @ vc
+                + time_derivatives(self.normals, t, 2) @ qc)
+
+
+def clamp(node, direction=None, position=None, velocity=None, acceleration=None):
+    """Clamp ``node``: its position and the *direction* of its slope are fixed, or follow
+    prescribed motions.
 
     Fixing the slope's direction (two equations ``n_k . r_x = 0`` with ``n_k`` orthogonal to
     ``direction``) rather than the whole slope vector leaves the axial stretch at the root
     free.  Five equations: ``r - position = 0`` and the two slope-direction equations.
+
+    Parameters
+    ----------
+    node : Node
+    direction : array_like (3,) or callable, optional
+        Slope direction (default: the node's initial slope), or ``direction(t)`` (a driven
+        clamp, see ``SlopeDirection``).
+    position : array_like (3,) or callable, optional
+        Position (default: the node's initial position), or ``position(t)``.
+    velocity, acceleration : callable, optional
+        Exact derivatives of a driven ``position``.
+
+    Returns
+    -------
+    list of constraints
     """
     if not isinstance(node, Node):
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
     q0 = node.body.q0[node.body.node_dofs(node.index)]
-    p = q0[:3] if position is None else np.asarray(position, dtype=float)
+    labels = ["Fx", "Fy", "Fz"]
+    p = q0[:3] if position is None else position
+    place = LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3),
+                             Motion(p, velocity, acceleration, "position"),
+                             f"clamp {node!r}", labels)
+    if callable(direction):
+        return [place, SlopeDirection(node, direction)]
     d = _unit(q0[3:] if direction is None else direction, "direction")
     n1, n2 = orthonormal_complement(d)
     J = np.zeros((5, 6))
     J[:3, :3] = np.eye(3)
     J[3, 3:] = n1
     J[4, 3:] = n2
-    c = np.concatenate([p, [0.0, 0.0]])
-    labels = ["Fx", "Fy", "Fz", "M1", "M2"]
-    return LinearConstraint(lambda s: s.dofs(node), J, c, f"clamp {node!r}", labels)
+    c = Motion(lambda t: np.append(place.offset(t), [0.0, 0.0]),
+               lambda t: np.append(place.offset(t, 1), [0.0, 0.0]),
+               lambda t: np.append(place.offset(t, 2), [0.0, 0.0]), "position", size=5) \
+        if place.driven else np.append(place.offset(0.0), [0.0, 0.0])
+    return [LinearConstraint(lambda s: s.dofs(node), J, c, f"clamp {node!r}",
+                             labels + ["M1", "M2"])]
 
 
-def pin(node, target=None):
+def pin(node, target=None, velocity=None, acceleration=None):
     """Spherical joint (Eq. 53): the position of ``node`` equals ``target``.
 
     ``target`` is ``None`` (ground at the node's initial position), a 3-vector (a ground
-    point), another ``Node``, or a rigid-body point (``RigidBody.point``): all linear in
-    the coordinates, ``C = r_node - G(x) d``.
+    point), a callable ``target(t)`` (a ground point moving on a prescribed path, with
+    optional exact ``velocity(t)`` and ``acceleration(t)``), another ``Node``, or a
+    rigid-body point (``RigidBody.point``): all linear in the coordinates,
+    ``C = r_node - G(x) d`` or ``C = r_node - target(t)``.
     """
     if not isinstance(node, Node):
         raise TypeError(f"pin expects a Node (cable.node(i)), got {type(node).__name__}")
     labels = ["Fx", "Fy", "Fz"]
-    if target is None or not hasattr(target, "body"):
+    if target is None or callable(target) or not hasattr(target, "body"):
         if target is None:
-            p = node.body.q0[node.body.node_dofs(node.index)[:3]]
-        else:
-            p = np.asarray(target, dtype=float)
-            if p.shape != (3,) or not np.all(np.isfinite(p)):
-                raise ValueError("pin target must be a finite 3-vector, a Node, a body point "
-                                 f"or None, got {target!r}")
-        return LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3), p, f"pin {node!r}",
-                                labels)
+            target = node.body.q0[node.body.node_dofs(node.index)[:3]]
+        elif not callable(target):
+            target = np.asarray(target, dtype=float)
+            if target.shape != (3,) or not np.all(np.isfinite(target)):
+                raise ValueError("pin target must be a finite 3-vector, a callable of time, "
+                                 f"a Node, a body point or None, got {target!r}")
+        return LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3),
+                                Motion(target, velocity, acceleration, "target"),
+                                f"pin {node!r}", labels)
     G = np.eye(3) if isinstance(target, Node) else target.position_matrix
     J = np.hstack([np.eye(3), -G])
 

@@ -4,8 +4,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .contract import Term
 from .kernels import coulomb as kernel
 from .section import check_positive
+
+_EMPTY = np.zeros(0)
+_NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
 
 #: Astronomical unit (m).
 AU = 1.495978707e11
@@ -91,15 +95,23 @@ class SolarWindForce:
         return per_cable[self.cable_of_element]
 
     def bind(self, system):
-        self.edofs = np.ascontiguousarray(np.concatenate(
-            [c.element_dofs + system.dofs(c)[0] for c in self.cables]))
-        return self.edofs[:, :, None], self.edofs[:, None, :]
+        edofs = np.ascontiguousarray(np.concatenate(
+            [c.global_element_dofs(system) for c in self.cables]))
 
-    def apply(self, q, t, f, data, index, coef, resultant=None):
-        scatter = index if data is not None else np.zeros((0, 12, 12), dtype=np.int64)
-        resultant = np.zeros(3) if resultant is None else resultant
-        kernel.force_tangent(q, self.edofs, self.S, self.Sx, self.w, self.coefficients(t),
-                             self.sun, f, data if data is not None else np.zeros(0), scatter,
-                             coef, resultant)
+        def add(ev, index):
+            self.add_force(edofs, ev.q, ev.t, ev.f_ext, ev.data, index, -ev.cK)
+
+        return Term(add=add, rows=edofs[:, :, None], cols=edofs[:, None, :],
+                    name="solar wind")
+
+    def add_force(self, edofs, q, t, f, data=None, index=None, cK=1.0):
+        """Add the generalized force on the cables with global element coordinates
+        ``edofs`` to ``f`` and, with ``data``, ``cK`` times its derivative at ``index``;
+        returns the force resultant (N)."""
+        resultant = np.zeros(3)
+        want = data is not None
+        kernel.force_tangent(q, (edofs, self.S, self.Sx, self.w),
+                             (self.coefficients(t), self.sun),
+                             (f, data if want else _EMPTY, index if want else _NO_SCATTER,
+                              resultant), cK)
         return resultant
-

@@ -173,7 +173,8 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
             x, triangles = body_surface(body, resolution)
             out.add(body.positions(q[dofs], x), "triangle", triangles, PART_RIGID, body_id,
                     velocity=body.positions(v[dofs], x))
-    for dofs, G, _mass in system.point_masses:
+    for point_mass in system.point_masses:
+        dofs, G = system.position_map(point_mass.point)
         owner = max(i for i, b in enumerate(system.bodies) if system.dofs(b)[0] <= dofs[0])
         out.add((G @ q[dofs])[None], "vertex", [[0]], PART_POINT_MASS, owner,
                 velocity=(G @ v[dofs])[None])

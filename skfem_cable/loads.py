@@ -1,22 +1,51 @@
-"""External loads that depend on the configuration or on time, with their tangents.
+"""External loads, point masses and gravity, each a contributor of the evaluation contract
+(``contract``): ``bind(system)`` returns a ``Term`` and leaves the load unchanged.
 
-A load provides ``bind(system)``, which returns the ``(rows, cols)`` global coordinates of
-its tangent entries (broadcast arrays; ``None`` when it has no tangent), and
-``apply(q, t, f, data, index, coef)``, which adds its generalized force to ``f`` and, when
-``data`` is given, ``coef * d f / d q`` at the CSR positions ``index`` (the shape of
-``rows``).  Constant loads (point forces, gravity, line loads) are summed once into
-``System.f_const`` instead.
+Constant loads (fixed point and line loads, gravity) become constant generalized forces
+(``Term.force``) whose potential is booked as potential energy; loads that depend on time,
+position or velocity add to ``Evaluation.f_ext`` at every evaluation, with the tangent
+blocks ``dF/dq`` and ``dF/dv``, and their work is booked as external work.
 """
 
 import numpy as np
 import scipy.sparse as sp
 
+from .contract import Term
 
-def _vector3(v, name):
+
+def vector3(v, name):
+    """``v`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
     v = np.asarray(v, dtype=float)
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be a finite 3-vector, got {v!r}")
     return v
+
+
+class PointLoad:
+    """Force (N, fixed in space) at a cable node or a rigid-body point: a 3-vector, or a
+    callable ``force(t)`` returning one (a time-dependent load)."""
+
+    def __init__(self, point, force):
+        self.point = point
+        self.fn = force if callable(force) else None
+        self.value = None if callable(force) else vector3(force, "force")
+        if self.fn is not None:
+            self.force(0.0)  # fail now, not in the middle of a run
+
+    def force(self, t):
+        if self.fn is None:
+            return self.value
+        return vector3(self.fn(t), f"force({t!r})")
+
+    def bind(self, system):
+        dofs, G = system.position_map(self.point)
+        if self.fn is None:
+            return Term(force=(dofs, G.T @ self.value), name=f"point load {self.point!r}")
+
+        def add(ev, index):
+            ev.f_ext[dofs] += G.T @ self.force(ev.t)
+
+        return Term(add=add, name=f"point load {self.point!r}")
 
 
 class PointMoment:
@@ -29,11 +58,7 @@ class PointMoment:
 
     def __init__(self, node, moment):
         self.node = node
-        self.moment = _vector3(moment, "moment")
-
-    def bind(self, system):
-        self.dofs = system.dofs(self.node)[3:]
-        return self.dofs[:, None], self.dofs[None, :]
+        self.moment = vector3(moment, "moment")
 
     def force(self, a):
         return np.cross(self.moment, a) / (a @ a)
@@ -44,30 +69,163 @@ class PointMoment:
         Mx = np.cross(self.moment, np.eye(3)).T  # Mx @ v = M x v
         return Mx / p - 2.0 * np.outer(np.cross(self.moment, a), a) / p**2
 
-    def apply(self, q, t, f, data, index, coef):
-        a = q[self.dofs]
-        f[self.dofs] += self.force(a)
-        if data is not None:
-            np.add.at(data, index.ravel(), coef * self.stiffness(a).ravel())
+    def bind(self, system):
+        dofs = system.dofs(self.node)[3:]
+
+        def add(ev, index):
+            a = ev.q[dofs]
+            ev.f_ext[dofs] += self.force(a)
+            ev.add_tangent(index, self.stiffness(a), sign=-1.0)
+
+        return Term(add=add, rows=dofs[:, None], cols=dofs[None, :],
+                    name=f"moment {self.node!r}")
 
 
-class TimeLoad:
-    """Time-dependent force ``force(t)`` (N) at a cable node or a rigid-body point."""
+class UniformLineLoad:
+    """Uniform distributed load (N per metre of reference length, fixed in space) along a
+    cable: the consistent generalized force ``int S^T f dx`` (scikit-fem assembly)."""
 
-    def __init__(self, node, force):
-        self.node = node
-        self.fn = force
-        self.force(0.0)
+    def __init__(self, cable, force_per_length):
+        self.cable = cable
+        self.value = vector3(force_per_length, "force_per_length")
 
     def bind(self, system):
-        self.dofs, self.G = system.position_map(self.node)
-        return None
+        return Term(force=(system.dofs(self.cable), self.cable.line_load(self.value)),
+                    name=f"line load {self.cable.name}")
 
-    def force(self, t):
-        return _vector3(self.fn(t), f"force({t!r})")
 
-    def apply(self, q, t, f, data, index, coef):
-        f[self.dofs] += self.G.T @ self.force(t)
+class Gravity:
+    """Uniform gravity ``g`` (m/s^2) on every body and point mass.
+
+    The generalized force is ``M u_g`` with ``u_g`` the coordinates of the uniform field
+    ``r(x) = g`` (positions ``g``, slopes 0): ANCF shape functions, natural coordinates and
+    point masses all reproduce a constant field exactly, so ``M u_g = int rho S^T g dV`` is
+    the consistent gravity load of every body.
+    """
+
+    def __init__(self, g):
+        self.g = vector3(g, "g")
+
+    def bind(self, system):
+        u = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=self.g)
+        return Term(force=(np.arange(system.n_dofs), system.mass_matrix() @ u),
+                    name="gravity")
+
+
+class PointMass:
+    """Point mass (kg) at a cable node's position or at a body point (anything
+    ``System.position_map`` accepts): a constant mass ``m G^T G``."""
+
+    def __init__(self, point, mass):
+        self.point = point
+        if not (np.isfinite(mass) and mass > 0):
+            raise ValueError(f"mass must be a finite number > 0, got {mass!r}")
+        self.mass = float(mass)
+
+    def bind(self, system):
+        dofs, G = system.position_map(self.point)
+        rows, cols = np.meshgrid(dofs, dofs, indexing="ij")
+        return Term(mass=(rows.ravel(), cols.ravel(), self.mass * (G.T @ G).ravel()),
+                    name=f"point mass {self.point!r}")
+
+
+class LineLoad:
+    """Distributed force ``force(x, v, t)`` (N per metre of reference length) along a cable,
+    depending on the position ``x``, the velocity ``v`` and the time ``t``.
+
+    Parameters
+    ----------
+    cable : Cable
+    force : callable
+        ``force(x, v, t) -> (n, 3)`` with ``x`` and ``v`` the positions and velocities at
+        the cable's ``n`` Gauss points, ``(n, 3)`` each (vectorised: one call per
+        evaluation).
+    dq, dv : callable, optional
+        Exact Jacobians ``dq(x, v, t)``, ``dv(x, v, t) -> (n, 3, 3)`` with
+        ``dq[k, i, j] = d force_i / d x_j`` at point ``k``.  Without them, forward
+        differences with the step ``fd_step * (1 + |x_j|)`` (resp. ``|v_j|``) are used;
+        the Newton iteration then converges linearly instead of quadratically near the
+        solution, but to the same answer.
+    fd_step : float
+        Relative step of the finite-difference Jacobians (default ``sqrt(eps)``).
+
+    The generalized force is ``int S^T f dx`` and its tangent blocks ``int S^T (df/dx) S dx``
+    and ``int S^T (df/dv) S dx`` (``S`` the cable's shape functions).  Its work is booked as
+    external work (drag: negative).
+    """
+
+    def __init__(self, cable, force, dq=None, dv=None, fd_step=1.49e-8):
+        for name, fn in (("force", force), ("dq", dq), ("dv", dv)):
+            if fn is not None and not callable(fn):
+                raise TypeError(f"{name} must be a callable (x, v, t) -> array, got {fn!r}")
+        if force is None:
+            raise TypeError("force must be a callable (x, v, t) -> (n, 3) array")
+        if not 0 < fd_step < 1:
+            raise ValueError(f"fd_step must lie in (0, 1), got {fd_step!r}")
+        self.cable, self.fn, self.dq, self.dv, self.fd_step = cable, force, dq, dv, fd_step
+
+    def evaluate(self, x, v, t):
+        """``force(x, v, t)`` with its shape checked."""
+        f = np.asarray(self.fn(x, v, t), dtype=float)
+        if f.shape != x.shape:
+            raise ValueError(f"LineLoad force(x, v, t) must return shape {x.shape} (one "
+                             f"3-vector per Gauss point), got {f.shape}")
+        return f
+
+    def jacobians(self, x, v, t, f, want_dv):
+        """``(df/dx, df/dv)`` (n, 3, 3) each: exact when given, else differences."""
+        dq = self._jacobian(self.dq, x, v, t, f, 0)
+        dv = self._jacobian(self.dv, x, v, t, f, 1) if want_dv else None
+        return dq, dv
+
+    def _jacobian(self, exact, x, v, t, f, which):
+        if exact is not None:
+            J = np.asarray(exact(x, v, t), dtype=float)
+            if J.shape != x.shape + (3,):
+                raise ValueError(f"LineLoad Jacobian must return shape {x.shape + (3,)}, "
+                                 f"got {J.shape}")
+            return J
+        J = np.empty(x.shape + (3,))
+        args = [x, v]
+        for j in range(3):
+            step = self.fd_step * (1.0 + np.abs(args[which][:, j]))
+            moved = args[which].copy()
+            moved[:, j] += step
+            pair = (moved, v) if which == 0 else (x, moved)
+            J[:, :, j] = (self.evaluate(*pair, t) - f) / step[:, None]
+        return J
+
+    def bind(self, system):
+        cable = self.cable
+        edofs = cable.global_element_dofs(system)
+        S = cable.S  # (ne, nq, 4)
+        w = cable.weights  # (ne, nq)
+        ne, nq = w.shape
+
+        def add(ev, index):
+            qe = ev.q[edofs].reshape(ne, 4, 3)
+            x = np.einsum("egA,eAi->egi", S, qe).reshape(-1, 3)
+            if ev.dynamic:
+                v = np.einsum("egA,eAi->egi", S, ev.v[edofs].reshape(ne, 4, 3)).reshape(-1, 3)
+            else:
+                v = np.zeros_like(x)
+            f = self.evaluate(x, v, ev.t)
+            fe = np.einsum("eg,egA,egi->eAi", w, S, f.reshape(ne, nq, 3)).reshape(ne, 12)
+            np.add.at(ev.f_ext, edofs, fe)
+            if ev.want_tangent:
+                dq, dv = self.jacobians(x, v, ev.t, f, ev.dynamic)
+                ev.add_tangent(index, self._element_matrix(S, w, dq),
+                               None if dv is None else self._element_matrix(S, w, dv),
+                               sign=-1.0)
+
+        return Term(add=add, rows=edofs[:, :, None], cols=edofs[:, None, :],
+                    name=f"line load {cable.name}")
+
+    @staticmethod
+    def _element_matrix(S, w, J):
+        ne, nq, _ = S.shape
+        Ke = np.einsum("eg,egA,egij,egB->eAiBj", w, S, J.reshape(ne, nq, 3, 3), S)
+        return Ke.reshape(ne, 12, 12)
 
 
 class Centrifugal:
@@ -82,18 +240,19 @@ class Centrifugal:
     """
 
     def __init__(self, omega):
-        self.omega = _vector3(omega, "omega")
+        self.omega = vector3(omega, "omega")
 
     def bind(self, system):
         C = spin_matrix(system.mass_matrix(), self.omega, 2).tocoo()
-        self.matrix = C.tocsr()
-        self.values = C.data
-        return C.row.astype(np.int64), C.col.astype(np.int64)
+        matrix = C.tocsr()
+        values = C.data
 
-    def apply(self, q, t, f, data, index, coef):
-        f -= self.matrix @ q
-        if data is not None:
-            np.add.at(data, index, -coef * self.values)
+        def add(ev, index):
+            ev.f_ext -= matrix @ ev.q
+            ev.add_tangent(index, -values, sign=-1.0)
+
+        return Term(add=add, rows=C.row.astype(np.int64), cols=C.col.astype(np.int64),
+                    name="centrifugal")
 
 
 def spin_matrix(M, omega, power):

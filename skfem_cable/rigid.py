@@ -173,9 +173,10 @@ class RigidBody:
             self._mass = sp.csr_matrix(np.kron(A @ Phi @ A.T, np.eye(3)))
         return self._mass
 
-    def gravity_load(self, g):
-        """Generalized force of uniform gravity: ``m G(c)^T g``."""
-        return self.mass * self.G(self.center_of_mass).T @ np.asarray(g, dtype=float)
+    def bind(self, system):
+        """No internal forces: a rigid body's coordinates are held by its
+        ``internal_constraints``."""
+        return None
 
 
 class RigidConstraints:
@@ -203,14 +204,17 @@ class RigidConstraints:
     def dofs(self, system):
         return system.dofs(self.body)
 
-    def value(self, qc):
+    def value(self, qc, t=0.0):
         return 0.5 * np.einsum("i,jik,k->j", qc, self.H, qc) - self.c
 
-    def jacobian(self, qc):
+    def jacobian(self, qc, t=0.0):
         return self.H @ qc
 
-    def hessian(self, qc, lam):
+    def hessian(self, qc, lam, t=0.0):
         return np.einsum("j,jik->ik", lam, self.H)
 
-    def accel_term(self, qc, vc):
+    def velocity_term(self, qc, t=0.0):
+        return np.zeros(6)
+
+    def accel_term(self, qc, vc, t=0.0):
         return np.einsum("i,jik,k->j", vc, self.H, vc)

@@ -18,7 +18,6 @@ def sun_facing_tether(n=5, L=10e3, voltage=20e3):
     system = sc.System([cable]).pin(cable.node(0))
     load = SolarWindForce([cable], voltage, sun_position=(-AU, 0, 0))
     system.add_load(load)
-    _ = system.layout  # binds the load to the system's coordinates
     return cable, system, load
 
 
@@ -30,7 +29,7 @@ def test_force_per_length_by_hand():
     assert SolarWind().force_per_length(500.0) == 0.0  # below V1: no force
     cable, system, load = sun_facing_tether()
     f = np.zeros(system.n_dofs)
-    resultant = load.apply(system.q0, 0.0, f, None, None, 0.0)
+    resultant = load.add_force(cable.global_element_dofs(system), system.q0, 0.0, f)
     assert resultant == pytest.approx([hand * 10e3, 0, 0], rel=1e-9, abs=1e-15)
     # consistent nodal forces: the position DOFs carry the resultant
     assert f.reshape(-1, 2, 3)[:, 0].sum(axis=0) == pytest.approx(resultant, rel=1e-12)
@@ -42,15 +41,16 @@ def test_coulomb_jacobian_matches_finite_differences():
     lay = system.layout
     rng = np.random.default_rng(5)
     q = system.q0 + 0.3 * rng.standard_normal(system.n_dofs)
-    k = system.loads.index(load)
+    edofs = cable.global_element_dofs(system)
+    (term, index), = lay.load_terms
 
     def force(q):
         f = np.zeros(system.n_dofs)
-        load.apply(q, 0.0, f, None, None, 0.0)
+        load.add_force(edofs, q, 0.0, f)
         return f
 
     data = np.zeros(lay.nnz)
-    load.apply(q, 0.0, np.zeros(system.n_dofs), data, lay.load_index[k], 1.0)
+    load.add_force(edofs, q, 0.0, np.zeros(system.n_dofs), data, index, 1.0)
     J = lay.matrix(data).toarray()[: system.n_dofs, : system.n_dofs]
     h = 1e-6
     fd = np.array([(force(q + h * e) - force(q - h * e)) / (2 * h)

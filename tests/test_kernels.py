@@ -4,7 +4,7 @@ differences, and finite values in degenerate states."""
 import numpy as np
 import pytest
 
-from skfem_cable import Cable, Section
+from skfem_cable import Cable, Section, System
 
 SEC = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0)
 
@@ -34,16 +34,11 @@ def states(cable):
 
 
 def numba_eval(cable, q):
-    f = np.zeros(cable.n_dofs)
-    ne = cable.n_elements
-    nnz = 144 * ne
-    data = np.zeros(nnz)
-    scatter = np.arange(nnz).reshape(ne, 12, 12)
-    energy, _ = cable.forces(q, None, f, data, scatter)
-    K = np.zeros((cable.n_dofs,) * 2)
-    ed = cable.element_dofs
-    np.add.at(K, (ed[:, :, None], ed[:, None, :]), data.reshape(ne, 12, 12))
-    return energy.sum(), f, K
+    """Energy, force and tangent (dense) through the system's evaluation contract."""
+    system = System([cable])
+    data = np.zeros(system.layout.nnz)
+    f, info = system.evaluate(q, None, 0.0, np.zeros(0), data=data)
+    return info["energy"].sum(), f, system.layout.matrix(data).toarray()
 
 
 def numpy_eval(cable, q):
@@ -146,20 +141,13 @@ DAMPED = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0, gamma_axial=0.3, gamma_ben
 
 def damped_eval(cable, q, v):
     """Force, dF/dq and dF/dv (global dense), dissipated power and damping force."""
-    n, ne = cable.n_dofs, cable.n_elements
-    scatter = np.arange(144 * ne).reshape(ne, 12, 12)
-    ed = cable.element_dofs
-
-    def dense(data):
-        K = np.zeros((n, n))
-        np.add.at(K, (ed[:, :, None], ed[:, None, :]), data.reshape(ne, 12, 12))
-        return K
-
-    f, fd = np.zeros(n), np.zeros(n)
-    dK, dC = np.zeros(144 * ne), np.zeros(144 * ne)
-    _, power = cable.forces(q, v, f, dK, scatter, cK=1.0, cC=0.0, f_damping=fd)
-    cable.forces(q, v, np.zeros(n), dC, scatter, cK=0.0, cC=1.0)
-    return f, dense(dK), dense(dC), power, fd
+    system = System([cable])
+    lay = system.layout
+    dK, dC = np.zeros(lay.nnz), np.zeros(lay.nnz)
+    f, info = system.evaluate(q, v, 0.0, np.zeros(0), cK=1.0, cC=0.0, data=dK)
+    system.evaluate(q, v, 0.0, np.zeros(0), cK=0.0, cC=1.0, data=dC)
+    return (f, lay.matrix(dK).toarray(), lay.matrix(dC).toarray(), info["power"],
+            info["f_damping"])
 
 
 @pytest.mark.parametrize("kind", ["cable", "truss"])

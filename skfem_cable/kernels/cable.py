@@ -52,40 +52,36 @@ def _squared_curvature(x, grad, hess, want_hess):
 
 
 @njit(cache=True)
-def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
-                  f, fd, data, scatter, cK, cC, energy, power):
+def force_tangent(state, elements, law, out, coef):
     """Add elastic and damping forces to ``f`` and ``cK K + cC C`` into ``data``.
 
     Parameters
     ----------
-    q, v : ndarray (n,)
-        Global coordinates and velocities (``v`` unused without damping).
-    edofs : int ndarray (ne, 12)
-        Global DOF of each element coordinate (Eq. 8).
-    Sx, Sxx, w : ndarray (ne, nq, 4), (ne, nq, 4), (ne, nq)
-        Shape-function derivative tables and weights.
-    h : ndarray (ne,)
-        Element lengths (curvature-rate regularisation).
-    EA, EI, gamma_a, gamma_b : float
+    state : tuple ``(q, v)``
+        Global coordinates and velocities, ndarray (n,) each (``v`` unused without
+        damping).
+    elements : tuple ``(edofs, Sx, Sxx, w, h)``
+        Global DOF of each element coordinate, int (ne, 12) (Eq. 8); shape-function
+        derivative tables (ne, nq, 4) and weights (ne, nq); element lengths (ne,) (for the
+        curvature-rate regularisation).
+    law : tuple ``(EA, EI, gamma_a, gamma_b)``
         Stiffnesses (``EI = 0``: truss) and damping coefficients (0: off).
-    f : ndarray (n,)
-        Force accumulator: ``dU/dq + dD/dv``.
-    fd : ndarray (n,)
-        Accumulator of the damping part ``dD/dv`` alone (energy bookkeeping); may be
-        empty.
-    data : ndarray
-        CSR data accumulator; ignored when ``scatter`` has no rows.
-    scatter : int ndarray (ne, 12, 12) or (0, 12, 12)
-        Index of each element-matrix entry in ``data``; empty to skip the tangents.
-    cK, cC : float
+    out : tuple ``(f, fd, data, scatter, energy, power)``
+        Force accumulator ``dU/dq + dD/dv`` (n,); its damping part ``dD/dv`` alone (n,);
+        CSR data accumulator and the index of each element-matrix entry in it, int
+        (ne, 12, 12), or (0, 12, 12) to skip the tangents; axial and bending energy (2,)
+        and dissipated power (2,).
+    coef : tuple ``(cK, cC)``
         Factors of the stiffness ``df/dq`` and damping ``df/dv`` tangents.
-    energy, power : ndarray (2,)
-        Accumulate axial and bending energy, and axial and bending dissipated power.
     """
+    q, v = state
+    edofs, Sx, Sxx, w, h = elements
+    EA, EI, gamma_a, gamma_b = law
+    f, fd, data, scatter, energy, power = out
+    cK, cC = coef
     ne, nq = w.shape
     want_matrix = scatter.shape[0] == ne
     damped = gamma_a > 0.0 or (gamma_b > 0.0 and EI > 0.0)
-    keep_fd = damped and fd.shape[0] > 0
     qe = np.empty((4, 3))
     ve = np.zeros((4, 3))
     x = np.empty(6)
@@ -205,7 +201,7 @@ def force_tangent(q, v, edofs, Sx, Sxx, w, h, EA, EI, gamma_a, gamma_b,
                                             + cC * Hc[3 * U + i, 3 * V + j])
         for k in range(12):
             f[edofs[e, k]] += fe[k]
-            if keep_fd:
+            if damped:
                 fd[edofs[e, k]] += fde[k]
         if want_matrix:
             for k in range(12):

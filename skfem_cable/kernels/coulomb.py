@@ -16,10 +16,30 @@ from numba import njit
 
 
 @njit(cache=True)
-def force_tangent(q, edofs, S, Sx, w, coef, sun, f, data, scatter, cK, resultant):
+def force_tangent(q, elements, wind, out, cK):
     """Add the generalized Coulomb force ``int S^T f dx`` (Eq. 34) to ``f`` and
     ``cK d/dq`` of it into ``data`` through ``scatter`` (skipped when empty); adds the
-    force resultant ``int f dx`` to ``resultant`` (3,)."""
+    force resultant ``int f dx`` to ``resultant`` (3,).
+
+    Parameters
+    ----------
+    q : ndarray (n,)
+        Global coordinates.
+    elements : tuple ``(edofs, S, Sx, w)``
+        Global DOF of each element coordinate (ne, 12), shape functions and their
+        derivatives at the Gauss points (ne, nq, 4), weights (ne, nq).
+    wind : tuple ``(coef, sun)``
+        Force per unit length of a perpendicular tether per element (ne,) (N/m) and the
+        Sun's position (3,).
+    out : tuple ``(f, data, scatter, resultant)``
+        Force accumulator (n,), CSR data and the index (ne, 12, 12) of each element-matrix
+        entry in it ((0, 12, 12): no tangent), force resultant (3,).
+    cK : float
+        Factor of the tangent.
+    """
+    edofs, S, Sx, w = elements
+    coef, sun = wind
+    f, data, scatter, resultant = out
     ne, nq = w.shape
     want = scatter.shape[0] == ne
     qe = np.empty((4, 3))

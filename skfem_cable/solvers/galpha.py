@@ -112,10 +112,11 @@ class GeneralizedAlpha:
 
     # --- initial state ----------------------------------------------------------------------
     def initialize(self, q, v, t):
-        """Consistent initial state: checks ``C(q) = 0``, projects ``v`` onto ``C_q v = 0``
-        (mass-orthogonally), and solves for ``a`` and ``lambda`` from Eq. 3."""
+        """Consistent initial state: checks ``C(q, t) = 0``, projects ``v`` onto
+        ``C_q v = -C_t`` (mass-orthogonally), and solves for ``a`` and ``lambda`` from
+        Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v + C_tt)``."""
         system, lay, n = self.system, self.lay, self.n
-        C = system.constraint_values(q)
+        C = system.constraint_values(q, t)
         if C.size and np.max(np.abs(C)) > 1e-8 * self.L_ref:
             k = int(np.argmax(np.abs(C)))
             raise ValueError(f"initial positions violate {system.describe_dof(n + k)} by "
@@ -127,11 +128,12 @@ class GeneralizedAlpha:
         self.stats["factorizations"] += 1
         rhs = np.zeros(lay.N)
         rhs[:n] = lay.mass @ v
+        rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t)
         proj = self.solver.solve(rhs)
         v = proj[:n]
         r, info = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar)
         rhs = -r
-        rhs[n:] = -self.mbar * system.constraint_accel_term(q, v)
+        rhs[n:] = -self.mbar * system.constraint_accel_term(q, v, t)
         sol = self.solver.solve(rhs)
         self.h_factored = None
         self.t, self.q, self.v = float(t), q.copy(), v.copy()

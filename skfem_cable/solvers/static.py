@@ -143,7 +143,8 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             try:
                 solver.factor(data)
             except SingularMatrixError as err:
-                history.append(f"singular matrix at unknown {err.index}")
+                where = system.describe_dof(err.index) if err.index >= 0 else "?"
+                history.append(f"singular matrix at {where}")
                 break
             dx = solver.solve(-r)
             dxn = np.max(np.abs(dx[:n]))

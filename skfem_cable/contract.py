@@ -1,0 +1,252 @@
+"""The evaluation contract: what the solvers hand to bodies, loads, constraints and
+observers, and what those give back (``docs/extending.md`` explains it with examples).
+
+A *contributor* (a body's internal forces, a load, a point mass, gravity) is turned into a
+``Term`` by ``bind(system)`` once, when the system's layout is built; binding returns a new
+object and never changes the contributor.  A term declares the global coordinates of its
+tangent entries (``rows``, ``cols``), any constant mass and constant generalized force, and
+a hook ``add(ev, index)`` that the solvers call once per Newton iteration with an
+``Evaluation`` and the positions ``index`` of its tangent entries in the matrix values
+``ev.data`` (same shape as ``rows``).
+
+Sign conventions (residual ``r = f_int - f_ext + C_q^T lambda``):
+
+* internal forces (elastic, damping) go into ``ev.f`` and ``cK dF/dq + cC dF/dv`` into
+  ``ev.data``;
+* external forces go into ``ev.f_ext`` and ``-(cK dF/dq + cC dF/dv)`` into ``ev.data``
+  (``Evaluation.add_tangent`` with ``sign=-1`` does the bookkeeping);
+* their work is booked by the integrator as external work; the damping part of the
+  internal force, ``ev.f_damping``, as dissipation.
+
+Terms with equal, non-None ``key`` are merged with ``merge`` into one term before the
+pattern is built, so that many bodies of one kind are evaluated by one compiled call.
+
+A *constraint* ``C(q, t) = 0`` provides ``n_eq``, ``labels``, ``name``, ``linear``,
+``dofs(system)`` and ``value``, ``jacobian``, ``hessian``, ``velocity_term``
+(``C_t``), ``accel_term`` (``(C_q v)_q v + 2 C_qt v + C_tt``); see ``constraints``.
+
+An *observer* receives the state at the start, at every saved step and at the end of a
+time integration; see ``Observer``.
+"""
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numba import njit
+
+#: Indices of ``Evaluation.energy`` and ``Evaluation.power``: the stretching (axial) and
+#: bending parts of the stored elastic energy and of the dissipated power.  A body with
+#: another kind of stored energy adds it to ``AXIAL``.
+AXIAL, BENDING = 0, 1
+
+
+@njit(cache=True)
+def scatter_add(data, index, values):
+    """``data[index.flat[k]] += values.flat[k]`` for all ``k`` (repeated indices add)."""
+    idx = index.ravel()
+    val = values.ravel()
+    for k in range(idx.size):
+        data[idx[k]] += val[k]
+
+
+class Evaluation:
+    """The state and the accumulators of one evaluation of the system.
+
+    Attributes
+    ----------
+    system : System
+    t : float
+        Time (s).
+    q, v : ndarray (n_dofs,)
+        Coordinates and velocities (``v`` is zero in statics and modal analysis).
+    lam : ndarray (n_constraints,)
+        Lagrange multipliers.
+    cK, cC : float
+        Coefficients of the tangent: the matrix receives ``cK dr/dq + cC dr/dv``.
+    dynamic : bool
+        True when ``v`` is meaningful (dynamics): damping and velocity-dependent forces
+        are on.  False in statics and modal analysis (``v`` is then zero).
+    f : ndarray (n_dofs,)
+        Internal forces (elastic plus damping).
+    f_ext : ndarray (n_dofs,)
+        External forces that are not constant (constant ones are ``Layout.f_const``).
+    f_damping : ndarray (n_dofs,)
+        The damping part of ``f`` (for the dissipation bookkeeping).
+    data : ndarray (nnz,) or None
+        Values of the iteration matrix in the fixed pattern; None when no tangent is
+        wanted (``want_tangent``).
+    energy, power : ndarray (2,)
+        Stored elastic energy and dissipated power, split ``[AXIAL, BENDING]``.
+    """
+
+    __slots__ = ("system", "t", "q", "v", "lam", "cK", "cC", "dynamic", "f", "f_ext",
+                 "f_damping", "data", "energy", "power")
+
+    def __init__(self, system, t, q, v, lam, cK=1.0, cC=0.0, data=None):
+        n = system.n_dofs
+        self.system = system
+        self.t = float(t)
+        self.q = q
+        self.dynamic = v is not None
+        self.v = v if v is not None else np.zeros(n)
+        self.lam = lam
+        self.cK, self.cC = float(cK), float(cC)
+        self.data = data
+        self.f = np.zeros(n)
+        self.f_ext = np.zeros(n)
+        self.f_damping = np.zeros(n)
+        self.energy = np.zeros(2)
+        self.power = np.zeros(2)
+
+    @property
+    def want_tangent(self):
+        return self.data is not None
+
+    def add_tangent(self, index, dq=None, dv=None, sign=1.0):
+        """Add ``sign (cK dq + cC dv)`` at the matrix positions ``index`` (``dq``, ``dv``
+        of the shape of ``index`` or broadcastable; None for a zero block).  Use
+        ``sign=-1`` for the derivatives of an external force."""
+        if self.data is None:
+            return
+        if dq is not None and self.cK != 0.0:
+            scatter_add(self.data, index, np.broadcast_to(sign * self.cK * dq, index.shape))
+        if dv is not None and self.cC != 0.0:
+            scatter_add(self.data, index, np.broadcast_to(sign * self.cC * dv, index.shape))
+
+
+@dataclass(frozen=True)
+class Term:
+    """A contributor bound to a system (returned by ``bind(system)``).
+
+    Attributes
+    ----------
+    add : callable or None
+        ``add(ev, index)``: add forces (and, if ``ev.want_tangent``, tangents at
+        ``index``) for the ``Evaluation`` ``ev``.
+    rows, cols : int ndarray or None
+        Global coordinates of the tangent entries (broadcast against each other); None
+        for a term without tangent.
+    mass : tuple or None
+        ``(rows, cols, values)`` of a constant mass contribution (e.g. a point mass).
+    force : tuple or None
+        ``(dofs, values)`` of a constant generalized force (gravity, fixed point and line
+        loads); its potential ``-f . q`` is booked as potential energy.
+    key : hashable or None
+        Terms with equal keys are merged by ``merge`` (a callable taking the list of terms
+        and returning one term): the compiled path batches all cables of one law.
+    name : str
+        Label used in diagnostics.
+    """
+
+    add: Callable[..., None] | None = None
+    rows: np.ndarray | None = None
+    cols: np.ndarray | None = None
+    mass: tuple | None = None
+    force: tuple | None = None
+    key: Any = None
+    merge: Callable[[list], "Term"] | None = None
+    name: str = ""
+
+    @property
+    def has_tangent(self):
+        return self.rows is not None
+
+
+def merge_terms(terms):
+    """Merge terms with equal keys (keeping the first occurrence's position)."""
+    groups, order = {}, []
+    for term in terms:
+        if term.key is None:
+            order.append([term])
+            continue
+        if term.key not in groups:
+            groups[term.key] = []
+            order.append(groups[term.key])
+        groups[term.key].append(term)
+    return [g[0] if len(g) == 1 else g[0].merge(g) for g in order]
+
+
+@dataclass
+class Step:
+    """A saved step, as observers see it (arrays are the integrator's own: copy what you
+    keep).
+
+    Attributes
+    ----------
+    index : int
+        Step number (0: the initial state).
+    t : float
+    q, v, a, lam : ndarray
+        Coordinates, velocities, accelerations and multipliers.
+    iterations : int
+        Newton iterations of this step.
+    energies : dict
+        ``kinetic``, ``axial``, ``bending``, ``potential``, ``dissipated``,
+        ``external_work`` (J).
+    """
+
+    index: int
+    t: float
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    lam: np.ndarray
+    iterations: int
+    energies: dict = field(default_factory=dict)
+
+
+class Observer:
+    """Base class of observers of a time integration (``simulate(..., observers=[...])``).
+
+    Override any of the three hooks; the defaults do nothing.
+
+    ``start(run)``
+        Once before the first step (also when a run is resumed).  ``run`` carries the
+        ``system``, the ``integrator`` (its ``snapshot()`` is what a checkpoint needs), the
+        run's ``settings`` and ``stats``.
+    ``saved(run, step)``
+        At the initial state, every saved step and the last step, with a ``Step``.
+        Return a true value (e.g. a message string) to stop the run cleanly after this step.
+    ``finish(run, error)``
+        Once at the end, also when the run failed or was interrupted (``error`` is the
+        exception, or None).
+    """
+
+    def start(self, run):
+        pass
+
+    def saved(self, run, step):
+        return None
+
+    def finish(self, run, error):
+        pass
+
+
+@dataclass
+class Run:
+    """A time integration as observers see it.
+
+    Attributes
+    ----------
+    system : System
+    integrator : object
+        The stepper (``GeneralizedAlpha``); ``integrator.snapshot()`` holds everything a
+        bit-for-bit continuation needs.
+    settings : dict
+        The run's settings (``t_start``, ``t_end``, ``dt``, ``rho_inf``, ``every``, ...).
+    stats : dict
+        Counters updated as the run goes (steps, rejected, newton, factorizations).
+    resumed : bool
+        True when the run continues an interrupted one.
+    stop_reason : str or None
+        Set when an observer stopped the run.
+    """
+
+    system: Any
+    integrator: Any
+    settings: dict
+    stats: dict
+    resumed: bool = False
+    stop_reason: str | None = None
