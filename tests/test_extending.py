@@ -1,0 +1,256 @@
+"""The evaluation contract from a user's side: velocity-dependent line loads, driven
+constraints, user bodies and Cable subclasses on the compiled path; every analytic Jacobian
+against finite differences."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import skfem_cable as sc
+from skfem_cable.cable import CableForces
+from skfem_cable.constraints import SlopeDirection, pin, time_derivatives
+
+DEMOS = Path(__file__).resolve().parents[1] / "demos"
+SECTION = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0, gamma_axial=0.01,
+                     gamma_bending=0.02)
+
+
+def load_demo(name):
+    spec = importlib.util.spec_from_file_location(f"demo_{name}", DEMOS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def tangents(system, q, v, t=0.3):
+    """``(dr/dq, dr/dv)`` of the dynamic rows: assembled and by central differences."""
+    n = system.n_dofs
+    lam = np.zeros(system.n_constraints)
+    lay = system.layout
+
+    def residual(q, v):
+        return system.evaluate(q, v, t, lam)[0][:n]
+
+    assembled = []
+    for cK, cC in ((1.0, 0.0), (0.0, 1.0)):
+        data = np.zeros(lay.nnz)
+        system.evaluate(q, v, t, lam, cK=cK, cC=cC, data=data)
+        assembled.append(lay.matrix(data).toarray()[:n, :n])
+    h = 1e-6
+    E = np.eye(n)
+    fd_q = np.array([(residual(q + h * e, v) - residual(q - h * e, v)) / (2 * h) for e in E]).T
+    fd_v = np.array([(residual(q, v + h * e) - residual(q, v - h * e)) / (2 * h) for e in E]).T
+    return assembled, (fd_q, fd_v)
+
+
+def curved_state(cable, seed=3):
+    rng = np.random.default_rng(seed)
+    return (cable.q0 + 0.05 * rng.standard_normal(cable.n_dofs),
+            rng.standard_normal(cable.n_dofs))
+
+
+def nonlinear_load():
+    """A force depending nonlinearly on position, velocity and time, with exact
+    Jacobians: ``f = -c |v| v + k sin(x) cos(t)`` (componentwise sine)."""
+    c, k = 0.7, 2.0
+
+    def force(x, v, t):
+        return -c * np.linalg.norm(v, axis=1)[:, None] * v + k * np.sin(x) * np.cos(t)
+
+    def dq(x, v, t):
+        return k * np.cos(t) * np.cos(x)[:, :, None] * np.eye(3)
+
+    def dv(x, v, t):
+        s = np.linalg.norm(v, axis=1)[:, None, None]
+        return -c * (s * np.eye(3) + v[:, :, None] * v[:, None, :] / s)
+
+    return force, dq, dv
+
+
+@pytest.mark.parametrize("exact", [True, False])
+def test_line_load_jacobians_match_finite_differences(exact):
+    """The whole dynamic tangent (cable with damping + the load): ``dF/dq`` and ``dF/dv``
+    blocks, with the exact Jacobians (1e-6) and with the finite-difference fallback
+    (1e-5)."""
+    cable = sc.Cable.straight([0, 0, 0], [1.0, 0.2, 0.1], 3, SECTION)
+    force, dq, dv = nonlinear_load()
+    load = sc.LineLoad(cable, force, dq if exact else None, dv if exact else None)
+    system = sc.System([cable]).add_load(load)
+    (K, C), (fd_K, fd_C) = tangents(system, *curved_state(cable))
+    tol = 1e-6 if exact else 1e-5
+    assert np.abs(K - fd_K).max() < tol * np.abs(fd_K).max()
+    assert np.abs(C - fd_C).max() < tol * np.abs(fd_C).max()
+
+
+def test_line_load_force_is_consistent():
+    """A uniform field through ``LineLoad`` gives the consistent force of
+    ``add_line_load`` (scikit-fem assembly), and a wrong shape is named."""
+    cable = sc.Cable.straight([0, 0, 0], [2.0, 0, 0], 4, SECTION)
+    w = np.array([0.3, -1.2, 0.5])
+    a = sc.System([cable]).add_load(sc.LineLoad(cable, lambda x, v, t: np.tile(w, (len(x), 1))))
+    b = sc.System([cable]).add_line_load(cable, w)
+    ra = a.evaluate(cable.q0, None, 0.0, np.zeros(0))[0]
+    rb = b.evaluate(cable.q0, None, 0.0, np.zeros(0))[0]
+    assert np.allclose(ra, rb, rtol=1e-13, atol=1e-15)
+    bad = sc.System([cable]).add_load(sc.LineLoad(cable, lambda x, v, t: w))
+    with pytest.raises(ValueError, match=r"LineLoad force\(x, v, t\) must return shape"):
+        bad.evaluate(cable.q0, None, 0.0, np.zeros(0))
+    with pytest.raises(TypeError, match="force must be a callable"):
+        sc.LineLoad(cable, w)
+
+
+def test_point_moment_and_centrifugal_tangents():
+    cable = sc.Cable.straight([0, 0, 0], [1.0, 0.0, 0.0], 2, SECTION)
+    system = sc.System([cable]).add_point_moment(cable.node(-1), [0.1, -0.3, 0.2])
+    system.add_centrifugal([0.0, 0.4, 1.1])
+    (K, _), (fd_K, _) = tangents(system, *curved_state(cable))
+    assert np.abs(K - fd_K).max() < 1e-6 * np.abs(fd_K).max()
+
+
+def test_drag_demo_reaches_terminal_speed():
+    """``rho A g / c`` to 1e-8 relative, with the exact and with the FD Jacobian."""
+    demo = load_demo("drag_terminal_speed")
+    for exact in (True, False):
+        out = demo.main(exact_jacobian=exact)
+        assert out["fall_speed"] == pytest.approx(out["terminal_speed"], rel=1e-8)
+        assert out["drag_work"] < 0
+        assert abs(out["energy_balance"]) < 1e-5 * abs(out["drag_work"])
+
+
+def test_kapitza_demo_threshold_both_sides():
+    """5 % above the Floquet threshold the rod stays up; 5 % below it falls."""
+    demo = load_demo("kapitza")
+    out = demo.main(margin=0.05, t_end=5.0)
+    assert out["threshold_amplitude"] == pytest.approx(out["kapitza_estimate"], rel=5e-3)
+    assert out["max_tilt_above"] < 0.15
+    assert out["max_tilt_below"] > 1.0
+
+
+def test_time_derivatives_are_accurate():
+    w = 80.0
+    for order, exact in ((1, -w * np.sin(w * 0.7)), (2, -w**2 * np.cos(w * 0.7))):
+        assert time_derivatives(lambda t: np.cos(w * t), 0.7, order) == pytest.approx(
+            exact, rel=1e-6)
+
+
+def driven_constraint_terms(constraint, system, q, v, t):
+    """``C_t`` and ``(C_q v)_q v + 2 C_qt v + C_tt`` by differences along ``q + s v``."""
+    d = constraint.dofs(system)
+
+    def C(s):
+        return constraint.value(q[d] + s * v[d], t + s)
+
+    h = 1e-4
+    return ((C(h) - C(-h)) / (2 * h) - constraint.jacobian(q[d], t) @ v[d],
+            (C(h) - 2 * C(0.0) + C(-h)) / h**2)
+
+
+def test_driven_pin_and_clamp_terms_match_differences():
+    cable = sc.Cable.straight([0, 0, 0], [1.0, 0, 0], 2, SECTION)
+    system = sc.System([cable])
+    w = 3.0
+    driven_pin = pin(cable.node(0), lambda t: np.array([np.cos(w * t), np.sin(t), t**3]))
+    turning = SlopeDirection(cable.node(-1),
+                             lambda t: np.array([np.cos(w * t), np.sin(w * t), 0.2 * t]))
+    q, v = curved_state(cable)
+    t = 0.4
+    for c in (driven_pin, turning):
+        d = c.dofs(system)
+        ct, accel = driven_constraint_terms(c, system, q, v, t)
+        assert c.velocity_term(q[d], t) == pytest.approx(ct, rel=1e-5, abs=1e-7)
+        assert c.accel_term(q[d], v[d], t) == pytest.approx(accel, rel=1e-5, abs=1e-6)
+    # the driven clamp follows its direction exactly and stays orthogonal to it
+    n = turning.normals(t)
+    assert n @ n.T == pytest.approx(np.eye(2), abs=1e-14)
+    assert n @ np.array([np.cos(w * t), np.sin(w * t), 0.2 * t]) == pytest.approx(0, abs=1e-14)
+
+
+def test_driven_clamp_turns_a_stiff_cable():
+    """A short stiff cable clamped with a direction turning at ``W`` about z, started in
+    the rigid rotation, turns with it: after 0.5 s its tip is at ``L (cos W t, sin W t)``
+    within the centrifugal stretch (2e-7 L) and moves at ``W L``, and the clamp holds."""
+    W = 2.0
+    section = sc.Section.circular(radius=0.01, E=2e11, rho=7850.0)
+    cable = sc.Cable.straight([0, 0, 0], [0.5, 0, 0], 2, section)
+    system = sc.System([cable]).clamp(
+        cable.node(0), direction=lambda t: np.array([np.cos(W * t), np.sin(W * t), 0.0]))
+    q0 = system.q0
+    initial = sc.State(system, q0, v=system.rigid_motion_velocity(q0, [0, 0, W]))
+    r = sc.simulate(system, t_end=0.5, dt=5e-3, rho_inf=0.8, initial=initial)
+    e = np.array([np.cos(W * 0.5), np.sin(W * 0.5), 0.0])
+    assert r.position(cable, 0.5)[-1] == pytest.approx(0.5 * e, abs=1e-7)
+    # index-3 velocities carry an O(h^2) error: 1.4e-5 relative here
+    assert r.velocity(cable, 0.5)[-1] == pytest.approx(0.5 * W * np.cross([0, 0, 1], e),
+                                                       abs=1e-4 * W * 0.5)
+    assert np.abs(system.constraint_values(r.q[-1], r.t[-1])).max() < 1e-12
+
+
+def test_cable_subclass_keeps_the_compiled_path():
+    """A subclass that adds no physics is merged with plain cables of the same law into
+    one compiled kernel call."""
+
+    class TaggedCable(sc.Cable):
+        colour = "red"
+
+    a = sc.Cable.straight([0, 0, 0], [1, 0, 0], 3, SECTION, name="a")
+    b = TaggedCable.straight([0, 1, 0], [1, 1, 0], 4, SECTION, name="b")
+    system = sc.System([a, b])
+    (term, index), = system.layout.body_terms
+    assert isinstance(term.add, CableForces)
+    assert term.add.edofs.shape == (7, 12) and index.shape == (7, 12, 12)
+    r = system.evaluate(system.q0 * 1.01, None, 0.0, np.zeros(0))[0]
+    alone = sc.System([b]).evaluate(b.q0 * 1.01, None, 0.0, np.zeros(0))[0]
+    assert r[a.n_dofs:] == pytest.approx(alone, rel=1e-14, abs=1e-12)
+
+
+class Bead:
+    """A user body: a point of mass ``m`` held by a linear spring ``k`` to ``anchor``
+    (3 coordinates), with its own force hook."""
+
+    name = "bead"
+    n_dofs = 3
+    position_mask = np.ones(3, dtype=bool)
+
+    def __init__(self, m, k, anchor):
+        self.m, self.k, self.anchor = m, k, np.asarray(anchor, dtype=float)
+        self.q0 = self.anchor.copy()
+        self.calls = 0
+
+    def mass_matrix(self):
+        import scipy.sparse as sps
+        return sps.identity(3, format="csr") * self.m
+
+    def internal_constraints(self):
+        return []
+
+    def describe_dof(self, i):
+        return "xyz"[i]
+
+    def bind(self, system):
+        d = system.dofs(self)
+        K = self.k * np.eye(3)
+
+        def add(ev, index):
+            self.calls += 1
+            u = ev.q[d] - self.anchor
+            ev.f[d] += self.k * u
+            ev.energy[0] += 0.5 * self.k * u @ u
+            ev.add_tangent(index, K)
+
+        return sc.Term(add=add, rows=d[:, None], cols=d[None, :], name=self.name)
+
+
+def test_user_body_is_called_through_its_own_hook():
+    """The user's hook is called once per evaluation (no wrapper, no fallback), and the
+    bead oscillates at ``sqrt(k/m)`` under ``simulate``."""
+    bead = Bead(m=2.0, k=50.0, anchor=[0, 0, 0])
+    system = sc.System([bead])
+    (term, _), = system.layout.body_terms
+    system.evaluate(system.q0, None, 0.0, np.zeros(0))
+    assert bead.calls == 1
+    w = np.sqrt(bead.k / bead.m)
+    initial = sc.State(system, np.zeros(3), v=np.array([1.0, 0.0, 0.0]))
+    r = sc.simulate(system, t_end=1.0, dt=1e-3, rho_inf=1.0, initial=initial)
+    assert r.q[-1, 0] == pytest.approx(np.sin(w * r.t[-1]) / w, abs=2e-5)
