@@ -42,6 +42,7 @@ def biot_density(a, b, EA, EI):
     return W, G, H
 
 
+# --8<-- [start:BiotCable]
 class BiotCable(sc.Cable):
     """ANCF cable with the engineering strain (no internal damping)."""
 
@@ -75,6 +76,7 @@ class BiotCable(sc.Cable):
     def tension(self, q, s):
         """Axial force ``EA e`` (bending contribution left out)."""
         return self.section.EA * self.strain(q, s)
+# --8<-- [end:BiotCable]
 
 
 def pulled_bar(cls, load=0.1, n_elements=4):

@@ -22,6 +22,7 @@ import skfem_cable as sc
 G = 9.81
 
 
+# --8<-- [start:linear_drag]
 def linear_drag(c):
     """``LineLoad`` callables of ``f = -c v``: the force and its exact velocity Jacobian."""
 
@@ -32,6 +33,7 @@ def linear_drag(c):
         return np.broadcast_to(-c * np.eye(3), v.shape + (3,))
 
     return force, dv
+# --8<-- [end:linear_drag]
 
 
 def main(n_elements=4, tau=0.05, periods=40, steps_per_tau=10, exact_jacobian=True):

@@ -50,6 +50,7 @@ def threshold(omega, k=1.5 / LENGTH, g=G):
     return hi
 
 
+# --8<-- [start:tilt_history]
 def tilt_history(amplitude, omega, t_end=4.0, steps_per_period=50, n_elements=3,
                  theta0=0.1):
     """Simulate the rod on the shaking pivot; returns times and the tilt from the upward
@@ -71,6 +72,7 @@ def tilt_history(amplitude, omega, t_end=4.0, steps_per_period=50, n_elements=3,
                          rho_inf=0.8, every=5)
     rel = result.position(rod, LENGTH) - result.position(rod, 0.0)
     return result.t, np.arctan2(rel[:, 0], rel[:, 1])
+# --8<-- [end:tilt_history]
 
 
 def main(omega=2 * np.pi * 10, margin=0.1, t_end=4.0):
