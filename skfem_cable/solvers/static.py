@@ -93,27 +93,10 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
         raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
     if not (0 < tol < 1):
         raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
-    lay = system.layout
-    n = system.n_dofs
-    solver = PatternSolver(lay.indptr, lay.indices, method)
-    q = (system.q0 if initial is None else initial.q).copy()
-    lam = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
-    scale = constraint_scale(system, q, lam)
-    pos = system.q0.reshape(-1, 3)
-    L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300)
+    newton = _Newton(system, initial, tol, max_iter, line_search, method)
+    q, lam = newton.q0, newton.lam0
     stats = {"iterations": [], "load_factor": [], "residual": [], "factorizations": 0}
     converged_state = State(system, q.copy(), lam.copy(), stats)
-
-    def residual(q, lam, factor, data=None):
-        r, info = system.evaluate(q, None, 0.0, lam, factor, scale=scale, data=data,
-                                  reference_force=True)
-        return r, info["force_ref"]
-
-    def merit(r, f_ref):
-        rq = np.linalg.norm(r[:n]) / max(f_ref, 1e-300)
-        rc = np.linalg.norm(r[n:]) / scale / L_ref
-        return max(rq, rc)
-
     done, step = 0.0, 1.0 / load_steps
     previous = None
     bisections = 0
@@ -125,49 +108,14 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             w = (factor - done) / (done - previous[2])
             qk += w * (q - previous[0])
             lamk += w * (lam - previous[1])
-        history = []
-        ok = False
-        dx_prev = np.inf
-        for it in range(max_iter + 1):
-            data = scale * lay.linear_data
-            r, f_ref = residual(qk, lamk, factor, data)
-            m = merit(r, f_ref)
-            history.append(m)
-            if not np.isfinite(m):
-                break
-            if m <= tol:
-                ok = True
-                break
-            if it == max_iter:
-                break
-            try:
-                solver.factor(data)
-            except SingularMatrixError as err:
-                where = system.describe_dof(err.index) if err.index >= 0 else "?"
-                history.append(f"singular matrix at {where}")
-                break
-            dx = solver.solve(-r)
-            dxn = np.max(np.abs(dx[:n]))
-            if dxn <= tol * L_ref or (dxn <= np.sqrt(tol) * L_ref and dxn >= 0.5 * dx_prev):
-                # the correction is negligible, or stopped contracting at a small size:
-                # the round-off floor of the residual is reached
-                qk = qk + dx[:n]
-                lamk = lamk + scale * dx[n:]
-                ok = True
-                break
-            dx_prev = dxn
-            alpha = 1.0
-            if line_search:
-                alpha = line_search_alpha(residual, merit, qk, lamk, dx, r, m, factor, scale)
-            qk = qk + alpha * dx[:n]
-            lamk = lamk + alpha * scale * dx[n:]
-        stats["factorizations"] = solver.factorizations
+        ok, it, qk, lamk, history = newton.solve(qk, lamk, factor)
+        stats["factorizations"] = newton.solver.factorizations
         if ok:
             previous = (q, lam, done)
             q, lam, done = qk, lamk, factor
             stats["iterations"].append(it)
             stats["load_factor"].append(factor)
-            stats["residual"].append(merit(*residual(qk, lamk, factor)))
+            stats["residual"].append(newton.merit(*newton.residual(qk, lamk, factor)))
             converged_state = State(system, q.copy(), lam.copy(), stats)
             if bisections:
                 step = min(2 * step, 1.0 / load_steps)
@@ -187,3 +135,68 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
         raise StaticConvergenceError(msg, converged_state)
     converged_state.stats["converged"] = True
     return converged_state
+
+
+class _Newton:
+    """Newton's method with exact tangent for one load factor (see ``solve_static``)."""
+
+    def __init__(self, system, initial, tol, max_iter, line_search, method):
+        self.system, self.tol, self.max_iter = system, tol, max_iter
+        self.line_search = line_search
+        lay = system.layout
+        self.lay, self.n = lay, system.n_dofs
+        self.solver = PatternSolver(lay.indptr, lay.indices, method)
+        self.q0 = (system.q0 if initial is None else initial.q).copy()
+        self.lam0 = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
+        self.scale = constraint_scale(system, self.q0, self.lam0)
+        pos = system.q0.reshape(-1, 3)
+        self.L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300)
+
+    def residual(self, q, lam, factor, data=None):
+        r, info = self.system.evaluate(q, None, 0.0, lam, factor, scale=self.scale, data=data,
+                                       reference_force=True)
+        return r, info["force_ref"]
+
+    def merit(self, r, f_ref):
+        n = self.n
+        rq = np.linalg.norm(r[:n]) / max(f_ref, 1e-300)
+        rc = np.linalg.norm(r[n:]) / self.scale / self.L_ref
+        return max(rq, rc)
+
+    def solve(self, qk, lamk, factor):
+        """Iterate from ``(qk, lamk)``; returns ``(converged, iterations, q, lam,
+        history)``."""
+        n, tol, L_ref, scale = self.n, self.tol, self.L_ref, self.scale
+        history = []
+        dx_prev = np.inf
+        for it in range(self.max_iter + 1):
+            data = scale * self.lay.linear_data
+            r, f_ref = self.residual(qk, lamk, factor, data)
+            m = self.merit(r, f_ref)
+            history.append(m)
+            if not np.isfinite(m):
+                return False, it, qk, lamk, history
+            if m <= tol:
+                return True, it, qk, lamk, history
+            if it == self.max_iter:
+                return False, it, qk, lamk, history
+            try:
+                self.solver.factor(data)
+            except SingularMatrixError as err:
+                where = self.system.describe_dof(err.index) if err.index >= 0 else "?"
+                history.append(f"singular matrix at {where}")
+                return False, it, qk, lamk, history
+            dx = self.solver.solve(-r)
+            dxn = np.max(np.abs(dx[:n]))
+            if dxn <= tol * L_ref or (dxn <= np.sqrt(tol) * L_ref and dxn >= 0.5 * dx_prev):
+                # the correction is negligible, or stopped contracting at a small size:
+                # the round-off floor of the residual is reached
+                return True, it, qk + dx[:n], lamk + scale * dx[n:], history
+            dx_prev = dxn
+            alpha = 1.0
+            if self.line_search:
+                alpha = line_search_alpha(self.residual, self.merit, qk, lamk, dx, r, m,
+                                          factor, scale)
+            qk = qk + alpha * dx[:n]
+            lamk = lamk + alpha * scale * dx[n:]
+        return False, it, qk, lamk, history
