@@ -22,7 +22,7 @@ def run(alpha, n_elements=5, kind="cable", periods=3.0, every=10, **config):
     scene = esail.build(cfg, alpha_deg=alpha, n_elements=n_elements, kind=kind)
     start = time.perf_counter()
     result = sc.simulate(scene.system, t_end=periods * cfg.spin_period, dt=0.1, rho_inf=0.25,
-                         initial=scene.initial, every=every, progress=False)
+                         initial=scene.initial, every=every)
     wall = time.perf_counter() - start
     return cfg, scene, result, esail.outputs(scene, result), wall
 

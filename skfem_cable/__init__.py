@@ -2,10 +2,13 @@
 
 Public API: ``Section``, ``Cable``, ``RigidBody``, ``System``, ``solve_static``,
 ``modes``, ``simulate``, ``State``, ``Result``, ``SolarWind``, ``SolarWindForce``,
-``RodChain``; the E-sail scene ``esail``; ``export`` (ParaView files) and ``plot``.
+``RodChain``; the E-sail scene ``esail``; ``Observer`` (hooks into ``simulate``) and the
+I/O layer ``io`` (observers: run store, ParaView series, progress bar); ``export``
+(ParaView files) and ``plot``.
 """
 
 from . import export as export  # VTU files for ParaView
+from . import io as io  # observers: run store, ParaView series, progress bar
 from . import plot as plot  # renders and figures
 from .cable import Cable, Node
 from .contract import Evaluation, Observer, Term
@@ -17,8 +20,8 @@ from .rigid import RigidBody
 from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anchor
 from .scenes import esail as esail
 from .section import Section
-from .solvers.galpha import SimulationError, simulate
 from .solvers.modal import modes
+from .solvers.simulate import SimulationError, simulate
 from .solvers.static import StaticConvergenceError, solve_static
 from .state import State
 from .system import System
@@ -50,6 +53,7 @@ __all__ = [
     "System",
     "circular_anchor",
     "esail",
+    "io",
     "modes",
     "simulate",
     "solve_static",

@@ -9,7 +9,7 @@ import sys
 import textwrap
 from pathlib import Path
 
-from .solvers.galpha import SimulationError
+from .solvers.simulate import SimulationError
 from .solvers.static import StaticConvergenceError
 
 #: The benchmark scripts run by ``skfem-cable bench`` (a source checkout's ``benchmarks/``).

@@ -1,20 +1,37 @@
-"""Time histories of a simulation and their incremental storage on disk.
+"""Time histories of a simulation: the saved steps, held in memory.
 
-A run directory holds ``chunk_NNNNN.npz`` files (compressed, each a block of saved steps,
-written atomically) and ``checkpoint.npz`` (the integrator state after the last chunk), so
-that an interrupted run keeps everything up to the last chunk and can be continued.
+``simulate`` returns a ``Result``; a run directory written by ``io.RunStore`` is read back
+with ``Result.load`` (``io.load_result``).  Nothing here touches the disk except ``load``.
 """
-
-import os
-from pathlib import Path
 
 import numpy as np
 
 from .state import State
 
+#: Energies recorded at every saved step (``contract.Step.energies``).
+ENERGIES = ("kinetic", "axial", "bending", "potential", "dissipated", "external_work")
+
 #: Arrays recorded at every saved step.
-FIELDS = ("t", "q", "v", "a", "lam", "iterations", "kinetic", "axial", "bending", "potential",
-          "dissipated", "external_work")
+FIELDS = ("t", "q", "v", "a", "lam", "iterations") + ENERGIES
+
+
+#: Settings of a run recorded in a checkpoint (``settings``, an array in this order); all
+#: but ``t_end`` must match when the run is resumed.
+SETTINGS = ("t_start", "t_end", "dt", "rho_inf", "every", "tol", "max_iter")
+
+
+def settings_array(settings):
+    """The ``SETTINGS`` of a run's settings (a dict, ``contract.Run.settings``) as the
+    array a checkpoint stores."""
+    return np.array([settings[k] for k in SETTINGS], dtype=float)
+
+
+def step_record(step):
+    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied."""
+    record = {"t": step.t, "q": step.q.copy(), "v": step.v.copy(), "a": step.a.copy(),
+              "lam": step.lam.copy(), "iterations": step.iterations}
+    record.update({name: step.energies[name] for name in ENERGIES})
+    return record
 
 
 class Result:
@@ -77,68 +94,8 @@ class Result:
 
     @classmethod
     def load(cls, path, system):
-        """Read the saved steps of a run directory written by ``simulate(output=...)``."""
-        records, stats = read_run(path)
-        return cls(system, records, stats)
+        """Read the saved steps of a run directory written by ``io.RunStore`` (its
+        ``stats`` are the checkpoint's entries); see ``io.load_result``."""
+        from .io.store import load_result
 
-
-def _atomic_savez(path, **arrays):
-    tmp = Path(str(path) + ".tmp.npz")
-    np.savez_compressed(tmp, **arrays)
-    os.replace(tmp, path)
-
-
-class RunWriter:
-    """Collects saved steps in memory and flushes them to ``path`` in chunks."""
-
-    def __init__(self, path, chunk_size):
-        self.path = None if path is None else Path(path)
-        self.chunk_size = chunk_size
-        self.records = {name: [] for name in FIELDS}
-        self.flushed = 0
-        self.chunks = 0
-        if self.path is not None:
-            self.path.mkdir(parents=True, exist_ok=True)
-
-    def append(self, **values):
-        for name in FIELDS:
-            self.records[name].append(values[name])
-
-    def __len__(self):
-        return len(self.records["t"])
-
-    def due(self):
-        return self.path is not None and len(self) - self.flushed >= self.chunk_size
-
-    def flush(self, checkpoint):
-        """Write the pending steps as a new chunk, then the checkpoint (both atomically)."""
-        if self.path is None:
-            return
-        if len(self) > self.flushed:
-            block = {name: np.asarray(self.records[name][self.flushed:]) for name in FIELDS}
-            _atomic_savez(self.path / f"chunk_{self.chunks:05d}.npz", **block)
-            self.chunks += 1
-            self.flushed = len(self)
-        _atomic_savez(self.path / "checkpoint.npz", chunks=self.chunks, **checkpoint)
-
-    def arrays(self):
-        return {name: np.asarray(self.records[name]) for name in FIELDS}
-
-
-def read_run(path):
-    """Concatenate the chunks of a run directory; returns ``(records, checkpoint)``."""
-    path = Path(path)
-    ck_file = path / "checkpoint.npz"
-    if not ck_file.exists():
-        raise FileNotFoundError(f"no checkpoint.npz in {path}: not a run directory")
-    with np.load(ck_file, allow_pickle=False) as ck:
-        checkpoint = {k: ck[k] for k in ck.files}
-    n_chunks = int(checkpoint["chunks"])
-    parts = {name: [] for name in FIELDS}
-    for k in range(n_chunks):
-        with np.load(path / f"chunk_{k:05d}.npz", allow_pickle=False) as chunk:
-            for name in FIELDS:
-                parts[name].append(chunk[name])
-    records = {name: np.concatenate(parts[name]) if parts[name] else np.zeros(0)
-               for name in FIELDS}
-    return records, checkpoint
+        return load_result(path, system)

@@ -2,10 +2,11 @@
 
 A run directory holds
 
-* the raw results of ``simulate(output=...)`` (``chunk_NNNNN.npz``, ``checkpoint.npz``;
-  read them back with ``Result.load(run_dir, system)``),
-* the VTU series ``series.pvd`` + ``vtu/`` (``export``), which ParaView opens as an
-  animation,
+* the raw results (``chunk_NNNNN.npz``, ``checkpoint.npz``, written during the run by
+  ``io.RunStore``; read them back with ``Result.load(run_dir, system)``, continue an
+  interrupted run with ``simulate(..., resume=io.resume(run_dir))``),
+* the VTU series ``series.pvd`` + ``vtu/`` (written during the run by
+  ``io.SeriesObserver``), which ParaView opens as an animation,
 * ``summary.json``: scene, parameters, wall time, steps, Newton statistics, key outputs
   and the files written,
 * ``plots/``: energy and cable histories, tension spectra and a rendered snapshot
@@ -21,7 +22,8 @@ from pathlib import Path
 import numpy as np
 
 from . import export, plot
-from .solvers.galpha import simulate
+from .io import run_observers
+from .solvers.simulate import simulate
 
 SUMMARY = "summary.json"
 
@@ -167,7 +169,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
         ``t_end``, ``dt``, ``every`` override ``defaults``; ``progress`` is passed on.
     defaults : dict
         ``t_end``, ``dt``, ``every``, and optionally ``rho_inf`` and other ``simulate``
-        keywords (``tol``, ``newton``, ...).
+        keywords (``tol``, ``newton``, ...), ``series_every`` (a ``.vtu`` for every
+        ``series_every``-th saved step, default 1) and ``chunk`` (saved steps per results
+        file, default 200).
     parameters : dict, optional
         Scene parameters to record in the summary.
     outputs : callable, optional
@@ -184,11 +188,12 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     settings = dict(defaults)
     for key in ("t_end", "dt", "every"):
         settings[key] = options.value(key, defaults[key])
+    solver = dict(settings)
+    storage = {"series_every": solver.pop("series_every", 1), "chunk": solver.pop("chunk", 200)}
     out = None if options.out is None else Path(options.out)
-    if out is not None:
-        (out / "series.pvd").unlink(missing_ok=True)  # a series left by an earlier run
-    result = simulate(system, initial=initial, output=out, progress=options.progress,
-                      **settings)
+    observers = run_observers(out, options.progress, points_per_element=points_per_element,
+                              **storage)
+    result = simulate(system, initial=initial, observers=observers, **solver)
     stats = result.stats
     summary = {"scene": name,
                "parameters": {**(parameters or {}), **settings},
@@ -202,10 +207,7 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     if outputs is not None:
         summary["outputs"].update(outputs(result))
     if out is not None:
-        pvd = out / "series.pvd"
-        if not pvd.exists():  # written here unless simulate wrote it during the run
-            export.write_series(result, out, points_per_element=points_per_element)
-        files = {"results": "chunk_*.npz, checkpoint.npz", "series": pvd.name}
+        files = {"results": "chunk_*.npz, checkpoint.npz", "series": "series.pvd"}
         if options.plots:
             files["plots"] = [p.relative_to(out).as_posix()
                               for p in run_figures(out, result, options.animate)]

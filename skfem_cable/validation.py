@@ -14,8 +14,8 @@ from .analytic import compound_pendulum_period, elastica_tip_load, string_freque
 from .cable import Cable
 from .scenes import classics
 from .section import Section
-from .solvers.galpha import simulate
 from .solvers.modal import modes
+from .solvers.simulate import simulate
 from .solvers.static import solve_static
 from .system import System
 from .timeseries import decay_rate, period, zero_crossings

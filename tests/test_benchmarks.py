@@ -51,3 +51,14 @@ def test_rodchain_speed(capsys):
     bench.rk4_table([10, 30, 60])
     out = capsys.readouterr().out
     assert "10" in out and "30" in out
+
+
+@pytest.mark.slow
+def test_commit_compare(capsys):
+    """Against HEAD itself (a git worktree): both columns are timed, the ratio is printed."""
+    rows = load("commit_compare").main(["--base", "HEAD", "--repeats", "1",
+                                        "--steps-scale", "0.01"])
+    assert set(rows) == {"esail", "pendulum"}
+    assert all(ours["ms_per_step"] > 0 and theirs["ms_per_step"] > 0
+               for ours, theirs in rows.values())
+    assert "ratio" in capsys.readouterr().out

@@ -101,7 +101,7 @@ def short_run():
     cfg = esail.BaselineConfig()
     scene = esail.build(cfg, alpha_deg=10.0, n_elements=2, kind="cable")
     result = sc.simulate(scene.system, t_end=20.0, dt=0.1, rho_inf=0.25,
-                         initial=scene.initial, progress=False)
+                         initial=scene.initial)
     return cfg, scene, result, esail.outputs(scene, result)
 
 

@@ -15,7 +15,7 @@ def run(alpha, voltage=20e3):
     cfg = esail.BaselineConfig(voltage=voltage)
     scene = esail.build(cfg, alpha_deg=alpha, n_elements=5, kind="cable")
     result = sc.simulate(scene.system, t_end=3 * cfg.spin_period, dt=0.1, rho_inf=0.25,
-                         initial=scene.initial, every=10, progress=False)
+                         initial=scene.initial, every=10)
     return cfg, scene, result, esail.outputs(scene, result)
 
 

@@ -124,14 +124,41 @@ def test_simulate_writes_the_series_and_a_restart_continues_it(tmp_path):
         s.system.add_point_load(s.cable.node(-1), load)
         return s
 
-    kw = dict(t_end=0.1, dt=2e-3, every=5, chunk=3)
+    kw = dict(t_end=0.1, dt=2e-3, every=5)
     with pytest.raises(Interrupt):
-        sc.simulate(scene(stop_at=0.071).system, output=tmp_path, **kw)
+        sc.simulate(scene(stop_at=0.071).system,
+                    observers=sc.io.run_observers(tmp_path, progress=False, chunk=3), **kw)
     s = scene()
-    result = sc.simulate(s.system, restart_from=tmp_path, **kw)
+    result = sc.simulate(s.system, resume=sc.io.resume(tmp_path),
+                         observers=sc.io.run_observers(tmp_path, progress=False, chunk=3,
+                                                       restart=True), **kw)
     assert (tmp_path / "series.pvd").exists(), "no series.pvd in the run directory"
     entries = export.read_pvd(tmp_path / "series.pvd")
     assert [t for t, _ in entries] == list(result.t)
     for i, (_, file) in enumerate(entries):
         points = meshio.read(tmp_path / file).points
         assert np.allclose(points[0::8], result.position(s.cable, s.cable.mesh.p[0])[i])
+
+
+def test_series_observer_thins_the_steps_and_keeps_the_last(tmp_path):
+    """``every=2`` writes saved steps 0, 2, 4, ... and the last one (t_end, and the step
+    at which an observer stopped the run)."""
+    scene = classics.pendulum(n_elements=3)
+    kw = dict(t_end=0.011, dt=1e-3, every=2)
+    result = sc.simulate(scene.system, observers=[sc.io.SeriesObserver(tmp_path, every=2,
+                                                                       points_per_element=3)],
+                         **kw)
+    assert len(result) == 7  # steps 0, 2, ..., 10 and 11
+    times = [t for t, _ in export.read_pvd(tmp_path / "series.pvd")]
+    assert times == [result.t[k] for k in (0, 2, 4, 6)]
+    assert len(meshio.read(tmp_path / "vtu" / "series_000000.vtu").points) == 3 * 3 + 1
+
+    class StopAtSix(sc.Observer):
+        def saved(self, run, step):
+            return step.index == 6 and "enough"
+
+    stopped = sc.simulate(scene.system, observers=[sc.io.SeriesObserver(tmp_path, every=2),
+                                                   StopAtSix()], **kw)
+    assert stopped.stats["stopped"] == "enough" and len(stopped) == 4
+    times = [t for t, _ in export.read_pvd(tmp_path / "series.pvd")]
+    assert times == [result.t[k] for k in (0, 2, 3)]  # a fresh series, ending at the stop

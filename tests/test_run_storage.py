@@ -1,4 +1,4 @@
-"""Incremental storage of long runs, bit-for-bit restart, progress bar."""
+"""Incremental storage of long runs (``io.RunStore``), bit-for-bit restart, progress bar."""
 
 import io
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.progress import Progress
+from skfem_cable.io import Progress, ProgressBar, RunStore, resume, run_observers
 from skfem_cable.result import FIELDS
 from skfem_cable.scenes import classics
 
@@ -30,17 +30,18 @@ def scene_with_load(stop_at=None):
 
 @pytest.mark.parametrize("newton", ["full", "modified"])
 def test_interrupted_run_keeps_its_steps_and_restarts_bit_for_bit(tmp_path, newton):
-    kw = dict(t_end=0.2, dt=2e-3, rho_inf=0.7, every=2, chunk=7, newton=newton)
+    kw = dict(t_end=0.2, dt=2e-3, rho_inf=0.7, every=2, newton=newton)
     ref = sc.simulate(scene_with_load().system, **kw)
     scene = scene_with_load(stop_at=0.1234)
     with pytest.raises(Interrupt):
-        sc.simulate(scene.system, output=tmp_path / "run", **kw)
+        sc.simulate(scene.system, observers=[RunStore(tmp_path / "run", chunk=7)], **kw)
     kept = sc.Result.load(tmp_path / "run", scene.system)
     assert 0.11 < kept.t[-1] <= 0.1234
     n = len(kept.t)
     for name in FIELDS:
         assert np.array_equal(getattr(kept, name), getattr(ref, name)[:n]), name
-    resumed = sc.simulate(scene_with_load().system, restart_from=tmp_path / "run", **kw)
+    resumed = sc.simulate(scene_with_load().system, resume=RunStore.resume(tmp_path / "run"),
+                          observers=[RunStore(tmp_path / "run", chunk=7)], **kw)
     for name in FIELDS:
         assert np.array_equal(getattr(resumed, name), getattr(ref, name)), name
     again = sc.Result.load(tmp_path / "run", scene.system)
@@ -49,12 +50,14 @@ def test_interrupted_run_keeps_its_steps_and_restarts_bit_for_bit(tmp_path, newt
 
 def test_output_directory_matches_memory_and_checks_settings(tmp_path):
     scene = classics.pendulum(n_elements=4)
-    res = sc.simulate(scene.system, t_end=0.05, dt=1e-3, output=tmp_path / "r", chunk=10)
+    res = sc.simulate(scene.system, t_end=0.05, dt=1e-3,
+                      observers=run_observers(tmp_path / "r", progress=False, chunk=10))
     back = sc.Result.load(tmp_path / "r", scene.system)
     assert np.array_equal(back.q, res.q) and np.array_equal(back.t, res.t)
     assert len(list((tmp_path / "r").glob("chunk_*.npz"))) == 6
+    assert (tmp_path / "r" / "series.pvd").exists()
     with pytest.raises(ValueError, match="must match"):
-        sc.simulate(scene.system, t_end=0.1, dt=2e-3, restart_from=tmp_path / "r")
+        sc.simulate(scene.system, t_end=0.1, dt=2e-3, resume=resume(tmp_path / "r"))
     with pytest.raises(FileNotFoundError, match="not a run directory"):
         sc.Result.load(tmp_path, scene.system)
 
@@ -70,3 +73,15 @@ def test_progress_bar_reports_percentage_and_eta():
     quiet = io.StringIO()
     Progress(0.0, 1.0, enabled=None, stream=quiet).update(1.0)
     assert quiet.getvalue() == ""  # not a terminal
+
+
+def test_progress_bar_observer_reaches_the_end():
+    scene = classics.pendulum(n_elements=3)
+    stream = io.StringIO()
+    sc.simulate(scene.system, t_end=0.02, dt=1e-3, every=5,
+                observers=[ProgressBar(True, stream=stream)])
+    out = stream.getvalue()
+    assert "100.0%" in out and "t=0.02" in out and out.endswith("\n")
+    quiet = io.StringIO()
+    sc.simulate(scene.system, t_end=0.02, dt=1e-3, observers=[ProgressBar(stream=quiet)])
+    assert quiet.getvalue() == ""

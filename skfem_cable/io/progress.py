@@ -1,0 +1,76 @@
+"""A dependency-free progress bar with ETA for long runs (to stderr): ``Progress`` and
+the observer ``ProgressBar``."""
+
+import sys
+import time
+
+from ..contract import Observer
+
+
+class Progress:
+    """``Progress(t_start, t_end, enabled)``; call ``update(t)`` and ``close()``.
+
+    ``enabled=None`` shows the bar only when stderr is a terminal.
+    """
+
+    def __init__(self, t_start, t_end, enabled=None, stream=None, width=30):
+        self.stream = stream or sys.stderr
+        self.enabled = self.stream.isatty() if enabled is None else bool(enabled)
+        self.t0, self.t1, self.width = t_start, t_end, width
+        self.wall0 = time.perf_counter()
+        self.last = -1.0
+        self.shown = None  # the time last shown
+
+    def update(self, t, note=""):
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if now - self.last < 0.2 and t < self.t1:
+            return
+        self.last, self.shown = now, t
+        frac = min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
+        elapsed = now - self.wall0
+        eta = elapsed * (1 - frac) / frac if frac > 0 else float("nan")
+        bar = "#" * int(frac * self.width)
+        self.stream.write(f"\r[{bar:<{self.width}}] {100 * frac:5.1f}%  t={t:.6g}  "
+                          f"elapsed {elapsed:6.1f}s  ETA {eta:6.1f}s {note}")
+        self.stream.flush()
+
+    def close(self):
+        if self.enabled:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+class ProgressBar(Observer):
+    """The progress of a run (``Progress``), updated at every saved step.
+
+    Parameters
+    ----------
+    enabled : bool, optional
+        Default: shown when ``stream`` is a terminal.
+    stream : file, optional
+        Default: ``sys.stderr``.
+    width : int
+        Characters of the bar.
+    """
+
+    def __init__(self, enabled=None, stream=None, width=30):
+        self.enabled, self.stream, self.width = enabled, stream, width
+        self.bar = None
+
+    def start(self, run):
+        self.bar = Progress(run.settings["t_start"], run.settings["t_end"], self.enabled,
+                            self.stream, self.width)
+
+    def saved(self, run, step):
+        self.bar.update(step.t)
+
+    def finish(self, run, error):
+        if self.bar is None:
+            return
+        t = run.integrator.t
+        if error is None and (self.bar.shown != t or run.stop_reason):
+            self.bar.last = -1.0  # show where the run ended (and why, if stopped)
+            self.bar.update(t, run.stop_reason or "")
+        self.bar.close()

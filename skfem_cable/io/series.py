@@ -1,0 +1,68 @@
+"""The ParaView series of a run, written as it goes: the observer ``SeriesObserver``."""
+
+from pathlib import Path
+
+from ..contract import Observer
+from ..export import SeriesWriter
+
+
+class SeriesObserver(Observer):
+    """Writes ``run_dir/series.pvd`` and one ``vtu/series_NNNNNN.vtu`` per written step
+    (``export.SeriesWriter``), so that ParaView opens a running or interrupted run up to
+    its last written step.
+
+    Parameters
+    ----------
+    run_dir : path
+        Created at the start of the run.
+    system : System, optional
+        Default: the system of the run.
+    every : int
+        A ``.vtu`` for every ``every``-th saved step (counted from the initial state, also
+        across a resumed run) and for the last one.
+    points_per_element : int
+        Cable samples per element (``export.system_mesh``).
+    append : bool
+        Continue the series in ``run_dir`` (a resumed run always does): its entries are
+        kept up to the first time written again.  Otherwise the series starts afresh.
+    """
+
+    def __init__(self, run_dir, system=None, every=1, points_per_element=8, append=False):
+        if int(every) != every or every < 1:
+            raise ValueError(f"every must be a positive integer, got {every!r}")
+        self.dir = Path(run_dir)
+        self.system = system
+        self.every = int(every)
+        self.points_per_element = points_per_element
+        self.append = append
+        self.writer = None
+        self.last = None
+
+    @property
+    def pvd(self):
+        """Path of the ``.pvd`` collection."""
+        return self.dir / "series.pvd"
+
+    def start(self, run):
+        system = run.system if self.system is None else self.system
+        append = self.append or run.resumed
+        if not append:
+            self.pvd.unlink(missing_ok=True)  # a series left by an earlier run
+        self.writer = SeriesWriter(self.dir, system, self.points_per_element, append=append)
+        self.last = None
+
+    def saved(self, run, step):
+        # the ordinal of this step among the saved ones: saved steps are the multiples of
+        # the run's ``every`` (and the last step)
+        if (step.index // run.settings["every"]) % self.every == 0:
+            self.writer.write(step.t, step.q, step.v)
+            self.last = None
+        else:
+            self.last = (step.t, step.q.copy(), step.v.copy())
+
+    def finish(self, run, error):
+        if error is None and self.last is not None:  # the last step (or the stop step)
+            self.writer.write(*self.last)
+        self.last = None
+        if self.writer is not None:
+            self.writer.close()

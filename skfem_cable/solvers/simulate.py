@@ -1,0 +1,236 @@
+"""The time-integration driver: generalized-alpha steps from ``t_start`` to ``t_end``,
+step halving on failure, and observers at the saved steps.
+
+``simulate`` does no I/O: it keeps the saved steps in memory (an internal recorder) and
+hands every saved step to the ``observers`` (``contract.Observer``), which turn them into
+stores, ParaView series, progress bars, custom histories, or stop the run.  The I/O layer
+``skfem_cable.io`` supplies the standard observers; ``io.run_observers`` composes them.
+
+Examples
+--------
+>>> import skfem_cable as sc                                          # doctest: +SKIP
+>>> result = sc.simulate(system, t_end=1.0, dt=1e-3,                  # doctest: +SKIP
+...                      observers=sc.io.run_observers("runs/a", progress=True))
+>>> again = sc.simulate(system, t_end=1.0, dt=1e-3,                   # doctest: +SKIP
+...                     resume=sc.io.resume("runs/a"),
+...                     observers=sc.io.run_observers("runs/a", restart=True))
+"""
+
+import time
+
+import numpy as np
+
+from ..contract import Observer, Run, Step
+from ..result import FIELDS, SETTINGS, Result, settings_array, step_record
+from .galpha import GeneralizedAlpha
+
+#: Positions in ``result.SETTINGS`` that must match when a run is resumed (all but t_end).
+_MATCH = [k for k, name in enumerate(SETTINGS) if name != "t_end"]
+
+
+class SimulationError(RuntimeError):
+    """A step failed below the smallest allowed step size; ``result`` holds the steps
+    computed so far (observers such as ``io.RunStore`` have written them too)."""
+
+    def __init__(self, message, result):
+        super().__init__(message)
+        self.result = result
+
+
+class _Recorder(Observer):
+    """Keeps the saved steps in memory (the returned ``Result``)."""
+
+    def __init__(self, records=None):
+        self.records = {name: [] for name in FIELDS}
+        if records is not None:
+            for name in FIELDS:
+                self.records[name] = list(records[name])
+
+    def saved(self, run, step):
+        values = step_record(step)
+        for name in FIELDS:
+            self.records[name].append(values[name])
+
+    def arrays(self):
+        return {name: np.asarray(self.records[name]) for name in FIELDS}
+
+
+def _initial_arrays(system, initial):
+    if initial is None:
+        return system.q0.copy(), np.zeros(system.n_dofs)
+    q = np.asarray(initial.q, dtype=float)
+    v = getattr(initial, "v", None)
+    v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
+    if q.shape != (system.n_dofs,) or v.shape != (system.n_dofs,):
+        raise ValueError(f"initial.q and initial.v must have shape ({system.n_dofs},)")
+    if not (np.all(np.isfinite(q)) and np.all(np.isfinite(v))):
+        raise ValueError("initial.q and initial.v must be finite")
+    return q.copy(), v.copy()
+
+
+def _stats(integ, wall0, stopped=None):
+    stats = dict(integ.stats)
+    stats["wall_time"] = time.perf_counter() - wall0
+    stats["solver"] = integ.solver.method
+    stats["stopped"] = stopped
+    return stats
+
+
+def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
+             observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
+             max_halvings=10, method="auto"):
+    """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
+
+    Parameters
+    ----------
+    system : System
+    t_end, dt : float
+        End time and step (s); the last step is shortened to end exactly at ``t_end``.
+    rho_inf : float in [0, 1]
+        Spectral radius at infinity (numerical damping of high frequencies).
+    initial : State, optional
+        Initial ``q`` and ``v`` (default: the bodies' coordinates at rest).  Velocities
+        are projected onto the constraints; consistent accelerations and multipliers are
+        computed.
+    t_start : float
+        Initial time (s).
+    every : int
+        Save every ``every``-th step (and the first and last).
+    observers : sequence of Observer
+        Called at the start, at every saved step (a ``contract.Step``) and at the end,
+        also when the run fails or is interrupted (see ``contract.Observer``).  An
+        observer's ``saved`` returning a true value (a message) stops the run cleanly
+        after that step.  ``skfem_cable.io`` has the standard observers: ``RunStore``
+        (chunked results and checkpoint), ``SeriesObserver`` (ParaView series),
+        ``ProgressBar``; ``io.run_observers`` composes them.  Observers see
+        ``run.settings`` with ``t_start``, ``t_end``, ``dt``, ``rho_inf``, ``every``,
+        ``tol``, ``max_iter``, ``newton``, ``max_halvings``, ``method`` and ``n_steps``.
+    resume : object, optional
+        Continue an interrupted run: ``resume.snapshot`` (a checkpoint: the integrator's
+        ``snapshot()`` with ``index``, ``settings`` and ``stat_*``) and ``resume.records``
+        (the steps saved so far), e.g. ``io.resume(run_dir)``.  ``t_start``, ``dt``,
+        ``rho_inf``, ``every``, ``tol`` and ``max_iter`` must match the interrupted run;
+        the continuation is bit-for-bit the uninterrupted run.  Observers are not called
+        at the initial state.
+    tol, max_iter, newton, method
+        See ``GeneralizedAlpha``.
+    max_halvings : int
+        A failed step is retried as two half steps, recursively, down to
+        ``dt / 2**max_halvings``; below that ``SimulationError`` is raised.
+
+    Returns
+    -------
+    Result
+        The saved steps (with those of the interrupted run when resuming); ``stats``
+        holds ``steps``, ``rejected``, ``newton``, ``factorizations``, ``wall_time``,
+        ``solver`` and ``stopped`` (the message of the observer that stopped the run, or
+        None).
+
+    Raises
+    ------
+    SimulationError
+        A step failed at the smallest step size; its ``result`` holds the saved steps.
+    """
+    for name, value in (("t_end", t_end), ("dt", dt), ("t_start", t_start)):
+        if not np.isfinite(value):
+            raise ValueError(f"{name} must be finite, got {value!r}")
+    if not dt > 0:
+        raise ValueError(f"dt must be > 0, got {dt!r}")
+    if not t_end > t_start:
+        raise ValueError(f"t_end must be > t_start = {t_start}, got {t_end!r}")
+    if int(every) != every or every < 1:
+        raise ValueError(f"every must be a positive integer, got {every!r}")
+    observers = list(observers or ())
+    for obs in observers:
+        if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved",
+                                                                    "finish")):
+            raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
+    integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method)
+    n_steps = int(np.ceil((t_end - t_start) / dt - 1e-9))
+    settings = {"t_start": t_start, "t_end": t_end, "dt": dt, "rho_inf": rho_inf,
+                "every": int(every), "tol": tol, "max_iter": max_iter, "newton": newton,
+                "max_halvings": max_halvings, "method": method, "n_steps": n_steps}
+    if resume is not None:
+        snap = resume.snapshot
+        if not np.allclose(np.asarray(snap["settings"])[_MATCH],
+                           settings_array(settings)[_MATCH]):
+            raise ValueError("resume: t_start, dt, rho_inf, every, tol and max_iter must "
+                             "match the interrupted run")
+        integ.restore(snap)
+        integ.stats.update({k: int(snap["stat_" + k]) for k in integ.stats})
+        start_index = int(snap["index"])
+        recorder = _Recorder(resume.records)
+    else:
+        q, v = _initial_arrays(system, initial)
+        integ.initialize(q, v, t_start)
+        start_index = 0
+        recorder = _Recorder()
+    everyone = [recorder, *observers]
+    run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
+    wall0 = time.perf_counter()
+
+    def save(index):
+        """Hand the current state to every observer; returns a stop message or None."""
+        step = Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam, integ.iterations,
+                    integ.energies())
+        stop = None
+        for obs in everyone:
+            answer = obs.saved(run, step)
+            if answer and stop is None:
+                stop = (answer if isinstance(answer, str)
+                        else f"stopped by {type(obs).__name__}")
+        return stop
+
+    def advance(h, depth):
+        ok, msg = integ.step(h)
+        if ok:
+            return
+        integ.stats["rejected"] += 1
+        if depth >= max_halvings:
+            raise SimulationError(f"step failed at the smallest step size {h:.3g} "
+                                  f"(dt/2^{depth}): {msg}", None)
+        advance(0.5 * h, depth + 1)
+        advance(0.5 * h, depth + 1)
+
+    started = []
+    try:
+        for obs in everyone:
+            obs.start(run)
+            started.append(obs)
+        stop = save(0) if start_index == 0 else None
+        i = start_index
+        while stop is None and i < n_steps:
+            i += 1
+            t_target = t_end if i == n_steps else t_start + i * dt
+            advance(t_target - integ.t, 0)
+            if i % every == 0 or i == n_steps:
+                stop = save(i)
+        run.stop_reason = stop
+    except BaseException as err:
+        if isinstance(err, SimulationError):
+            err.result = Result(system, recorder.arrays(), _stats(integ, wall0))
+        _finish(started, run, err)
+        raise
+    _finish(started, run, None)
+    return Result(system, recorder.arrays(), _stats(integ, wall0, run.stop_reason))
+
+
+def _finish(observers, run, error):
+    """``finish`` of every observer, even when one of them fails: with ``error`` (the run
+    failed), their failures are added to its notes; otherwise the first one is raised."""
+    first = None
+    for obs in observers:
+        try:
+            obs.finish(run, error)
+        except Exception as exc:
+            if error is not None:
+                _add_note(error, f"{type(obs).__name__}.finish failed too: {exc!r}")
+            elif first is None:
+                first = exc
+    if first is not None:
+        raise first
+
+
+def _add_note(error, note):
+    if hasattr(error, "add_note"):  # Python >= 3.11
+        error.add_note(note)
