@@ -29,8 +29,6 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from .cable import Cable
-
 #: Values of the cell data ``part``.
 PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
 
@@ -159,10 +157,11 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
     q = np.asarray(q, dtype=float)
     v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
     out = _Builder()
+    cables = system.cables()
     cable_index = 0
     for body_id, body in enumerate(system.bodies):
         dofs = system.dofs(body)
-        if isinstance(body, Cable):
+        if body in cables:
             f = sample_cable(body, q[dofs], v[dofs], points_per_element)
             n = len(f["arc_length"])
             lines = np.column_stack([np.arange(n - 1), np.arange(1, n)])
