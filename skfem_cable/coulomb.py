@@ -81,11 +81,21 @@ class SolarWindForce:
         self.Sx = np.ascontiguousarray(np.concatenate([c.Sx for c in self.cables]))
         self.w = np.ascontiguousarray(np.concatenate([c.weights for c in self.cables]))
         self._constant = None
+        self.voltages(0.0)  # a bad voltage callable fails now, not mid-run
         if not any(callable(v) for v in self.voltage):
             self._constant = self.coefficients(0.0)
 
     def voltages(self, t):
-        return np.array([v(t) if callable(v) else v for v in self.voltage], dtype=float)
+        """Tether voltages (V) at time ``t``; a voltage callable returning a negative or
+        non-finite value is an error naming the tether (this model has one polarity:
+        a positive tether repels the solar-wind protons)."""
+        out = np.array([v(t) if callable(v) else v for v in self.voltage], dtype=float)
+        bad = ~(np.isfinite(out) & (out >= 0))
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise ValueError(f"voltage of tether {self.cables[k].name!r} at t = {t!r} is "
+                             f"{float(out[k])}: it must be finite and >= 0 V")
+        return out
 
     def coefficients(self, t):
         """Force per unit length on a perpendicular tether, per element (N/m)."""

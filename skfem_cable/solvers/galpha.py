@@ -20,6 +20,7 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 import numpy as np
 
 from ..linalg import PatternSolver, SingularMatrixError
+from .guard import EnergyGuard
 
 
 def galpha_parameters(rho_inf):
@@ -61,10 +62,14 @@ class GeneralizedAlpha:
         iterations of full Newton for the same wall time.
     method : {"auto", "banded", "sparse"}
         Linear solver of the iteration matrix.
+    energy_tol : float or None
+        Instability guard (``guard.EnergyGuard``): a step whose energy balance grows by
+        more than ``energy_tol`` times the energy content of the run is rejected (the
+        driver retries it smaller).  None switches the guard off.
     """
 
     def __init__(self, system, rho_inf=0.8, tol=1e-11, max_iter=12, newton="modified",
-                 method="auto"):
+                 method="auto", energy_tol=0.05):
         if newton not in ("modified", "full"):
             raise ValueError(f"newton must be 'modified' or 'full', got {newton!r}")
         if not 0 < tol < 1:
@@ -72,6 +77,7 @@ class GeneralizedAlpha:
         if int(max_iter) != max_iter or max_iter < 1:
             raise ValueError(f"max_iter must be a positive integer, got {max_iter!r}")
         self.system = system
+        self.guard = EnergyGuard(energy_tol)
         self.rho_inf = float(rho_inf)
         self.alpha_m, self.alpha_f, self.gamma, self.beta = galpha_parameters(rho_inf)
         self.tol, self.max_iter, self.newton = tol, int(max_iter), newton
@@ -86,6 +92,8 @@ class GeneralizedAlpha:
         self.xscale = lay.coordinate_scale
         self.inv_xscale = 1.0 / self.xscale
         self.L_ref = lay.length_scale
+        unit = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=(1, 0, 0))
+        self.total_mass = float(unit @ (lay.mass @ unit))
         # the scaled residual: dynamic rows divided by the diagonal of the iteration matrix
         # (a Jacobi estimate of the correction, in units of the coordinates; refreshed at
         # every factorization, the mass diagonal before the first) and constraint rows in
@@ -126,42 +134,57 @@ class GeneralizedAlpha:
         self.a = sol[:n]
         self.abar = self.a.copy()
         self.lam = self.mbar * sol[n:]
-        self._book(info, reset=True)
+        self.__dict__.update(self._booked(info))
         self.iterations = 0
+        self.guard.reset(self.t, self.energies())
 
-    def _book(self, info, dq=None, reset=False):
-        """Energy bookkeeping: work of the damping and non-conservative external forces
-        over the step, ``dq . (f_n + f_{n+1}) / 2`` (exact for the trapezoidal rule)."""
-        fd = info["f_damping"]
-        fd = np.zeros(self.n) if fd is None else fd
-        fnc = info["f_nc"]
-        if reset:
-            self.dissipated = 0.0
-            self.external_work = 0.0
+    def _booked(self, info, dq=None):
+        """Energy bookkeeping after a step ``dq`` with the evaluation ``info`` at its end:
+        work of the damping and non-constant external forces over the step,
+        ``dq . (f_n + f_{n+1}) / 2`` (exact for the trapezoidal rule); ``dq = None``
+        starts the books."""
+        fd, fnc, fcon = info["f_damping"], info["f_nc"], info["f_con"]
+        if dq is None:
+            dissipated = external_work = 0.0
         else:
-            self.dissipated += 0.5 * dq @ (self.fd + fd)
-            self.external_work += 0.5 * dq @ (self.fnc + fnc)
-        self.fd, self.fnc = fd, fnc
-        self.elastic = info["energy"].copy()
+            dissipated = self.dissipated + 0.5 * dq @ (self.fd + fd)
+            # external forces, and the constraint forces -C_q^T lambda, which work where a
+            # constraint is driven (a moving pin); elsewhere C_q dq = 0 (to O(dq^3))
+            external_work = self.external_work + 0.5 * dq @ (self.fnc + fnc
+                                                             - self.fcon - fcon)
+        return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
+                "external_work": external_work, "elastic": info["energy"].copy()}
+
+    def _energies(self, q, v, books):
+        lay = self.lay
+        return {"kinetic": 0.5 * v @ (lay.mass @ v), "axial": books["elastic"][0],
+                "bending": books["elastic"][1], "potential": -lay.f_const @ q,
+                "dissipated": books["dissipated"], "external_work": books["external_work"]}
 
     # --- checkpoint -------------------------------------------------------------------------
-    STATE = ("t", "q", "v", "a", "abar", "lam", "fd", "fnc", "dissipated", "external_work",
-             "elastic", "iterations")
+    STATE = ("t", "q", "v", "a", "abar", "lam", "fd", "fnc", "fcon", "dissipated",
+             "external_work", "elastic", "iterations")
 
     def snapshot(self):
         """Everything a continuation needs to be bit-for-bit identical, including the
-        state at which the current iteration matrix was factored (it is rebuilt from it)."""
+        state at which the current iteration matrix was factored (it is rebuilt from it)
+        and the instability guard's references."""
         snap = {k: np.copy(getattr(self, k)) for k in self.STATE}
+        snap.update(self.guard.snapshot())
         if self.h_factored is not None:
             snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
         return snap
 
     def restore(self, snap):
         for k in self.STATE:
-            value = np.array(snap[k])
+            value = np.array(snap[k] if k in snap else np.zeros(self.n))  # fcon: pre-guard
             setattr(self, k, value if value.ndim else value.item())
         self.t = float(self.t)
         self.h_factored = None
+        if "guard_lowest" in snap:
+            self.guard.restore(snap)
+        else:  # a checkpoint written before the guard existed
+            self.guard.reset(self.t, self.energies())
         if "fact_h" in snap:
             at = {k: np.array(snap["fact_" + k]) for k in ("q", "v", "t", "lam", "h")}
             self._factor(at["q"], at["v"], float(at["t"]), at["lam"], float(at["h"]))
@@ -184,10 +207,9 @@ class GeneralizedAlpha:
         self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h}
 
     def energies(self):
-        lay = self.lay
-        return {"kinetic": 0.5 * self.v @ (lay.mass @ self.v), "axial": self.elastic[0],
-                "bending": self.elastic[1], "potential": -lay.f_const @ self.q,
-                "dissipated": self.dissipated, "external_work": self.external_work}
+        """Kinetic, axial, bending and potential energy, dissipated energy and external
+        work (J) of the current state."""
+        return self._energies(self.q, self.v, self.__dict__)
 
     # --- one step ---------------------------------------------------------------------------
     def step(self, h):
@@ -260,15 +282,36 @@ class GeneralizedAlpha:
             if dq_err > self.tol and (dq_err > 0.25 * dq_before or it >= 3):
                 need = True  # modified Newton contracts too slowly: refresh the tangent
             self.stats["newton"] += 1
-        dq_step = q1 - self.q
+        self.guard.set_scale(self.total_mass, self.L_ref, h)
+        books = self._booked(info, q1 - self.q)
+        energies = self._energies(q1, v1, books)
+        grown = self.guard.check(energies)
+        if grown is not None:
+            return False, self._diagnose_growth(t1, h, v1, grown)
         self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
         # (1 - am) abar1_new = (1 - af) a1 + af a_n - am abar_n
         self.abar = ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
         self.a = a1
         self.iterations = it
-        self._book(info, dq_step)
+        self.__dict__.update(books)
+        self.guard.accept(t1, energies)
         self.stats["steps"] += 1
         return True, "converged"
+
+    def _diagnose_growth(self, t, h, v1, reason):
+        """Where a rejected step put its energy: the body whose kinetic energy grew most,
+        and its fastest coordinate."""
+        system, mass = self.system, self.lay.mass.scipy
+        gains = []
+        for body in system.bodies:
+            d = system.dofs(body)
+            M = mass[d][:, d]
+            gains.append((0.5 * (v1[d] @ (M @ v1[d]) - self.v[d] @ (M @ self.v[d])), body, d))
+        gain, body, d = max(gains, key=lambda g: g[0])
+        fastest = d[int(np.argmax(np.abs(v1[d] - self.v[d])))]
+        return (f"t={t:.6g}, h={h:.3g}: {reason}; {body.name} gained {gain:.4g} J of kinetic "
+                f"energy, fastest at {system.describe_dof(fastest)}; energy balance of the "
+                f"last accepted steps: {self.guard.describe_history()}")
 
     def _diagnose(self, t, h, history, r, what):
         system, n = self.system, self.n

@@ -68,6 +68,29 @@ def _initial_arrays(system, initial):
     return q.copy(), v.copy()
 
 
+#: Most steps a run may take: beyond, ``dt`` is almost surely a typo (a billion steps of
+#: the smallest system take hours).
+MAX_STEPS = 10**9
+
+
+def _check_steps(t_start, t_end, dt, max_halvings):
+    """Refuse step settings that cannot run: a step that does not advance the time in
+    floating point, more than ``MAX_STEPS`` steps, ``max_halvings`` outside [0, 51] (a
+    step halved 52 times is below the resolution of the time itself)."""
+    if (isinstance(max_halvings, bool) or not isinstance(max_halvings, int | np.integer)
+            or not 0 <= max_halvings <= 51):
+        raise ValueError(f"max_halvings must be an integer in [0, 51], got {max_halvings!r}")
+    n_steps = (t_end - t_start) / dt
+    if n_steps > MAX_STEPS:
+        raise ValueError(f"dt = {dt!r} over [{t_start}, {t_end}] means {n_steps:.3g} steps "
+                         f"(at most {MAX_STEPS:.0e}): choose a larger dt")
+    for t in (t_start, t_end):
+        if t + dt / 2**max_halvings == t:
+            raise ValueError(f"dt = {dt!r} (halved down to dt/2^{max_halvings}) does not "
+                             f"advance the time t = {t} in floating point: choose a larger "
+                             "dt or fewer max_halvings")
+
+
 def _stats(integ, wall0, stopped=None):
     stats = dict(integ.stats)
     stats["wall_time"] = time.perf_counter() - wall0
@@ -78,7 +101,7 @@ def _stats(integ, wall0, stopped=None):
 
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
-             max_halvings=10, method="auto"):
+             max_halvings=10, method="auto", energy_tol=0.05):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -112,8 +135,10 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         ``rho_inf``, ``every``, ``tol`` and ``max_iter`` must match the interrupted run;
         the continuation is bit-for-bit the uninterrupted run.  Observers are not called
         at the initial state.
-    tol, max_iter, newton, method
-        See ``GeneralizedAlpha``.
+    tol, max_iter, newton, method, energy_tol
+        See ``GeneralizedAlpha``; ``energy_tol`` is the instability guard (on by default:
+        a step whose energy balance grows by more than ``energy_tol`` times the energy
+        content of the run is retried smaller; None switches it off).
     max_halvings : int
         A failed step is retried as two half steps, recursively, down to
         ``dt / 2**max_halvings``; below that ``SimulationError`` is raised.
@@ -140,16 +165,18 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         raise ValueError(f"t_end must be > t_start = {t_start}, got {t_end!r}")
     if int(every) != every or every < 1:
         raise ValueError(f"every must be a positive integer, got {every!r}")
+    _check_steps(t_start, t_end, dt, max_halvings)
     observers = list(observers or ())
     for obs in observers:
         if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved",
                                                                     "finish")):
             raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
-    integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method)
+    integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol)
     n_steps = int(np.ceil((t_end - t_start) / dt - 1e-9))
     settings = {"t_start": t_start, "t_end": t_end, "dt": dt, "rho_inf": rho_inf,
                 "every": int(every), "tol": tol, "max_iter": max_iter, "newton": newton,
-                "max_halvings": max_halvings, "method": method, "n_steps": n_steps}
+                "max_halvings": max_halvings, "method": method, "energy_tol": energy_tol,
+                "n_steps": n_steps}
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],

@@ -1,0 +1,108 @@
+"""The instability guard: a time step that creates energy is not accepted.
+
+The integrator books the energy balance ``B = kinetic + elastic + potential + dissipated -
+external work`` (``GeneralizedAlpha.energies``); exactly, ``B`` is constant.  The
+generalized-alpha method with ``rho_inf < 1`` dissipates (``B`` decreases: numerical
+dissipation is not growth), and with ``rho_inf = 1`` it oscillates by ``O(h^2)``.  A step
+that raises ``B`` above its lowest value so far by more than ``tol`` times the energy
+content of the run (the largest ``kinetic + elastic + |potential - potential_0| +
+dissipated + |external work|`` seen, the candidate state included) is a numerical
+instability, or a Newton iteration that "converged" to a runaway state: it is rejected,
+and the step is retried smaller.
+
+The content is floored at ``FLOOR`` times the kinetic energy of the whole mass moving by
+the system's size per (first) step, ``m (L / h)^2``: round-off in a system at rest is not
+growth.
+"""
+
+from collections import deque
+
+import numpy as np
+
+#: Energy content below which nothing is judged, relative to ``m (L / h)^2``.
+FLOOR = 1e-12
+
+#: Energy terms of the balance, with their sign.
+BALANCE = {"kinetic": 1.0, "axial": 1.0, "bending": 1.0, "potential": 1.0,
+           "dissipated": 1.0, "external_work": -1.0}
+
+
+def balance(energies):
+    """``kinetic + elastic + potential + dissipated - external work`` (J)."""
+    return sum(sign * float(energies[k]) for k, sign in BALANCE.items())
+
+
+def content(energies, potential0):
+    """Energy content of a state: the magnitudes of all the terms of the balance (J)."""
+    return (float(energies["kinetic"] + energies["axial"] + energies["bending"])
+            + abs(float(energies["potential"]) - potential0)
+            + abs(float(energies["dissipated"])) + abs(float(energies["external_work"])))
+
+
+class EnergyGuard:
+    """Rejects steps whose energy balance grows (see the module docstring).
+
+    Parameters
+    ----------
+    tol : float or None
+        Allowed growth relative to the energy content; None switches the guard off.
+    keep : int
+        Accepted steps kept for the diagnostic's energy history.
+    """
+
+    STATE = ("lowest", "largest", "potential0", "floor")
+
+    def __init__(self, tol=0.05, keep=8):
+        if tol is not None and not (np.isfinite(tol) and tol > 0):
+            raise ValueError(f"energy_tol must be a number > 0 or None, got {tol!r}")
+        self.tol = tol
+        self.history = deque(maxlen=keep)
+
+    def reset(self, t, energies):
+        """Start from an accepted initial state."""
+        self.potential0 = float(energies["potential"])
+        self.lowest = balance(energies)
+        self.largest = content(energies, self.potential0)
+        self.floor = 0.0
+        self.history.clear()
+        self.history.append((t, self.lowest))
+
+    def set_scale(self, mass, length, h):
+        """Fix the floor of the energy content from the total ``mass``, the system size
+        ``length`` and the first step ``h`` (once per run)."""
+        if not self.floor:
+            self.floor = FLOOR * mass * (length / h) ** 2
+
+    def growth(self, energies):
+        """``(growth, scale)`` of a candidate state: the rise of the balance above its
+        lowest value, and the energy content it is measured against."""
+        scale = max(self.largest, content(energies, self.potential0), self.floor, 1e-300)
+        return balance(energies) - self.lowest, scale
+
+    def check(self, energies):
+        """None if the candidate is acceptable, else a short reason."""
+        if self.tol is None:
+            return None
+        grown, scale = self.growth(energies)
+        if not np.isfinite(grown) or grown > self.tol * scale:
+            return (f"energy balance grew by {grown:.4g} J ({grown / scale:.3g} of the "
+                    f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
+        return None
+
+    def accept(self, t, energies):
+        b = balance(energies)
+        self.lowest = min(self.lowest, b)
+        self.largest = max(self.largest, content(energies, self.potential0))
+        self.history.append((t, b))
+
+    def describe_history(self):
+        return ", ".join(f"t={t:.6g}: {b:.6g} J" for t, b in self.history)
+
+    def snapshot(self):
+        return {"guard_" + k: np.float64(getattr(self, k)) for k in self.STATE}
+
+    def restore(self, snap):
+        if "guard_lowest" in snap:
+            for k in self.STATE:
+                setattr(self, k, float(snap["guard_" + k]))
+            self.history.clear()
