@@ -242,9 +242,9 @@ class System:
             ``energy`` (axial, bending), ``power`` (dissipated, axial and bending),
             ``f_damping`` (damping force), ``f_nc`` (non-constant external force, whose
             work is booked as external work), ``f_con`` (``C_q^T lambda``: minus the
-            constraint forces, which work only where constraints are driven) and, with ``reference_force``, ``force_ref``
-            (largest norm of the internal, external and constraint forces: a scale for
-            convergence tests).
+            constraint forces, which work only where constraints are driven) and, with
+            ``reference_force``, ``force_ref`` (largest norm of the internal, external and
+            constraint forces: a scale for convergence tests).
         """
         lay = self.layout
         n = self.n_dofs
