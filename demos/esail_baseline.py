@@ -28,10 +28,12 @@ from skfem_cable.scenes import catalog, esail
 
 
 def main(alpha=10.0, periods=3.0, elements=5, out="runs/esail", plots=True, progress=None):
-    """Run the baseline sail; returns the summary (dict) of the run."""
+    """Run the baseline sail into ``out`` (replacing an earlier run there); returns the
+    summary (dict) of the run."""
     cfg = esail.BaselineConfig()
     options = RunOptions(out=out, alpha=alpha, elements=elements,
-                         t_end=periods * cfg.spin_period, progress=progress, plots=plots)
+                         t_end=periods * cfg.spin_period, progress=progress, plots=plots,
+                         overwrite=True)
     return catalog.run_scene("esail", options)
 
 

@@ -4,6 +4,7 @@ Run ``skfem-cable --help`` or ``skfem-cable COMMAND --help``.
 """
 
 import argparse
+import shlex
 import subprocess
 import sys
 import textwrap
@@ -18,6 +19,7 @@ BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
 EPILOG = """examples:
   skfem-cable run pendulum --out runs/pendulum
   skfem-cable run demos/spinning_hub.toml --t-end 2 --out runs/hub --animate
+  skfem-cable run pendulum --out runs/pendulum --t-end 5 --resume
   skfem-cable validate
   skfem-cable bench kernel_cost step_cost
 """
@@ -54,10 +56,14 @@ def build_parser():
     scenes = "\n".join(f"  {name:<16} {entry.help}" for name, entry in sorted(SCENES.items()))
     run = sub.add_parser(
         "run", help="run a built-in scene or a TOML scene file into a run directory",
-        description=_wrap("Run a scene. A run directory (--out) receives the raw results "
-        "(chunk_*.npz, checkpoint.npz), the VTU series series.pvd + vtu/ for ParaView, "
-        "summary.json (parameters, wall time, steps, Newton statistics, key outputs) and "
-        "plots/. Without --out only the summary is printed."),
+        description=_wrap("Run a scene. A run directory (--out) receives the run store "
+        "(results.zarr, read with xarray.open_zarr or Result.load; checkpoint_*.npz; "
+        "manifest.json), the VTU series series.pvd + vtu/ for ParaView, summary.json "
+        "(parameters, wall time, steps, Newton statistics, key outputs) and plots/. "
+        "Without --out only the summary is printed. A directory that holds another run "
+        "is refused unless --overwrite (replace it) or --resume (continue it) is given. "
+        "Ctrl-C or SIGTERM end a run after storing its saved steps and a checkpoint; "
+        "--resume continues it bit for bit (--t-end may grow)."),
         epilog=f"scenes:\n{scenes}\n  FILE.toml        a scene file (schema: docs/scene_files.md)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scene", metavar="SCENE", help="built-in scene name or path of a .toml file")
@@ -78,6 +84,13 @@ def build_parser():
                      help="write no figures or snapshot into the run directory")
     run.add_argument("--animate", action="store_true",
                      help="also render animation.gif of the run (needs OpenGL)")
+    existing = run.add_mutually_exclusive_group()
+    existing.add_argument("--overwrite", action="store_true",
+                          help="replace the run already in --out DIR (removes only the "
+                          "files skfem-cable wrote)")
+    existing.add_argument("--resume", action="store_true",
+                          help="continue the interrupted (or finished) run in --out DIR, "
+                          "with the same scene and options (--t-end may grow)")
 
     val = sub.add_parser(
         "validate", help="run the validation cases and print a table against the references",
@@ -101,18 +114,46 @@ def build_parser():
 
 
 def cmd_run(args):
-    from .runner import RunOptions, format_summary
+    from .runner import RunOptions, check_run_dir, format_summary
     from .scenes.catalog import run_scene
 
     options = RunOptions(out=args.out, t_end=args.t_end, dt=args.dt, elements=args.elements,
                          alpha=args.alpha, every=args.every,
                          progress=False if args.no_progress else None,
-                         plots=not args.no_plots, animate=args.animate)
-    summary = run_scene(args.scene, options)
+                         plots=not args.no_plots, animate=args.animate,
+                         overwrite=args.overwrite, resume=args.resume)
+    check_run_dir(args.out, args.overwrite, args.resume)  # before any work
+    try:
+        summary = run_scene(args.scene, options)
+    except KeyboardInterrupt as err:
+        return _interrupted(args, err)
     print(format_summary(summary))
     if args.out is not None:
         print(f"run directory: {args.out}")
     return 0
+
+
+def _interrupted(args, err):
+    """Ctrl-C, SIGTERM or SIGHUP ended ``skfem-cable run``: say what is stored and how to
+    continue; the exit status is the shell's for that signal (130 for Ctrl-C)."""
+    from .io.signals import exit_status, interrupt_signal, signal_name
+    from .io.store import run_info
+
+    signum = interrupt_signal(err)
+    lines = [f"skfem-cable run: interrupted by {signal_name(signum)}"]
+    manifest = run_info(args.out) if args.out is not None else None
+    if manifest is not None and manifest.get("checkpoint"):
+        last = manifest["last"]
+        lines[0] += (f"; {args.out} holds {manifest['saved']} saved steps up to "
+                     f"t = {last['t']:.6g} s and their checkpoint")
+        argv = [a for a in args.argv if a not in ("--overwrite", "--resume")]
+        lines.append("continue the run with: "
+                     + shlex.join(["skfem-cable", *argv, "--resume"]))
+    elif args.out is not None:
+        lines[0] += f"; nothing was stored in {args.out} yet"
+        lines.append("run it again with --overwrite")
+    print("\n".join(lines), file=sys.stderr)
+    return exit_status(signum)
 
 
 def cmd_validate(args):
@@ -166,7 +207,9 @@ COMMANDS = {"run": cmd_run, "validate": cmd_validate, "bench": cmd_bench}
 def main(argv=None):
     """Entry point of ``skfem-cable``; returns the exit status."""
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(argv)
+    args.argv = argv
     try:
         return COMMANDS[args.command](args)
     except (ValueError, FileNotFoundError, ImportError, SimulationError,

@@ -183,8 +183,11 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
 def _write_atomic(path, mesh):
     path = Path(path)
     tmp = path.with_name(path.name + ".tmp")
-    meshio.write(tmp, mesh, file_format="vtu")
-    os.replace(tmp, path)
+    try:
+        meshio.write(tmp, mesh, file_format="vtu")
+        os.replace(tmp, path)
+    finally:  # a full disk or an interrupt leaves no temporary file behind
+        tmp.unlink(missing_ok=True)
 
 
 def write_vtu(path, system, state, points_per_element=8, resolution=32):
@@ -206,8 +209,11 @@ def write_pvd(path, entries):
     ET.indent(root)
     path = Path(path)
     tmp = path.with_name(path.name + ".tmp")
-    ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
-    os.replace(tmp, path)
+    try:
+        ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def read_pvd(path):

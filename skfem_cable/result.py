@@ -1,7 +1,8 @@
 """Time histories of a simulation: the saved steps, held in memory.
 
 ``simulate`` returns a ``Result``; a run directory written by ``io.RunStore`` is read back
-with ``Result.load`` (``io.load_result``).  Nothing here touches the disk except ``load``.
+with ``Result.load`` (``io.load_result``; xarray users open its store directly, see
+``docs/output.md``).  Nothing here touches the disk except ``load``.
 """
 
 import numpy as np
@@ -93,9 +94,16 @@ class Result:
         return len(self.t)
 
     @classmethod
-    def load(cls, path, system):
-        """Read the saved steps of a run directory written by ``io.RunStore`` (its
-        ``stats`` are the checkpoint's entries); see ``io.load_result``."""
+    def load(cls, path, system, check=True):
+        """Read the saved steps of a run directory written by ``io.RunStore`` (its Zarr
+        store ``results.zarr``, up to the last commit of its manifest; old directories of
+        ``chunk_*.npz`` files too).
+
+        ``system`` must be the one that wrote it: a store of another system (its
+        fingerprint, ``io.fingerprint``) raises ``io.StoreMismatch`` (``check=False``
+        skips the test; sizes must still match).  Fields the store left out (by default
+        the accelerations ``a``) are NaN.  ``stats``: the solver counters at the last
+        saved step, ``status`` and ``stopped``.  See ``io.load_result``."""
         from .io.store import load_result
 
-        return load_result(path, system)
+        return load_result(path, system, check=check)

@@ -2,18 +2,25 @@
 
 A run directory holds
 
-* the raw results (``chunk_NNNNN.npz``, ``checkpoint.npz``, written during the run by
-  ``io.RunStore``; read them back with ``Result.load(run_dir, system)``, continue an
-  interrupted run with ``simulate(..., resume=io.resume(run_dir))``),
+* the run store (written during the run by ``io.RunStore``): ``results.zarr`` (the saved
+  steps; ``xarray.open_zarr`` opens it, ``Result.load(run_dir, system)`` reads it back),
+  ``checkpoint_NNNNNNNN.npz`` (the state at the last commit) and ``manifest.json`` (the
+  commit record); continue an interrupted run with ``--resume`` or
+  ``simulate(..., resume=io.resume(run_dir))``;
 * the VTU series ``series.pvd`` + ``vtu/`` (written during the run by
-  ``io.SeriesObserver``), which ParaView opens as an animation,
-* ``summary.json``: scene, parameters, wall time, steps, Newton statistics, key outputs
-  and the files written,
+  ``io.SeriesObserver``), which ParaView opens as an animation;
+* ``summary.json``: scene, parameters, wall time, steps, Newton statistics, key outputs,
+  the store and the files written;
 * ``plots/``: energy and cable histories, tension spectra and a rendered snapshot
   (``plot``), and ``animation.gif`` on request.
+
+A directory that holds another run is not written into: ``RunOptions.overwrite`` removes
+that run's files first (only files this package writes), ``RunOptions.resume`` continues
+it (``prepare_run_dir``).
 """
 
 import json
+import shutil
 import sys
 import time
 from dataclasses import dataclass
@@ -22,7 +29,10 @@ from pathlib import Path
 import numpy as np
 
 from . import export, plot
-from .io import run_observers
+from .io import RunExists, StoreError, StoreMismatch, run_observers
+from .io import resume as resume_run
+from .io.atomic import is_temporary
+from .io.store import STORE, remove_store, run_info, store_files
 from .solvers.simulate import simulate
 
 SUMMARY = "summary.json"
@@ -42,6 +52,8 @@ class RunOptions:
     progress: bool | None = None
     plots: bool = True
     animate: bool = False
+    overwrite: bool = False
+    resume: bool = False
 
     def reject(self, scene, *names):
         """Raise ``ValueError`` if one of the options ``names`` was given: it has no
@@ -155,6 +167,114 @@ def run_figures(out, result, animate=False):
     return paths
 
 
+#: Files this package writes into a run directory besides the store (``--overwrite``
+#: removes these and nothing else): exact names and patterns relative to the directory.
+RUN_FILES = (SUMMARY, "series.pvd", "vtu/series_*.vtu", "animation.gif", "animation.mp4",
+             "esail_outputs.npz", "plots/energies.png", "plots/cables.png",
+             "plots/tension_psd.png", "plots/final.png", "plots/esail_*.png")
+
+
+def run_files(out):
+    """The files and folders of a run (this package's) present in the directory ``out``:
+    the store (``io.store.store_files``), ``RUN_FILES`` and temporary files."""
+    out = Path(out)
+    if not out.is_dir():
+        return []
+    found = list(store_files(out))
+    for pattern in RUN_FILES:
+        found += sorted(out.glob(pattern))
+    for folder in (out, out / "vtu", out / "plots"):
+        if folder.is_dir():
+            found += [p for p in sorted(folder.iterdir()) if p.is_file() and (
+                is_temporary(p) or p.name.endswith((".vtu.tmp", ".pvd.tmp")))]
+    return list(dict.fromkeys(found))
+
+
+def remove_run(out):
+    """Remove the run in ``out``: its store first (so that a half-removed run is never
+    taken for a complete one), then ``run_files``; empty ``vtu/`` and ``plots/`` folders
+    go too.  Files this package did not write stay.  Returns the number of entries
+    removed."""
+    out = Path(out)
+    files = run_files(out)
+    remove_store(out)
+    for path in files:
+        if path.is_dir():
+            shutil.rmtree(path, ignore_errors=True)
+        else:
+            path.unlink(missing_ok=True)
+    for folder in (out / "vtu", out / "plots"):
+        if folder.is_dir() and not any(folder.iterdir()):
+            folder.rmdir()
+    return len(files)
+
+
+def _describe(out):
+    manifest = run_info(out)
+    if manifest is None:
+        names = ", ".join(p.name for p in run_files(out)[:4])
+        return f"files of an earlier run: {names}"
+    scene = (manifest.get("attrs") or {}).get("scene")
+    last = manifest.get("last") or {}
+    text = f"{manifest.get('saved', 0)} saved steps"
+    if last.get("t") is not None:
+        text += f" up to t = {last['t']:.6g} s"
+    return (f"scene {scene!r}, " if scene else "") + f"{text}, {manifest.get('status')}"
+
+
+def check_run_dir(out, overwrite=False, resume=False):
+    """Raise unless a run may be written into ``out`` as asked: ``RunExists`` when it
+    holds another run and neither ``overwrite`` nor ``resume`` is given, ``StoreError``
+    when ``resume`` finds nothing to continue.  Changes nothing."""
+    if overwrite and resume:
+        raise ValueError("--overwrite and --resume exclude each other")
+    if out is None:
+        if resume:
+            raise ValueError("--resume needs the run directory (--out DIR)")
+        return
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise ValueError(f"--out {out} is a file, not a directory")
+    present = run_files(out)
+    if resume:
+        if run_info(out) is None:
+            what = "a run of the old format that cannot be continued" if any(
+                p.name == "checkpoint.npz" for p in present) else "no run store to continue"
+            raise StoreError(f"{out} holds {what} (no manifest.json): run the scene "
+                             "without --resume" + (" and with --overwrite" if present else ""))
+        return
+    if present and not overwrite:
+        raise RunExists(f"{out} already holds a run ({_describe(out)}): choose another "
+                        "--out, replace it with --overwrite, or continue it with --resume")
+
+
+def prepare_run_dir(options, can_resume=True):
+    """Check the run directory ``options.out`` (``check_run_dir``) and, with
+    ``options.overwrite``, remove the run it holds; creates the directory."""
+    if options.resume and not can_resume:
+        raise ValueError("--resume continues time integrations only; this scene has none")
+    check_run_dir(options.out, options.overwrite, options.resume)
+    if options.out is None:
+        return
+    out = Path(options.out)
+    if options.overwrite:
+        remove_run(out)
+    out.mkdir(parents=True, exist_ok=True)
+
+
+def _check_settings(out, manifest, solver):
+    """Before a continued run: the solver settings given must be those stored (all but
+    ``t_end``), else ``StoreMismatch`` naming them."""
+    stored = manifest.get("settings") or {}
+    differ = [k for k, v in solver.items()
+              if k != "t_end" and k in stored and stored[k] != jsonable(v)]
+    if differ:
+        raise StoreMismatch(f"{out} was run with other settings ("
+                            + ", ".join(f"{k}: stored {stored[k]!r}, given {solver[k]!r}"
+                                        for k in differ)
+                            + "): continue it with the settings it was started with")
+
+
 def run_dynamic(name, system, initial, options, defaults, parameters=None, outputs=None,
                 points_per_element=8):
     """Simulate ``system`` from ``initial`` and fill the run directory ``options.out``.
@@ -170,8 +290,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     defaults : dict
         ``t_end``, ``dt``, ``every``, and optionally ``rho_inf`` and other ``simulate``
         keywords (``tol``, ``newton``, ...), ``series_every`` (a ``.vtu`` for every
-        ``series_every``-th saved step, default 1) and ``chunk`` (saved steps per results
-        file, default 200).
+        ``series_every``-th saved step, default 1), ``chunk`` (saved steps per commit of
+        the run store, default 200) and ``fields`` (the fields it stores, default
+        ``io.DEFAULT_FIELDS``).
     parameters : dict, optional
         Scene parameters to record in the summary.
     outputs : callable, optional
@@ -189,11 +310,20 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     for key in ("t_end", "dt", "every"):
         settings[key] = options.value(key, defaults[key])
     solver = dict(settings)
-    storage = {"series_every": solver.pop("series_every", 1), "chunk": solver.pop("chunk", 200)}
+    storage = {"series_every": solver.pop("series_every", 1), "chunk": solver.pop("chunk", 200),
+               "fields": solver.pop("fields", None)}
+    settings.pop("fields", None)
+    prepare_run_dir(options)
     out = None if options.out is None else Path(options.out)
+    resume = None
+    if options.resume:
+        resume = resume_run(out, system)
+        _check_settings(out, resume.manifest, solver)
     observers = run_observers(out, options.progress, points_per_element=points_per_element,
+                              restart=options.resume, overwrite=options.overwrite,
+                              attrs={"scene": name, "parameters": parameters or {}},
                               **storage)
-    result = simulate(system, initial=initial, observers=observers, **solver)
+    result = simulate(system, initial=initial, observers=observers, resume=resume, **solver)
     stats = result.stats
     summary = {"scene": name,
                "parameters": {**(parameters or {}), **settings},
@@ -207,7 +337,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     if outputs is not None:
         summary["outputs"].update(outputs(result))
     if out is not None:
-        files = {"results": "chunk_*.npz, checkpoint.npz", "series": "series.pvd"}
+        summary["store"] = store_summary(out)
+        files = {"store": STORE, "manifest": "manifest.json",
+                 "checkpoint": summary["store"]["checkpoint"], "series": "series.pvd"}
         if options.plots:
             files["plots"] = [p.relative_to(out).as_posix()
                               for p in run_figures(out, result, options.animate)]
@@ -215,6 +347,21 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
         summary["total_wall_time"] = time.perf_counter() - wall0
         write_summary(out, summary)
     return summary, result
+
+
+def store_summary(out):
+    """What the run store of ``out`` holds (for the summary): saved steps, time span,
+    fields, status, checkpoint and size on disk."""
+    manifest = run_info(out) or {}
+    out = Path(out)
+    size = sum(p.stat().st_size for p in (out / STORE).rglob("*") if p.is_file())
+    checkpoint = (manifest.get("checkpoint") or {}).get("file")
+    if checkpoint and (out / checkpoint).exists():
+        size += (out / checkpoint).stat().st_size
+    return {"path": STORE, "saved_steps": manifest.get("saved"),
+            "t": [(manifest.get("first") or {}).get("t"), (manifest.get("last") or {}).get("t")],
+            "fields": manifest.get("fields"), "status": manifest.get("status"),
+            "checkpoint": checkpoint, "bytes": size}
 
 
 def run_static(name, system, steps, options, parameters=None, outputs=None, title=None,
@@ -244,6 +391,7 @@ def run_static(name, system, steps, options, parameters=None, outputs=None, titl
     final = steps[-1][1]
     summary = {"scene": name, "parameters": parameters or {},
                "outputs": {**(outputs or {}), "cables": cable_outputs(system, final.q)}}
+    prepare_run_dir(options, can_resume=False)
     if options.out is None:
         return summary
     writer = export.SeriesWriter(options.out, system, points_per_element)
@@ -267,6 +415,10 @@ def format_summary(summary):
                      f"{nw['per_step']:.2f} Newton iterations per step, "
                      f"{nw['rejected_steps']} rejected")
     lines.extend(_format_tree(summary.get("outputs", {}), "  "))
+    store = summary.get("store")
+    if store:
+        lines.append(f"  store {store['path']}: {store['saved_steps']} saved steps, "
+                     f"{store['bytes'] / 1e6:.3g} MB, {store['status']}")
     return "\n".join(lines)
 
 

@@ -17,8 +17,8 @@ EXAMPLE = ROOT / "demos" / "spinning_hub.toml"
 
 
 def test_toml_scene_run_directory(tmp_path, capsys):
-    """The example scene file at reduced size: raw results, VTU series, summary and plots;
-    the summary's numbers are those of the stored results."""
+    """The example scene file at reduced size: run store, VTU series, summary and plots;
+    the summary's numbers are those of the stored results, and it lists the store."""
     out = tmp_path / "hub"
     rc = cli.main(["run", str(EXAMPLE), "--t-end", "0.05", "--elements", "2", "--every", "5",
                    "--out", str(out), "--no-progress"])
@@ -28,6 +28,8 @@ def test_toml_scene_run_directory(tmp_path, capsys):
     assert summary["steps"] == 10 and summary["saved_steps"] == 3
     assert summary["parameters"]["dt"] == 5e-3 and summary["parameters"]["every"] == 5
     assert summary["newton"]["iterations"] >= summary["steps"]
+    assert summary["files"]["store"] == "results.zarr" and (out / "results.zarr").is_dir()
+    assert summary["store"]["saved_steps"] == 3 and summary["store"]["status"] == "complete"
     spec = scene_file.load(EXAMPLE, elements=2)
     result = sc.Result.load(out, spec.system)
     assert np.allclose(result.t, [0.0, 0.025, 0.05])

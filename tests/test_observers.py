@@ -64,7 +64,7 @@ def test_observer_stops_the_run_cleanly(tmp_path):
     full = sc.simulate(scene.system, **kw)
     z_tip = full.position(scene.cable, scene.cable.length)[:, 1]
     stop = StopBelow(scene.cable, z_tip[0] - 0.05)
-    store = RunStore(tmp_path, chunk=4)
+    store = RunStore(tmp_path, chunk=4, fields=FIELDS)  # the accelerations too
     result = sc.simulate(scene.system, observers=[stop, store], **kw)
     n = int(np.argmax(z_tip < z_tip[0] - 0.05)) + 1  # the stop step is the last saved one
     assert 1 < n < len(full)
@@ -75,6 +75,7 @@ def test_observer_stops_the_run_cleanly(tmp_path):
         assert np.array_equal(getattr(result, name), getattr(full, name)[:n]), name
     stored = sc.Result.load(tmp_path, scene.system)  # the store has every step, stop step too
     assert np.array_equal(stored.q, result.q)
+    assert stored.stats["status"] == "stopped" and stored.stats["stopped"].startswith("tip")
     # ... and the stopped run continues bit for bit to the end
     resumed = sc.simulate(scene.system, resume=resume(tmp_path), **kw)
     for name in FIELDS:
@@ -185,7 +186,8 @@ def test_simulate_module_does_no_io():
         elif isinstance(node, ast.ImportFrom):
             module = "." * node.level + (node.module or "")
             imported.setdefault(module, set()).update(a.name for a in node.names)
-    assert set(imported) <= {"time", "numpy", "..contract", "..result", ".galpha"}, imported
+    assert set(imported) <= {"contextlib", "time", "numpy", "..contract", "..result",
+                             ".galpha"}, imported
     assert imported[".galpha"] <= {"GeneralizedAlpha", "galpha_parameters"}
     assert imported["..result"] <= {"FIELDS", "SETTINGS", "Result", "settings_array",
                                      "step_record"}

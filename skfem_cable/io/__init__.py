@@ -1,36 +1,50 @@
 """The I/O layer: observers that turn the saved steps of ``simulate`` into files and
-progress reports (``docs/observers.md``).
+progress reports (``docs/observers.md``, ``docs/output.md``).
 
-* ``RunStore``: chunked raw results and a checkpoint (``store``); ``resume(path)`` continues
-  an interrupted run, ``load_result(path, system)`` (= ``Result.load``) reads one back;
+* ``RunStore``: the run store (``store``): a Zarr store of the saved steps that xarray
+  reads, a checkpoint and a manifest, committed crash-consistently as the run goes;
+  ``resume(path)`` continues an interrupted run, ``load_result(path, system)`` (=
+  ``Result.load``) and ``open_dataset(path)`` read one back;
+* ``fingerprint(system, settings)``: what a store must match to be read or continued
+  (``fingerprint``); ``signals``: ``SIGTERM`` ends a run like Ctrl-C;
 * ``SeriesObserver``: the ParaView series ``series.pvd`` + ``vtu/`` (``series``);
 * ``ProgressBar``: a progress bar with ETA on stderr (``progress``);
 * ``run_observers``: the standard list for a run directory.
 """
 
+from .fingerprint import fingerprint
+from .manifest import RunExists, StoreCorrupt, StoreError, StoreMismatch
 from .progress import Progress, ProgressBar
 from .series import SeriesObserver
-from .store import Resume, RunStore, load_result, read_run, resume
+from .signals import Terminated
+from .store import DEFAULT_FIELDS, Resume, RunStore, load_result, open_dataset, read_run, resume
 
-__all__ = ["Progress", "ProgressBar", "Resume", "RunStore", "SeriesObserver", "load_result",
-           "read_run", "resume", "run_observers"]
+__all__ = ["DEFAULT_FIELDS", "Progress", "ProgressBar", "Resume", "RunExists", "RunStore",
+           "SeriesObserver", "StoreCorrupt", "StoreError", "StoreMismatch", "Terminated",
+           "fingerprint", "load_result", "open_dataset", "read_run", "resume",
+           "run_observers"]
 
 
 def run_observers(output=None, progress=None, series_every=1, restart=False, chunk=200,
-                  points_per_element=8):
+                  points_per_element=8, fields=None, overwrite=False, source=None,
+                  attrs=None):
     """The standard observers of a run.
 
     Parameters
     ----------
     output : path, optional
-        Run directory: raw results (``RunStore`` with ``chunk``) and the ParaView series
-        (``SeriesObserver`` with ``series_every`` and ``points_per_element``).  None: no
-        files.
+        Run directory: the run store (``RunStore`` with ``chunk``, ``fields``,
+        ``overwrite``, ``source``, ``attrs``) and the ParaView series (``SeriesObserver``
+        with ``series_every`` and ``points_per_element``).  None: no files.
     progress : bool, optional
         Progress bar (None: when stderr is a terminal; False: none).
     restart : bool
         The run continues the one in ``output`` (``simulate(resume=resume(output))``):
         the series is continued rather than started afresh.
+    source : path, optional
+        The run continues the one in ``source`` (``simulate(resume=resume(source))``)
+        but is written to ``output``: the store of ``source`` is copied first, so that
+        ``output`` holds the whole run.
 
     Returns
     -------
@@ -44,10 +58,11 @@ def run_observers(output=None, progress=None, series_every=1, restart=False, chu
     """
     observers = []
     if output is not None:
-        observers.append(RunStore(output, chunk))
+        observers.append(RunStore(output, chunk, fields=fields, overwrite=overwrite,
+                                  source=source, attrs=attrs))
         observers.append(SeriesObserver(output, every=series_every,
                                         points_per_element=points_per_element,
-                                        append=restart))
+                                        append=restart or source is not None))
     if progress is not False:
         observers.append(ProgressBar(progress))
     return observers

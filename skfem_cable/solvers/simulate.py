@@ -16,6 +16,7 @@ Examples
 ...                     observers=sc.io.run_observers("runs/a", restart=True))
 """
 
+import contextlib
 import time
 
 import numpy as np
@@ -40,7 +41,9 @@ class SimulationError(RuntimeError):
 class _Recorder(Observer):
     """Keeps the saved steps in memory (the returned ``Result``)."""
 
-    def __init__(self, records=None):
+    def __init__(self, system, records=None):
+        n, n_c = system.n_dofs, system.n_constraints
+        self.shapes = {"q": (0, n), "v": (0, n), "a": (0, n), "lam": (0, n_c)}
         self.records = {name: [] for name in FIELDS}
         if records is not None:
             for name in FIELDS:
@@ -52,7 +55,8 @@ class _Recorder(Observer):
             self.records[name].append(values[name])
 
     def arrays(self):
-        return {name: np.asarray(self.records[name]) for name in FIELDS}
+        return {name: np.asarray(self.records[name]) if self.records[name]
+                else np.zeros(self.shapes.get(name, (0,))) for name in FIELDS}
 
 
 def _initial_arrays(system, initial):
@@ -186,12 +190,12 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         integ.restore(snap)
         integ.stats.update({k: int(snap["stat_" + k]) for k in integ.stats})
         start_index = int(snap["index"])
-        recorder = _Recorder(resume.records)
+        recorder = _Recorder(system, resume.records)
     else:
         q, v = _initial_arrays(system, initial)
         integ.initialize(q, v, t_start)
         start_index = 0
-        recorder = _Recorder()
+        recorder = _Recorder(system)
     everyone = [recorder, *observers]
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
     wall0 = time.perf_counter()
@@ -234,7 +238,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
                 stop = save(i)
         run.stop_reason = stop
     except BaseException as err:
-        if isinstance(err, SimulationError):
+        # whatever stopped the run, the steps computed so far travel with the error
+        with contextlib.suppress(Exception):
             err.result = Result(system, recorder.arrays(), _stats(integ, wall0))
         _finish(started, run, err)
         raise

@@ -1,0 +1,127 @@
+"""Crash-safe files: every file of a run store is written to a temporary name in its final
+folder, flushed to the disk (``fsync``) and renamed over its final name, so that a reader
+sees either the old or the new content, never a part of it, whatever stops the writer
+(``SIGKILL``, a full disk, a power cut after the rename).
+
+``write_atomic`` writes one file; ``AtomicStore`` is the Zarr ``LocalStore`` whose every
+object (chunk or metadata) is written by ``write_atomic``; ``remove_temporaries`` removes
+what a killed writer left behind.  All bytes pass through ``_write``: the tests make it
+raise ``OSError(ENOSPC)`` to play a full disk.
+"""
+
+import os
+import uuid
+from pathlib import Path
+
+#: Part of the name of every temporary file (``NAME.tmp-<random>``).
+TMP_MARK = ".tmp-"
+
+#: What Zarr's own ``LocalStore`` names its temporary files (``NAME.<hex>.partial``).
+ZARR_PARTIAL = ".partial"
+
+
+def _write(f, data):
+    """Write ``data`` to the open binary file ``f``: the only place bytes of a run store
+    reach a file (a test replaces it to simulate a full disk)."""
+    f.write(data)
+
+
+def _fsync_dir(path):
+    try:
+        fd = os.open(path, os.O_RDONLY)
+    except OSError:  # not possible on some systems (Windows): the rename is enough there
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def write_atomic(path, data, exclusive=False):
+    """Write ``data`` (bytes-like) into ``path`` atomically and durably: a temporary file
+    in the same folder, ``fsync``, rename, ``fsync`` of the folder.  Whatever interrupts
+    it (an exception, ``KeyboardInterrupt``), the temporary file is removed and ``path``
+    keeps its old content.  ``exclusive``: leave an existing ``path`` alone."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if exclusive and path.exists():
+        return
+    tmp = path.with_name(f"{path.name}{TMP_MARK}{uuid.uuid4().hex[:12]}")
+    try:
+        with open(tmp, "wb") as f:
+            _write(f, data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            pass
+        raise
+    _fsync_dir(path.parent)
+
+
+def is_temporary(path):
+    """True for a temporary file of ``write_atomic`` or of Zarr's ``LocalStore``."""
+    name = Path(path).name
+    return TMP_MARK in name or name.endswith(ZARR_PARTIAL)
+
+
+def remove_temporaries(folder):
+    """Remove the temporary files that a killed writer left in ``folder`` (recursively);
+    returns their number."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        return 0
+    count = 0
+    for p in folder.rglob("*"):
+        if p.is_file() and is_temporary(p):
+            p.unlink(missing_ok=True)
+            count += 1
+    return count
+
+
+_STORE_CLASS = None
+
+
+def atomic_store(root, read_only=False):
+    """A Zarr store on the folder ``root`` whose writes go through ``write_atomic``
+    (zarr is imported on first use)."""
+    global _STORE_CLASS
+    if _STORE_CLASS is None:
+        _STORE_CLASS = _define_store()
+    return _STORE_CLASS(root, read_only=read_only)
+
+
+def _define_store():
+    import asyncio
+
+    from zarr.storage import LocalStore
+
+    class AtomicStore(LocalStore):
+        """``zarr.storage.LocalStore`` writing every object with ``write_atomic`` (its own
+        writes are atomic too, but neither durable nor cleaned up after
+        ``KeyboardInterrupt``)."""
+
+        def _put(self, key, value, exclusive=False):
+            self._check_writable()
+            write_atomic(self.root / key, value.as_buffer_like(), exclusive=exclusive)
+
+        async def set(self, key, value):
+            if not self._is_open:
+                await self._open()
+            await asyncio.to_thread(self._put, key, value)
+
+        async def set_if_not_exists(self, key, value):
+            if not self._is_open:
+                await self._open()
+            await asyncio.to_thread(self._put, key, value, True)
+
+        def set_sync(self, key, value):
+            self._ensure_open_sync()
+            self._put(key, value)
+
+    return AtomicStore

@@ -1,0 +1,231 @@
+"""The fingerprint of a run: a hash of what defines its equations and its time steps, so
+that a run directory is continued or read back only with the system that wrote it.
+
+``fingerprint(system, settings)`` hashes
+
+* every body: class, name, ``n_dofs``, ``q0``, section fields, kind, mesh nodes;
+* the mass matrix (point masses included);
+* every constraint: class, name, ``n_eq``, labels, global coordinates (``dofs``) and its
+  parameters (Jacobian, offsets, prescribed motions);
+* every load: class and parameters;
+* the solver settings of ``simulate`` (``run.settings``) but ``t_end`` and ``n_steps``, which
+  a continued run may change.
+
+Parameters are described recursively (numbers exactly, arrays by their bytes, bodies by
+their index in the system, nodes by body and index); a function by its qualified name and
+its byte code.  Values a function captures in a closure or reads from globals are not
+seen: change them and the fingerprint stays the same.
+
+The hash is SHA-256 of a canonical JSON text: the same in every process and on every
+machine with the same code.
+"""
+
+import dataclasses
+import hashlib
+import json
+import re
+import types
+
+import numpy as np
+
+#: Settings a continued run may change (not in the fingerprint).
+FREE_SETTINGS = ("t_end", "n_steps")
+
+#: Depth to which the attributes of parameters are described.
+MAX_DEPTH = 6
+
+_ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+")
+
+
+def _digest(data):
+    return hashlib.sha256(data).hexdigest()
+
+
+def _array(a):
+    a = np.ascontiguousarray(a)
+    if a.dtype.hasobject:
+        return {"array": [_plain(x) for x in a.ravel().tolist()], "shape": list(a.shape)}
+    return {"dtype": a.dtype.str, "shape": list(a.shape), "sha256": _digest(a.tobytes())}
+
+
+def _plain(x):
+    if isinstance(x, float):
+        return {"float": x.hex()}
+    if isinstance(x, (str, int, bool)) or x is None:
+        return x
+    return {"class": _qualname(type(x))}
+
+
+def _qualname(cls):
+    return f"{getattr(cls, '__module__', '?')}.{getattr(cls, '__qualname__', repr(cls))}"
+
+
+def _code(code):
+    """Byte code, constants and names of a code object (recursively), without addresses
+    or line numbers."""
+    consts = []
+    for c in code.co_consts:
+        if isinstance(c, types.CodeType):
+            consts.append(_code(c))
+        elif isinstance(c, frozenset):
+            consts.append(sorted(repr(x) for x in c))
+        else:
+            consts.append(_ADDRESS.sub("", repr(c)))
+    return {"code": code.co_code.hex(), "consts": consts, "names": list(code.co_names),
+            "varnames": list(code.co_varnames)}
+
+
+class _Describer:
+    """Turns parameters into canonical JSON values."""
+
+    def __init__(self, system=None):
+        bodies = () if system is None else system.bodies
+        self.bodies = {id(b): k for k, b in enumerate(bodies)}
+        self.system = system
+
+    def __call__(self, obj, depth=0, path=()):
+        if obj is None or isinstance(obj, (bool, str)):
+            return obj
+        if isinstance(obj, (int, np.integer)):
+            return int(obj)
+        if isinstance(obj, (float, np.floating)):
+            return {"float": float(obj).hex()}
+        if isinstance(obj, (complex, np.complexfloating)):
+            return {"complex": [float(obj.real).hex(), float(obj.imag).hex()]}
+        if isinstance(obj, np.ndarray):
+            return _array(obj)
+        if id(obj) in self.bodies:
+            return {"body": self.bodies[id(obj)]}
+        if obj is not None and obj is self.system:
+            return {"system": True}
+        if id(obj) in path or depth > MAX_DEPTH:
+            return {"class": _qualname(type(obj))}
+        path = path + (id(obj),)
+        down = depth + 1
+        if isinstance(obj, (list, tuple)):
+            return [self(x, down, path) for x in obj]
+        if isinstance(obj, (set, frozenset)):
+            items = [self(x, down, path) for x in obj]
+            return sorted(items, key=lambda x: json.dumps(x, sort_keys=True))
+        if isinstance(obj, dict):
+            return {str(k): self(v, down, path) for k, v in sorted(obj.items(),
+                                                                   key=lambda kv: str(kv[0]))}
+        if hasattr(obj, "py_func"):  # a numba dispatcher
+            return self(obj.py_func, depth, path)
+        if isinstance(obj, types.MethodType):
+            return {"method": self(obj.__func__, down, path),
+                    "self": self(obj.__self__, down, path)}
+        if isinstance(obj, (types.FunctionType, types.BuiltinFunctionType)):
+            out = {"function": _qualname(obj)}
+            if isinstance(obj, types.FunctionType):
+                out.update(_code(obj.__code__))
+                out["defaults"] = self(obj.__defaults__, down, path)
+            return out
+        if hasattr(obj, "func") and hasattr(obj, "args") and hasattr(obj, "keywords"):
+            return {"partial": self(obj.func, down, path), "args": self(obj.args, down, path),
+                    "keywords": self(obj.keywords, down, path)}
+        if isinstance(obj, type):
+            return {"type": _qualname(obj)}
+        return {"class": _qualname(type(obj)), "attrs": self(_attributes(obj), down, path)}
+
+
+def _attributes(obj):
+    """The public and private data attributes of ``obj`` (``__dict__`` and ``__slots__``),
+    or its representation when it has none (without memory addresses)."""
+    if dataclasses.is_dataclass(obj):
+        return {f.name: getattr(obj, f.name, None) for f in dataclasses.fields(obj)}
+    attrs = dict(getattr(obj, "__dict__", {}))
+    for cls in type(obj).__mro__:
+        for name in getattr(cls, "__slots__", ()):
+            if isinstance(name, str) and hasattr(obj, name) and name not in attrs:
+                attrs[name] = getattr(obj, name)
+    if not attrs:
+        return _ADDRESS.sub("", repr(obj))
+    return attrs
+
+
+def describe_system(system):
+    """The canonical description of ``system`` that its fingerprint hashes (a JSON-able
+    dict)."""
+    d = _Describer(system)
+    bodies = []
+    for body in system.bodies:
+        entry = {"class": _qualname(type(body)), "name": getattr(body, "name", None),
+                 "n_dofs": int(body.n_dofs), "q0": _array(np.asarray(body.q0, dtype=float))}
+        section = getattr(body, "section", None)
+        if section is not None:
+            entry["section"] = d(section, 1)
+        for attr in ("kind", "intorder", "mass", "center_of_mass", "inertia"):
+            if hasattr(body, attr) and not callable(getattr(body, attr)):
+                entry[attr] = d(getattr(body, attr), 1)
+        mesh = getattr(body, "mesh", None)
+        if mesh is not None and hasattr(mesh, "p"):
+            entry["mesh"] = {"p": _array(mesh.p), "t": _array(mesh.t)}
+        bodies.append(entry)
+    M = system.mass_matrix().tocsr()
+    M.sort_indices()
+    constraints = []
+    for c in system.constraints:
+        constraints.append({"class": _qualname(type(c)), "name": getattr(c, "name", None),
+                            "n_eq": int(c.n_eq), "labels": d(list(getattr(c, "labels", [])), 1),
+                            "dofs": _array(np.asarray(c.dofs(system))),
+                            "parameters": d(_attributes(c), 1)})
+    loads = [{"class": _qualname(type(load)), "parameters": d(_attributes(load), 1)}
+             for load in system.loads]
+    masses = [{"class": _qualname(type(m)), "parameters": d(_attributes(m), 1)}
+              for m in system.point_masses]
+    return {"n_dofs": int(system.n_dofs), "bodies": bodies,
+            "mass_matrix": {"data": _array(M.data), "indices": _array(M.indices),
+                            "indptr": _array(M.indptr)},
+            "constraints": constraints, "loads": loads, "point_masses": masses}
+
+
+def _settings(settings):
+    d = _Describer()
+    return {k: d(v) for k, v in sorted(settings.items()) if k not in FREE_SETTINGS}
+
+
+def _hash(value):
+    return _digest(json.dumps(value, sort_keys=True, separators=(",", ":")).encode())
+
+
+def system_fingerprint(system):
+    """SHA-256 (hex) of ``describe_system(system)``."""
+    return _hash(describe_system(system))
+
+
+def settings_fingerprint(settings):
+    """SHA-256 (hex) of the solver settings (``run.settings``) but ``t_end``/``n_steps``."""
+    return _hash(_settings(settings))
+
+
+def fingerprint(system, settings=None):
+    """The fingerprint of a run: SHA-256 (hex) of the system (``system_fingerprint``) and,
+    when given, of the solver settings ``settings`` (``run.settings``, without ``t_end``
+    and ``n_steps``).
+
+    Examples
+    --------
+    >>> from skfem_cable.scenes import classics
+    >>> a = fingerprint(classics.pendulum(n_elements=4).system)
+    >>> a == fingerprint(classics.pendulum(n_elements=4).system)
+    True
+    >>> a == fingerprint(classics.pendulum(n_elements=5).system)
+    False
+    """
+    parts = {"system": system_fingerprint(system)}
+    if settings is not None:
+        parts["settings"] = settings_fingerprint(settings)
+    return _hash(parts)
+
+
+def outline(system):
+    """A short readable description of ``system`` for error messages: bodies with their
+    sizes, constraint equations, loads."""
+    bodies = ", ".join(f"{getattr(b, 'name', '?')} ({type(b).__name__}, {b.n_dofs} dofs)"
+                       for b in system.bodies[:4])
+    if len(system.bodies) > 4:
+        bodies += f", ... ({len(system.bodies)} bodies)"
+    loads = ", ".join(sorted({type(x).__name__ for x in system.loads})) or "none"
+    return (f"{system.n_dofs} dofs: {bodies}; {system.n_constraints} constraint equations; "
+            f"loads: {loads}; {len(system.point_masses)} point masses")

@@ -1,0 +1,84 @@
+"""The manifest of a run directory, ``manifest.json``: what the store holds, written
+(atomically) after the data it describes, so that it is the commit record of the store.
+
+Keys: ``format`` and ``version``; ``fingerprint`` (``system``, ``settings``, ``run``: see
+``io.fingerprint``); ``system`` (a readable outline); ``settings`` (``run.settings`` of the
+last session); ``fields`` (the stored variables); ``saved`` (number of committed saved
+steps), ``first``/``last`` (index and time of the first and last of them); ``checkpoint``
+(``file``, ``index``, ``t``, ``sha256``, ``bytes``, or None before the first commit);
+``status`` (``running``, ``complete``, ``stopped``, ``interrupted``, ``failed``) with a
+``message``; ``attrs`` (scene parameters); ``commits`` and ``updated``.
+
+A reader trusts the store up to ``saved`` steps only: whatever a writer killed in the
+middle of a commit added beyond is ignored (and overwritten when the run continues).
+"""
+
+import json
+import time
+from pathlib import Path
+
+from .atomic import write_atomic
+
+#: File name of the manifest in a run directory.
+MANIFEST = "manifest.json"
+
+FORMAT = "skfem_cable run store"
+VERSION = 1
+
+
+class StoreError(ValueError):
+    """A run directory cannot be used as asked (its message says why and what to do)."""
+
+
+class StoreCorrupt(StoreError):
+    """A file of a run directory is truncated or corrupt; ``path`` names it."""
+
+    def __init__(self, message, path=None):
+        super().__init__(message)
+        self.path = None if path is None else Path(path)
+
+
+class StoreMismatch(StoreError):
+    """A run directory was written by another system or with other solver settings."""
+
+
+class RunExists(StoreError):
+    """The output directory already holds another run."""
+
+
+def manifest_path(run_dir):
+    return Path(run_dir) / MANIFEST
+
+
+def read_manifest(run_dir):
+    """The manifest of ``run_dir`` (a dict), or None when there is none; ``StoreCorrupt``
+    when it cannot be read."""
+    path = manifest_path(run_dir)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        return None
+    except (OSError, UnicodeDecodeError) as err:
+        raise StoreCorrupt(f"{path} cannot be read ({err}): the run directory cannot be "
+                           "used; remove it or restore it from a backup", path) from err
+    try:
+        manifest = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise StoreCorrupt(f"{path} is corrupt ({err}); it is written atomically, so it "
+                           "was damaged after the run: restore it from a backup or run "
+                           "again (--overwrite)", path) from err
+    if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
+        raise StoreCorrupt(f"{path} is not the manifest of a skfem_cable run store", path)
+    if manifest.get("version", 0) > VERSION:
+        raise StoreError(f"{path} has store version {manifest['version']}; this "
+                         f"skfem_cable reads version {VERSION}: update skfem_cable")
+    return manifest
+
+
+def write_manifest(run_dir, manifest):
+    """Write ``manifest`` (a dict) as ``run_dir/manifest.json``, atomically and durably."""
+    manifest = dict(manifest, format=FORMAT, version=VERSION,
+                    updated=time.strftime("%Y-%m-%dT%H:%M:%S%z"))
+    text = json.dumps(manifest, indent=1, sort_keys=True, allow_nan=False) + "\n"
+    write_atomic(manifest_path(run_dir), text.encode())
+    return manifest
