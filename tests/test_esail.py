@@ -166,7 +166,7 @@ def test_esail_scene_of_the_command_line_fills_a_run_directory(tmp_path):
     from skfem_cable.scenes import catalog
 
     summary = catalog.run_scene("esail", RunOptions(out=tmp_path, t_end=30.0, elements=2,
-                                                    alpha=10.0, progress=False))
+                                                    alpha=10.0, every=10, progress=False))
     outputs = summary["outputs"]
     assert outputs["thrust_angle_mean_deg"] == pytest.approx(4.96, abs=0.02)
     saved = np.load(tmp_path / "esail_outputs.npz")
