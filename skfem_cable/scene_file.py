@@ -207,7 +207,9 @@ class _Builder:
             t.fail("section", f"names no section (defined: {', '.join(self.sections) or 'none'})",
                    section)
         start, end = t.get("start", vector3), t.get("end", vector3)
-        if np.allclose(start, end):
+        # relative to the coordinates: a cable far from the origin is no special case
+        if not np.linalg.norm(end - start) > 1e-12 * max(np.abs(start).max(),
+                                                         np.abs(end).max(), 1.0):
             t.fail("end", "must differ from start", list(end))
         n = t.get("elements", count, self.elements)
         if n is None:

@@ -603,3 +603,32 @@ def test_bad_voltage_names_the_tether():
 def test_a_cable_too_large_for_memory_is_refused_with_the_estimate():
     with pytest.raises(ValueError, match=r"n_elements = 10000000000: .* needs about 2\.5e\+05"):
         sc.Cable.straight([0, 0, 0], [1, 0, 0], 10**10, sc.Section.circular(1e-3, 2e11, 7850))
+
+
+def test_scene_file_cable_far_from_the_origin():
+    """A 5 m cable 1000 km from the origin is a cable (an absolute tolerance used to call
+    its ends equal); equal ends are still refused, naming the key."""
+    from skfem_cable import scene_file
+
+    text = """
+[solver]
+analysis = "dynamic"
+t_end = 0.01
+dt = 1e-3
+
+[sections.wire]
+E = 2e11
+rho = 7850.0
+radius = 5e-4
+
+[[cables]]
+name = "far"
+section = "wire"
+start = [1e6, 0, 0]
+end = [{end}, 0, 0]
+elements = 2
+"""
+    spec = scene_file.loads_text(text.format(end="1000005.0"))
+    assert spec.system.bodies[0].length == pytest.approx(5.0, rel=1e-12)
+    with pytest.raises(scene_file.SceneFileError, match="end"):
+        scene_file.loads_text(text.format(end="1e6"))
