@@ -32,6 +32,7 @@ from . import export, plot
 from .io import RunExists, StoreError, StoreMismatch, run_observers
 from .io import resume as resume_run
 from .io.atomic import is_temporary
+from .io.jsonable import jsonable
 from .io.store import STORE, remove_store, run_info, store_files
 from .solvers.simulate import simulate
 
@@ -67,24 +68,6 @@ class RunOptions:
         """The option ``name``, or ``default`` when it was not given."""
         value = getattr(self, name)
         return default if value is None else value
-
-
-def jsonable(obj):
-    """``obj`` with numpy scalars and arrays turned into Python numbers and lists, and
-    paths into strings (non-finite floats become ``None``)."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return jsonable(obj.tolist())
-    if isinstance(obj, Path):
-        return str(obj)
-    if isinstance(obj, (np.integer, np.bool_)):
-        return obj.item()
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if np.isfinite(obj) else None
-    return obj
 
 
 def write_summary(out, summary):

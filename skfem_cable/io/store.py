@@ -51,6 +51,7 @@ from ..result import ENERGIES, FIELDS, Result, settings_array, step_record
 from . import signals
 from .atomic import atomic_store, is_temporary, remove_temporaries, write_atomic
 from .fingerprint import outline, settings_fingerprint, system_fingerprint
+from .jsonable import jsonable
 from .manifest import (
     MANIFEST,
     RunExists,
@@ -98,24 +99,6 @@ def chunk_name(k):
 def checkpoint_name(index):
     """File name of the checkpoint at step ``index``."""
     return f"checkpoint_{int(index):08d}.npz"
-
-
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, Path):
-        return str(obj)
-    if isinstance(obj, (np.integer, np.bool_)):
-        return obj.item()
-    if isinstance(obj, (float, np.floating)):
-        return float(obj) if np.isfinite(obj) else None
-    if obj is None or isinstance(obj, (str, int, bool)):
-        return obj
-    return repr(obj)
 
 
 def check_fields(fields):
@@ -491,7 +474,7 @@ class RunStore(Observer):
         fp = {"system": system_fingerprint(run.system),
               "settings": settings_fingerprint(run.settings)}
         fp["run"] = hashlib.sha256((fp["system"] + fp["settings"]).encode()).hexdigest()
-        settings = _jsonable(run.settings)
+        settings = jsonable(run.settings)
         if run.resumed:
             manifest = self._existing(run)
             check_fingerprint(self.path, manifest, run.system, run.settings)
@@ -527,10 +510,10 @@ class RunStore(Observer):
                     "fields": list(self.fields), "variables": list(self.variables),
                     "store": STORE, "chunk": self.chunk, "saved": 0, "first": None,
                     "last": None, "checkpoint": None, "status": "running", "message": None,
-                    "attrs": _jsonable(self.attrs), "commits": 0,
+                    "attrs": jsonable(self.attrs), "commits": 0,
                     "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         self.manifest = write_manifest(self.path, manifest)
-        attrs = {"title": "skfem_cable run", **_jsonable(self.attrs),
+        attrs = {"title": "skfem_cable run", **jsonable(self.attrs),
                  "settings": settings, "fingerprint": fp, **_layout(run.system)}
         self._arrays = _sync(_create_group(self.root, run.system, self.variables, self.chunk,
                                            attrs))
@@ -614,7 +597,7 @@ def check_fingerprint(path, manifest, system, settings=None):
             + ": load or continue it with the system that wrote it (or write a new run)")
     if settings is not None and fp.get("settings") != settings_fingerprint(settings):
         stored = manifest.get("settings") or {}
-        given = _jsonable(settings)
+        given = jsonable(settings)
         differ = [k for k in sorted(set(stored) | set(given))
                   if k not in ("t_end", "n_steps") and stored.get(k) != given.get(k)]
         details = ", ".join(f"{k}: stored {stored.get(k)!r}, given {given.get(k)!r}"
