@@ -108,6 +108,21 @@ def run_outputs(result):
     return out
 
 
+#: Drift of the energy balance, relative to the energy content, above which a run's
+#: summary warns: the time step dissipated (or, within the guard, created) that much.
+BALANCE_WARNING = 0.02
+
+
+def run_warnings(summary):
+    """Warnings about a finished dynamic run that its numbers alone would not show."""
+    drift = summary["outputs"]["energy"]["max_abs_balance_relative"]
+    if drift > BALANCE_WARNING:
+        return [f"the energy balance drifted by {100 * drift:.3g} % of the energy content: "
+                "the time step dissipates numerically (rho_inf < 1) or resolves the motion "
+                "poorly; results may be far from the converged ones: reduce dt"]
+    return []
+
+
 def _warn(message):
     print(f"skfem-cable: {message}", file=sys.stderr)
 
@@ -319,6 +334,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
                "outputs": run_outputs(result)}
     if outputs is not None:
         summary["outputs"].update(outputs(result))
+    summary["warnings"] = run_warnings(summary)
+    for warning in summary["warnings"]:
+        _warn(warning)
     if out is not None:
         summary["store"] = store_summary(out)
         files = {"store": STORE, "manifest": "manifest.json",

@@ -632,3 +632,11 @@ elements = 2
     assert spec.system.bodies[0].length == pytest.approx(5.0, rel=1e-12)
     with pytest.raises(scene_file.SceneFileError, match="end"):
         scene_file.loads_text(text.format(end="1e6"))
+
+
+def test_heavy_numerical_dissipation_is_reported(capsys):
+    """The guard stops growth, not numerical dissipation: a run that lost half its energy
+    to a coarse step says so on stderr and in the summary's warnings."""
+    rc = cli.main(["run", "spinning-tether", "--dt", "0.5", "--t-end", "2", "--no-plots"])
+    assert rc == 0
+    assert "the energy balance drifted by 47.9 %" in capsys.readouterr().err
