@@ -171,6 +171,52 @@ def render(system, state, path, points_per_element=8, window_size=(1024, 768), c
     return img
 
 
+def render_mesh(mesh, path, window_size=(1024, 768), clim=None, tube_radius=None,
+                title=None, view="isometric"):
+    """Render a ``meshio.Mesh`` of lines (e.g. ``rodchain.chain_mesh``) as ``render``
+    draws cables: tubes coloured by ``tension`` (point data, or cell data averaged to the
+    points) with its colour bar.  Cells without the cell data ``part`` are drawn as
+    cables.  ``view``: ``"isometric"`` (the camera of ``render``), or ``"xy"``, ``"xz"``,
+    ``"yz"`` (looking along the third axis, for planar motions).  Other arguments and the
+    return value as ``render``."""
+    views = ("isometric", "xy", "xz", "yz")
+    if view not in views:
+        raise ValueError(f"view must be one of {views}, got {view!r}")
+    use_egl_without_display()
+    import pyvista as pv
+
+    grid = pv.from_meshio(mesh)
+    if "tension" not in grid.point_data:
+        grid = grid.cell_data_to_point_data(pass_cell_data=True)
+    if "part" not in grid.cell_data:
+        grid.cell_data["part"] = np.full(grid.n_cells, export.PART_CABLE, dtype=np.int32)
+    r = _Renderer([grid], window_size, clim, tube_radius)
+    try:
+        if view != "isometric":
+            getattr(r.plotter, f"view_{view}")()
+            _fit_left_of_colour_bar(r.plotter, grid.bounds)
+        r.draw(grid, title)
+        img = r.image()
+    finally:
+        r.close()
+    _save_png(path, img)
+    return img
+
+
+def _fit_left_of_colour_bar(plotter, bounds, room=0.3):
+    """Fit the camera (direction kept) to ``bounds`` widened by ``room`` times their
+    on-screen width to the right, so that the colour bar at the right edge covers
+    nothing, with a margin all round."""
+    cam = plotter.camera
+    d = np.subtract(cam.focal_point, cam.position)
+    right = np.cross(d / np.linalg.norm(d), cam.up)
+    lo, hi = np.array(bounds[::2]), np.array(bounds[1::2])
+    shift = room * float(np.abs(right) @ (hi - lo)) * right
+    lo, hi = np.minimum(lo, lo + shift), np.maximum(hi, hi + shift)
+    plotter.reset_camera(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
+    cam.zoom(0.9)
+
+
 def _save_png(path, img):
     from PIL import Image
 

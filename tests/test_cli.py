@@ -133,17 +133,6 @@ def test_builtin_scenes_run(tmp_path, capsys):
     assert "root_tension_rigid" in capsys.readouterr().out
 
 
-def test_hanging_chain_scene_runs_the_demo(tmp_path):
-    if not catalog.HANGING_CHAIN_DEMO.is_file():
-        pytest.skip("demos/hanging_chain.py is not in this checkout")
-    rc = cli.main(["run", "hanging-chain", "--elements", "3", "--t-end", "0.05",
-                   "--out", str(tmp_path)])
-    assert rc == 0
-    summary = json.loads((tmp_path / "summary.json").read_text())
-    assert summary["parameters"]["n_rods"] == 3
-    assert summary["outputs"]["max_dev_rigid_rel"] < 1e-3
-
-
 def test_registry_takes_dotted_targets(tmp_path):
     catalog.register("probe-scene", "json:dumps", "a stand-in runner")
     try:

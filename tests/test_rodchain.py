@@ -13,7 +13,10 @@ from scipy.integrate import solve_ivp
 from scipy.linalg import eigh, lu_factor, lu_solve
 from scipy.special import jn_zeros
 
-from skfem_cable.rodchain import RodChain, RodChainDivergence, circular_anchor
+from skfem_cable.rodchain import RodChain, RodChainDivergence, circular_anchor, rk4_step
+from skfem_cable.scenes import hanging_chain as scene
+from skfem_cable.scenes import rigid_chain as reference
+from skfem_cable.scenes import rodchain_studies as studies
 
 G = np.array([0.0, -9.81, 0.0])
 ROOT = Path(__file__).resolve().parents[1]
@@ -27,10 +30,7 @@ def load_demo():
     return module
 
 
-DEMO = load_demo()
-
-
-paper_chain, paper_state = DEMO.paper_chain, DEMO.paper_state
+paper_chain, paper_state = studies.paper_chain, studies.paper_state
 
 
 def random_chain(n, seed, **kwargs):
@@ -303,6 +303,46 @@ def test_paper_energy_experiment_rk4():
     np.testing.assert_allclose(res.joints[:, 1:] - res.joints[:, :-1], res.rods, atol=1e-12)
 
 
+def test_energy_dict_has_the_cable_keys_and_balance_stays_small():
+    """The energy experiment: the dict of the cable ``Result.energy`` (no bending, no
+    dissipation, no work of the conservative loads) and a balance of 1.7e-10 E(0)."""
+    res = paper_chain().simulate(*paper_state(), t_end=5.0, dt=1e-4, gravity=G,
+                                 output_every=10)
+    E = res.energy
+    assert set(E) == {"kinetic", "axial", "bending", "elastic", "potential", "dissipated",
+                      "external_work", "total", "balance"}
+    np.testing.assert_array_equal(E["axial"], E["elastic"])
+    for key in ("bending", "dissipated", "external_work"):
+        assert not E[key].any()
+    np.testing.assert_allclose(E["total"], E["kinetic"] + E["elastic"] + E["potential"],
+                               rtol=1e-15)
+    assert E["balance"][0] == 0
+    assert np.abs(E["balance"]).max() < 1e-9 * abs(E["total"][0])  # measured 1.7e-10
+
+
+def test_line_load_work_closes_the_energy_balance():
+    """A uniform line load and a velocity-dependent callable one (drag) do work: the
+    trapezoidal ``external_work`` over the saved steps closes the balance to second order
+    in the output spacing (measured 2.2e-9 and 2.2e-7 of the work for every step and every
+    10th step)."""
+    chain = paper_chain()
+    q0, v0 = paper_state()
+    w = np.array([0.3, 0.0, 0.1])
+    for every, tol in ((1, 1e-8), (10, 1e-6)):
+        res = chain.simulate(q0, v0, 2.0, 1e-4, gravity=G, line_load=w, output_every=every)
+        work = res.energy["external_work"]
+        assert abs(work[-1]) > 10.0
+        assert np.abs(res.energy["balance"]).max() < tol * np.abs(work).max()
+
+    def drag(t, r, u):
+        return np.broadcast_to(w, r.shape) - 0.05 * u
+
+    res = chain.simulate(q0, v0, 0.2, 1e-4, gravity=G, line_load=drag, output_every=1)
+    work = res.energy["external_work"]
+    assert abs(work[-1]) > 0.1
+    assert np.abs(res.energy["balance"]).max() < 1e-8 * np.abs(work).max()
+
+
 def test_energy_error_converges_at_fifth_order_in_dt():
     chain = paper_chain()
     q0, v0 = paper_state()
@@ -383,8 +423,8 @@ def test_max_frequency_is_highest_axial_eigenfrequency(n):
 
 
 def test_unstable_step_is_rejected_or_stops_with_diagnostic():
-    chain = DEMO.steel_chain(11)
-    q0, v0 = DEMO.release_state(chain)
+    chain = scene.steel_chain(11)
+    q0, v0 = scene.release_state(chain)
     dt = chain.stable_dt()
     with pytest.raises(ValueError, match="exceeds the RK4 stability limit"):
         chain.simulate(q0, v0, 1e-2, 1e-4, gravity=G)  # the paper's step
@@ -406,10 +446,10 @@ def test_adaptive_failure_is_reported():
 
 # --- the steel chain (paper Sect. 3, Figs. 4-5) -------------------------------------------------
 def test_steel_chain_matches_rigid_link_reference():
-    chain = DEMO.steel_chain(11)
-    t, tip = DEMO.free_end_trajectory(11, t_end=1.0)
+    chain = scene.steel_chain(11)
+    t, tip = scene.free_end_trajectory(11, t_end=1.0)
     assert t.shape == (10001,) and tip.shape == (10001, 3)
-    _, rigid = DEMO.rigid_chain_trajectory(chain.masses, chain.lengths, 1.0, 1e-4)
+    _, rigid = reference.rigid_chain_trajectory(chain.masses, chain.lengths, 1.0, 1e-4)
     dev = np.linalg.norm(tip - rigid, axis=1).max() / chain.rest_length
     assert dev < 1e-5  # measured 4.1e-6; the paper's ADAMS check: < 8e-3 m (0.7 %)
     assert np.abs(tip[:, 2]).max() == 0  # planar motion
@@ -422,30 +462,30 @@ def test_stiff_chain_converges_to_rigid_chain_as_inverse_stiffness():
         A = np.pi * 1e-6
         l0 = 1.1 / n
         chain = RodChain.uniform(n, 7801 * A * l0, l0, 207e9 * scale, A)
-        dt = DEMO.rk4_step(chain, 1e-3)
-        res = chain.simulate(*DEMO.release_state(chain), 0.4, dt, gravity=G,
+        dt = rk4_step(chain, 1e-3)
+        res = chain.simulate(*scene.release_state(chain), 0.4, dt, gravity=G,
                              output_every=int(round(1e-3 / dt)))
-        _, rigid = DEMO.rigid_chain_trajectory(chain.masses, chain.lengths, 0.4, 1e-3)
+        _, rigid = reference.rigid_chain_trajectory(chain.masses, chain.lengths, 0.4, 1e-3)
         devs.append(np.linalg.norm(res.free_end - rigid, axis=1).max())
     assert 7 < devs[0] / devs[1] < 13, devs
 
 
 @pytest.mark.slow
 def test_steel_chain_adaptive_agrees_with_rk4():
-    t, rk4 = DEMO.free_end_trajectory(11, t_end=0.1)
-    _, dop = DEMO.free_end_trajectory(11, t_end=0.1, method="DOP853", rtol=1e-10, atol=1e-12)
-    assert np.abs(dop - rk4).max() < 1e-8 * DEMO.STEEL["length"]
+    t, rk4 = scene.free_end_trajectory(11, t_end=0.1)
+    _, dop = scene.free_end_trajectory(11, t_end=0.1, method="DOP853", rtol=1e-10, atol=1e-12)
+    assert np.abs(dop - rk4).max() < 1e-8 * scene.STEEL["length"]
 
 
 def test_demo_runs_reduced():
-    out = DEMO.main(n_rods=4, t_end=0.3)
+    out = load_demo().main(n_rods=4, t_end=0.3)
     assert out["max_dev_rigid_rel"] < 2e-5
     assert out["max_dev_half_step_rel"] < 1e-8
 
 
 # --- small oscillations (validation 4) ------------------------------------------------------------
 def transverse_frequencies(chain, q_eq):
-    return DEMO.transverse_frequencies(chain, q_eq, G)
+    return studies.transverse_frequencies(chain, q_eq, G)
 
 
 def test_single_rod_is_a_compound_pendulum():
@@ -461,7 +501,7 @@ def test_linearised_chain_matches_rigid_link_frequencies():
     chain = paper_chain()  # 2 % static stretch: rigid links of the stretched lengths
     q = chain.static_equilibrium(G)
     w = transverse_frequencies(chain, q)
-    w_rigid = DEMO.rigid_chain_frequencies(chain.masses, np.linalg.norm(q, axis=1), 9.81)
+    w_rigid = reference.rigid_chain_frequencies(chain.masses, np.linalg.norm(q, axis=1), 9.81)
     np.testing.assert_allclose(w, w_rigid, rtol=1e-9)  # measured 5e-14
 
 
@@ -485,7 +525,7 @@ def test_simulated_small_oscillation_has_linear_frequency():
     chain = RodChain.uniform(10, mass=0.1, length=1.0, E=1e11, A=1e-6)
     q_eq = chain.static_equilibrium(G)
     lengths = np.linalg.norm(q_eq, axis=1)
-    H, inertia, moment = DEMO.rigid_chain_matrices(chain.masses, lengths)
+    H, inertia, moment = reference.rigid_chain_matrices(chain.masses, lengths)
     w2, modes = eigh(9.81 * np.diag(moment), H + np.diag(inertia))
     for k in (0, 1):
         theta = 1e-3 * modes[:, k] / np.abs(modes[:, k]).max()
@@ -608,3 +648,7 @@ def test_moving_anchor_energy_balance():
     dE = res.energy["total"] - res.energy["total"][0]
     assert np.abs(dE).max() > 0.1  # energy is pumped in and out
     assert np.abs(dE - work).max() < 1e-6 * np.abs(dE).max()
+    # the result books the same work (with the momentum balance for F_0)
+    np.testing.assert_allclose(res.energy["external_work"], work, rtol=0,
+                               atol=1e-10 * np.abs(work).max())
+    assert np.abs(res.energy["balance"]).max() < 1e-6 * np.abs(dE).max()

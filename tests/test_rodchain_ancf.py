@@ -3,16 +3,10 @@
 agree as both are refined; the ANCF cable adds the wire's bending stiffness
 (EI / (rho A g L^3) = 0.51), which changes the motion at first order."""
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-spec = importlib.util.spec_from_file_location(
-    "hanging_chain", Path(__file__).parents[1] / "demos" / "hanging_chain.py")
-hanging_chain = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(hanging_chain)
+from skfem_cable.scenes import hanging_chain, rodchain_studies
 
 
 @pytest.mark.slow
@@ -20,8 +14,8 @@ def test_ancf_truss_and_rod_chain_agree_when_refined():
     """Measured over 0.4 s (before the whip): 11 elements vs 11 rods 1.3e-2 L, 44 vs 44
     4.2e-4 L; over 1 s 2.8e-2 and 9.3e-3 L (the 11-rod chain is itself 3.6e-2 L from the
     88-rod one near the whip); the ANCF cable differs by 0.17 L."""
-    d = hanging_chain.ancf_comparison(cases=(("truss", 11, 11), ("truss", 44, 44),
-                                             ("cable", 44, 44)), t_end=0.4, windows=(0.4,))
+    d = rodchain_studies.ancf_comparison(cases=(("truss", 11, 11), ("truss", 44, 44),
+                                                ("cable", 44, 44)), t_end=0.4, windows=(0.4,))
     coarse, fine, cable = d[("truss", 11, 11)][0], d[("truss", 44, 44)][0], d[("cable", 44, 44)][0]
     assert fine < 1e-3
     assert fine < 0.1 * coarse
@@ -31,5 +25,5 @@ def test_ancf_truss_and_rod_chain_agree_when_refined():
 def test_ancf_truss_follows_rod_chain_at_start():
     """First 0.1 s: both fall as one string; 11 elements vs 11 rods within 1e-3 L."""
     t, rods = hanging_chain.free_end_trajectory(11, 0.1, output_dt=1e-4)
-    _, ancf = hanging_chain.ancf_free_end_trajectory("truss", 11, 0.1)
+    _, ancf = rodchain_studies.ancf_free_end_trajectory("truss", 11, 0.1)
     assert np.abs(ancf - rods).max() / hanging_chain.STEEL["length"] < 1e-3

@@ -13,14 +13,13 @@ import or needs optional pieces.  Adding a scene is one call::
 """
 
 import importlib
-import importlib.util
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from ..analytic import elastica_tip_load
-from ..runner import run_dynamic, run_static, write_summary
+from ..runner import run_dynamic, run_static
 from ..solvers.static import solve_static
 from . import classics
 
@@ -115,34 +114,6 @@ def spinning_tether(options):
                        outputs)[0]
 
 
-#: The rod-chain demo run by the ``hanging-chain`` scene (a source checkout's ``demos/``).
-HANGING_CHAIN_DEMO = Path(__file__).resolve().parents[2] / "demos" / "hanging_chain.py"
-
-
-def hanging_chain(options):
-    """The steel rod chain released from horizontal: runs ``main`` of
-    ``demos/hanging_chain.py`` (rod-chain model against a rigid-link reference).
-    ``--elements`` is the number of rods and ``--dt`` the output spacing (the RK4 step
-    follows from the stability limit)."""
-    options.reject("hanging-chain", "alpha", "every")
-    if not HANGING_CHAIN_DEMO.is_file():
-        raise FileNotFoundError(f"the hanging-chain scene runs {HANGING_CHAIN_DEMO}, which "
-                                "is part of a source checkout and was not found")
-    spec = importlib.util.spec_from_file_location("hanging_chain_demo", HANGING_CHAIN_DEMO)
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
-    if not callable(getattr(demo, "main", None)):
-        raise ImportError(f"{HANGING_CHAIN_DEMO} has no main()")
-    parameters = {"n_rods": options.value("elements", 11), "t_end": options.value("t_end", 1.0),
-                  "output_dt": options.value("dt", 1e-4)}
-    summary = {"scene": "hanging-chain", "parameters": parameters,
-               "outputs": demo.main(**parameters)}
-    if options.out is not None:
-        Path(options.out).mkdir(parents=True, exist_ok=True)
-        write_summary(options.out, summary)
-    return summary
-
-
 register("esail", "skfem_cable.scenes.esail:run",
          "E-sail baseline of the paper (12 tethers, 3 spin periods); --alpha sailing angle")
 register("cantilever", cantilever,
@@ -150,5 +121,5 @@ register("cantilever", cantilever,
 register("pendulum", pendulum, "flexible pendulum released from horizontal under gravity")
 register("spinning-tether", spinning_tether,
          "tether with a tip mass spinning at 2 rad/s, root tension against the rigid value")
-register("hanging-chain", hanging_chain,
-         "steel rod chain released from horizontal (runs demos/hanging_chain.py)")
+register("hanging-chain", "skfem_cable.scenes.hanging_chain:run",
+         "steel rod chain released from horizontal, against rigid links")

@@ -1,0 +1,160 @@
+"""ParaView files of a rod chain: its joints as a polyline (one ``line`` cell per rod).
+
+The mesh of a configuration (``chain_mesh``) has the joints ``O_0 .. O_n`` as points with
+the point data ``position``, ``velocity``, ``arc_length`` (reference arc length of the
+joint from the anchor) and ``joint_id``, and one ``line`` cell per rod with the cell data
+``tension`` (N), ``strain`` (engineering strain ``(l - l0) / l0``), ``length`` (current,
+m) and ``rod_id``.  meshio, pyvista and ParaView read it; a series is one ``.vtu`` per
+saved step and a ``.pvd`` collection (``export.write_pvd``), written atomically by the
+low-level writers of ``skfem_cable.export``: ``write_series`` after a run,
+``ChainSeriesObserver`` during one.
+"""
+
+from pathlib import Path
+
+import meshio
+import numpy as np
+
+from ..contract import Observer
+from ..export import _write_atomic, read_pvd, write_pvd
+
+
+def chain_mesh(chain, q, v=None, origin=(0.0, 0.0, 0.0), origin_velocity=(0.0, 0.0, 0.0)):
+    """The chain with rod vectors ``q`` (n, 3), rates ``v`` (None: at rest) and the
+    anchor at ``origin`` moving with ``origin_velocity``, as a ``meshio.Mesh`` (see the
+    module docstring)."""
+    q = np.asarray(q, dtype=float).reshape(chain.n, 3)
+    v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float).reshape(chain.n, 3)
+    points = chain.joints(q, origin)
+    n = chain.n
+    lines = np.column_stack([np.arange(n), np.arange(1, n + 1)]).astype(np.int64)
+    point_data = {"position": points, "velocity": chain.joints(v, origin_velocity),
+                  "arc_length": np.concatenate([[0.0], np.cumsum(chain.lengths)]),
+                  "joint_id": np.arange(n + 1, dtype=np.int32)}
+    cell_data = {"tension": [chain.tension(q)], "strain": [chain.strain(q)],
+                 "length": [np.linalg.norm(q, axis=1)],
+                 "rod_id": [np.arange(n, dtype=np.int32)]}
+    return meshio.Mesh(points, [meshio.CellBlock("line", lines)], point_data=point_data,
+                       cell_data=cell_data)
+
+
+def state_mesh(state):
+    """``chain_mesh`` of a ``ChainState`` (``RodChainResult.state(i)``)."""
+    return chain_mesh(state.chain, state.rods, state.rod_velocities, state.origin,
+                      state.origin_velocity)
+
+
+def write_vtu(path, state):
+    """Write one configuration (a ``ChainState``) to ``path`` (``.vtu``), atomically;
+    returns the path."""
+    path = Path(path)
+    _write_atomic(path, state_mesh(state))
+    return path
+
+
+class ChainSeriesWriter:
+    """Writes a rod-chain time series into a run directory: ``vtu/<name>_NNNNNN.vtu`` per
+    step and ``<name>.pvd`` listing them, rewritten after every step (the layout of
+    ``export.SeriesWriter``, so that ParaView opens an interrupted run too).
+
+    Parameters
+    ----------
+    run_dir : path
+        Created if missing.
+    chain : RodChain
+    append : bool
+        Continue the series already in ``run_dir``: its entries are kept up to the first
+        time written again.  Otherwise the series starts afresh.
+    name : str
+        Base name of the files.
+    """
+
+    def __init__(self, run_dir, chain, append=False, name="series"):
+        self.dir = Path(run_dir)
+        (self.dir / "vtu").mkdir(parents=True, exist_ok=True)
+        self.chain = chain
+        self.name = name
+        self.pvd = self.dir / f"{name}.pvd"
+        self.entries = read_pvd(self.pvd) if append and self.pvd.exists() else []
+
+    def write(self, t, q, v=None, origin=(0.0, 0.0, 0.0), origin_velocity=(0.0, 0.0, 0.0)):
+        """Write the configuration at time ``t`` (rod vectors ``q``, (n, 3) or flattened);
+        entries at or after ``t`` are replaced.  Returns the path of the ``.vtu``."""
+        self.entries = [e for e in self.entries if e[0] < t]
+        file = Path("vtu") / f"{self.name}_{len(self.entries):06d}.vtu"
+        _write_atomic(self.dir / file, chain_mesh(self.chain, q, v, origin, origin_velocity))
+        self.entries.append((float(t), file.as_posix()))
+        write_pvd(self.pvd, self.entries)
+        return self.dir / file
+
+    def close(self):
+        """Nothing is held open; kept for symmetry with ``export.SeriesWriter``."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def write_series(result, run_dir, every=1, name="series"):
+    """Write every ``every``-th saved step of a ``RodChainResult`` (and the last) as a VTU
+    series in ``run_dir``.  Returns the ``.pvd`` path."""
+    if isinstance(every, bool) or int(every) != every or every < 1:
+        raise ValueError(f"every must be a positive integer, got {every!r}")
+    indices = list(range(0, len(result), int(every)))
+    if indices[-1] != len(result) - 1:
+        indices.append(len(result) - 1)
+    writer = ChainSeriesWriter(run_dir, result.chain, name=name)
+    for i in indices:
+        s = result.state(i)
+        writer.write(s.t, s.rods, s.rod_velocities, s.origin, s.origin_velocity)
+    writer.close()
+    return writer.pvd
+
+
+class ChainSeriesObserver(Observer):
+    """The ParaView series of a rod-chain run as it goes (``RodChain.simulate(...,
+    observers=[...])``): ``run_dir/series.pvd`` and a ``.vtu`` for every ``every``-th
+    saved step (counted from the initial state) and the last one (also the step at which
+    an observer stopped the run).  The counterpart of ``io.SeriesObserver``."""
+
+    def __init__(self, run_dir, every=1, append=False, name="series"):
+        if isinstance(every, bool) or int(every) != every or every < 1:
+            raise ValueError(f"every must be a positive integer, got {every!r}")
+        self.dir = Path(run_dir)
+        self.every = int(every)
+        self.append = append
+        self.name = name
+        self.writer = None
+        self.last = None
+
+    @property
+    def pvd(self):
+        """Path of the ``.pvd`` collection."""
+        return self.dir / f"{self.name}.pvd"
+
+    def start(self, run):
+        if not self.append:
+            self.pvd.unlink(missing_ok=True)  # a series left by an earlier run
+        self.writer = ChainSeriesWriter(self.dir, run.system, append=self.append,
+                                        name=self.name)
+        self.last = None
+
+    def _write(self, run, t, q, v):
+        r0, u0, _ = run.integrator.anchor(t)
+        self.writer.write(t, q, v, r0, u0)
+
+    def saved(self, run, step):
+        if (step.index // run.settings["every"]) % self.every == 0:
+            self._write(run, step.t, step.q, step.v)
+            self.last = None
+        else:
+            self.last = (step.t, step.q.copy(), step.v.copy())
+
+    def finish(self, run, error):
+        if error is None and self.last is not None:
+            self._write(run, *self.last)
+        self.last = None
+        if self.writer is not None:
+            self.writer.close()

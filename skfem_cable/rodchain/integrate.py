@@ -1,0 +1,336 @@
+"""Time integration of a rod chain (Eq. 21): classical RK4 in compiled blocks (or in
+Python with a callable line load) and the adaptive ``scipy.integrate`` methods, with the
+observers of ``contract.Observer``.
+
+Observers see the run as ANCF runs do: ``start(run)`` with a ``contract.Run`` whose
+``system`` is the chain and whose ``integrator`` is the ``Integration``; ``saved(run,
+step)`` with a ``contract.Step`` at the initial state and every saved step (``q``, ``v``,
+``a``: the rod vectors, their rates and accelerations flattened to ``(3 n,)``; ``lam``
+empty; ``iterations`` 0; ``energies`` with the keys of ``result.ENERGIES``); a true value
+returned by ``saved`` stops the run after that step; ``finish(run, error)`` at the end,
+also after a failure.  The compiled RK4 advances a block of steps per call, so observers
+hear of the saved steps of a block when the block is done (blocks of at most 32768 steps
+and about 4e6 rod-steps, a fraction of a second); the Python RK4 and the adaptive methods
+call them as each saved step is reached.  A stop ends the result at the stop step.  With
+observers every saved step costs one evaluation of the accelerations and of the energies
+(some 30 us for a short chain): save sparsely when the chain is short and the step small.
+"""
+
+import contextlib
+import time
+
+import numpy as np
+from scipy.integrate import DOP853, RK45
+
+from ..contract import Run, Step
+from ..kernels import rodchain as kern
+from ..result import ENERGIES
+from .result import RodChainResult, energies
+
+METHODS = ("rk4", "RK45", "DOP853")
+RK4_STABILITY = 2.0 * np.sqrt(2.0)  # RK4 is stable on the imaginary axis for |h w| <= 2 sqrt 2
+_BLOCK_STEPS = 1 << 15  # RK4 steps per compiled call (bounds the anchor-field table)
+_BLOCK_WORK = 1 << 22  # rod-steps per compiled call (observers hear of every block)
+_ADAPTIVE = {"RK45": RK45, "DOP853": DOP853}
+
+
+def rk4_step(chain, output_dt, safety=0.7):
+    """Largest RK4 step ``output_dt / k`` (integer ``k``) below ``safety *
+    chain.stable_dt()``: saved steps every ``k`` steps fall on the grid ``output_dt``."""
+    return output_dt / np.ceil(output_dt / (safety * chain.stable_dt()))
+
+
+class RodChainDivergence(RuntimeError):
+    """A time integration left the admissible states (non-finite or over-stretched rod).
+
+    Attributes ``t`` (s), ``step`` (index of the failing step, or None for adaptive
+    methods) and ``rod`` (0-based index of the offending rod) locate the failure;
+    ``result`` holds the saved steps before it (a ``RodChainResult``).
+    """
+
+    def __init__(self, message, t, step=None, rod=None):
+        super().__init__(message)
+        self.t = t
+        self.step = step
+        self.rod = rod
+
+
+def divergence(chain, problem, q, t, step, rod, dt):
+    """The ``RodChainDivergence`` of rod ``rod`` in the rod vectors ``q`` at time ``t``."""
+    l = np.linalg.norm(q[rod])
+    msg = (f"rod-chain integration diverged at t = {t:.6g} s"
+           + (f" (step {step}, dt = {dt:g} s)" if step is not None else "")
+           + f": rod {rod} has length {l:.6g} m, rest length {chain.lengths[rod]:.6g} m "
+           f"(admissible: (0, {1 + problem.max_strain:g} l0], finite). "
+           f"RK4 is stable for dt below about {chain.stable_dt():.3g} s.")
+    return RodChainDivergence(msg, t, step, rod)
+
+
+class Integration:
+    """A rod-chain time integration as observers see it (``contract.Run.integrator``).
+
+    Attributes
+    ----------
+    chain : RodChain
+    problem : Problem
+        The loads and the anchor motion.
+    method : str
+    dt : float
+        RK4 step, or the spacing of the output grid of an adaptive method (s).
+    every : int
+        Saved every ``every``-th step (RK4) or grid point.
+    times : ndarray
+        Times of the saved steps.
+    t : float
+        Time of the last state computed; ``q``, ``v`` (n, 3) that state.
+    stats : dict
+        ``method``, ``dt``, ``steps``, ``nfev``, ``saved``; adaptive: ``rtol``, ``atol``.
+    """
+
+    def __init__(self, chain, problem, method, dt, every, times, rtol=None, atol=None):
+        self.chain, self.problem = chain, problem
+        self.method, self.dt, self.every, self.times = method, dt, every, times
+        self.rtol, self.atol = rtol, atol
+        self.t, self.q, self.v = 0.0, None, None
+        self.stats = {"method": method, "dt": dt, "steps": 0, "nfev": 0, "saved": 0}
+        if method != "rk4":
+            self.stats.update(rtol=rtol, atol=atol)
+
+    def anchor(self, t):
+        """Position, velocity and acceleration of the anchor ``O_0`` at time ``t``, (3,)."""
+        return tuple(x[0] for x in self.problem.anchor(np.array([float(t)])))
+
+    def snapshot(self):
+        raise NotImplementedError("a rod-chain run has no checkpoint (io.RunStore is for "
+                                  "System runs)")
+
+    def outputs(self, Q, V):
+        """Fill ``Q[1:], V[1:]`` (saved rod vectors and rates from ``Q[0], V[0]``),
+        yielding the ranges ``(k0, k1)`` of saved steps filled and checked."""
+        if self.method == "rk4":
+            run = self._rk4_python if self.problem.line_callable else self._rk4_compiled
+        else:
+            run = self._adaptive
+        yield from run(Q, V)
+
+    def _count(self, steps, nfev_per_step=4):
+        self.stats["steps"] += steps
+        self.stats["nfev"] += nfev_per_step * steps
+
+    def _rk4_compiled(self, Q, V):
+        c, p, dt, every = self.chain, self.problem, self.dt, self.every
+        nout = Q.shape[0] - 1
+        q, v = Q[0].copy(), V[0].copy()
+        per_block = max(1, min(_BLOCK_STEPS, _BLOCK_WORK // c.n) // every)
+        j = 0
+        while j < nout:
+            m = min(per_block, nout - j)
+            s0, steps = j * every, m * every
+            gtab = np.ascontiguousarray(p.field(dt * (s0 + 0.5 * np.arange(2 * steps + 1))))
+            step, rod = kern.rk4_block(q, v, dt, steps, every, c.masses, c.lengths, c.EA,
+                                       c.compression, c._a, c._b, gtab, p.w, p.tip,
+                                       p.max_strain, Q[j + 1: j + 1 + m], V[j + 1: j + 1 + m])
+            if step >= 0:  # the state after ``step`` steps failed; those before are good
+                self._count(step)
+                self.t, self.q, self.v = (s0 + step) * dt, q, v
+                valid = max(0, (step - 1) // every)
+                if valid:
+                    yield j + 1, j + 1 + valid
+                raise divergence(c, p, q, (s0 + step) * dt, s0 + step, rod, dt)
+            self._count(steps)
+            self.t, self.q, self.v = self.times[j + m], Q[j + m], V[j + m]
+            yield j + 1, j + 1 + m
+            j += m
+
+    def _rk4_python(self, Q, V):
+        """Classical RK4 with the right-hand side evaluated in Python (callable loads)."""
+        c, p, dt, every = self.chain, self.problem, self.dt, self.every
+        nsteps = (Q.shape[0] - 1) * every
+        q, v = Q[0].copy(), V[0].copy()
+        h = 0.5 * dt
+        pending = None  # a saved step is handed out once the next step has checked it
+        for s in range(nsteps):
+            t = s * dt
+            a1, bad = p.acceleration(t, q, v)
+            if bad >= 0:
+                raise divergence(c, p, q, t, s, bad, dt)
+            if pending is not None:
+                yield pending, pending + 1
+                pending = None
+            q2, v2 = q + h * v, v + h * a1
+            a2 = p.acceleration(t + h, q2, v2)[0]
+            q3, v3 = q + h * v2, v + h * a2
+            a3 = p.acceleration(t + h, q3, v3)[0]
+            q4, v4 = q + dt * v3, v + dt * a3
+            a4 = p.acceleration(t + dt, q4, v4)[0]
+            q = q + dt / 6 * (v + 2 * v2 + 2 * v3 + v4)
+            v = v + dt / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+            self._count(1)
+            self.t, self.q, self.v = (s + 1) * dt, q, v
+            if (s + 1) % every == 0:
+                k = (s + 1) // every
+                Q[k], V[k] = q, v
+                self.t = self.times[k]
+                pending = k
+        bad = p.acceleration(nsteps * dt, q, v)[1]
+        if bad >= 0:
+            raise divergence(c, p, q, nsteps * dt, nsteps, bad, dt)
+        if pending is not None:
+            yield pending, pending + 1
+
+    def _adaptive(self, Q, V):
+        """``scipy.integrate.RK45`` / ``DOP853`` stepped as ``solve_ivp`` does, the saved
+        steps from the dense output of the step that reaches them."""
+        c, p, times = self.chain, self.problem, self.times
+        n, n3 = c.n, 3 * c.n
+
+        def rhs(t, y):
+            q = y[:n3].reshape(n, 3)
+            v = y[n3:].reshape(n, 3)
+            return np.concatenate([y[n3:], p.acceleration(t, q, v)[0].ravel()])
+
+        y0 = np.concatenate([Q[0].ravel(), V[0].ravel()])
+        limit = (1 + p.max_strain) * c.lengths
+        with np.errstate(all="ignore"):  # trial stages may overflow; the result is checked
+            solver = _ADAPTIVE[self.method](rhs, 0.0, y0, times[-1], rtol=self.rtol,
+                                            atol=self.atol)
+        k = 1
+        while k < times.size:
+            with np.errstate(all="ignore"):
+                message = solver.step()
+            self.stats["steps"] += 1
+            self.stats["nfev"] = solver.nfev
+            if solver.status == "failed":
+                raise RodChainDivergence(f"{self.method} stopped at t = {solver.t:.6g} s: "
+                                         f"{message}", float(solver.t))
+            k1 = int(np.searchsorted(times, solver.t, side="right"))
+            if solver.status == "finished":
+                k1 = times.size
+            if k1 > k:
+                with np.errstate(all="ignore"):
+                    y = solver.dense_output()(times[k:k1]).T
+                Q[k:k1] = y[:, :n3].reshape(-1, n, 3)
+                V[k:k1] = y[:, n3:].reshape(-1, n, 3)
+                l = np.linalg.norm(Q[k:k1], axis=-1)
+                good = (l > 0) & (l <= limit)
+                ok = np.isfinite(V[k:k1]).all(axis=(1, 2)) & good.all(axis=1)
+                self.t, self.q, self.v = solver.t, Q[k1 - 1], V[k1 - 1]
+                if not ok.all():
+                    bad = k + int(np.argmin(ok))
+                    if bad > k:
+                        yield k, bad
+                    rod = int(np.argmin(good[bad - k]))
+                    raise divergence(c, p, Q[bad], float(times[bad]), None, rod, None)
+                yield k, k1
+                k = k1
+
+
+def _check_observers(observers):
+    observers = list(observers or ())
+    for obs in observers:
+        if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved", "finish")):
+            raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
+    return observers
+
+
+def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=None, atol=None,
+              observers=()):
+    """Integrate ``problem`` from ``q0, v0`` (checked by ``RodChain.simulate``) over
+    ``nsteps`` steps of ``dt`` (RK4) or grid intervals (adaptive), saving every
+    ``every``-th; returns a ``RodChainResult``.  See the module docstring for observers."""
+    observers = _check_observers(observers)
+    times = dt * every * np.arange(nsteps // every + 1)
+    times[-1] = t_end
+    Q = np.empty((times.size, chain.n, 3))
+    V = np.empty_like(Q)
+    Q[0], V[0] = q0, v0
+    power, work = np.zeros(times.size), np.zeros(times.size)
+    integ = Integration(chain, problem, method, dt, every, times, rtol, atol)
+    integ.q, integ.v = Q[0], V[0]
+    settings = {"t_start": 0.0, "t_end": t_end, "dt": dt, "every": every, "method": method,
+                "n_steps": nsteps, "rtol": rtol, "atol": atol,
+                "max_strain": problem.max_strain}
+    run = Run(chain, integ, settings, integ.stats)
+    wall0 = time.perf_counter()
+
+    def book(k0, k1):
+        """The work of the loads without potential up to the saved steps k0..k1-1
+        (trapezoidal rule)."""
+        if problem.does_work:
+            power[k0:k1] = problem.power(times[k0:k1], Q[k0:k1], V[k0:k1])
+            j = max(k0, 1)
+            steps = 0.5 * (power[j:k1] + power[j - 1:k1 - 1]) * np.diff(times[j - 1:k1])
+            work[j:k1] = work[j - 1] + np.cumsum(steps)
+        integ.stats["saved"] = k1
+
+    def notify(k0, k1):
+        """Hand the saved steps k0..k1-1 to the observers: ``(stop message, step)``."""
+        if not observers:
+            return None, None
+        E = energies(chain, problem, times[k0:k1], Q[k0:k1], V[k0:k1], work[k0:k1])
+        for k in range(k0, k1):
+            a = problem.acceleration(times[k], Q[k], V[k])[0]
+            step = Step(k * every, float(times[k]), Q[k].reshape(-1), V[k].reshape(-1),
+                        a.reshape(-1), np.zeros(0), 0,
+                        {name: float(E[name][k - k0]) for name in ENERGIES})
+            stop = None
+            for obs in observers:
+                answer = obs.saved(run, step)
+                if answer and stop is None:
+                    stop = answer if isinstance(answer, str) else f"stopped by {type(obs).__name__}"
+            if stop is not None:
+                return stop, k
+        return None, None
+
+    def result(count, stop=None):
+        stats = dict(integ.stats, saved=count, wall_time=time.perf_counter() - wall0,
+                     stopped=stop)
+        cut = (lambda x: x[:count].copy()) if count < times.size else (lambda x: x)
+        return RodChainResult(chain, problem, cut(times), cut(Q), cut(V), cut(work), stats)
+
+    count, started = 1, []
+    try:
+        for obs in observers:
+            obs.start(run)
+            started.append(obs)
+        book(0, 1)
+        stop, at = notify(0, 1)
+        if stop is None:
+            batches = integ.outputs(Q, V)
+            try:
+                for k0, k1 in batches:
+                    book(k0, k1)
+                    count = k1
+                    stop, at = notify(k0, k1)
+                    if stop is not None:
+                        break
+            finally:
+                batches.close()
+        if stop is not None:
+            count = at + 1
+            integ.t, integ.q, integ.v = float(times[at]), Q[at], V[at]
+            integ.stats["saved"] = count
+        run.stop_reason = stop
+    except BaseException as err:
+        with contextlib.suppress(Exception):  # the saved steps travel with the error
+            err.result = result(count)
+        _finish(started, run, err)
+        raise
+    _finish(started, run, None)
+    return result(count, stop)
+
+
+def _finish(observers, run, error):
+    """``finish`` of every observer, even when one of them fails (as ``simulate``)."""
+    first = None
+    for obs in observers:
+        try:
+            obs.finish(run, error)
+        except Exception as exc:
+            if error is not None:
+                if hasattr(error, "add_note"):
+                    error.add_note(f"{type(obs).__name__}.finish failed too: {exc!r}")
+            elif first is None:
+                first = exc
+    if first is not None:
+        raise first

@@ -1,0 +1,117 @@
+"""The bodies of a scene file: ``[sections.NAME]``, ``[[cables]]``, ``[[rigid_bodies]]``,
+and the references to their points (cable nodes, rigid-body points) that constraints,
+point masses and loads use.  ``Bodies`` holds what was defined so far, by name."""
+
+import numpy as np
+
+from ..cable import Cable
+from ..rigid import RigidBody
+from ..section import Section
+from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
+
+
+class Bodies:
+    """Sections and bodies by name, in the order of the file; ``elements`` overrides the
+    element count of every cable (``--elements``)."""
+
+    def __init__(self, elements=None):
+        self.elements = elements
+        self.sections, self.bodies = {}, {}
+
+    def add(self, t, body):
+        """Register ``body`` read from the table ``t`` (its name must be new)."""
+        if body.name in self.bodies:
+            t.fail("name", "repeats the name of another body", body.name)
+        self.bodies[body.name] = body
+
+    def body(self, t, key, kind):
+        """The body of type ``kind`` named by ``t[key]``."""
+        name = t.get(key, text)
+        body = self.bodies.get(name)
+        if not isinstance(body, kind):
+            names = [n for n, b in self.bodies.items() if isinstance(b, kind)]
+            t.fail(key, f"names no {'cable' if kind is Cable else 'rigid body'} "
+                        f"(defined: {', '.join(names) or 'none'})", name)
+        return body
+
+    def point(self, parent, key, ground=False, body_points=True):
+        """A point reference ``parent[key]``: ``{cable, index}`` (a cable node), ``{body,
+        point}`` (a rigid-body point) or, with ``ground``, a list of 3 numbers."""
+        value = parent.data.get(key)
+        if ground and isinstance(value, list):
+            return parent.get(key, vector3)
+        if not isinstance(value, dict):
+            forms = "{cable = NAME, index = I}" + (", {body = NAME, point = [x, y, z]}"
+                                                   if body_points else "")
+            forms += ", or [x, y, z]" if ground else ""
+            parent.fail(key, f"must be {forms}", value)
+        t = parent.inline(key)
+        if "cable" in value or not body_points:
+            cable = self.body(t, "cable", Cable)
+            index = t.get("index", integer)
+            if not -cable.n_nodes <= index < cable.n_nodes:
+                t.fail("index", f"is out of range for {cable.n_nodes} nodes", index)
+            t.finish()
+            return cable.node(index)
+        body = self.body(t, "body", RigidBody)
+        x = t.get("point", vector3)
+        t.finish()
+        return body.point(x)
+
+
+def read_section(t):
+    """A ``[sections.NAME]`` table: ``E``, ``rho``, ``radius`` or ``A`` and ``I``, damping."""
+    if "A" in t.data or "I" in t.data:
+        radius = None
+        A, I = t.get("A", positive), t.get("I", positive)
+    else:
+        A = I = None
+        radius = t.get("radius", positive)
+    common = {"E": t.get("E", positive), "rho": t.get("rho", positive),
+              "gamma_axial": t.get("gamma_axial", non_negative, 0.0),
+              "gamma_bending": t.get("gamma_bending", non_negative, 0.0)}
+    t.finish()
+    if radius is not None:
+        return Section.circular(radius=radius, **common)
+    return Section(A=A, I=I, **common)
+
+
+def read_sections(t, bodies):
+    """All ``[sections.NAME]`` of the table ``t`` (``[sections]``) into ``bodies``."""
+    for name in list(t.data):
+        bodies.sections[name] = read_section(t.table(name))
+    t.finish()
+
+
+def read_cable(t, bodies):
+    """A ``[[cables]]`` table: a straight, stress-free cable."""
+    name = t.get("name", text)
+    section = t.get("section", text)
+    if section not in bodies.sections:
+        t.fail("section", f"names no section (defined: {', '.join(bodies.sections) or 'none'})",
+               section)
+    start, end = t.get("start", vector3), t.get("end", vector3)
+    # relative to the coordinates: a cable far from the origin is no special case
+    if not np.linalg.norm(end - start) > 1e-12 * max(np.abs(start).max(),
+                                                     np.abs(end).max(), 1.0):
+        t.fail("end", "must differ from start", list(end))
+    n = t.get("elements", count, bodies.elements)
+    if n is None:
+        t.fail("elements", "is required")
+    kind = t.get("kind", choice("cable", "truss"), "cable")
+    t.finish()
+    cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
+                           kind=kind, name=name)
+    bodies.add(t, cable)
+
+
+def read_rigid_body(t, bodies):
+    """A ``[[rigid_bodies]]`` table: a cylinder in natural coordinates."""
+    name = t.get("name", text)
+    t.get("shape", choice("cylinder"), "cylinder")
+    body = RigidBody.cylinder(t.get("radius", positive), t.get("height", positive),
+                              t.get("density", positive),
+                              position=t.get("position", vector3, np.zeros(3)),
+                              rotation=t.get("rotation", rotation, None), name=name)
+    t.finish()
+    bodies.add(t, body)

@@ -1,0 +1,155 @@
+"""The vocabulary of scene files: ``Table`` (a TOML table being read, whose errors name the
+key and whose unknown keys are refused) and the value checks (each returns the converted
+value or raises ``ValueError`` with the expectation, which ``Table.get`` turns into a
+``SceneFileError`` naming the file and the key)."""
+
+import difflib
+import math
+
+import numpy as np
+
+
+class SceneFileError(ValueError):
+    """A scene file that does not follow the schema."""
+
+
+_REQUIRED = object()
+
+
+# --- value checks: each returns the converted value or raises ValueError(expectation) ----------
+def number(v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        raise ValueError("must be a finite number")
+    return float(v)
+
+
+def boolean(v):
+    if not isinstance(v, bool):
+        raise ValueError("must be true or false")
+    return v
+
+
+def positive(v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
+        raise ValueError("must be a number > 0")
+    return float(v)
+
+
+def non_negative(v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
+        raise ValueError("must be a number >= 0")
+    return float(v)
+
+
+def count(v):
+    if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+        raise ValueError("must be an integer >= 1")
+    return v
+
+
+def integer(v):
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise ValueError("must be an integer")
+    return v
+
+
+def vector3(v):
+    if not isinstance(v, list) or len(v) != 3:
+        raise ValueError("must be a list of 3 numbers")
+    return np.array([number(x) for x in v])
+
+
+def matrix3(v):
+    if not isinstance(v, list) or len(v) != 3:
+        raise ValueError("must be a 3 x 3 list of lists of numbers")
+    return np.array([vector3(row) for row in v])
+
+
+def text(v):
+    if not isinstance(v, str) or not v:
+        raise ValueError("must be a non-empty string")
+    return v
+
+
+def choice(*options):
+    def check(v):
+        if v not in options:
+            raise ValueError(f"must be one of {', '.join(map(repr, options))}")
+        return v
+    return check
+
+
+def interval(lo, hi):
+    def check(v):
+        x = number(v)
+        if not lo <= x <= hi:
+            raise ValueError(f"must lie in [{lo}, {hi}]")
+        return x
+    return check
+
+
+class Table:
+    """A TOML table being read: remembers the keys asked for, so that ``finish`` can reject
+    the others, and turns every problem into a ``SceneFileError`` naming the key."""
+
+    def __init__(self, data, where, source):
+        self.data, self.where, self.source = data, where, source
+        self.asked = []
+
+    def name(self, key):
+        return f"{self.where}.{key}" if self.where else key
+
+    def fail(self, key, problem, value=_REQUIRED):
+        got = "" if value is _REQUIRED else f", got {value!r}"
+        raise SceneFileError(f"{self.source}: {self.name(key)} {problem}{got}")
+
+    def has(self, key):
+        self.asked.append(key)
+        return key in self.data
+
+    def get(self, key, check, default=_REQUIRED):
+        if not self.has(key):
+            if default is _REQUIRED:
+                unknown = [k for k in self.data if k not in self.asked]
+                close = difflib.get_close_matches(key, unknown, n=1)
+                self.fail(key, "is required" + (f" (found the unknown key {close[0]!r})"
+                                                if close else ""))
+            return default
+        value = self.data[key]
+        try:
+            return check(value)
+        except ValueError as err:
+            self.fail(key, str(err), value)
+
+    def table(self, key):
+        """The sub-table ``key`` (empty if missing)."""
+        value = self.data.get(key, {}) if self.has(key) else {}
+        if not isinstance(value, dict):
+            self.fail(key, "must be a table", value)
+        return Table(value, self.name(key), self.source)
+
+    def inline(self, key):
+        """The value of ``key``, a table (``{...}``), as a ``Table`` named after the key."""
+        self.asked.append(key)
+        return Table(self.data[key], self.name(key), self.source)
+
+    def tables(self, key):
+        """The array of tables ``[[key]]`` (empty if missing)."""
+        value = self.data.get(key, []) if self.has(key) else []
+        if not isinstance(value, list) or not all(isinstance(v, dict) for v in value):
+            self.fail(key, "must be an array of tables ([[...]])", value)
+        return [Table(v, f"{self.name(key)}[{i}]", self.source) for i, v in enumerate(value)]
+
+    def finish(self):
+        unknown = [k for k in self.data if k not in self.asked]
+        if unknown:
+            allowed = ", ".join(dict.fromkeys(self.asked)) or "none"
+            self.fail(unknown[0], f"is not a known key (allowed here: {allowed})",
+                      self.data[unknown[0]])
+
+
+def rotation(v):
+    R = matrix3(v)
+    if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:
+        raise ValueError("must be a proper rotation matrix (orthonormal rows, det = +1)")
+    return R

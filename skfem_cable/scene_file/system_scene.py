@@ -1,0 +1,71 @@
+"""A scene of cables and rigid bodies (``System``) from a scene file: the tables are read
+in schema order by the readers of ``bodies``, ``constraints``, ``loads`` and ``solver``;
+``run`` simulates (``runner.run_dynamic``) or solves it (``runner.run_static``)."""
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..runner import run_dynamic, run_static
+from ..solvers.static import solve_static
+from ..state import State
+from ..system import System
+from .bodies import Bodies, read_cable, read_rigid_body, read_sections
+from .constraints import read_constraint
+from .loads import read_loads, read_point_mass
+from .schema import text
+from .solver import read_analysis, read_initial, read_output, read_solver
+
+
+@dataclass
+class SceneSpec:
+    """A scene read from a file: ``analysis`` is ``"dynamic"`` (``solver`` holds the
+    ``simulate`` keywords) or ``"static"`` (``solve_static`` keywords)."""
+
+    title: str
+    system: System
+    initial: State
+    analysis: str
+    solver: dict
+    points_per_element: int
+
+
+def build(root, elements=None):
+    """The ``SceneSpec`` of the root table ``root``; ``elements`` overrides every cable's
+    element count."""
+    title = root.get("title", text, "")
+    solver = root.table("solver")
+    analysis = read_analysis(solver)
+    settings = read_solver(solver, analysis)
+    bodies = Bodies(elements)
+    read_sections(root.table("sections"), bodies)
+    for t in root.tables("cables"):
+        read_cable(t, bodies)
+    for t in root.tables("rigid_bodies"):
+        read_rigid_body(t, bodies)
+    if not bodies.bodies:
+        root.fail("cables", "or rigid_bodies must define at least one body")
+    system = System(list(bodies.bodies.values()))
+    for t in root.tables("constraints"):
+        read_constraint(t, bodies, system)
+    for t in root.tables("point_masses"):
+        read_point_mass(t, bodies, system)
+    read_loads(root.table("loads"), bodies, system, analysis)
+    initial = read_initial(root.table("initial"), system, analysis)
+    ppe = read_output(root.table("output"))
+    root.finish()
+    return SceneSpec(title, system, initial, analysis, settings, ppe)
+
+
+def run(path, spec, options):
+    """Run the ``SceneSpec`` read from ``path`` into the run directory ``options.out``;
+    returns the summary."""
+    options.reject(Path(path).name, "alpha")
+    name = Path(path).stem
+    parameters = {"file": str(path), "title": spec.title}
+    if spec.analysis == "dynamic":
+        return run_dynamic(name, spec.system, spec.initial, options, spec.solver, parameters,
+                           points_per_element=spec.points_per_element)[0]
+    options.reject(Path(path).name, "t_end", "dt", "every")
+    state = solve_static(spec.system, **spec.solver)
+    return run_static(name, spec.system, [(1.0, state)], options, {**parameters, **spec.solver},
+                      title=spec.title or name, points_per_element=spec.points_per_element)
