@@ -169,7 +169,8 @@ def run_figures(out, result, animate=False):
 #: removes these and nothing else): exact names and patterns relative to the directory.
 RUN_FILES = (SUMMARY, "series.pvd", "vtu/series_*.vtu", "animation.gif", "animation.mp4",
              "esail_outputs.npz", "plots/energies.png", "plots/cables.png",
-             "plots/tension_psd.png", "plots/final.png", "plots/esail_*.png")
+             "plots/tension_psd.png", "plots/final.png", "plots/chain.png",
+             "plots/esail_*.png")
 
 
 def run_files(out):
@@ -410,11 +411,15 @@ def run_static(name, system, steps, options, parameters=None, outputs=None, titl
 def format_summary(summary):
     """A few readable lines about a finished run (what the CLI prints)."""
     lines = [f"scene {summary['scene']}"]
-    if "steps" in summary:
+    if "newton" in summary:
         nw = summary["newton"]
         lines.append(f"  {summary['steps']} steps in {summary['wall_time']:.2f} s, "
                      f"{nw['per_step']:.2f} Newton iterations per step, "
                      f"{nw['rejected_steps']} rejected")
+    elif "integration" in summary:
+        it = summary["integration"]
+        lines.append(f"  {it['steps']} {it['method']} steps of {it['step']:.3g} s in "
+                     f"{summary['wall_time']:.2f} s")
     lines.extend(_format_tree(summary.get("outputs", {}), "  "))
     store = summary.get("store")
     if store:
