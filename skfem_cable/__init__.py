@@ -8,12 +8,15 @@ I/O layer ``io`` (observers: run store, ParaView series, progress bar); ``export
 """
 
 from . import export as export  # VTU files for ParaView
+from . import forms as forms  # scikit-fem forms of the element laws
 from . import io as io  # observers: run store, ParaView series, progress bar
+from . import laws as laws  # element laws: energy densities -> compiled kernels
 from . import plot as plot  # renders and figures
 from .cable import Cable, Node
 from .contract import Evaluation, Observer, Term
 from .coulomb import SolarWind, SolarWindForce
 from .element import ElementLineCableHermite
+from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
 from .result import Result
 from .rigid import RigidBody
@@ -28,6 +31,7 @@ from .system import System
 
 __all__ = [
     "Cable",
+    "CableLaw",
     "Centrifugal",
     "Evaluation",
     "Gravity",
@@ -51,9 +55,11 @@ __all__ = [
     "State",
     "StaticConvergenceError",
     "System",
+    "cable_law",
     "circular_anchor",
     "esail",
     "io",
+    "laws",
     "modes",
     "simulate",
     "solve_static",

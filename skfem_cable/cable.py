@@ -10,53 +10,58 @@ from skfem.quadrature import get_quadrature
 
 from .contract import Term
 from .element import ElementLineCableHermite, hermite
-from .kernels import cable as cable_kernel
-from .kernels import reference
-from .kernels.density import SLOPE_FLOOR
+from .laws import BUILTIN, SLOPE_FLOOR, CableLaw
 from .section import Section
 
-KINDS = ("cable", "truss")
 _EMPTY = np.zeros(0)
 _NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
 
 
 class CableForces:
     """The compiled elastic and damping forces of the elements of one or more cables that
-    share a law (section, bending stiffness, quadrature): the ``add`` hook of their
-    ``Term`` (see ``contract``).  Cables with the same law are merged into one instance,
-    so an E-sail's tethers are one kernel call.
+    share a law and its parameter values: the ``add`` hook of their ``Term`` (see
+    ``contract``).  Cables with the same law are merged into one instance, so an E-sail's
+    tethers are one kernel call.
 
     Parameters
     ----------
+    kernel : module
+        The law's generated module (``CableLaw.compiled()``).
     edofs : int ndarray (ne, 12)
         Global coordinates of each element.
     tables : tuple ``(Sx, Sxx, weights, h)``
         Shape-function derivative tables, Gauss weights and element lengths.
-    law : tuple ``(EA, EI, gamma_axial, gamma_bending)``
+    values : tuple of float
+        The law's parameter values.
+    damped : bool
+        Whether the law's dissipation density is active (not identically zero).
     """
 
-    def __init__(self, edofs, tables, law):
+    def __init__(self, kernel, edofs, tables, values, damped):
+        self.kernel = kernel
         self.edofs = np.ascontiguousarray(edofs, dtype=np.int64)
         self.tables = tuple(np.ascontiguousarray(t) for t in tables)
-        self.law = tuple(float(x) for x in law)
-        self.static_law = self.law[:2] + (0.0, 0.0)
+        self.values = np.array(values, dtype=float)
+        self.damped = bool(damped)
 
     def __call__(self, ev, index):
-        """Add the forces (Eqs. 86-127) and, if wanted, ``cK K + cC C`` (numba kernel)."""
+        """Add the forces (Eqs. 86-127 for the built-in law) and, if wanted,
+        ``cK K + cC C`` (compiled kernel)."""
         want = ev.data is not None
         out = (ev.f, ev.f_damping, ev.data if want else _EMPTY,
                index if want else _NO_SCATTER, ev.energy, ev.power)
-        cable_kernel.force_tangent((ev.q, ev.v), (self.edofs, *self.tables),
-                                   self.law if ev.dynamic else self.static_law, out,
-                                   (ev.cK, ev.cC))
+        self.kernel.force_tangent((ev.q, ev.v), (self.edofs, *self.tables),
+                                  (self.values, self.damped and ev.dynamic), out,
+                                  (ev.cK, ev.cC))
 
     @staticmethod
     def merge(terms):
-        """One term for the concatenated elements of ``terms`` (same law)."""
+        """One term for the concatenated elements of ``terms`` (same law and values)."""
         parts = [t.add for t in terms]
-        forces = CableForces(np.concatenate([p.edofs for p in parts]),
+        first = parts[0]
+        forces = CableForces(first.kernel, np.concatenate([p.edofs for p in parts]),
                              [np.concatenate(tabs) for tabs in zip(*(p.tables for p in parts))],
-                             parts[0].law)
+                             first.values, first.damped)
         return forces.term(terms[0].key, " + ".join(t.name for t in terms))
 
     def term(self, key, name):
@@ -115,24 +120,34 @@ class Cable:
     positions, slopes : array_like, shape (n_nodes, 3)
         Initial nodal positions ``r`` and slopes ``r_x``.  A stress-free straight cable has
         unit slopes along its axis.
-    kind : {"cable", "truss"}
-        ``"cable"``: axial and bending stiffness; ``"truss"``: axial only (the paper's
-        comparison model).
+    law : CableLaw or str
+        The element law (``laws``): an energy and dissipation density, or the name of a
+        built-in one, ``"cable"`` (the paper's Green strain, squared curvature and
+        Kelvin-Voigt damping, Eqs. 23-26 and 36-38) or ``"truss"`` (the same without
+        bending, the paper's comparison model).  Parameters come from ``section`` by name.
     intorder : int
-        Order of the Gauss rule of the elastic forces; the default 9 (5 points) integrates
-        the axial energy exactly.  The mass matrix and the line loads are always integrated
-        exactly.
+        Order of the Gauss rule of the elastic forces and of ``basis``; the default 9 (5
+        points) integrates the Green axial energy exactly.  The mass matrix and the line
+        loads are always integrated exactly.
     name : str
         Label used in diagnostics and outputs.
     """
 
-    def __init__(self, mesh, section, positions, slopes, kind="cable", intorder=9, name="cable"):
+    def __init__(self, mesh, section, positions, slopes, law="cable", intorder=9, name="cable"):
         if not isinstance(mesh, MeshLine):
             raise TypeError(f"mesh must be a skfem.MeshLine, got {type(mesh).__name__}")
         if not isinstance(section, Section):
             raise TypeError(f"section must be a skfem_cable.Section, got {type(section).__name__}")
-        if kind not in KINDS:
-            raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+        if isinstance(law, str):
+            if law not in BUILTIN:
+                raise ValueError(f"law must be a CableLaw or one of {tuple(BUILTIN)}, "
+                                 f"got {law!r}")
+            law = BUILTIN[law]
+        if not isinstance(law, CableLaw):
+            raise TypeError(f"law must be a CableLaw (see skfem_cable.cable_law) or a name, "
+                            f"got {type(law).__name__}")
+        law.parameter_values(section)  # every parameter has a value
+        law.symbolic  # noqa: B018 (the law is well formed: errors now, not at the first step)
         x = mesh.p[0]
         if np.any(np.diff(x) <= 0) or np.any(mesh.t[1] != mesh.t[0] + 1):
             raise ValueError("mesh nodes must be sorted along the arc length "
@@ -147,9 +162,11 @@ class Cable:
                                  f"got {arr.shape}")
         self.mesh = mesh
         self.section = section
-        self.kind = kind
+        self.law = law
         self.name = name
-        self.basis = Basis(mesh, ElementVector(ElementLineCableHermite(), 3), intorder=6)
+        element = ElementVector(ElementLineCableHermite(), 3)
+        self.basis = Basis(mesh, element, intorder=intorder)
+        self._exact = Basis(mesh, element, intorder=6)  # mass and line loads
         self.q0 = np.column_stack([positions, slopes]).ravel()
         self.element_dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
         self.h = np.diff(x)
@@ -162,7 +179,7 @@ class Cable:
         self._mass = None
 
     @classmethod
-    def straight(cls, start, end, n_elements, section, kind="cable", **kwargs):
+    def straight(cls, start, end, n_elements, section, law="cable", **kwargs):
         """A stress-free straight cable from ``start`` to ``end`` with ``n_elements`` elements."""
         if int(n_elements) != n_elements or n_elements < 1:
             raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
@@ -175,7 +192,7 @@ class Cable:
         s = np.linspace(0.0, length, int(n_elements) + 1)
         t = axis / length
         positions = start + s[:, None] * t
-        return cls(MeshLine(s), section, positions, np.tile(t, (len(s), 1)), kind=kind, **kwargs)
+        return cls(MeshLine(s), section, positions, np.tile(t, (len(s), 1)), law=law, **kwargs)
 
     # --- layout -------------------------------------------------------------------------
     @property
@@ -220,14 +237,15 @@ class Cable:
 
     @property
     def bending(self):
-        return self.kind == "cable"
+        """True if the law has bending (involves ``r_xx``)."""
+        return self.law.bending
 
     # --- constant matrices and loads (scikit-fem assembly, done once) --------------------
     def mass_matrix(self):
         """Constant mass matrix ``rho A int S^T S dx`` (Eq. 22), assembled once."""
         if self._mass is None:
             mu = self.section.mass_per_length
-            self._mass = asm(BilinearForm(lambda u, v, w: mu * dot(u, v)), self.basis).tocsr()
+            self._mass = asm(BilinearForm(lambda u, v, w: mu * dot(u, v)), self._exact).tocsr()
         return self._mass
 
     def line_load(self, force_per_length):
@@ -236,37 +254,35 @@ class Cable:
         if f.shape != (3,) or not np.all(np.isfinite(f)):
             raise ValueError("force_per_length must be a finite 3-vector, "
                              f"got {force_per_length!r}")
-        return asm(LinearForm(lambda v, w: f[0] * v[0] + f[1] * v[1] + f[2] * v[2]), self.basis)
+        return asm(LinearForm(lambda v, w: f[0] * v[0] + f[1] * v[1] + f[2] * v[2]), self._exact)
 
     # --- elastic forces -------------------------------------------------------------------
-    @property
-    def EI_active(self):
-        """Bending stiffness in use (0 for a truss)."""
-        return self.section.EI if self.bending else 0.0
-
     def global_element_dofs(self, system):
         """Global coordinates of every element, int (ne, 12)."""
         return self.element_dofs + system.dofs(self)[0]
 
     def bind(self, system):
         """The term of the cable's elastic and damping forces (see ``contract``): the
-        compiled kernel of ``CableForces``, shared by all cables with the same section,
-        kind and quadrature.  A subclass with other physics overrides this hook."""
-        sec = self.section
-        law = (sec.EA, self.EI_active, sec.gamma_axial,
-               sec.gamma_bending if self.bending else 0.0)
-        forces = CableForces(self.global_element_dofs(system),
-                             (self.Sx, self.Sxx, self.weights, self.h), law)
-        return forces.term(("ancf-cable", law, self.Sx.shape[1]), self.name)
+        law's compiled kernel (``CableForces``), shared by all cables with the same law,
+        parameter values and quadrature."""
+        law = self.law
+        values = law.parameter_values(self.section)
+        damped = law.damped and law.dissipates(values)
+        forces = CableForces(law.compiled(), self.global_element_dofs(system),
+                             (self.Sx, self.Sxx, self.weights, self.h), values, damped)
+        return forces.term(("ancf-cable", law.key, values, damped, self.Sx.shape[1]),
+                           self.name)
 
-    def forces_reference(self, q, v=None):
-        """Per-element energy, power, force and tangents ``(K, C)`` by the numpy path."""
-        sec = self.section
-        qe = q[self.element_dofs].reshape(-1, 4, 3)
-        ve = np.zeros_like(qe) if v is None else v[self.element_dofs].reshape(-1, 4, 3)
-        damping = (0.0, 0.0) if v is None else (sec.gamma_axial, sec.gamma_bending)
-        return reference.element_forces(qe, ve, self.Sx, self.Sxx, self.weights, self.h,
-                                        sec.EA, self.EI_active, *damping)
+    def assemble(self, q, v=None, cK=1.0, cC=0.0):
+        """Internal force ``f = dU/dq + dD/dv`` and tangent ``cK df/dq + cC df/dv`` (sparse,
+        the cable's own coordinates), by the compiled kernel.  ``v = None``: statics (no
+        dissipation)."""
+        from .system import System
+        system = System([self])
+        data = np.zeros(system.layout.nnz)
+        f, _ = system.evaluate(q, v, 0.0, np.zeros(0), cK=cK, cC=cC, data=data)
+        n = self.n_dofs
+        return f[:n], system.layout.matrix(data)[:n, :n].tocsr()
 
     # --- evaluation at arc length --------------------------------------------------------
     def locate(self, s):
@@ -296,21 +312,40 @@ class Cable:
         return 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
 
     def tension(self, q, s):
-        """Axial force in the section (N): ``N = EA eps |r_x| - EI kappa^2 / |r_x|``.
+        """Axial force in the section (N): ``N = t . W_a + t' . W_b`` with ``t = r_x/|r_x|``.
 
-        The first term is the force of the Green-strain law (``dW/d|r_x|`` of
-        ``EA/2 eps^2``; ``EA eps`` alone, the second Piola-Kirchhoff force, differs by the
-        factor ``|r_x| = 1 + O(eps)``); the second is the axial part of the section force
-        ``n = W_a - (W_b)'`` coming from the bending energy, whose curvature is measured per
-        current length (zero for a truss and negligible for taut tethers).
+        This is the axial component ``t . (W_a - (W_b)')`` of the section force of the law
+        ``W(a, b)``, exact when ``W`` depends on ``b`` only through its part normal to ``a``
+        (the curvature), as every law of the gallery does.  For the built-in law it is
+        ``EA eps |r_x| - EI kappa^2 / |r_x|``: the Green-strain force (``dW/d|r_x|``; the
+        second Piola-Kirchhoff force ``EA eps`` differs by the factor ``|r_x|``) and the
+        axial part of the bending section force (zero for a truss and negligible for
+        taut tethers).  The elastic part only (at rest).
         """
+        e, xi = self.locate(s)
         _, a, b = self.interpolate(q, s)
+        x = np.moveaxis(np.concatenate([a, b], axis=-1), -1, 0)
+        h = np.broadcast_to(self.h[e], x.shape[1:])
+        G = self.densities(x, np.zeros_like(x), h)["G"]
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
-        lam = np.sqrt(p)
-        N = self.section.EA * 0.5 * (p - 1.0) * lam
-        if self.bending:
-            N = N - self.section.EI * _kappa2(a, b, p) / lam
-        return N
+        lam = np.sqrt(p)[..., None]
+        t = a / lam
+        t_x = (b - np.einsum("...i,...i", t, b)[..., None] * t) / lam
+        return (np.einsum("...i,i...->...", t, G[:3])
+                + np.einsum("...i,i...->...", t_x, G[3:]))
+
+    def densities(self, x, xd, h):
+        """The law's densities at points ``x = (a, b)``, ``xd`` (6, ...) of elements of
+        length ``h`` (...) (its generated ``numpy_point``): energy ``ea``/``eb`` and power
+        ``pa``/``pb`` (axial, bending), ``G = W_x + D_xd`` and ``Gd = D_xd`` (6, ...),
+        ``H = W_xx + D_xd,x`` and ``Hc = D_xd,xd`` (6, 6, ...)."""
+        out = self.law.compiled().numpy_point(x, xd, self.law.parameter_values(self.section),
+                                              h)
+        out["G"] = np.stack([out.pop(f"G_{i}") for i in range(6)])
+        out["Gd"] = np.stack([out.pop(f"Gd_{i}") for i in range(6)])
+        for k in ("H", "Hc"):
+            out[k] = np.stack([[out.pop(f"{k}_{i}_{j}") for j in range(6)] for i in range(6)])
+        return out
 
     def curvature(self, q, s):
         """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24), 1/m."""

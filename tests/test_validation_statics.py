@@ -180,7 +180,7 @@ def stretched_cable(n_elements, section, stretch, kind="cable", length=1.0):
     x = np.linspace(0.0, length, n_elements + 1)
     positions = np.column_stack([stretch * x, 0 * x, 0 * x])
     slopes = np.tile([stretch, 0.0, 0.0], (len(x), 1))
-    cable = sc.Cable(MeshLine(x), section, positions, slopes, kind=kind)
+    cable = sc.Cable(MeshLine(x), section, positions, slopes, law=kind)
     system = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1))
     return cable, system
 
@@ -386,7 +386,7 @@ def catenary_system(case, n_elements, kind="truss", R=None):
     zero = np.zeros_like(s)
     positions = np.column_stack([xz[:, 0], zero, xz[:, 1]]) @ R.T
     slopes = np.column_stack([txz[:, 0], zero, txz[:, 1]]) @ R.T
-    cable = sc.Cable(MeshLine(s), sec, positions, slopes, kind=kind)
+    cable = sc.Cable(MeshLine(s), sec, positions, slopes, law=kind)
     system = sc.System([cable])
     system.pin(cable.node(0), R @ [0.0, 0.0, 0.0])
     system.pin(cable.node(-1), R @ [span, 0.0, height])
@@ -787,7 +787,7 @@ def compressed_system(variant, kind):
     system : sc.System
     """
     if variant == "pushed":
-        cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 8, STEEL, kind=kind)
+        cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 8, STEEL, law=kind)
         system = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1), [0.9, 0, 0])
     else:
         stretch = {"prestressed": 0.9, "collapsed": 0.0}[variant]

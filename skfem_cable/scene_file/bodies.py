@@ -101,7 +101,7 @@ def read_cable(t, bodies):
     kind = t.get("kind", choice("cable", "truss"), "cable")
     t.finish()
     cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
-                           kind=kind, name=name)
+                           law=kind, name=name)
     bodies.add(t, cable)
 
 

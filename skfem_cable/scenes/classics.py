@@ -47,7 +47,7 @@ def pendulum(n_elements=16, length=1.2, radius=0.01, E=7e10, rho=7800.0, g=9.81,
     """Flexible pendulum: a cable pinned (spherical joint) at the origin, released at rest
     from horizontal (along +x) under gravity along -y."""
     sec = Section.circular(radius=radius, E=E, rho=rho, **damping)
-    cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, sec, kind=kind)
+    cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, sec, law=kind)
     system = System([cable]).pin(cable.node(0)).add_gravity([0, -g, 0])
     return Scene(system, cable, _at_rest(system, cable.q0.copy()))
 
@@ -85,7 +85,7 @@ def taut_string(n_elements=16, length=1.0, radius=0.001, E=2e11, rho=7800.0, str
     k = np.pi / length
     pos = np.column_stack([(1 + strain) * s, amplitude * np.sin(k * s), 0 * s])
     slopes = np.column_stack([(1 + strain) + 0 * s, amplitude * k * np.cos(k * s), 0 * s])
-    cable = Cable(mesh, sec, pos, slopes, kind=kind)
+    cable = Cable(mesh, sec, pos, slopes, law=kind)
     system = System([cable]).pin(cable.node(0)).pin(cable.node(-1))
     return Scene(system, cable, _at_rest(system, cable.q0.copy()))
 
@@ -95,7 +95,7 @@ def spinning_tether(n_elements=10, length=10.0, radius=5e-4, E=7e10, rho=2700.0,
     """Tether pinned at the origin, spinning rigidly about z at ``spin`` (rad/s) with a
     point mass at its tip: centrifugally stiffened, large rotations."""
     sec = Section.circular(radius=radius, E=E, rho=rho, **damping)
-    cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, sec, kind=kind)
+    cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, sec, law=kind)
     system = System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1), tip_mass)
     nodes = cable.q0.reshape(-1, 2, 3)
     omega = np.array([0.0, 0.0, spin])

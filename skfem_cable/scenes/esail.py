@@ -159,7 +159,7 @@ def build(config, alpha_deg, n_elements, kind="cable"):
         e = C_I_B @ radial_B[i]
         cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
                                      sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
-                      kind=kind, name=f"tether{i + 1}")
+                      law=kind, name=f"tether{i + 1}")
         tethers.append(cable)
     system = System([hub, *tethers])
     for cable, x in zip(tethers, anchors):

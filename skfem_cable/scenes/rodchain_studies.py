@@ -90,7 +90,7 @@ def ancf_free_end_trajectory(kind="truss", n_elements=11, t_end=1.0, dt=1e-4, rh
 
     L = STEEL["length"]
     sec = Section.circular(radius=STEEL["radius"], E=STEEL["E"], rho=STEEL["density"])
-    cable = Cable.straight([0, 0, 0], [L, 0, 0], n_elements, sec, kind=kind)
+    cable = Cable.straight([0, 0, 0], [L, 0, 0], n_elements, sec, law=kind)
     system = System([cable]).pin(cable.node(0)).add_gravity([0, -STEEL["g"], 0])
     res = simulate(system, t_end=t_end, dt=dt, rho_inf=rho_inf)
     return res.t, res.position(cable, L)

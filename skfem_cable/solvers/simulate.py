@@ -62,8 +62,14 @@ class _Recorder(Observer):
 def _initial_arrays(system, initial):
     if initial is None:
         return system.q0.copy(), np.zeros(system.n_dofs)
-    q = np.asarray(initial.q, dtype=float)
-    v = getattr(initial, "v", None)
+    if isinstance(initial, tuple) and len(initial) == 2:
+        q, v = initial
+    elif hasattr(initial, "q"):
+        q, v = initial.q, getattr(initial, "v", None)
+    else:
+        raise TypeError("initial must be a State (with q and v) or a pair (q, v), got "
+                        f"{type(initial).__name__}")
+    q = np.asarray(q, dtype=float)
     v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
     if q.shape != (system.n_dofs,) or v.shape != (system.n_dofs,):
         raise ValueError(f"initial.q and initial.v must have shape ({system.n_dofs},)")

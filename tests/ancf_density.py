@@ -1,21 +1,16 @@
-"""Energy and dissipation densities of the ANCF cable per unit reference length, as
+"""Hand-derived energy and dissipation densities of the paper's ANCF cable (the oracle of
+the generated ``laws.green``; see ``ancf_reference``) per unit reference length, as
 functions of ``x = (a, b)`` with ``a = r_x`` and ``b = r_xx`` at a Gauss point (numpy,
 vectorised over leading axes).
 
 Derivatives are returned as 6-vectors and 6x6 matrices in the ``(a, b)`` ordering.  The
 element force and tangent follow by one chain rule through the shape-function derivatives
-(``kernels.reference``), which replaces the paper's explicit Eqs. 86-127.
+(``ancf_reference``), which replaces the paper's explicit Eqs. 86-127.
 """
 
 import numpy as np
 
-#: Lower bound on ``|r_x|^2`` in the curvature formula: a cable compressed to a point is
-#: given a finite (huge) bending energy instead of a division by zero.
-SLOPE_FLOOR = 1e-12
-
-#: Regularisation of the curvature rate, relative to ``1/h`` (h the element length):
-#: ``kappa_dot = d(kappa^2)/dt / (2 sqrt(kappa^2 + delta^2))``, ``delta = 1e-6 / h``.
-CURVATURE_RATE_DELTA = 1e-6
+from skfem_cable.laws import SLOPE_FLOOR
 
 
 def _outer(u, v):

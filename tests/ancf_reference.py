@@ -1,19 +1,21 @@
-"""Vectorised numpy evaluation of the cable's elastic and damping forces and tangents.
+"""Hand-derived numpy evaluation of the paper's cable law (forces and tangents): the
+independent oracle of the generated built-in law (``laws.green``; ``tests/test_kernels.py``).
 
-This is the readable reference for ``kernels.cable`` (numba).  Both evaluate, with
+It evaluates, with
 ``x = (a, b) = (S_x e, S_xx e)`` (Eqs. 87, 96) at every Gauss point and the 2x4 table
 ``S6 = [S_x; S_xx]``,
 
 ``f_A = sum_g w S6[U, A] G_U``,  ``K_AB = sum_g w S6[U, A] S6[V, B] H_UV``,
 
 where ``G = W_x + D_xdot`` and ``H = W_xx + D_xdot,x`` (or ``D_xdot,xdot`` for the damping
-matrix) come from ``kernels.density`` and ``A, B`` run over the four 3-vector blocks of the
-element coordinates (Eq. 19).
+matrix) come from ``ancf_density`` (derived by hand) and ``A, B`` run over the four
+3-vector blocks of the element coordinates (Eq. 19).
 """
 
+import ancf_density as density
 import numpy as np
 
-from . import density
+from skfem_cable.laws import CURVATURE_RATE_DELTA
 
 
 def element_forces(qe, ve, Sx, Sxx, w, h, EA, EI, gamma_axial=0.0, gamma_bending=0.0):
@@ -66,7 +68,7 @@ def element_forces(qe, ve, Sx, Sxx, w, h, EA, EI, gamma_axial=0.0, gamma_bending
         G += 0.5 * EI * grad
         H += 0.5 * EI * hess
         if gamma_bending > 0:
-            delta = (density.CURVATURE_RATE_DELTA / h)[:, None]
+            delta = (CURVATURE_RATE_DELTA / h)[:, None]
             P, Dv, Dvv, Dvx = density.bending_damping(x, xdot, k2, grad, hess, EI,
                                                       gamma_bending, delta)
             power[..., 1] = P
@@ -82,3 +84,16 @@ def element_forces(qe, ve, Sx, Sxx, w, h, EA, EI, gamma_axial=0.0, gamma_bending
 
     return (np.einsum("eq,eqk->ek", w, energy), np.einsum("eq,eqk->ek", w, power), f,
             chain(H), chain(Hc))
+
+
+def cable_forces(cable, q, v=None):
+    """``element_forces`` of a built-in ``cable`` (law ``"cable"`` or ``"truss"``) at ``q``
+    (and ``v``: with damping)."""
+    sec = cable.section
+    qe = q[cable.element_dofs].reshape(-1, 4, 3)
+    ve = np.zeros_like(qe) if v is None else v[cable.element_dofs].reshape(-1, 4, 3)
+    EI = sec.EI if cable.bending else 0.0
+    damping = (0.0, 0.0) if v is None else (sec.gamma_axial,
+                                             sec.gamma_bending if cable.bending else 0.0)
+    return element_forces(qe, ve, cable.Sx, cable.Sxx, cable.weights, cable.h, sec.EA, EI,
+                          *damping)

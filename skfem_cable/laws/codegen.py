@@ -1,0 +1,234 @@
+"""Code generation of an element law: derivatives by ``sympy``, a module per law written to
+an on-disk cache and compiled by numba (``cache=True``), so that a law is derived and
+compiled once per machine, not once per run.
+
+The generated module holds, for the law's expressions (``CableLaw.symbolic``):
+
+* ``point_g(x, prm, h, G) -> (W_axial, W_bending)`` writing ``G = W_x``;
+* ``point_gh(x, prm, h, G, H)`` also writing ``H = W_xx``;
+* ``point_gd(x, xd, prm, h, G, Gd) -> (W_axial, W_bending, P_axial, P_bending)`` with
+  ``G = W_x + D_xd``, ``Gd = D_xd`` and the dissipated power ``P = D_xd . xd``;
+* ``point_ghd(x, xd, prm, h, G, H, Gd, Hc)`` also writing ``H = W_xx + D_xd,x`` and
+  ``Hc = D_xd,xd``;
+* ``force_tangent``, the element loop of ``kernels.cable`` compiled around them;
+* ``numpy_point(x, xd, prm, h)``, the same quantities vectorised over points (numpy).
+
+Each is common-subexpression eliminated (``sympy.cse``).  The cache folder is
+``$SKFEM_CABLE_CACHE`` if set, else ``$XDG_CACHE_HOME/skfem_cable`` (default
+``~/.cache/skfem_cable``); a module's name carries a digest of the law's expressions and
+of this generator, so a changed law or template never meets a stale module.
+"""
+
+import hashlib
+import importlib.util
+import inspect
+import os
+import re
+import sys
+import tempfile
+from pathlib import Path
+
+import sympy as sp
+from sympy.printing.numpy import NumPyPrinter
+from sympy.printing.pycode import PythonCodePrinter
+
+from ..io.atomic import write_atomic
+from ..kernels import cable as template
+from .symbolic import SLOPE_FLOOR
+
+#: Bump when the generated code changes meaning (part of every module's digest).
+GENERATOR = "3"
+
+
+class _ScalarPrinter(PythonCodePrinter):
+    """Scalar code for numba: ``math`` functions, ``max`` for the slope floor."""
+
+    def _print_floored(self, expr):
+        return f"max({self._print(expr.args[0])}, SLOPE_FLOOR)"
+
+    def _print_sign(self, expr):
+        return f"np.sign({self._print(expr.args[0])})"
+
+    def _print_power(self, expr):
+        return f"({self._print(expr.args[0])})**({self._print(expr.args[1])})"
+
+
+class _VectorPrinter(NumPyPrinter):
+    """Vectorised numpy code for the scikit-fem forms."""
+
+    def _print_floored(self, expr):
+        return f"numpy.maximum({self._print(expr.args[0])}, SLOPE_FLOOR)"
+
+    def _print_power(self, expr):
+        return f"({self._print(expr.args[0])})**({self._print(expr.args[1])})"
+
+
+def _smooth(expr):
+    """Derivatives of ``Abs``/``Piecewise`` laws carry ``DiracDelta`` terms (zero almost
+    everywhere, the consistent tangent of a kink is its one-sided one): drop them."""
+    return expr.replace(sp.DiracDelta, lambda *args: sp.Integer(0)).replace(
+        sp.Heaviside, lambda arg, *rest: sp.Piecewise((1, arg > 0), (0, True)))
+
+
+def derivatives(sym, damped):
+    """Named output expressions of a point function: ``[(target, expr), ...]`` with targets
+    ``"ea"``, ``"eb"``, ``"pa"``, ``"pb"``, ``"G[i]"``, ``"H[i, j]"``, ``"Gd[i]"``,
+    ``"Hc[i, j]"`` (and ``"H"`` without the dissipation part if not ``damped``); the
+    Hessian ``H`` is a dict ``(i, j) -> expr`` (all 36)."""
+    x, xd = sym.x, sym.xd
+    W = sym.W[0] + sym.W[1]
+    G = [sp.diff(W, xi) for xi in x]
+    H = {}
+    for i in range(6):
+        for j in range(i, 6):
+            H[i, j] = H[j, i] = sp.diff(G[i], x[j])
+    out = {"ea": sym.W[0], "eb": sym.W[1]}
+    if damped:
+        D = sym.D[0] + sym.D[1]
+        Gd = [sp.diff(D, v) for v in xd]
+        out["pa"] = sum(sp.diff(sym.D[0], v) * v for v in xd)
+        out["pb"] = sum(sp.diff(sym.D[1], v) * v for v in xd)
+        G = [g + d for g, d in zip(G, Gd)]
+        H = {(i, j): H[i, j] + sp.diff(Gd[i], x[j]) for i in range(6) for j in range(6)}
+        out.update({f"Gd[{i}]": Gd[i] for i in range(6)})
+        out.update({f"Hc[{i}, {j}]": sp.diff(Gd[i], xd[j])
+                    for i in range(6) for j in range(6)})
+    out.update({f"G[{i}]": G[i] for i in range(6)})
+    out.update({f"H[{i}, {j}]": H[i, j] for i in range(6) for j in range(6)})
+    return {k: _smooth(v) for k, v in out.items()}
+
+
+def _body(outputs, sym, printer, indent, rates):
+    """Lines computing ``outputs`` (target -> expr) after unpacking the inputs."""
+    used = set().union(*(e.free_symbols for e in outputs.values()))
+    lines = [f"{s} = x[{i}]" for i, s in enumerate(sym.x) if s in used]
+    if rates:
+        lines += [f"{s} = xd[{i}]" for i, s in enumerate(sym.xd) if s in used]
+    lines += [f"{k} = prm[{i}]" for i, (k, s) in enumerate(sym.params.items()) if s in used]
+    targets = list(outputs)
+    # equal entries (a symmetric Hessian) are computed once
+    unique, first = [], {}
+    for t in targets:
+        key = outputs[t]
+        if key not in first:
+            first[key] = t
+            unique.append(t)
+    subs, reduced = sp.cse([outputs[t] for t in unique],
+                           symbols=sp.numbered_symbols("c_"), order="none")
+    for s, e in subs:
+        lines.append(f"{s} = {printer.doprint(e)}")
+    for t, e in zip(unique, reduced):
+        lines.append(f"{t} = {printer.doprint(e)}")
+    for t in targets:
+        if first[outputs[t]] != t:
+            lines.append(f"{t} = {first[outputs[t]]}")
+    return [indent + line for line in lines]
+
+
+def _scalar_function(name, args, outputs, returns, sym, rates):
+    lines = ["@njit(cache=True)", f"def {name}({', '.join(args)}):"]
+    lines += _body(outputs, sym, _ScalarPrinter({"standard": "python3"}), "    ", rates)
+    lines.append(f"    return {', '.join(returns)}")
+    return "\n".join(lines)
+
+
+def _select(outputs, prefixes):
+    return {t: e for t, e in outputs.items() if t.split("[")[0] in prefixes}
+
+
+def _numpy_function(outputs, sym):
+    """``numpy_point(x, xd, prm, h)`` returning a dict of arrays (vectorised)."""
+    lines = ["def numpy_point(x, xd, prm, h):",
+             '    """Energy and power parts, G, H, Gd, Hc at points (leading axes of x)."""']
+    flat = {re.sub(r"[\[\], ]+", "_", t).rstrip("_"): e for t, e in outputs.items()}
+    lines += _body(flat, sym, _VectorPrinter({"standard": "python3"}), "    ", True)
+    lines.append("    shape = numpy.shape(x[0])")
+    lines.append("    out = {}")
+    for t in flat:
+        lines.append(f"    out[{t!r}] = numpy.broadcast_to({t}, shape) * 1.0")
+    lines.append("    return out")
+    return "\n".join(lines)
+
+
+def source(law):
+    """The text of the generated module of ``law``."""
+    sym = law.symbolic
+    undamped = derivatives(sym, damped=False)
+    damped = derivatives(sym, damped=True) if law.damped else None
+    d = damped if damped is not None else {
+        **undamped, **{k: sp.Integer(0) for k in ("pa", "pb")},
+        **{f"Gd[{i}]": sp.Integer(0) for i in range(6)},
+        **{f"Hc[{i}, {j}]": sp.Integer(0) for i in range(6) for j in range(6)}}
+    loop = inspect.getsource(template.force_tangent)
+    parts = [
+        f'"""Generated by skfem_cable.laws.codegen for the law {law.name!r} '
+        f'(parameters {", ".join(law.parameters) or "none"}).  Do not edit: regenerated '
+        'when the law or the generator changes."""',
+        "import math  # noqa: F401\n\nimport numpy  # noqa: F401\nimport numpy as np\n"
+        "from numba import njit",
+        f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}",
+        f"PARAMETERS = {law.parameters!r}",
+        _scalar_function("point_g", ("x", "prm", "h", "G"), _select(undamped, ("ea", "eb", "G")),
+                         ("ea", "eb"), sym, False),
+        _scalar_function("point_gh", ("x", "prm", "h", "G", "H"),
+                         _select(undamped, ("ea", "eb", "G", "H")), ("ea", "eb"), sym, False),
+        _scalar_function("point_gd", ("x", "xd", "prm", "h", "G", "Gd"),
+                         _select(d, ("ea", "eb", "pa", "pb", "G", "Gd")),
+                         ("ea", "eb", "pa", "pb"), sym, True),
+        _scalar_function("point_ghd", ("x", "xd", "prm", "h", "G", "H", "Gd", "Hc"),
+                         _select(d, ("ea", "eb", "pa", "pb", "G", "H", "Gd", "Hc")),
+                         ("ea", "eb", "pa", "pb"), sym, True),
+        "@njit(cache=True)\n" + loop,
+        _numpy_function(d, sym),
+    ]
+    return "\n\n\n".join(parts) + "\n"
+
+
+def cache_dir():
+    """Folder of the generated modules (created if missing; a private temporary folder if
+    the configured one cannot be written)."""
+    env = os.environ.get("SKFEM_CABLE_CACHE")
+    if env:
+        folder = Path(env)
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+        folder = Path(base) / "skfem_cable"
+    folder = folder / "laws"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError:
+        folder = Path(tempfile.gettempdir()) / f"skfem_cable-{os.getuid()}" / "laws"
+        folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def module_name(law):
+    """Module name of ``law``: its name and a digest of its expressions, the template and
+    the generator."""
+    digest = hashlib.sha256("|".join((
+        law.key, GENERATOR, inspect.getsource(template.force_tangent),
+        repr(law.parameters), sp.__version__)).encode()).hexdigest()[:16]
+    safe = re.sub(r"\W", "_", law.name)[:40]
+    return f"skfem_cable_law_{safe}_{digest}"
+
+
+def load(law):
+    """Import (generating it first if needed) the module of ``law``."""
+    name = module_name(law)
+    if name in sys.modules:
+        return sys.modules[name]
+    path = cache_dir() / f"{name}.py"
+    if not path.exists():
+        write_atomic(path, source(law).encode())
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module

@@ -1,0 +1,247 @@
+"""``CableLaw``: a cable element's physics as an energy density and a dissipation density.
+
+A law is written as a function of ``a = r_x``, ``b = r_xx`` and named parameters that
+returns the energy per unit reference length ``W`` (and optionally a second function of
+``a, b`` and their rates ``ad, bd`` returning the dissipation density ``D``).  Calling
+them once with symbols gives two expressions; everything else is derived:
+
+* the element force density ``G = W_x + D_xd`` (``x = (a, b)``, ``xd`` its rate), the
+  stiffness density ``H = W_xx + D_xd,x`` and the damping density ``D_xd,xd``, exactly
+  (``sympy``), printed as a compiled kernel (``laws.codegen``) and as vectorised numpy for
+  the scikit-fem forms (``forms``);
+* the split of the energy (and of the dissipated power ``D_xd . xd``) into an axial part,
+  the terms of ``W`` (``D``) that do not involve ``b``, and a bending part, the others.
+
+Parameters are looked up by name: the law's own values (``with_parameters`` or the
+function's defaults) first, then the attributes of the cable's ``Section`` (``EA``,
+``EI``, ``gamma_axial``, ...).  ``h``, the element length, is supplied per element.
+"""
+
+import hashlib
+import inspect
+from dataclasses import dataclass
+
+import numpy as np
+import sympy as sp
+
+from .symbolic import power
+
+#: Parameter names the framework supplies per element instead of the section.
+ELEMENT_PARAMETERS = ("h",)
+
+
+@dataclass(frozen=True)
+class Symbolic:
+    """The expressions of a law: symbols ``x`` (6: ``a, b``), ``xd`` (6: rates),
+    ``params`` (by name) and ``h``; the energy density's axial and bending parts
+    ``W = (W_axial, W_bending)`` and the dissipation density's ``D`` likewise."""
+
+    x: tuple
+    xd: tuple
+    params: dict
+    h: sp.Symbol
+    W: tuple
+    D: tuple
+
+
+def _signature(fn, fields, what):
+    """The parameter names of ``fn`` after its ``fields`` field arguments, and the defaults."""
+    sig = inspect.signature(fn)
+    names = list(sig.parameters)
+    if len(names) < fields or any(
+            p.kind not in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)
+            for p in sig.parameters.values()):
+        raise TypeError(f"{what} {fn.__name__!r} must take {fields} field arguments "
+                        f"({'a, b, ad, bd' if fields == 4 else 'a, b'}) and then named "
+                        f"parameters, got ({', '.join(names)})")
+    params = names[fields:]
+    defaults = {k: sig.parameters[k].default for k in params
+                if sig.parameters[k].default is not inspect.Parameter.empty}
+    return params, defaults
+
+
+def _powers(expr, fields):
+    """``expr`` with every power whose exponent involves parameters (not the ``fields``)
+    written as ``symbolic.power``, whose derivative has no division by the base."""
+    return expr.replace(
+        lambda e: e.is_Pow and bool(e.exp.free_symbols) and not e.exp.free_symbols & fields,
+        lambda e: power(e.base, e.exp))
+
+
+def _split(expr, b_symbols):
+    """``(axial, bending)``: the terms of ``expr`` without and with the symbols of ``b``."""
+    axial = [t for t in sp.Add.make_args(expr) if not t.free_symbols & b_symbols]
+    return sp.Add(*axial), expr - sp.Add(*axial)
+
+
+class CableLaw:
+    """The element law of an ANCF cable: energy density ``W(a, b, params)`` and optional
+    dissipation density ``D(a, b, ad, bd, params)`` per unit reference length.
+
+    Use the decorator ``cable_law``; pass the law to ``Cable(..., law=...)``.
+
+    Parameters
+    ----------
+    energy : callable
+        ``energy(a, b, *params) -> expression`` built with ``skfem_cable.laws``.
+    dissipation : callable, optional
+        ``dissipation(a, b, ad, bd, *params) -> expression``, >= 0 (Rayleigh's
+        dissipation function: the damping force is ``D_xd``).
+    name : str, optional
+        Default: the energy function's name.
+    values : dict, optional
+        Parameter values that take precedence over the section's attributes.
+    """
+
+    def __init__(self, energy, dissipation=None, name=None, values=None):
+        self.energy = energy
+        self.dissipation = dissipation
+        self.name = name or energy.__name__
+        names, defaults = _signature(energy, 2, "energy density")
+        if dissipation is not None:
+            more, more_defaults = _signature(dissipation, 4, "dissipation density")
+            names += [k for k in more if k not in names]
+            defaults = {**more_defaults, **defaults}
+        unknown = set(values or {}) - set(names)
+        if unknown:
+            raise ValueError(f"law {self.name!r} has no parameter {sorted(unknown)[0]!r}; "
+                             f"its parameters are {names}")
+        self.parameters = tuple(k for k in names if k not in ELEMENT_PARAMETERS)
+        self.values = {**defaults, **(values or {})}
+        self._symbolic = None
+        self._compiled = None
+        self._key = None
+        self._dissipates = {}
+
+    def __repr__(self):
+        return f"CableLaw({self.name!r})"
+
+    # --- variants -----------------------------------------------------------------------
+    def with_dissipation(self, dissipation):
+        """The same energy with the dissipation density ``dissipation``."""
+        return CableLaw(self.energy, dissipation, self.name, self.values)
+
+    def with_parameters(self, **values):
+        """The same law with some parameters fixed (they then ignore the section)."""
+        return CableLaw(self.energy, self.dissipation, self.name, {**self.values, **values})
+
+    # --- expressions ----------------------------------------------------------------------
+    @property
+    def symbolic(self):
+        """The law's ``Symbolic`` expressions (built once)."""
+        if self._symbolic is None:
+            self._symbolic = self._build()
+        return self._symbolic
+
+    def _build(self):
+        x = sp.symbols("x0:6", real=True)
+        xd = sp.symbols("xd0:6", real=True)
+        h = sp.Symbol("h", positive=True)
+        params = {k: sp.Symbol(k, real=True) for k in self.parameters}
+        args = {**params, "h": h}
+        a, b = sp.Matrix(x[:3]), sp.Matrix(x[3:])
+        ad, bd = sp.Matrix(xd[:3]), sp.Matrix(xd[3:])
+        W = self._scalar(self.energy, (a, b), args, "energy density")
+        D = sp.Integer(0) if self.dissipation is None else self._scalar(
+            self.dissipation, (a, b, ad, bd), args, "dissipation density")
+        allowed = set(x) | set(xd) | set(args.values())
+        for label, expr in (("energy", W), ("dissipation", D)):
+            stray = expr.free_symbols - allowed
+            if stray:
+                raise ValueError(f"law {self.name!r}: the {label} density uses unknown "
+                                 f"symbols {sorted(map(str, stray))}")
+        if W.free_symbols & set(xd):
+            raise ValueError(f"law {self.name!r}: the energy density may not depend on rates")
+        W, D = _powers(W, set(x) | set(xd)), _powers(D, set(x) | set(xd))
+        return Symbolic(x, xd, params, h, _split(W, set(x[3:])), _split(D, set(x[3:])))
+
+    def _scalar(self, fn, fields, args, what):
+        names = list(inspect.signature(fn).parameters)[len(fields):]
+        expr = fn(*fields, **{k: args[k] for k in names})
+        try:
+            expr = sp.sympify(expr)
+        except (sp.SympifyError, TypeError):
+            raise TypeError(f"law {self.name!r}: the {what} must be a scalar expression, "
+                            f"got {type(expr).__name__}") from None
+        if not isinstance(expr, sp.Expr) or isinstance(expr, sp.MatrixBase):
+            raise TypeError(f"law {self.name!r}: the {what} must be a scalar expression, "
+                            f"got {type(expr).__name__}")
+        return expr
+
+    @property
+    def bending(self):
+        """True if the law involves ``b = r_xx`` (then it needs the slopes' continuity)."""
+        s = self.symbolic
+        return any(e.free_symbols & set(s.x[3:]) for e in (*s.W, *s.D))
+
+    @property
+    def damped(self):
+        """True if the law has a dissipation density."""
+        return self.symbolic.D != (0, 0)
+
+    @property
+    def key(self):
+        """A digest of the law's expressions: equal for equal physics."""
+        if self._key is None:
+            s = self.symbolic
+            text = sp.srepr((s.W, s.D, tuple(s.params)))
+            self._key = hashlib.sha256(text.encode()).hexdigest()[:20]
+        return self._key
+
+    # --- values ---------------------------------------------------------------------------
+    def parameter_values(self, section):
+        """The parameters' values, in the order of ``parameters``: the law's own, else the
+        ``section``'s attribute of the same name."""
+        out = []
+        for k in self.parameters:
+            if k in self.values:
+                value = self.values[k]
+            elif hasattr(section, k):
+                value = getattr(section, k)
+            else:
+                raise ValueError(f"law {self.name!r}: parameter {k!r} is neither a Section "
+                                 f"attribute nor has a value; give it with "
+                                 f"{self.name}.with_parameters({k}=...)")
+            value = float(value)
+            if not np.isfinite(value):
+                raise ValueError(f"law {self.name!r}: parameter {k} must be finite, "
+                                 f"got {value}")
+            out.append(value)
+        return tuple(out)
+
+    def dissipates(self, values):
+        """False if the dissipation density vanishes for these parameter values (e.g. zero
+        damping coefficients): the kernel then skips it."""
+        if values not in self._dissipates:
+            s = self.symbolic
+            subs = dict(zip(s.params.values(), values))
+            self._dissipates[values] = any(d.subs(subs) != 0 for d in s.D)
+        return self._dissipates[values]
+
+    def compiled(self):
+        """The generated module of this law (``laws.codegen``): compiled kernel
+        ``force_tangent`` and numpy ``point``; built once and cached on disk."""
+        if self._compiled is None:
+            from .codegen import load
+            self._compiled = load(self)
+        return self._compiled
+
+
+def cable_law(energy=None, *, dissipation=None, name=None):
+    """Decorator: an energy density function becomes a ``CableLaw``.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> from skfem_cable import laws
+    >>> @sc.cable_law
+    ... def biot(a, b, EA, EI):
+    ...     e = laws.norm(a) - 1
+    ...     return EA * e**2 / 2 + EI * laws.kappa2(a, b) / 2
+    >>> biot.parameters
+    ('EA', 'EI')
+    """
+    def make(fn):
+        return CableLaw(fn, dissipation, name)
+
+    return make if energy is None else make(energy)
