@@ -9,9 +9,9 @@ section (``gamma_axial = gamma_bending = 0.01 s``) is evaluated at a random pert
 for
 
 (a) the built-in law, generated and compiled by ``laws.codegen`` (this working tree);
-(b) the hand-written numba kernel of ``--base`` (default ``HEAD``), checked out with
-    ``git worktree add`` into a temporary folder and imported through ``PYTHONPATH``
-    (as ``benchmarks/commit_compare.py`` does);
+(b) the hand-written numba kernel of ``--base`` (default ``93f5041``, the last commit
+    before the laws), checked out with ``git worktree add`` into a temporary folder and
+    imported through ``PYTHONPATH`` (as ``benchmarks/commit_compare.py`` does);
 (c) user laws: the Biot law ``EA (|a| - 1)^2 / 2 + EI kappa^2 / 2``, undamped, and the
     same with the power-law dissipation ``c EA |e_dot|^3 / 3`` of ``demos/law_gallery.py``;
 (d) the scikit-fem forms of the built-in law, ``skfem.asm(L, cable.basis, **state)`` and
@@ -40,7 +40,7 @@ in a numba loop over the same points and the whole compiled kernel (force and ta
 undamped).  JAX's time excludes the chain rule and the scatter, which would still need
 compiled loops; its first call traces and compiles (again for every new number of points).
 
-Run ``python benchmarks/laws.py [--base HEAD] [--repeats 5] [--jax]``.  Machines are noisy:
+Run ``python benchmarks/laws.py [--base 93f5041] [--repeats 5] [--jax]``.  Machines are noisy:
 read the ratios, not the absolute times.
 """
 
@@ -59,6 +59,9 @@ import scipy.sparse as sps
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZES = (60, 1000, 6000)
+
+#: The last commit with the hand-written kernel (``kernels/cable.py`` compiled by itself).
+BASE = "93f5041"
 
 #: Shared head of the snippets run in subprocesses: the section, the perturbed state, the
 #: user laws (only in a tree that has ``cable_law``) and the timer.
@@ -424,7 +427,8 @@ def print_tables(sizes, times, checks, one_off, jax_rows):
 def main(argv=None):
     """Parse the arguments, run the measurements in a temporary folder and print them."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--base", default="HEAD", help="commit of the hand-written kernel")
+    parser.add_argument("--base", default=BASE,
+                        help="a commit with the hand-written kernel (no skfem_cable/laws)")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
     parser.add_argument("--seconds", type=float, default=0.5,
@@ -440,6 +444,11 @@ def main(argv=None):
         trees = {"here": ROOT, "base": tmp / "base"}
         subprocess.run(["git", "worktree", "add", "--detach", str(trees["base"]), args.base],
                        cwd=ROOT, check=True, capture_output=True)
+        if (trees["base"] / "skfem_cable" / "laws").exists():
+            subprocess.run(["git", "worktree", "remove", "--force", str(trees["base"])],
+                           cwd=ROOT, check=False, capture_output=True)
+            parser.error(f"--base {args.base} already has the element laws; give a commit "
+                         f"with the hand-written kernel (e.g. {BASE})")
         env = {"SKFEM_CABLE_CACHE": str(tmp / "cache"), "NUMBA_CACHE_DIR": str(tmp / "numba")}
         try:
             one_off = one_off_costs(trees, tmp)
