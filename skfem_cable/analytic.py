@@ -1,8 +1,20 @@
 """Closed-form reference solutions used by the validation tests, demos and benchmarks."""
 
 import numpy as np
+from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipeinc, ellipk, ellipkinc
+
+
+def _elastica_modulus(k):
+    """Parameter ``m = p^2`` of the tip-loaded elastica (Bisshopp & Drucker 1945)."""
+    sk = np.sqrt(k)
+
+    def mismatch(m):
+        phi1 = np.arcsin(1.0 / np.sqrt(2.0 * m))
+        return ellipk(m) - ellipkinc(phi1, m) - sk
+
+    return brentq(mismatch, 0.5 + 1e-15, 1.0 - 1e-15, xtol=1e-15, rtol=1e-15)
 
 
 def elastica_tip_load(k):
@@ -21,17 +33,34 @@ def elastica_tip_load(k):
     if not k > 0:
         raise ValueError(f"k must be > 0, got {k!r}")
     sk = np.sqrt(k)
-
-    def mismatch(m):
-        phi1 = np.arcsin(1.0 / np.sqrt(2.0 * m))
-        return ellipk(m) - ellipkinc(phi1, m) - sk
-
-    m = brentq(mismatch, 0.5 + 1e-15, 1.0 - 1e-15, xtol=1e-15, rtol=1e-15)
+    m = _elastica_modulus(k)
     p = np.sqrt(m)
     phi1 = np.arcsin(1.0 / (np.sqrt(2.0) * p))
     u = 1.0 - 2.0 * p * np.cos(phi1) / sk
     w = 1.0 - 2.0 * (ellipe(m) - ellipeinc(phi1, m)) / sk
     return float(u), float(w)
+
+
+def elastica_tip_load_angle(k, s):
+    """Tangent angle ``theta(s)`` (rad, positive towards the load) along the cantilever of
+    ``elastica_tip_load`` at ``s / L`` in ``[0, 1]``: the axial force there is
+    ``P sin(theta)``.
+
+    With the tip angle ``theta_L = 2 arcsin(p) - pi/2`` of the elliptic solution, the first
+    integral ``theta'^2 = 2 k (sin theta_L - sin theta)`` gives the slope at the clamp, and
+    ``theta'' = -k cos(theta)`` is integrated from there (``solve_ivp``, DOP853, relative
+    tolerance 1e-12).
+    """
+    if not k > 0:
+        raise ValueError(f"k must be > 0, got {k!r}")
+    s = np.asarray(s, dtype=float)
+    if np.any(s < 0) or np.any(s > 1):
+        raise ValueError("s must lie in [0, 1] (arc length over L)")
+    theta_tip = 2.0 * np.arcsin(np.sqrt(_elastica_modulus(k))) - 0.5 * np.pi
+    start = [0.0, np.sqrt(2.0 * k * np.sin(theta_tip))]
+    sol = solve_ivp(lambda x, y: [y[1], -k * np.cos(y[0])], (0.0, 1.0), start,
+                    method="DOP853", rtol=1e-12, atol=1e-14, dense_output=True)
+    return sol.sol(s)[0]
 
 
 def compound_pendulum_period(length, amplitude, g=9.81):

@@ -73,6 +73,9 @@ def build_parser():
                      help="time step in s (hanging-chain: output spacing; default: the scene's)")
     run.add_argument("--elements", type=_positive_int, metavar="N",
                      help="elements per cable (hanging-chain: number of rods)")
+    run.add_argument("--locking-free", action="store_true", default=None,
+                     help="cables sample the axial strain at nodes and midpoints (no "
+                     "membrane locking; default: the paper's formulation)")
     run.add_argument("--alpha", type=float, metavar="DEG",
                      help="sailing angle in degrees (esail only)")
     run.add_argument("--out", type=Path, metavar="DIR", help="run directory to write")
@@ -118,7 +121,7 @@ def cmd_run(args):
     from .scenes.catalog import run_scene
 
     options = RunOptions(out=args.out, t_end=args.t_end, dt=args.dt, elements=args.elements,
-                         alpha=args.alpha, every=args.every,
+                         locking_free=args.locking_free, alpha=args.alpha, every=args.every,
                          progress=False if args.no_progress else None,
                          plots=not args.no_plots, animate=args.animate,
                          overwrite=args.overwrite, resume=args.resume)

@@ -50,6 +50,11 @@ def _six(field):
 def _densities(cable):
     """``point(w)``: the law's densities at the quadrature points of the fields ``w``,
     evaluated once per assembly (the forms call it once per pair of basis functions)."""
+    if cable.locking_free:
+        raise NotImplementedError(
+            f"cable {cable.name!r} is locking-free: its axial part is integrated on its own "
+            "rule (nodes and midpoints), which one form on cable.basis cannot express; "
+            "build it with locking_free=False for the forms")
     memo = [None, None]
 
     def point(w):

@@ -48,6 +48,7 @@ class RunOptions:
     t_end: float | None = None
     dt: float | None = None
     elements: int | None = None
+    locking_free: bool | None = None
     alpha: float | None = None
     every: int | None = None
     progress: bool | None = None

@@ -3,7 +3,8 @@ that a run directory is continued or read back only with the system that wrote i
 
 ``fingerprint(system, settings)`` hashes
 
-* every body: class, name, ``n_dofs``, ``q0``, section fields, kind, mesh nodes;
+* every body: class, name, ``n_dofs``, ``q0``, section fields, element law (name,
+  expression digest, own values), quadrature order, locking-free flag, mesh nodes;
 * the mass matrix (point masses included);
 * every constraint: class, name, ``n_eq``, labels, global coordinates (``dofs``) and its
   parameters (Jacobian, offsets, prescribed motions);
@@ -155,9 +156,12 @@ def describe_system(system):
         section = getattr(body, "section", None)
         if section is not None:
             entry["section"] = d(section, 1)
-        for attr in ("kind", "intorder", "mass", "center_of_mass", "inertia"):
+        for attr in ("intorder", "locking_free", "mass", "center_of_mass", "inertia"):
             if hasattr(body, attr) and not callable(getattr(body, attr)):
                 entry[attr] = d(getattr(body, attr), 1)
+        law = getattr(body, "law", None)
+        if law is not None:  # an element law: its physics (expressions) and own values
+            entry["law"] = {"name": law.name, "key": law.key, "values": d(law.values, 1)}
         mesh = getattr(body, "mesh", None)
         if mesh is not None and hasattr(mesh, "p"):
             entry["mesh"] = {"p": _array(mesh.p), "t": _array(mesh.t)}

@@ -17,9 +17,10 @@ function's defaults) first, then the attributes of the cable's ``Section`` (``EA
 ``EI``, ``gamma_axial``, ...).  ``h``, the element length, is supplied per element.
 """
 
+import copy
 import hashlib
 import inspect
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import sympy as sp
@@ -112,6 +113,7 @@ class CableLaw:
         self._compiled = None
         self._key = None
         self._dissipates = {}
+        self._parts = {}
 
     def __repr__(self):
         return f"CableLaw({self.name!r})"
@@ -124,6 +126,22 @@ class CableLaw:
     def with_parameters(self, **values):
         """The same law with some parameters fixed (they then ignore the section)."""
         return CableLaw(self.energy, self.dissipation, self.name, {**self.values, **values})
+
+    def part(self, which):
+        """The axial (``which = 0``) or bending (1) part of the law alone: the terms of
+        ``W`` and ``D`` without (with) ``b``, to integrate with a rule of their own
+        (locking-free cables)."""
+        if which not in self._parts:
+            s = self.symbolic
+            keep = [sp.Integer(0), sp.Integer(0)]
+            W, D = list(keep), list(keep)
+            W[which], D[which] = s.W[which], s.D[which]
+            part = copy.copy(self)
+            part.name = f"{self.name}-{('axial', 'bending')[which]}"
+            part._symbolic = replace(s, W=tuple(W), D=tuple(D))
+            part._compiled, part._key, part._dissipates, part._parts = None, None, {}, {}
+            self._parts[which] = part
+        return self._parts[which]
 
     # --- expressions ----------------------------------------------------------------------
     @property
@@ -173,6 +191,13 @@ class CableLaw:
         """True if the law involves ``b = r_xx`` (then it needs the slopes' continuity)."""
         s = self.symbolic
         return any(e.free_symbols & set(s.x[3:]) for e in (*s.W, *s.D))
+
+    @property
+    def vanishes(self):
+        """True if the law has neither energy nor dissipation (e.g. the bending part of a
+        truss)."""
+        s = self.symbolic
+        return all(e == 0 for e in (*s.W, *s.D))
 
     @property
     def damped(self):

@@ -7,7 +7,7 @@ import numpy as np
 from ..cable import Cable
 from ..rigid import RigidBody
 from ..section import Section
-from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
+from .schema import boolean, choice, count, integer, non_negative, positive, rotation, text, vector3
 
 
 class Bodies:
@@ -99,9 +99,10 @@ def read_cable(t, bodies):
     if n is None:
         t.fail("elements", "is required")
     kind = t.get("kind", choice("cable", "truss"), "cable")
+    locking_free = t.get("locking_free", boolean, False)
     t.finish()
     cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
-                           law=kind, name=name)
+                           law=kind, name=name, locking_free=locking_free)
     bodies.add(t, cable)
 
 

@@ -59,7 +59,7 @@ def build(root, elements=None):
 def run(path, spec, options):
     """Run the ``SceneSpec`` read from ``path`` into the run directory ``options.out``;
     returns the summary."""
-    options.reject(Path(path).name, "alpha")
+    options.reject(Path(path).name, "alpha", "locking_free")
     name = Path(path).stem
     parameters = {"file": str(path), "title": spec.title}
     if spec.analysis == "dynamic":

@@ -69,7 +69,7 @@ def cantilever(options):
     section = classics.ELASTICA_SECTION
     rows, steps = [], []
     for k in (1.0, 2.0, 5.0, 10.0):
-        scene = classics.cantilever(n, k)
+        scene = classics.cantilever(n, k, locking_free=options.value("locking_free", False))
         system, cable = scene.system, scene.cable
         state = solve_static(system, load_steps=20)
         tip = state.position(cable, 1.0)
@@ -78,7 +78,8 @@ def cantilever(options):
         rows.append({"k": k, "u": u, "u_exact": u_ref, "w": w, "w_exact": w_ref,
                      "rel_error": max(abs(u - u_ref) / u_ref, abs(w - w_ref) / w_ref)})
         steps.append((k, state))
-    parameters = {"elements": n, "EA L^2/EI": section.EA / section.EI}
+    parameters = {"elements": n, "EA L^2/EI": section.EA / section.EI,
+                  "locking_free": cable.locking_free}
     return run_static("cantilever", system, steps, options, parameters, {"elastica": rows},
                       title="cantilever, k = P L^2/EI = 10")
 
@@ -86,10 +87,12 @@ def cantilever(options):
 def pendulum(options):
     """Flexible pendulum released horizontally (``classics.pendulum``)."""
     options.reject("pendulum", "alpha")
-    scene = classics.pendulum(n_elements=options.value("elements", 16))
+    scene = classics.pendulum(n_elements=options.value("elements", 16),
+                              locking_free=options.value("locking_free", False))
     return run_dynamic("pendulum", scene.system, scene.initial, options,
                        {"t_end": 1.0, "dt": 1e-3, "every": 10, "rho_inf": 0.8},
-                       {"elements": scene.cable.n_elements, "length": scene.cable.length})[0]
+                       {"elements": scene.cable.n_elements, "length": scene.cable.length,
+                        "locking_free": scene.cable.locking_free})[0]
 
 
 def spinning_tether(options):
@@ -98,7 +101,8 @@ def spinning_tether(options):
     options.reject("spinning-tether", "alpha")
     spin, tip_mass = 2.0, 0.5
     scene = classics.spinning_tether(n_elements=options.value("elements", 10), spin=spin,
-                                     tip_mass=tip_mass)
+                                     tip_mass=tip_mass,
+                                     locking_free=options.value("locking_free", False))
     cable = scene.cable
     L, mu = cable.length, cable.section.mass_per_length
     rigid = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
@@ -110,7 +114,8 @@ def spinning_tether(options):
 
     return run_dynamic("spinning-tether", scene.system, scene.initial, options,
                        {"t_end": 5.0, "dt": 5e-3, "every": 4, "rho_inf": 0.8},
-                       {"elements": cable.n_elements, "spin": spin, "tip_mass": tip_mass},
+                       {"elements": cable.n_elements, "spin": spin, "tip_mass": tip_mass,
+                        "locking_free": cable.locking_free},
                        outputs)[0]
 
 

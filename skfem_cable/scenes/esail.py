@@ -125,9 +125,10 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     return np.interp(s, grid, r), np.interp(s, grid, lam)
 
 
-def build(config, alpha_deg, n_elements, kind="cable"):
+def build(config, alpha_deg, n_elements, kind="cable", locking_free=False):
     """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
-    ``n_elements`` elements per tether of ``kind`` ("cable" or "truss").
+    ``n_elements`` elements per tether of ``kind`` ("cable" or "truss"), locking-free or
+    in the paper's formulation (``Cable``'s ``locking_free``).
 
     The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
@@ -159,7 +160,7 @@ def build(config, alpha_deg, n_elements, kind="cable"):
         e = C_I_B @ radial_B[i]
         cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
                                      sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
-                      law=kind, name=f"tether{i + 1}")
+                      law=kind, name=f"tether{i + 1}", locking_free=locking_free)
         tethers.append(cable)
     system = System([hub, *tethers])
     for cable, x in zip(tethers, anchors):
@@ -422,7 +423,8 @@ def run(options):
 
     cfg = BaselineConfig()
     alpha = options.value("alpha", 10.0)
-    scene = build(cfg, alpha, options.value("elements", 5))
+    scene = build(cfg, alpha, options.value("elements", 5),
+                  locking_free=options.value("locking_free", False))
 
     def key_numbers(result):
         out = outputs(scene, result)
@@ -445,6 +447,7 @@ def run(options):
     defaults = {"t_end": 3 * cfg.spin_period, "dt": 0.1, "every": 50, "rho_inf": 0.25,
                 "series_every": 12}
     parameters = {"alpha_deg": alpha, "elements_per_tether": scene.tethers[0].n_elements,
-                  "tethers": cfg.n_tethers, "kind": "cable"}
+                  "tethers": cfg.n_tethers, "kind": "cable",
+                  "locking_free": scene.tethers[0].locking_free}
     return run_dynamic("esail", scene.system, scene.initial, options, defaults, parameters,
                        key_numbers)[0]
