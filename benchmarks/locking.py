@@ -3,7 +3,7 @@ paper's formulation (``locking_free=False``, every term on the 5-point Gauss rul
 
 A locking-free cable integrates the axial part of its law (the terms without ``r_xx``) with
 the 3-point Gauss-Lobatto rule (nodes and midpoint, ``cable.LOBATTO``) and the bending part
-with the 5-point Gauss rule; its strain and tension are recovered from the Lobatto points
+with the 3-point Gauss rule; its strain and tension are recovered from the Lobatto points
 (``Cable.tension``).  This script measures, for both options:
 
 1. The elastica: a cantilever (``classics.cantilever``, ``EA L^2/EI = 1e7``) under a

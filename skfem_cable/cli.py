@@ -73,9 +73,14 @@ def build_parser():
                      help="time step in s (hanging-chain: output spacing; default: the scene's)")
     run.add_argument("--elements", type=_positive_int, metavar="N",
                      help="elements per cable (hanging-chain: number of rods)")
-    run.add_argument("--locking-free", action="store_true", default=None,
-                     help="cables sample the axial strain at nodes and midpoints (no "
-                     "membrane locking; default: the paper's formulation)")
+    formulation = run.add_mutually_exclusive_group()
+    formulation.add_argument("--locking-free", dest="locking_free", action="store_true",
+                             default=None, help="cables sample the axial strain at nodes "
+                             "and midpoints: no membrane locking (default of cantilever)")
+    formulation.add_argument("--paper-formulation", dest="locking_free",
+                             action="store_false", default=None,
+                             help="cables in the paper's formulation (default of the other "
+                             "cable scenes)")
     run.add_argument("--alpha", type=float, metavar="DEG",
                      help="sailing angle in degrees (esail only)")
     run.add_argument("--out", type=Path, metavar="DIR", help="run directory to write")

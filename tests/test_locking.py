@@ -114,17 +114,20 @@ def test_locking_free_tangents_match_finite_differences(law):
 
 
 def test_cli_scene_and_scene_file_take_the_option(tmp_path):
-    """`skfem-cable run cantilever --locking-free` reports a root tension of ~0 (exact: 0;
-    the paper's formulation: 6.4 N, 64 P), and a scene file selects it per cable."""
+    """`skfem-cable run cantilever` (locking-free by default) reports a root tension of ~0
+    (exact: 0; with --paper-formulation: 6.4 N, 64 P), and a scene file selects the option
+    per cable."""
     from skfem_cable import scene_file
     from skfem_cable.runner import RunOptions
     from skfem_cable.scenes.catalog import run_scene
 
-    summary = run_scene("cantilever", RunOptions(locking_free=True, plots=False,
-                                                 progress=False))
-    assert summary["parameters"]["locking_free"] is True
+    summary = run_scene("cantilever", RunOptions(plots=False, progress=False))
+    assert summary["parameters"]["locking_free"] is True  # the scene's default
     P = 10.0 * SEC.EI
     assert abs(summary["outputs"]["cables"]["cable"]["root_tension"]) < 0.01 * P
+    paper = run_scene("cantilever", RunOptions(locking_free=False, plots=False,
+                                               progress=False))
+    assert paper["outputs"]["cables"]["cable"]["root_tension"] > 10 * P
     path = tmp_path / "bar.toml"
     path.write_text('[sections.s]\nE = 1e9\nA = 1e-4\nI = 1e-10\nrho = 7850.0\n\n'
                     '[[cables]]\nname = "bar"\nsection = "s"\nstart = [0, 0, 0]\n'
