@@ -16,6 +16,10 @@ from scipy.sparse.linalg import splu
 #: Banded LU is used while the band half-width stays below this.
 MAX_BANDWIDTH = 64
 
+#: Largest band storage (entries) used to locate where a sparse factorization found the
+#: matrix singular (160 MB).
+MAX_LOCATE_ENTRIES = 2e7
+
 
 class SingularMatrixError(np.linalg.LinAlgError):
     """The iteration matrix is singular; ``index`` is the unknown where it was detected."""
@@ -75,7 +79,23 @@ class PatternSolver:
             try:
                 self._lu = splu(A.tocsc())
             except RuntimeError as err:
-                raise SingularMatrixError(f"singular iteration matrix ({err})", -1) from None
+                idx = self._locate_singular(data)
+                at = f"at unknown {idx}" if idx >= 0 else f"({err})"
+                raise SingularMatrixError(f"singular iteration matrix {at}", idx) from None
+
+    def _locate_singular(self, data):
+        """The unknown where a singular matrix with CSR values ``data`` loses rank, found
+        by a banded LU of its bandwidth-reduced form (as the banded method does); -1 if
+        that band would exceed ``MAX_LOCATE_ENTRIES`` (too large to locate)."""
+        band = self.band
+        if self.n * (3 * band + 1) > MAX_LOCATE_ENTRIES:
+            return -1
+        ab = np.zeros((3 * band + 1, self.n))
+        rows = np.repeat(np.arange(self.n), np.diff(self.pattern.indptr))
+        pr, pc = self.iperm[rows], self.iperm[self.pattern.indices]
+        ab[2 * band + pr - pc, pc] = data
+        _, _, info = lapack.dgbtrf(ab, band, band, overwrite_ab=1)
+        return int(self.perm[info - 1]) if info > 0 else -1
 
     def solve(self, rhs):
         """Solve with the last factorization; ``rhs`` of shape ``(n,)`` or ``(n, k)``."""

@@ -269,7 +269,8 @@ class GeneralizedAlpha:
                     self._factor(q1, v1, t1, lam1, h, data)
                 except SingularMatrixError as exc:
                     self.h_factored = None
-                    where = system.describe_dof(exc.index) if exc.index >= 0 else "?"
+                    where = system.describe_dof(exc.index) if exc.index >= 0 else \
+                        "an unknown not located (system too large)"
                     return False, f"t={t1:.6g}, h={h:.3g}: singular iteration matrix at {where}"
                 need = self.newton == "full"
             dx = self.solver.solve(-r)

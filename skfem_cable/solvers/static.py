@@ -183,7 +183,8 @@ class _Newton:
             try:
                 self.solver.factor(data)
             except SingularMatrixError as err:
-                where = self.system.describe_dof(err.index) if err.index >= 0 else "?"
+                where = self.system.describe_dof(err.index) if err.index >= 0 else \
+                    "an unknown not located (system too large)"
                 history.append(f"singular matrix at {where}")
                 return False, it, qk, lamk, history
             dx = self.solver.solve(-r)
