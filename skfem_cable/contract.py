@@ -250,3 +250,21 @@ class Run:
     stats: dict
     resumed: bool = False
     stop_reason: str | None = None
+
+
+def finish_observers(observers, run, error):
+    """Call ``finish(run, error)`` of every observer, even when one of them fails: with
+    ``error`` (the run failed) their failures are added to its notes; otherwise the first
+    one is raised after all were called.  Every integrator ends its runs with this."""
+    first = None
+    for obs in observers:
+        try:
+            obs.finish(run, error)
+        except Exception as exc:
+            if error is not None:
+                if hasattr(error, "add_note"):  # Python >= 3.11
+                    error.add_note(f"{type(obs).__name__}.finish failed too: {exc!r}")
+            elif first is None:
+                first = exc
+    if first is not None:
+        raise first

@@ -222,10 +222,52 @@ def read_pvd(path):
     return [(float(d.get("timestep")), d.get("file")) for d in root.iter("DataSet")]
 
 
-class SeriesWriter:
-    """Writes a time series into a run directory: ``vtu/<name>_NNNNNN.vtu`` per step and
+class VtuSeries:
+    """A ParaView time series in a run directory: ``vtu/<name>_NNNNNN.vtu`` per step and
     ``<name>.pvd`` listing them, rewritten after every step (so an interrupted run can be
-    opened up to its last step).
+    opened up to its last step).  ``SeriesWriter`` (cable systems) and the rod chain's
+    ``ChainSeriesWriter`` add the mesh of their model.
+
+    Parameters
+    ----------
+    run_dir : path
+        Created if missing.
+    append : bool
+        Continue the series already in ``run_dir`` (a restarted run): its entries are
+        kept up to the first time written again.  Otherwise the series starts afresh.
+    name : str
+        Base name of the files.
+    """
+
+    def __init__(self, run_dir, append=False, name="series"):
+        self.dir = Path(run_dir)
+        (self.dir / "vtu").mkdir(parents=True, exist_ok=True)
+        self.name = name
+        self.pvd = self.dir / f"{name}.pvd"
+        self.entries = read_pvd(self.pvd) if append and self.pvd.exists() else []
+
+    def add(self, t, mesh):
+        """Write the ``meshio.Mesh`` of time ``t``; entries at or after ``t`` are replaced.
+        Returns the path of the ``.vtu``."""
+        self.entries = [e for e in self.entries if e[0] < t]
+        file = Path("vtu") / f"{self.name}_{len(self.entries):06d}.vtu"
+        _write_atomic(self.dir / file, mesh)
+        self.entries.append((float(t), file.as_posix()))
+        write_pvd(self.pvd, self.entries)
+        return self.dir / file
+
+    def close(self):
+        """Nothing is held open; kept for use as a context manager."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+class SeriesWriter(VtuSeries):
+    """The time series of a cable system (see ``VtuSeries``).
 
     Parameters
     ----------
@@ -234,11 +276,8 @@ class SeriesWriter:
     system : System
     points_per_element, resolution : int
         See ``system_mesh``.
-    append : bool
-        Continue the series already in ``run_dir`` (a restarted run): its entries are
-        kept up to the first time written again.  Otherwise the series starts afresh.
-    name : str
-        Base name of the files.
+    append, name
+        See ``VtuSeries``.
 
     Examples
     --------
@@ -250,34 +289,16 @@ class SeriesWriter:
 
     def __init__(self, run_dir, system, points_per_element=8, resolution=32, append=False,
                  name="series"):
-        self.dir = Path(run_dir)
-        (self.dir / "vtu").mkdir(parents=True, exist_ok=True)
+        super().__init__(run_dir, append, name)
         self.system = system
         self.points_per_element = points_per_element
         self.resolution = resolution
-        self.name = name
-        self.pvd = self.dir / f"{name}.pvd"
-        self.entries = read_pvd(self.pvd) if append and self.pvd.exists() else []
 
     def write(self, t, q, v=None):
         """Write the step at time ``t``; entries at or after ``t`` are replaced.
         Returns the path of the ``.vtu``."""
-        self.entries = [e for e in self.entries if e[0] < t]
-        file = Path("vtu") / f"{self.name}_{len(self.entries):06d}.vtu"
-        mesh = system_mesh(self.system, q, v, self.points_per_element, self.resolution)
-        _write_atomic(self.dir / file, mesh)
-        self.entries.append((float(t), file.as_posix()))
-        write_pvd(self.pvd, self.entries)
-        return self.dir / file
-
-    def close(self):
-        """Nothing is held open; kept for symmetry with other writers."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
+        return self.add(t, system_mesh(self.system, q, v, self.points_per_element,
+                                       self.resolution))
 
 
 def write_series(result, run_dir, every=1, **options):

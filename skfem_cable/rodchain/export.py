@@ -16,7 +16,7 @@ import meshio
 import numpy as np
 
 from ..contract import Observer
-from ..export import _write_atomic, read_pvd, write_pvd
+from ..export import VtuSeries, _write_atomic
 
 
 def chain_mesh(chain, q, v=None, origin=(0.0, 0.0, 0.0), origin_velocity=(0.0, 0.0, 0.0)):
@@ -52,49 +52,27 @@ def write_vtu(path, state):
     return path
 
 
-class ChainSeriesWriter:
-    """Writes a rod-chain time series into a run directory: ``vtu/<name>_NNNNNN.vtu`` per
-    step and ``<name>.pvd`` listing them, rewritten after every step (the layout of
-    ``export.SeriesWriter``, so that ParaView opens an interrupted run too).
+class ChainSeriesWriter(VtuSeries):
+    """Writes a rod-chain time series into a run directory (the layout of
+    ``export.VtuSeries``, so that ParaView opens an interrupted run too).
 
     Parameters
     ----------
     run_dir : path
         Created if missing.
     chain : RodChain
-    append : bool
-        Continue the series already in ``run_dir``: its entries are kept up to the first
-        time written again.  Otherwise the series starts afresh.
-    name : str
-        Base name of the files.
+    append, name
+        See ``export.VtuSeries``.
     """
 
     def __init__(self, run_dir, chain, append=False, name="series"):
-        self.dir = Path(run_dir)
-        (self.dir / "vtu").mkdir(parents=True, exist_ok=True)
+        super().__init__(run_dir, append, name)
         self.chain = chain
-        self.name = name
-        self.pvd = self.dir / f"{name}.pvd"
-        self.entries = read_pvd(self.pvd) if append and self.pvd.exists() else []
 
     def write(self, t, q, v=None, origin=(0.0, 0.0, 0.0), origin_velocity=(0.0, 0.0, 0.0)):
         """Write the configuration at time ``t`` (rod vectors ``q``, (n, 3) or flattened);
         entries at or after ``t`` are replaced.  Returns the path of the ``.vtu``."""
-        self.entries = [e for e in self.entries if e[0] < t]
-        file = Path("vtu") / f"{self.name}_{len(self.entries):06d}.vtu"
-        _write_atomic(self.dir / file, chain_mesh(self.chain, q, v, origin, origin_velocity))
-        self.entries.append((float(t), file.as_posix()))
-        write_pvd(self.pvd, self.entries)
-        return self.dir / file
-
-    def close(self):
-        """Nothing is held open; kept for symmetry with ``export.SeriesWriter``."""
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
+        return self.add(t, chain_mesh(self.chain, q, v, origin, origin_velocity))
 
 
 def write_series(result, run_dir, every=1, name="series"):

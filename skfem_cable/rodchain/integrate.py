@@ -22,7 +22,7 @@ import time
 import numpy as np
 from scipy.integrate import DOP853, RK45
 
-from ..contract import Run, Step
+from ..contract import Run, Step, finish_observers
 from ..kernels import rodchain as kern
 from ..result import ENERGIES
 from .result import RodChainResult, energies
@@ -314,23 +314,7 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
     except BaseException as err:
         with contextlib.suppress(Exception):  # the saved steps travel with the error
             err.result = result(count)
-        _finish(started, run, err)
+        finish_observers(started, run, err)
         raise
-    _finish(started, run, None)
+    finish_observers(started, run, None)
     return result(count, stop)
-
-
-def _finish(observers, run, error):
-    """``finish`` of every observer, even when one of them fails (as ``simulate``)."""
-    first = None
-    for obs in observers:
-        try:
-            obs.finish(run, error)
-        except Exception as exc:
-            if error is not None:
-                if hasattr(error, "add_note"):
-                    error.add_note(f"{type(obs).__name__}.finish failed too: {exc!r}")
-            elif first is None:
-                first = exc
-    if first is not None:
-        raise first

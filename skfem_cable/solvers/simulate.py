@@ -21,7 +21,7 @@ import time
 
 import numpy as np
 
-from ..contract import Observer, Run, Step
+from ..contract import Observer, Run, Step, finish_observers
 from ..result import FIELDS, SETTINGS, Result, settings_array, step_record
 from .galpha import GeneralizedAlpha
 
@@ -247,28 +247,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         # whatever stopped the run, the steps computed so far travel with the error
         with contextlib.suppress(Exception):
             err.result = Result(system, recorder.arrays(), _stats(integ, wall0))
-        _finish(started, run, err)
+        finish_observers(started, run, err)
         raise
-    _finish(started, run, None)
+    finish_observers(started, run, None)
     return Result(system, recorder.arrays(), _stats(integ, wall0, run.stop_reason))
-
-
-def _finish(observers, run, error):
-    """``finish`` of every observer, even when one of them fails: with ``error`` (the run
-    failed), their failures are added to its notes; otherwise the first one is raised."""
-    first = None
-    for obs in observers:
-        try:
-            obs.finish(run, error)
-        except Exception as exc:
-            if error is not None:
-                _add_note(error, f"{type(obs).__name__}.finish failed too: {exc!r}")
-            elif first is None:
-                first = exc
-    if first is not None:
-        raise first
-
-
-def _add_note(error, note):
-    if hasattr(error, "add_note"):  # Python >= 3.11
-        error.add_note(note)
