@@ -95,25 +95,6 @@ def _validation_helpers():
 V = _validation_helpers()
 
 
-def orders(ns, errors):
-    """Observed convergence orders between successive meshes.
-
-    Parameters
-    ----------
-    ns : sequence of int
-        Numbers of elements.
-    errors : sequence of float
-        Error on each mesh.
-
-    Returns
-    -------
-    ndarray
-        ``log(e_i / e_{i+1}) / log(n_{i+1} / n_i)``.
-    """
-    n, e = np.asarray(ns, float), np.asarray(errors, float)
-    return np.log(e[:-1] / e[1:]) / np.log(n[1:] / n[:-1])
-
-
 # --------------------------------------------------------------------------------------
 # 1. the elastica
 # --------------------------------------------------------------------------------------
@@ -723,7 +704,7 @@ def _error_table(title, first, rows, ns=ELEMENTS):
     print("|" + "---|" * len(first) + "---:|" * (len(heads) - len(first)))
     for labels, errors in rows:
         print(_row([*labels, *(f"{e:.2e}" for e in errors),
-                    *(f"{o:.2f}" for o in orders(ns, errors))]))
+                    *(f"{o:.2f}" for o in V.observed_rates(ns, errors))]))
 
 
 def print_accuracy(elastica_rows, catenary_rows, truss, tether, strings, zeros):

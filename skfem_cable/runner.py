@@ -124,8 +124,19 @@ def run_warnings(summary):
     return []
 
 
-def _warn(message):
+def warn(message):
+    """Print a warning of a run on stderr (prefixed ``skfem-cable:``)."""
     print(f"skfem-cable: {message}", file=sys.stderr)
+
+
+def complete_summary(summary, result, outputs=None):
+    """Add a scene's own key numbers ``outputs(result)`` to ``summary["outputs"]`` and the
+    run's warnings (``run_warnings``), printing each."""
+    if outputs is not None:
+        summary["outputs"].update(outputs(result))
+    summary["warnings"] = run_warnings(summary)
+    for warning in summary["warnings"]:
+        warn(warning)
 
 
 def snapshot(out, system, state, name="final.png", title=None):
@@ -133,7 +144,7 @@ def snapshot(out, system, state, name="final.png", title=None):
     the path, or None (with a warning on stderr) when it does not."""
     ok, reason = plot.rendering_available()
     if not ok:
-        _warn(f"skipping the 3-D snapshot: {reason}")
+        warn(f"skipping the 3-D snapshot: {reason}")
         return None
     path = Path(out) / "plots" / name
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -162,7 +173,7 @@ def run_figures(out, result, animate=False):
             paths.append(Path(out) / "animation.gif")
             plot.animate(result, paths[-1])
     elif animate:
-        _warn("skipping the animation (no off-screen rendering)")
+        warn("skipping the animation (no off-screen rendering)")
     return paths
 
 
@@ -334,11 +345,7 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
                           "factorizations": stats["factorizations"],
                           "rejected_steps": stats["rejected"], "solver": stats["solver"]},
                "outputs": run_outputs(result)}
-    if outputs is not None:
-        summary["outputs"].update(outputs(result))
-    summary["warnings"] = run_warnings(summary)
-    for warning in summary["warnings"]:
-        _warn(warning)
+    complete_summary(summary, result, outputs)
     if out is not None:
         summary["store"] = store_summary(out)
         files = {"store": STORE, "manifest": "manifest.json",

@@ -144,10 +144,8 @@ class Problem:
     def acceleration(self, t, q, v):
         """``(q'', flag)``: Eq. 21 at time ``t``; ``flag`` is ``load_vector``'s rod check."""
         c = self.chain
-        r0, u0, a0 = self.anchor(np.array([t]))
-        Fx, Fxs = self.extra_forces(t, q, v, r0[0], u0[0])
+        g, Fx, Fxs = self._loads(t, q, v)
         out = np.empty_like(q)
-        g = self.gravity - a0[0]
         bad = kern.derivative(q, c.masses, c.lengths, c.EA, c.compression, c._a, c._b, g,
                               self.w, self.tip, Fx, Fxs, self.max_strain, np.empty_like(q), out)
         return out, bad
@@ -155,12 +153,17 @@ class Problem:
     def generalized_forces(self, t, q, v):
         """External generalized forces ``Q`` (Eq. 16 plus the anchor term), (n, 3)."""
         c = self.chain
-        r0, u0, a0 = self.anchor(np.array([t]))
-        Fx, Fxs = self.extra_forces(t, q, v, r0[0], u0[0])
+        g, Fx, Fxs = self._loads(t, q, v)
         out = np.empty_like(q)
-        kern.load_vector(q, c.masses, c.lengths, c.EA, c.compression, False,
-                         self.gravity - a0[0], self.w, self.tip, Fx, Fxs, np.inf, out)
+        kern.load_vector(q, c.masses, c.lengths, c.EA, c.compression, False, g, self.w,
+                         self.tip, Fx, Fxs, np.inf, out)
         return out
+
+    def _loads(self, t, q, v):
+        """Gravity in the anchor's frame ``g - a_0(t)`` and the line-load terms
+        ``(F, F*)`` of ``extra_forces`` at time ``t``."""
+        r0, u0, a0 = self.anchor(np.array([t]))
+        return (self.gravity - a0[0], *self.extra_forces(t, q, v, r0[0], u0[0]))
 
     def line_resultants(self, t, q, v):
         """Resultant ``sum_i F_i`` (3,) of the line loads (Eq. 14) on the chain."""

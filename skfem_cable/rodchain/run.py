@@ -4,23 +4,18 @@ the run by ``ChainSeriesObserver``), ``summary.json`` (parameters, wall time, st
 outputs, energy budget) and ``plots/`` (``plots.run_figures``).  A rod-chain run has no
 run store and cannot be resumed."""
 
-import sys
 from pathlib import Path
 
 import numpy as np
 
 from ..io.progress import ProgressBar
-from ..runner import prepare_run_dir, run_warnings, write_summary
+from ..runner import complete_summary, prepare_run_dir, warn, write_summary
 from .export import ChainSeriesObserver
 from .integrate import rk4_step
 from .plots import run_figures
 
 #: Simulate keywords a run takes from ``defaults`` besides ``t_end`` and ``dt``.
 SOLVER_KEYS = ("method", "rtol", "atol", "max_strain")
-
-
-def _warn(message):
-    print(f"skfem-cable: {message}", file=sys.stderr)
 
 
 def time_grid(chain, t_end, dt, method="rk4", step=None):
@@ -123,20 +118,16 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
                                "nfev": stats["nfev"], "stable_dt": chain.stable_dt(),
                                "stopped": stats["stopped"]},
                "outputs": chain_outputs(result)}
-    if outputs is not None:
-        summary["outputs"].update(outputs(result))
-    summary["warnings"] = run_warnings(summary)
-    for warning in summary["warnings"]:
-        _warn(warning)
+    complete_summary(summary, result, outputs)
     if out is not None:
         files = {"series": "series.pvd"}
         if options.plots:
             paths, skipped = run_figures(out, result)
             if skipped:
-                _warn(f"skipping the 3-D snapshot: {skipped}")
+                warn(f"skipping the 3-D snapshot: {skipped}")
             files["plots"] = [p.relative_to(out).as_posix() for p in paths]
         if options.animate:
-            _warn("no animation of rod-chain runs (the VTU series animates in ParaView)")
+            warn("no animation of rod-chain runs (the VTU series animates in ParaView)")
         summary["files"] = files
         write_summary(out, summary)
     return summary, result

@@ -47,6 +47,22 @@ class ChainSceneSpec:
     parameters: dict = field(default_factory=dict)
 
 
+def _total_or_material(t, preset, keys, area, factor, meaning):
+    """A quantity given either in total (``keys[0]``) or as a material constant
+    (``keys[1]``, from the table or the ``preset``) times ``area * factor``."""
+    total, material = keys
+    key, value = _one_of(t, keys, positive)
+    if key is None and material in preset:
+        key, value = material, preset[material]
+    if key is None:
+        t.fail(total, f"is required ({meaning})")
+    if key == material:
+        if area is None:
+            t.fail(material, "needs the section: A or radius", value)
+        value = value * area * factor
+    return value
+
+
 def _one_of(t, keys, check):
     """The one of ``keys`` given in ``t`` (``(key, value)``), ``(None, None)`` if none;
     two of them fail."""
@@ -76,24 +92,10 @@ def read_chain(t, elements=None):
     if key is None and "radius" in preset:
         key, value = "radius", preset["radius"]
     area = None if key is None else (value if key == "A" else np.pi * value**2)
-    mass_key, mass = _one_of(t, ("mass", "density"), positive)
-    if mass_key is None and "density" in preset:
-        mass_key, mass = "density", preset["density"]
-    if mass_key is None:
-        t.fail("mass", "is required (total mass in kg, or density with A or radius)")
-    if mass_key == "density":
-        if area is None:
-            t.fail("density", "needs the section: A or radius", mass)
-        mass = mass * area * length
-    stiff_key, stiffness = _one_of(t, ("EA", "E"), positive)
-    if stiff_key is None and "E" in preset:
-        stiff_key, stiffness = "E", preset["E"]
-    if stiff_key is None:
-        t.fail("EA", "is required (axial stiffness in N, or E with A or radius)")
-    if stiff_key == "E":
-        if area is None:
-            t.fail("E", "needs the section: A or radius", stiffness)
-        stiffness = stiffness * area
+    mass = _total_or_material(t, preset, ("mass", "density"), area, length,
+                              "total mass in kg, or density with A or radius")
+    stiffness = _total_or_material(t, preset, ("EA", "E"), area, 1.0,
+                                   "axial stiffness in N, or E with A or radius")
     compression = t.get("compression", boolean, True)
     chain = RodChain(np.full(n, mass / n), np.full(n, length / n), np.full(n, stiffness),
                      compression)
