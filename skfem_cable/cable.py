@@ -13,9 +13,6 @@ from .element import ElementLineCableHermite, hermite
 from .laws import BUILTIN, SLOPE_FLOOR, CableLaw
 from .section import Section
 
-_EMPTY = np.zeros(0)
-_NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
-
 #: Rule of the axial part of the law on a locking-free cable: 3-point Gauss-Lobatto
 #: (Simpson: the nodes and the midpoint), reference coordinates and weights.
 LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
@@ -26,55 +23,44 @@ LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
 BENDING_INTORDER = 5
 
 
-class CableForces:
-    """The compiled elastic and damping forces of the elements of one or more cables that
-    share a law, its parameter values and quadrature: the ``add`` hook of their ``Term``
-    (see ``contract``).  Cables with the same law are merged into one instance, so an
-    E-sail's tethers are one kernel call.
+def cable_term(edofs, passes, key, name):
+    """The term of the elastic and damping forces of the elements of one or more cables
+    that share a law, its parameter values and quadrature (see ``contract``): one
+    compiled kernel call per pass.  Cables with the same ``key`` are merged
+    (``merge_cable_terms``), so an E-sail's tethers are one call.
 
     Parameters
     ----------
     edofs : int ndarray (ne, 12)
         Global coordinates of each element.
-    passes : sequence of ``(kernel, tables, values, damped)``
+    passes : sequence of ``(module, tables, values, damped)``
         One kernel call each: the generated module of a law (or of a part of it,
         ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)`` (shape-function
         derivatives and Gauss weights of its own rule, element lengths), its parameter
         values and whether its dissipation is active.  A locking-free cable has two: the
         axial part with the reduced rule and the bending part with the full one.
+    key : hashable
+    name : str
     """
+    edofs = np.ascontiguousarray(edofs, dtype=np.int64)
+    kernels = tuple((module.kernel, (edofs, *(np.ascontiguousarray(t) for t in tables),
+                                     np.array(values, dtype=float), bool(damped)))
+                    for module, tables, values, damped in passes)
+    return Term(kernels=kernels, rows=edofs[:, :, None], cols=edofs[:, None, :], key=key,
+                merge=merge_cable_terms, name=name)
 
-    def __init__(self, edofs, passes):
-        self.edofs = np.ascontiguousarray(edofs, dtype=np.int64)
-        self.passes = [(kernel, tuple(np.ascontiguousarray(t) for t in tables),
-                        np.array(values, dtype=float), bool(damped))
-                       for kernel, tables, values, damped in passes]
 
-    def __call__(self, ev, index):
-        """Add the forces (Eqs. 86-127 for the built-in law) and, if wanted,
-        ``cK K + cC C`` (compiled kernels)."""
-        want = ev.data is not None
-        out = (ev.f, ev.f_damping, ev.data if want else _EMPTY,
-               index if want else _NO_SCATTER, ev.energy, ev.power)
-        for kernel, tables, values, damped in self.passes:
-            kernel.force_tangent((ev.q, ev.v), (self.edofs, *tables),
-                                 (values, damped and ev.dynamic), out, (ev.cK, ev.cC))
-
-    @staticmethod
-    def merge(terms):
-        """One term for the concatenated elements of ``terms`` (same key: same passes)."""
-        parts = [t.add for t in terms]
-        passes = [(kernel, [np.concatenate(tabs) for tabs in zip(*(p.passes[k][1]
-                                                                   for p in parts))],
-                   values, damped)
-                  for k, (kernel, _, values, damped) in enumerate(parts[0].passes)]
-        forces = CableForces(np.concatenate([p.edofs for p in parts]), passes)
-        return forces.term(terms[0].key, " + ".join(t.name for t in terms))
-
-    def term(self, key, name):
-        ed = self.edofs
-        return Term(add=self, rows=ed[:, :, None], cols=ed[:, None, :], key=key,
-                    merge=CableForces.merge, name=name)
+def merge_cable_terms(terms):
+    """One term for the concatenated elements of ``terms`` (same key: same passes)."""
+    kernels = []
+    for k, (function, pack) in enumerate(terms[0].kernels):
+        packs = [t.kernels[k][1] for t in terms]
+        tables = tuple(np.concatenate(parts) for parts in zip(*(p[:5] for p in packs)))
+        kernels.append((function, (*tables, *pack[5:])))
+    edofs = kernels[0][1][0]
+    return Term(kernels=tuple(kernels), rows=edofs[:, :, None], cols=edofs[:, None, :],
+                key=terms[0].key, merge=merge_cable_terms,
+                name=" + ".join(t.name for t in terms))
 
 
 class Node:
@@ -293,7 +279,7 @@ class Cable:
 
     def bind(self, system):
         """The term of the cable's elastic and damping forces (see ``contract``): the
-        law's compiled kernel (``CableForces``), shared by all cables with the same law,
+        law's compiled kernel (``cable_term``), shared by all cables with the same law,
         parameter values and quadrature.  A locking-free cable integrates the law's axial
         part with the Gauss-Lobatto rule ``LOBATTO`` and its bending part with the 3-point
         Gauss rule ``BENDING_INTORDER`` (two kernel calls)."""
@@ -311,8 +297,8 @@ class Cable:
             damped = piece.damped and piece.dissipates(values)
             passes.append((piece.compiled(), tables, values, damped))
             key.append((piece.key, damped, tables[0].shape[1]))
-        forces = CableForces(self.global_element_dofs(system), passes)
-        return forces.term(("ancf-cable", values, *key), self.name)
+        return cable_term(self.global_element_dofs(system), passes,
+                          ("ancf-cable", values, *key), self.name)
 
     def assemble(self, q, v=None, cK=1.0, cC=0.0):
         """Internal force ``f = dU/dq + dD/dv`` and tangent ``cK df/dq + cC df/dv`` (sparse,

@@ -5,9 +5,17 @@ A *contributor* (a body's internal forces, a load, a point mass, gravity) is tur
 ``Term`` by ``bind(system)`` once, when the system's layout is built; binding returns a new
 object and never changes the contributor.  A term declares the global coordinates of its
 tangent entries (``rows``, ``cols``), any constant mass and constant generalized force, and
-a hook ``add(ev, index)`` that the solvers call once per Newton iteration with an
-``Evaluation`` and the positions ``index`` of its tangent entries in the matrix values
-``ev.data`` (same shape as ``rows``).
+its forces through one of two hooks, called once per Newton iteration with the positions
+``index`` of its tangent entries in the matrix values (same shape as ``rows``):
+
+* ``add(ev, index)``, a Python callable receiving an ``Evaluation``;
+* ``kernels``, a sequence of compiled ``(function, pack)`` pairs: ``function(pack, index,
+  ev)`` is a numba ``njit`` function receiving the term's own packed data ``pack`` (a
+  tuple of arrays and scalars fixed at binding) and the *packed evaluation*
+  ``ev = (q, v, s, f, f_ext, f_damping, data, energy, power)`` (see ``Evaluation.packed``).
+  Terms with kernels are evaluated inside the compiled Newton step of the
+  generalized-alpha integrator (``solvers.compiled``); a term with a Python ``add`` makes
+  the integrator take its Python step.
 
 Sign conventions (residual ``r = f_int - f_ext + C_q^T lambda``):
 
@@ -40,6 +48,9 @@ from numba import njit
 #: bending parts of the stored elastic energy and of the dissipated power.  A body with
 #: another kind of stored energy adds it to ``AXIAL``.
 AXIAL, BENDING = 0, 1
+
+_NO_DATA = np.zeros(0)
+_NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
 @njit(cache=True)
@@ -104,6 +115,16 @@ class Evaluation:
     def want_tangent(self):
         return self.data is not None
 
+    def packed(self):
+        """The evaluation as compiled kernels receive it: the tuple
+        ``(q, v, s, f, f_ext, f_damping, data, energy, power)`` with
+        ``s = [t, cK, cC, dynamic]`` (float64) and ``data`` of size 0 when no tangent is
+        wanted; the arrays are this evaluation's own (kernels add into them)."""
+        s = np.array([self.t, self.cK, self.cC, float(self.dynamic)])
+        data = _NO_DATA if self.data is None else self.data
+        return (self.q, self.v, s, self.f, self.f_ext, self.f_damping, data, self.energy,
+                self.power)
+
     def add_tangent(self, index, dq=None, dv=None, sign=1.0):
         """Add ``sign (cK dq + cC dv)`` at the matrix positions ``index`` (``dq``, ``dv``
         of the shape of ``index`` or broadcastable; None for a zero block).  Use
@@ -125,6 +146,10 @@ class Term:
     add : callable or None
         ``add(ev, index)``: add forces (and, if ``ev.want_tangent``, tangents at
         ``index``) for the ``Evaluation`` ``ev``.
+    kernels : tuple of ``(function, pack)``
+        The same as compiled calls ``function(pack, index, ev)`` on the packed
+        evaluation (``Evaluation.packed``); ``index`` is an empty int64 array for a term
+        without tangent.  A term gives ``add`` or ``kernels``, not both.
     rows, cols : int ndarray or None
         Global coordinates of the tangent entries (broadcast against each other); None
         for a term without tangent.
@@ -141,6 +166,7 @@ class Term:
     """
 
     add: Callable[..., None] | None = None
+    kernels: tuple = ()
     rows: np.ndarray | None = None
     cols: np.ndarray | None = None
     mass: tuple | None = None
@@ -149,9 +175,28 @@ class Term:
     merge: Callable[[list], "Term"] | None = None
     name: str = ""
 
+    def __post_init__(self):
+        if self.add is not None and self.kernels:
+            raise ValueError(f"term {self.name!r}: give add or kernels, not both")
+
     @property
     def has_tangent(self):
         return self.rows is not None
+
+    @property
+    def evaluates(self):
+        """True when the term adds forces at every evaluation."""
+        return self.add is not None or bool(self.kernels)
+
+    def evaluate(self, ev, index):
+        """Add this term's forces (and tangents) to the ``Evaluation`` ``ev``."""
+        if self.add is not None:
+            self.add(ev, index)
+            return
+        packed = ev.packed()
+        index = _NO_INDEX if index is None else index
+        for function, pack in self.kernels:
+            function(pack, index, packed)
 
 
 def merge_terms(terms):

@@ -81,8 +81,10 @@ class Layout:
         self.N, self.indptr, self.indices = pattern.N, pattern.indptr, pattern.indices
         self.nnz = len(pattern.indices)
         self.diagonal_index = pattern.positions(np.arange(self.N), np.arange(self.N))
-        self.body_terms = [(t, pattern.index(b)) for t, b in zip(bodies, body_blocks) if t.add]
-        self.load_terms = [(t, pattern.index(b)) for t, b in zip(loads, load_blocks) if t.add]
+        self.body_terms = [(t, pattern.index(b)) for t, b in zip(bodies, body_blocks)
+                           if t.evaluates]
+        self.load_terms = [(t, pattern.index(b)) for t, b in zip(loads, load_blocks)
+                           if t.evaluates]
         self.jac_index, self.jacT_index, self.hess_index = (
             [pattern.index(b).ravel() if b is not None else None for b in blocks]
             for blocks in con_blocks)

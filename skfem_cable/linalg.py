@@ -2,16 +2,18 @@
 
 The pattern is reordered once by reverse Cuthill-McKee.  A single cable (with its
 multipliers interleaved by the ordering) is a band of half-width about 11, factored by
-LAPACK's banded LU (``dgbtrf``) in O(n); wider patterns fall back to SuperLU.  All index
-maps from the CSR data array into the factor's storage are computed once.
+LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
+uses the same factor) in O(n); wider patterns fall back to SuperLU.  All index maps from
+the CSR data array into the factor's storage, and the storage itself, are made once.
 """
 
 import numpy as np
 import scipy.sparse as sp
 from numba import njit
-from scipy.linalg import lapack
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
+
+from .kernels.lapack import ADDRESSES, band_factor, load_band, permuted_solve
 
 #: Banded LU is used while the band half-width stays below this.
 MAX_BANDWIDTH = 64
@@ -55,24 +57,37 @@ class PatternSolver:
             raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
         self.method = method
         self.perm, self.iperm, self.band = perm, iperm, band
+        self._pr, self._pc = pr, pc
+        self.ints = np.zeros(8, dtype=np.int32)
         if method == "banded":
             self.kl = self.ku = band
-            self.ab_shape = (2 * band + band + 1, n)
-            self.ab_index = (band + band + pr - pc) * n + pc
+            self.ab, self.band_index = self._band_storage()
+            self.ipiv = np.zeros(n, dtype=np.int32)
+            self.work = np.empty(n)
         self.factorizations = 0
         self._lu = None
+
+    def _band_storage(self):
+        """LAPACK band storage of the reordered matrix (``kernels.lapack``) and the
+        position of every CSR value in it."""
+        band = self.band
+        ldab = 3 * band + 1
+        return np.zeros((self.n, ldab)), self._pc * ldab + 2 * band + self._pr - self._pc
+
+    def _band_factor(self, ab, band_index, ipiv, data):
+        """Banded LU of the values ``data`` into ``ab``, ``ipiv``; returns the unknown of
+        a zero pivot, or -1."""
+        load_band(ab, band_index, data)
+        info = band_factor(ADDRESSES, ab, self.band, self.band, ipiv, self.ints)
+        return int(self.perm[info - 1]) if info > 0 else -1
 
     def factor(self, data):
         """LU-factor the matrix with CSR values ``data``."""
         self.factorizations += 1
         if self.method == "banded":
-            ab = np.zeros(self.ab_shape)
-            ab.flat[self.ab_index] = data
-            lu, ipiv, info = lapack.dgbtrf(ab, self.kl, self.ku, overwrite_ab=1)
-            if info > 0:
-                idx = int(self.perm[info - 1])
+            idx = self._band_factor(self.ab, self.band_index, self.ipiv, data)
+            if idx >= 0:
                 raise SingularMatrixError(f"singular iteration matrix at unknown {idx}", idx)
-            self._lu = (lu, ipiv)
         else:
             A = sp.csr_matrix((data, self.pattern.indices, self.pattern.indptr),
                               shape=(self.n, self.n))
@@ -90,22 +105,20 @@ class PatternSolver:
         band = self.band
         if self.n * (3 * band + 1) > MAX_LOCATE_ENTRIES:
             return -1
-        ab = np.zeros((3 * band + 1, self.n))
-        rows = np.repeat(np.arange(self.n), np.diff(self.pattern.indptr))
-        pr, pc = self.iperm[rows], self.iperm[self.pattern.indices]
-        ab[2 * band + pr - pc, pc] = data
-        _, _, info = lapack.dgbtrf(ab, band, band, overwrite_ab=1)
-        return int(self.perm[info - 1]) if info > 0 else -1
+        ab, band_index = self._band_storage()
+        return self._band_factor(ab, band_index, np.zeros(self.n, dtype=np.int32), data)
 
     def solve(self, rhs):
         """Solve with the last factorization; ``rhs`` of shape ``(n,)`` or ``(n, k)``."""
-        if self.method == "banded":
-            lu, ipiv = self._lu
-            x, info = lapack.dgbtrs(lu, self.kl, self.ku, rhs[self.perm], ipiv)
-            out = np.empty_like(x)
-            out[self.perm] = x
-            return out
-        return self._lu.solve(rhs)
+        if self.method == "sparse":
+            return self._lu.solve(rhs)
+        rhs = np.asarray(rhs, dtype=float)
+        out = np.empty_like(rhs)
+        for k in np.ndindex(rhs.shape[1:]):
+            col = (slice(None), *k)
+            permuted_solve(ADDRESSES, self.ab, self.band, self.band, self.ipiv, self.perm,
+                           np.ascontiguousarray(rhs[col]), self.work, out[col], self.ints)
+        return out
 
 
 @njit(cache=True)

@@ -250,11 +250,11 @@ class System:
         n = self.n_dofs
         ev = Evaluation(self, t, q, v, lam, cK, cC, data)
         for term, index in lay.body_terms:
-            term.add(ev, index)
+            term.evaluate(ev, index)
         # loads see the load factor through their tangent coefficients
         ev.cK, ev.cC = cK * load_factor, cC * load_factor
         for term, index in lay.load_terms:
-            term.add(ev, index)
+            term.evaluate(ev, index)
         f_ext = load_factor * (lay.f_const + ev.f_ext)
         f_con = np.zeros(n)
         r = np.empty(n + lay.n_c)

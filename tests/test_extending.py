@@ -7,9 +7,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from numba import njit
 
 import skfem_cable as sc
-from skfem_cable.cable import CableForces
 from skfem_cable.constraints import SlopeDirection, pin, time_derivatives
 
 DEMOS = Path(__file__).resolve().parents[1] / "demos"
@@ -198,8 +198,8 @@ def test_cable_subclass_keeps_the_compiled_path():
     b = TaggedCable.straight([0, 1, 0], [1, 1, 0], 4, SECTION, name="b")
     system = sc.System([a, b])
     (term, index), = system.layout.body_terms
-    assert isinstance(term.add, CableForces)
-    assert term.add.edofs.shape == (7, 12) and index.shape == (7, 12, 12)
+    (function, pack), = term.kernels
+    assert term.add is None and pack[0].shape == (7, 12) and index.shape == (7, 12, 12)
     r = system.evaluate(system.q0 * 1.01, None, 0.0, np.zeros(0))[0]
     alone = sc.System([b]).evaluate(b.q0 * 1.01, None, 0.0, np.zeros(0))[0]
     assert r[a.n_dofs:] == pytest.approx(alone, rel=1e-14, abs=1e-12)
@@ -254,3 +254,47 @@ def test_user_body_is_called_through_its_own_hook():
     initial = sc.State(system, np.zeros(3), v=np.array([1.0, 0.0, 0.0]))
     r = sc.simulate(system, t_end=1.0, dt=1e-3, rho_inf=1.0, initial=initial)
     assert r.q[-1, 0] == pytest.approx(np.sin(w * r.t[-1]) / w, abs=2e-5)
+
+
+@njit(cache=True)
+def _spring_kernel(pack, index, ev):
+    """The node spring of docs/extending.md as a compiled hook."""
+    d, k, anchor = pack
+    q, v, s, f, f_ext, f_damping, data, energy, power = ev
+    for i in range(3):
+        f_ext[d[i]] -= k * (q[d[i]] - anchor[i])
+        if data.size:
+            data[index[i, i]] += s[1] * k
+
+
+class _Spring:
+    def __init__(self, node, k, anchor, compiled):
+        self.node, self.k, self.anchor = node, k, np.asarray(anchor, dtype=float)
+        self.compiled = compiled
+
+    def bind(self, system):
+        d = system.dofs(self.node)[:3]
+        if self.compiled:
+            return sc.Term(kernels=((_spring_kernel, (d, float(self.k), self.anchor)),),
+                           rows=d[:, None], cols=d[None, :], name="spring")
+
+        def add(ev, index):
+            ev.f_ext[d] -= self.k * (ev.q[d] - self.anchor)
+            ev.add_tangent(index, -self.k * np.eye(3), sign=-1.0)
+
+        return sc.Term(add=add, rows=d[:, None], cols=d[None, :], name="spring")
+
+
+def test_user_compiled_load_runs_in_the_compiled_step():
+    """A user's load with a compiled kernel takes the compiled Newton step and gives the
+    same trajectory as the same load written as a Python hook."""
+    runs = []
+    for compiled in (True, False):
+        cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, SECTION)
+        system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+        system.add_load(_Spring(cable.node(-1), 50.0, [1.0, 0.2, 0.0], compiled))
+        runs.append(sc.simulate(system, t_end=0.1, dt=1e-3))
+    assert runs[0].stats["path"] == "compiled"
+    assert runs[1].stats["path"].startswith("python (term 'spring' has a Python add hook")
+    assert np.abs(runs[0].q - runs[1].q).max() < 1e-12
+    assert runs[0].q[-1, -5] > 1e-3  # the spring lifted the tip

@@ -1,6 +1,7 @@
 """Template of the compiled cable kernel: forces and tangents of all elements in one pass.
 
-``force_tangent`` is not compiled here: ``laws.codegen`` copies its source into the module
+``force_tangent`` and ``kernel`` are not compiled here: ``laws.codegen`` copies their source
+into the module
 it generates for each element law, next to that law's point functions ``point_g``,
 ``point_gh``, ``point_gd``, ``point_ghd`` and the constants ``BENDING`` and ``DAMPED``,
 and compiles it there with ``numba.njit(cache=True)`` (numba cannot cache a kernel that
@@ -120,3 +121,15 @@ def force_tangent(state, elements, law, out, coef):
             for k in range(12):
                 for m in range(12):
                     data[scatter[e, k, m]] += Ke[k, m]
+
+
+def kernel(pack, index, ev):
+    """The law's compiled hook of the evaluation contract (``contract.Term.kernels``):
+    ``force_tangent`` on the packed evaluation ``ev``, with ``pack = (edofs, Sx, Sxx, w,
+    h, prm, damped)`` (see ``force_tangent``) and the tangent entries at ``index``, int
+    (ne, 12, 12)."""
+    q, v, s, f, f_ext, fd, data, energy, power = ev
+    edofs, Sx, Sxx, w, h, prm, damped = pack
+    scatter = index if data.size else index[:0]
+    force_tangent((q, v), (edofs, Sx, Sxx, w, h), (prm, damped and s[3] != 0.0),
+                  (f, fd, data, scatter, energy, power), (s[1], s[2]))

@@ -19,7 +19,9 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 
 import numpy as np
 
+from ..kernels import step as codes
 from ..linalg import PatternSolver, SingularMatrixError
+from .compiled import CompiledNewton, unsupported
 from .guard import EnergyGuard
 
 
@@ -66,10 +68,23 @@ class GeneralizedAlpha:
         Instability guard (``guard.EnergyGuard``): a step whose energy balance grows by
         more than ``energy_tol`` times the energy content of the run is rejected (the
         driver retries it smaller).  None switches the guard off.
+    rtol, atol : float or None
+        Local error control (both or neither): a step is accepted only if its estimated
+        local error (``local_error``) is below ``atol + rtol |q|`` in every coordinate
+        (``atol`` in metres; ``atol / L`` for the slopes, ``L`` the system's size);
+        ``error_ratio`` is the largest ratio of error to tolerance, which the driver uses
+        to choose the next step.  Newton then stops at a hundredth of the requested
+        accuracy (``tol`` is a floor): iterating further cannot make the step more
+        accurate.
+    compiled : bool or None
+        Newton iteration in one compiled call (``solvers.compiled``: same iterates, no
+        Python per iteration).  None (default) uses it when the system allows it, True
+        requires it (``ValueError`` naming the reason otherwise), False takes the Python
+        iteration.  ``step_path`` says which one is used and why.
     """
 
     def __init__(self, system, rho_inf=0.8, tol=1e-11, max_iter=12, newton="modified",
-                 method="auto", energy_tol=0.05):
+                 method="auto", energy_tol=0.05, compiled=None, rtol=None, atol=None):
         if newton not in ("modified", "full"):
             raise ValueError(f"newton must be 'modified' or 'full', got {newton!r}")
         if not 0 < tol < 1:
@@ -102,7 +117,41 @@ class GeneralizedAlpha:
         self.res_weight = 1.0 / (lay.mass_diagonal * self.xscale)
         self.con_weight = 1.0 / (self.mbar * self.L_ref)
         self.h_factored = None
+        self.h_next = None  # the step the driver chose next (adaptive steps)
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
+        self._error_control(rtol, atol)
+        self.compiled = self._compiled_newton(compiled)
+
+    def _error_control(self, rtol, atol):
+        """Tolerances of the local error per coordinate, and the Newton tolerance they
+        imply."""
+        self.rtol, self.atol = rtol, atol
+        self.error_ratio = None
+        if rtol is None and atol is None:
+            return
+        for name, value in (("rtol", rtol), ("atol", atol)):
+            if value is None or not (np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a number > 0 (error control needs rtol "
+                                 f"and atol), got {value!r}")
+        if rtol >= 1:
+            raise ValueError(f"rtol must be < 1, got {rtol!r}")
+        self.atol_q = atol * self.xscale / self.L_ref
+        self.tol = max(self.tol, 1e-2 * min(rtol, atol / self.L_ref))
+        # the constant of the leading term of the local error (local_error)
+        self.error_constant = abs(self.beta - 1.0 / 6.0 + 0.5 * (self.alpha_m - self.alpha_f))
+
+    def _compiled_newton(self, compiled):
+        if compiled not in (None, True, False):
+            raise ValueError(f"compiled must be None, True or False, got {compiled!r}")
+        reason = "compiled=False" if compiled is False else unsupported(self.system,
+                                                                        self.solver)
+        if reason is not None:
+            if compiled:
+                raise ValueError(f"compiled=True: the compiled step cannot run: {reason}")
+            self.step_path = f"python ({reason})"
+            return None
+        self.step_path = "compiled"
+        return CompiledNewton(self)
 
     # --- initial state ----------------------------------------------------------------------
     def initialize(self, q, v, t):
@@ -171,6 +220,8 @@ class GeneralizedAlpha:
         and the instability guard's references."""
         snap = {k: np.copy(getattr(self, k)) for k in self.STATE}
         snap.update(self.guard.snapshot())
+        if self.h_next is not None:
+            snap["h_next"] = np.float64(self.h_next)
         if self.h_factored is not None:
             snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
         return snap
@@ -180,6 +231,7 @@ class GeneralizedAlpha:
             value = np.array(snap[k] if k in snap else np.zeros(self.n))  # fcon: pre-guard
             setattr(self, k, value if value.ndim else value.item())
         self.t = float(self.t)
+        self.h_next = float(snap["h_next"]) if "h_next" in snap else None
         self.h_factored = None
         if "guard_lowest" in snap:
             self.guard.restore(snap)
@@ -202,7 +254,7 @@ class GeneralizedAlpha:
                                  data=data)
         self.solver.factor(data)
         self.stats["factorizations"] += 1
-        self.res_weight = 1.0 / (np.abs(data[self.diag_index]) * self.xscale)
+        self.res_weight[:] = 1.0 / (np.abs(data[self.diag_index]) * self.xscale)
         self.h_factored = h
         self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h}
 
@@ -215,14 +267,59 @@ class GeneralizedAlpha:
     def step(self, h):
         """Advance by ``h``; returns ``(success, message)`` and updates the state only on
         success (scipy ``OdeSolver`` style)."""
+        self.error_ratio = None
         ok, msg = self._try_step(h, fresh=self.newton == "full")
-        if not ok and self.newton == "modified":
+        if not ok and self.newton == "modified" and self.error_ratio is None:
             ok, msg = self._try_step(h, fresh=True)
         return ok, msg
 
+    def local_error(self, h, q1, a1):
+        """Estimated local error of the coordinates of a step ``h`` ending at
+        ``(q1, a1)``: ``e = (beta - 1/6 + (alpha_m - alpha_f)/2) h^2 (abar_(n+1) -
+        abar_n)``, the leading term of the update ``q_(n+1) = q_n + h v_n + h^2 ((1/2 -
+        beta) abar_n + beta abar_(n+1))`` against the Taylor series of the exact motion,
+        with ``abar_n = a(t_n + (alpha_m - alpha_f) h) + O(h^2)`` and ``abar_(n+1) -
+        abar_n = h dddq + O(h^2)`` (Newmark's estimate of Zienkiewicz & Xie 1991, for the
+        pseudo-accelerations of Arnold & Bruls 2007)."""
+        am, af = self.alpha_m, self.alpha_f
+        abar1 = ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
+        return self.error_constant * h * h * (abar1 - self.abar)
+
     def _try_step(self, h, fresh):
+        # the factored matrix fits while the step is the same up to round-off (the macro
+        # steps t_i - t_(i-1) of simulate differ in the last bits)
+        need = fresh or self.h_factored is None or abs(self.h_factored - h) > 1e-9 * h
+        if self.compiled is not None:
+            return self._compiled_step(h, need)
+        return self._python_step(h, need)
+
+    def _compiled_step(self, h, need):
+        """The Newton iteration of ``_python_step`` in one compiled call."""
+        t1 = self.t + h
+        status, it, factored, corrected, singular = self.compiled.iterate(self, h, t1, need)
+        self.stats["newton"] += corrected
+        self.stats["factorizations"] += factored
+        arrays = self.compiled.arrays
+        if factored:
+            self.h_factored = h
+            self.factored_at = {"q": arrays["fq"].copy(), "v": arrays["fv"].copy(), "t": t1,
+                                "lam": arrays["flam"].copy(), "h": h}
+        if status == codes.SINGULAR:
+            self.h_factored = None
+            return False, (f"t={t1:.6g}, h={h:.3g}: singular iteration matrix at "
+                           f"{self.system.describe_dof(singular)}")
+        if status != codes.CONVERGED:
+            what = "non-finite residual" if status == codes.NON_FINITE else "no convergence"
+            return False, self._diagnose(t1, h, list(arrays["history"][:it + 1]),
+                                         arrays["r"], what)
+        info = {"f_damping": arrays["fd"].copy(), "f_nc": arrays["f_ext"].copy(),
+                "f_con": arrays["f_con"].copy(), "energy": arrays["energy"]}
+        return self._accept(t1, h, arrays["q1"].copy(), arrays["v1"].copy(),
+                            arrays["a1"].copy(), arrays["lam1"].copy(), info, it)
+
+    def _python_step(self, h, need):
         system, lay, n = self.system, self.lay, self.n
-        am, af, gm, bt = self.alpha_m, self.alpha_f, self.gamma, self.beta
+        am, gm, bt = self.alpha_m, self.gamma, self.beta
         bp, gp = self._coefficients(h)
         t1 = self.t + h
         # predictor: constant acceleration (Arnold & Bruls start from a = 0, which costs
@@ -232,9 +329,6 @@ class GeneralizedAlpha:
         q1 = self.q + h * self.v + h * h * ((0.5 - bt) * self.abar + bt * abar1)
         v1 = self.v + h * ((1.0 - gm) * self.abar + gm * abar1)
         lam1 = self.lam.copy()
-        # the factored matrix fits while the step is the same up to round-off (the macro
-        # steps t_i - t_(i-1) of simulate differ in the last bits)
-        need = fresh or self.h_factored is None or abs(self.h_factored - h) > 1e-9 * h
         history = []
         dq_err = dq_before = np.inf
         exact = False
@@ -283,6 +377,18 @@ class GeneralizedAlpha:
             if dq_err > self.tol and (dq_err > 0.25 * dq_before or it >= 3):
                 need = True  # modified Newton contracts too slowly: refresh the tangent
             self.stats["newton"] += 1
+        return self._accept(t1, h, q1, v1, a1, lam1, info, it)
+
+    def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations):
+        """Book the energies of a converged step, apply the instability guard and, if it
+        passes, make the step's end the current state."""
+        am, af = self.alpha_m, self.alpha_f
+        if self.rtol is not None:
+            scale = self.atol_q + self.rtol * np.maximum(np.abs(self.q), np.abs(q1))
+            self.error_ratio = float(np.max(np.abs(self.local_error(h, q1, a1)) / scale))
+            if not self.error_ratio <= 1.0:
+                return False, (f"t={t1:.6g}, h={h:.3g}: local error {self.error_ratio:.3g} "
+                               "times the tolerance")
         self.guard.set_scale(self.total_mass, self.L_ref, h)
         books = self._booked(info, q1 - self.q)
         energies = self._energies(q1, v1, books)
@@ -293,7 +399,7 @@ class GeneralizedAlpha:
         # (1 - am) abar1_new = (1 - af) a1 + af a_n - am abar_n
         self.abar = ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
         self.a = a1
-        self.iterations = it
+        self.iterations = iterations
         self.__dict__.update(books)
         self.guard.accept(t1, energies)
         self.stats["steps"] += 1

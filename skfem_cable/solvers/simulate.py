@@ -105,13 +105,15 @@ def _stats(integ, wall0, stopped=None):
     stats = dict(integ.stats)
     stats["wall_time"] = time.perf_counter() - wall0
     stats["solver"] = integ.solver.method
+    stats["path"] = integ.step_path
     stats["stopped"] = stopped
     return stats
 
 
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
-             max_halvings=10, method="auto", energy_tol=0.05):
+             max_halvings=10, method="auto", energy_tol=0.05, compiled=None, rtol=None,
+             atol=None):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -119,6 +121,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     system : System
     t_end, dt : float
         End time and step (s); the last step is shortened to end exactly at ``t_end``.
+        With ``rtol``/``atol``, ``dt`` is the first step.
     rho_inf : float in [0, 1]
         Spectral radius at infinity (numerical damping of high frequencies).
     initial : State, optional
@@ -145,21 +148,32 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         ``rho_inf``, ``every``, ``tol`` and ``max_iter`` must match the interrupted run;
         the continuation is bit-for-bit the uninterrupted run.  Observers are not called
         at the initial state.
-    tol, max_iter, newton, method, energy_tol
+    tol, max_iter, newton, method, energy_tol, compiled
         See ``GeneralizedAlpha``; ``energy_tol`` is the instability guard (on by default:
         a step whose energy balance grows by more than ``energy_tol`` times the energy
         content of the run is retried smaller; None switches it off).
     max_halvings : int
         A failed step is retried as two half steps, recursively, down to
         ``dt / 2**max_halvings``; below that ``SimulationError`` is raised.
+    rtol, atol : float, optional
+        Adaptive steps: each step's estimated local error (``GeneralizedAlpha``) must lie
+        below ``atol + rtol |q|`` (``atol`` in metres); the next step is
+        ``h min(2, 0.9 r^(-1/3))`` with ``r`` the ratio of error to tolerance (kept
+        unchanged when that would grow it by less than 25 %, so the factored iteration
+        matrix is reused), a rejected step is retried with ``h max(0.2, 0.9 r^(-1/3))``
+        (halved after a Newton failure), down to ``dt / 2**max_halvings``.  ``every``
+        then counts accepted steps.  Without them the steps are fixed: bit-for-bit
+        reproducible, and each one ends on ``t_start + i dt``.
 
     Returns
     -------
     Result
         The saved steps (with those of the interrupted run when resuming); ``stats``
         holds ``steps``, ``rejected``, ``newton``, ``factorizations``, ``wall_time``,
-        ``solver`` and ``stopped`` (the message of the observer that stopped the run, or
-        None).
+        ``solver``, ``path`` (``GeneralizedAlpha.step_path``: the compiled or the Python
+        Newton step, and why), ``stopped`` (the message of the observer that stopped the
+        run, or None) and, with ``rtol``/``atol``, ``h_min`` and ``h_max``, the smallest
+        and largest accepted steps.
 
     Raises
     ------
@@ -181,12 +195,16 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved",
                                                                     "finish")):
             raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
-    integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol)
-    n_steps = int(np.ceil((t_end - t_start) / dt - 1e-9))
+    integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol,
+                             compiled, rtol, atol)
+    adaptive = integ.rtol is not None
+    n_steps = None if adaptive else int(np.ceil((t_end - t_start) / dt - 1e-9))
     settings = {"t_start": t_start, "t_end": t_end, "dt": dt, "rho_inf": rho_inf,
                 "every": int(every), "tol": tol, "max_iter": max_iter, "newton": newton,
                 "max_halvings": max_halvings, "method": method, "energy_tol": energy_tol,
                 "n_steps": n_steps}
+    if adaptive:
+        settings.update(rtol=rtol, atol=atol)
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],
@@ -229,19 +247,50 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         advance(0.5 * h, depth + 1)
         advance(0.5 * h, depth + 1)
 
-    started = []
-    try:
-        for obs in everyone:
-            obs.start(run)
-            started.append(obs)
-        stop = save(0) if start_index == 0 else None
-        i = start_index
+    def fixed_steps(i, stop):
         while stop is None and i < n_steps:
             i += 1
             t_target = t_end if i == n_steps else t_start + i * dt
             advance(t_target - integ.t, 0)
             if i % every == 0 or i == n_steps:
                 stop = save(i)
+        return stop
+
+    def adaptive_steps(i, stop):
+        h, h_min, last = integ.h_next or dt, dt / 2**max_halvings, False
+        while stop is None and not last:
+            remaining = t_end - integ.t
+            last = h >= remaining * (1 - 1e-12)
+            # two equal steps rather than a sliver of a last one
+            h_try = remaining if last else min(h, 0.5 * remaining) if 2 * h > remaining else h
+            ok, msg = integ.step(h_try)
+            ratio = integ.error_ratio
+            if not ok:
+                integ.stats["rejected"] += 1
+                last = False
+                h = h_try * (0.5 if ratio is None or not np.isfinite(ratio)
+                             else max(0.2, 0.9 * ratio ** (-1 / 3)))
+                if h < h_min:
+                    raise SimulationError(f"step failed below the smallest step size "
+                                          f"{h_min:.3g} (dt/2^{max_halvings}): {msg}", None)
+                continue
+            integ.stats["h_min"] = min(integ.stats.get("h_min", np.inf), h_try)
+            integ.stats["h_max"] = max(integ.stats.get("h_max", 0.0), h_try)
+            grow = min(2.0, 0.9 * ratio ** (-1 / 3)) if ratio > 0 else 2.0
+            h = h_try * grow if not 1.0 <= grow < 1.25 else h_try
+            integ.h_next = h
+            i += 1
+            if i % every == 0 or last:
+                stop = save(i)
+        return stop
+
+    started = []
+    try:
+        for obs in everyone:
+            obs.start(run)
+            started.append(obs)
+        stop = save(0) if start_index == 0 else None
+        stop = (adaptive_steps if adaptive else fixed_steps)(start_index, stop)
         run.stop_reason = stop
     except BaseException as err:
         # whatever stopped the run, the steps computed so far travel with the error

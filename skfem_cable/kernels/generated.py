@@ -1,0 +1,64 @@
+"""Generated modules: source written once to an on-disk cache and imported from there, so
+that numba (``cache=True``) compiles it once per machine, not once per run.
+
+The cache folder is ``$SKFEM_CABLE_CACHE`` if set, else ``$XDG_CACHE_HOME/skfem_cable``
+(default ``~/.cache/skfem_cable``), with one subfolder per kind of module; a module's name
+carries a digest of everything its text depends on, so a changed input never meets a
+stale module.
+"""
+
+import hashlib
+import importlib.util
+import os
+import sys
+import tempfile
+from pathlib import Path
+
+from ..io.atomic import write_atomic
+
+
+def cache_dir(kind):
+    """Folder of the generated modules of ``kind`` (created if missing; a private
+    temporary folder if the configured one cannot be written)."""
+    env = os.environ.get("SKFEM_CABLE_CACHE")
+    if env:
+        folder = Path(env)
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+        folder = Path(base) / "skfem_cable"
+    folder = folder / kind
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = folder / f".probe-{os.getpid()}"
+        probe.write_bytes(b"")
+        probe.unlink()
+    except OSError:
+        folder = Path(tempfile.gettempdir()) / f"skfem_cable-{os.getuid()}" / kind
+        folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def digest(*parts):
+    """A 16-character digest of the strings ``parts``."""
+    return hashlib.sha256("|".join(parts).encode()).hexdigest()[:16]
+
+
+def load(kind, name, make_source, namespace=None):
+    """Import the module ``name`` of ``kind``, writing it first with ``make_source()``
+    if it is not in the cache; ``namespace`` (a dict) is placed in the module before its
+    text runs (objects its text refers to by name, e.g. compiled kernels)."""
+    if name in sys.modules:
+        return sys.modules[name]
+    path = cache_dir(kind) / f"{name}.py"
+    if not path.exists():
+        write_atomic(path, make_source().encode())
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    module.__dict__.update(namespace or {})
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module

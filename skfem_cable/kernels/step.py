@@ -1,0 +1,171 @@
+"""Template of the compiled Newton iteration of one generalized-alpha step.
+
+``newton`` is not compiled here: ``solvers.compiled`` copies its source into a module
+generated for each sequence of term kernels, next to that module's ``evaluate`` (which
+calls the kernels of the system's terms in order, see ``contract.Term.kernels``), and
+compiles it there with ``numba.njit(cache=True)``.  It is the loop of
+``GeneralizedAlpha._try_step`` operation for operation (the same sums in the same order),
+so both give the same iterates; the integrator keeps the energy books, the instability
+guard and the step control in Python, once per step.
+"""
+
+import numpy as np
+
+#: Return codes of ``newton``.
+CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
+
+
+def newton(terms, model, lu, state, out, prm):
+    """Predict and iterate one step to convergence (paper Eqs. 12-15).
+
+    Parameters
+    ----------
+    terms : tuple ``(packs, indices)``
+        The kernels' packed data and tangent positions, for ``evaluate``.
+    model : tuple
+        ``(m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
+        c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the
+        mass matrix (CSR), the constant part of the iteration matrix, the constant force,
+        the positions of the diagonal, the coordinate scales, the linear constraints'
+        Jacobian and its transpose (CSR), their multiplier rows and offsets at ``t1``.
+    lu : tuple ``(addresses, ab, band_index, ipiv, perm, band, ints, work)``
+        The banded LU of ``linalg.PatternSolver`` (its storage: a factor made there is
+        used here and the reverse).
+    state : tuple ``(q, v, a, abar, lam)``
+        The state at ``t_n`` (read only).
+    out : tuple
+        ``(q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power,
+        res_weight, history, fq, fv, flam, dx, rhs, s)``: the new state, the residual, the
+        matrix values, force accumulators, the scaled-residual weights (refreshed at every
+        factorization), the residual history, the state at the last factorization and
+        scratch.
+    prm : float ndarray
+        ``[t1, h, alpha_m, alpha_f, gamma, beta, beta', gamma', mbar, tol, con_weight,
+        max_iter, need, full]``.
+
+    Returns
+    -------
+    status, iterations, factorizations, corrections, singular : int
+        ``CONVERGED`` (0), ``NON_FINITE``, ``NO_CONVERGENCE`` or ``SINGULAR``; the
+        iteration count; the factorizations and Newton corrections made; the unknown
+        of a zero pivot (-1 otherwise).
+    """
+    q, v, a, abar, lam = state
+    (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
+     history, fq, fv, flam, dx, rhs, s) = out
+    xscale, inv_xscale = model[6], model[7]
+    t1, h, am, gm, bt, bp, gp = prm[0], prm[1], prm[2], prm[4], prm[5], prm[6], prm[7]
+    mbar, tol, con_weight = prm[8], prm[9], prm[10]
+    max_iter, need, full = int(prm[11]), prm[12] != 0.0, prm[13] != 0.0
+    n = q.size
+    # predictor: constant acceleration
+    for i in range(n):
+        abar1 = (a[i] - am * abar[i]) / (1.0 - am)
+        a1[i] = a[i]
+        q1[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * abar[i] + bt * abar1)
+        v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)
+    lam1[:] = lam
+    s[0], s[1], s[2], s[3] = t1, 1.0 / bp, gp / bp, 1.0
+    dq_err = dq_before = np.inf
+    exact = False
+    factorizations = corrections = 0
+    for it in range(max_iter + 1):
+        tangent = need
+        _residual(terms, model, q1, v1, a1, lam1, r, data if tangent else nodata, out, mbar, bp)
+        err_q = err_c = 0.0
+        finite = True
+        for i in range(n):
+            e = abs(r[i]) * res_weight[i]
+            finite = finite and np.isfinite(e)
+            err_q = max(err_q, e)
+        for i in range(n, r.size):
+            finite = finite and np.isfinite(r[i])
+            err_c = max(err_c, abs(r[i]))
+        err = max(err_q, err_c * con_weight)
+        history[it] = err
+        if not finite:
+            return NON_FINITE, it, factorizations, corrections, -1
+        if it > 0 and ((err <= tol and dq_err <= tol) or (
+                exact and err <= 1e3 * tol and dq_err <= 1e3 * tol
+                and (err >= 0.5 * history[it - 1] or dq_err >= 0.5 * dq_before))):
+            return CONVERGED, it, factorizations, corrections, -1
+        if it > 0 and not exact and err > tol and err >= 0.5 * history[it - 1]:
+            need = True  # the stale tangent no longer reduces the residual
+        if it == max_iter:
+            return NO_CONVERGENCE, it, factorizations, corrections, -1
+        exact = need
+        if need:
+            if not tangent:  # tangent requested after this evaluation: rebuild it
+                _residual(terms, model, q1, v1, a1, lam1, rhs, data, out, mbar, bp)
+            singular = _factor(lu, data, model[5], xscale, res_weight)
+            if singular >= 0:
+                return SINGULAR, it, factorizations, corrections, singular
+            factorizations += 1
+            fq[:] = q1
+            fv[:] = v1
+            flam[:] = lam1
+            need = full
+        addresses, ab, band_index, ipiv, perm, band, ints, work = lu
+        for i in range(r.size):
+            rhs[i] = -r[i]
+        permuted_solve(addresses, ab, band, band, ipiv, perm, rhs, work, dx, ints)  # noqa: F821
+        dq_before = dq_err
+        dq_err = 0.0
+        for i in range(n):
+            q1[i] += dx[i]
+            v1[i] += gp * dx[i]
+            a1[i] += bp * dx[i]
+            dq_err = max(dq_err, abs(dx[i]) * inv_xscale[i])
+        for k in range(lam1.size):
+            lam1[k] += (bp * mbar) * dx[n + k]
+        if dq_err > tol and (dq_err > 0.25 * dq_before or it >= 3):
+            need = True  # modified Newton contracts too slowly: refresh the tangent
+        corrections += 1
+    return NO_CONVERGENCE, max_iter, factorizations, corrections, -1
+
+
+def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
+    """Evaluate every term at ``(q1, v1, lam1)`` (and, with ``data`` not empty, the
+    iteration matrix) and write the scaled residual into ``r``: dynamic rows
+    ``(M a1 + f - f_const - f_ext + C_q^T lam1) / beta'``, constraint rows
+    ``mbar (C q1 - c(t1))`` (``System.evaluate`` and ``GeneralizedAlpha._try_step``)."""
+    (m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
+     c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t) = model
+    f, f_ext, fd, f_con, energy, power, s = out[7], out[8], out[9], out[10], out[11], \
+        out[12], out[20]
+    n = q1.size
+    f[:] = 0.0
+    f_ext[:] = 0.0
+    fd[:] = 0.0
+    energy[:] = 0.0
+    power[:] = 0.0
+    if data.size:
+        data[:] = base
+    evaluate(terms[0], terms[1], (q1, v1, s, f, f_ext, fd, data, energy, power))  # noqa: F821
+    for k in range(lin_rows.size):
+        acc = 0.0
+        for j in range(c_indptr[k], c_indptr[k + 1]):
+            acc += c_data[j] * q1[c_indices[j]]
+        r[n + lin_rows[k]] = mbar * (acc - c_t[k])
+    for i in range(n):
+        acc = 0.0
+        for j in range(ct_indptr[i], ct_indptr[i + 1]):
+            acc += ct_data[j] * lam1[lin_rows[ct_indices[j]]]
+        f_con[i] = acc
+        ma = 0.0
+        for j in range(m_indptr[i], m_indptr[i + 1]):
+            ma += m_data[j] * a1[m_indices[j]]
+        r[i] = (ma + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
+
+
+def _factor(lu, data, diag_index, xscale, res_weight):
+    """Banded LU of the matrix values ``data`` (``PatternSolver.factor``) and the new
+    residual weights; returns the unknown of a zero pivot, or -1."""
+    addresses, ab, band_index, ipiv, perm, band, ints, work = lu
+    load_band(ab, band_index, data)  # noqa: F821
+    info = band_factor(addresses, ab, band, band, ipiv, ints)  # noqa: F821
+    if info > 0:
+        return perm[info - 1]
+    for i in range(res_weight.size):
+        res_weight[i] = 1.0 / (abs(data[diag_index[i]]) * xscale[i])
+    return -1

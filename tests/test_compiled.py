@@ -1,0 +1,124 @@
+"""The compiled Newton step (``solvers.compiled``): the same iterates as the Python step,
+bit for bit; the same diagnostics; the systems it cannot take go the Python way and say
+why; the LAPACK bridge it factors with equals scipy's."""
+
+import numpy as np
+import pytest
+from scipy.linalg import lapack
+
+import skfem_cable as sc
+from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
+from skfem_cable.scenes import classics
+
+
+def _damped_pendulum():
+    return classics.pendulum(n_elements=6, gamma_axial=2e-3, gamma_bending=2e-3)
+
+
+def _driven_pendulum():
+    """A pendulum whose pin moves on a circle (a driven linear constraint: its offset
+    changes every step)."""
+    sec = sc.Section.circular(radius=0.01, E=7e10, rho=7800.0)
+    cable = sc.Cable.straight([0, 0, 0], [1.2, 0, 0], 6, sec)
+    w = 6.0
+    system = sc.System([cable]).add_gravity([0, -9.81, 0])
+    a = 0.05
+    system.pin(cable.node(0), target=lambda t: [a * np.sin(w * t), a * (1 - np.cos(w * t)), 0],
+               velocity=lambda t: [a * w * np.cos(w * t), a * w * np.sin(w * t), 0],
+               acceleration=lambda t: [-a * w**2 * np.sin(w * t), a * w**2 * np.cos(w * t), 0])
+    system.add_point_mass(cable.node(-1), 0.5)
+    return classics.Scene(system, cable, None)
+
+
+def _locking_free_pendulum():
+    return classics.pendulum(n_elements=6, locking_free=True)
+
+
+SCENES = {"damped": _damped_pendulum, "driven": _driven_pendulum,
+          "locking-free": _locking_free_pendulum}
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_compiled_step_gives_the_python_iterates(name):
+    """Trajectories, multipliers and Newton counts of both paths are identical (the
+    compiled loop does the same sums in the same order)."""
+    scene = SCENES[name]()
+    runs = [sc.simulate(scene.system, t_end=0.2, dt=2e-3, initial=scene.initial,
+                        compiled=c) for c in (True, False)]
+    assert runs[0].stats["path"] == "compiled"
+    assert runs[1].stats["path"] == "python (compiled=False)"
+    for field in ("q", "v", "a", "lam"):
+        assert np.array_equal(getattr(runs[0], field), getattr(runs[1], field)), field
+    for key in ("newton", "factorizations", "steps"):
+        assert runs[0].stats[key] == runs[1].stats[key]
+    assert np.ptp(runs[0].q[:, -6]) > 0.01  # the tip moved
+
+
+def test_full_newton_is_compiled_too():
+    scene = _damped_pendulum()
+    runs = [sc.simulate(scene.system, t_end=0.05, dt=2e-3, newton="full", compiled=c)
+            for c in (True, False)]
+    assert np.array_equal(runs[0].q, runs[1].q)
+    assert runs[0].stats["factorizations"] == runs[0].stats["newton"] + 1
+
+
+def test_systems_outside_the_compiled_step_say_why():
+    """A load with a Python hook (a force given as a function of time) makes the Python
+    step, named with its reason; requiring the compiled step then fails with that
+    reason."""
+    scene = _damped_pendulum()
+    scene.system.add_point_load(scene.cable.node(-1), lambda t: [0.0, np.sin(t), 0.0])
+    r = sc.simulate(scene.system, t_end=2e-3, dt=1e-3)
+    assert r.stats["path"].startswith("python (term 'point load")
+    with pytest.raises(ValueError, match="compiled=True.*Python add hook"):
+        sc.simulate(scene.system, t_end=2e-3, dt=1e-3, compiled=True)
+    with pytest.raises(ValueError, match="compiled must be None, True or False"):
+        sc.simulate(scene.system, t_end=2e-3, dt=1e-3, compiled="yes")
+
+
+def test_compiled_failure_keeps_the_diagnostic():
+    """A step that cannot converge in one iteration reports the residual history and the
+    worst unknown, as the Python step does."""
+    scene = _damped_pendulum()
+    messages = []
+    for compiled in (True, False):
+        with pytest.raises(sc.SimulationError) as info:
+            sc.simulate(scene.system, t_end=0.1, dt=0.05, max_iter=1, max_halvings=0,
+                        compiled=compiled)
+        messages.append(str(info.value))
+    assert messages[0] == messages[1]
+    assert "no convergence" in messages[0] and "scaled residual history" in messages[0]
+    assert "largest dynamic residual at" in messages[0]
+
+
+def _banded(n, kl, seed):
+    rng = np.random.default_rng(seed)
+    A = np.zeros((n, n))
+    for i in range(n):
+        lo, hi = max(0, i - kl), min(n, i + kl + 1)
+        A[i, lo:hi] = rng.normal(size=hi - lo)
+    ab = np.zeros((3 * kl + 1, n))
+    for j in range(n):
+        for i in range(max(0, j - kl), min(n, j + kl + 1)):
+            ab[2 * kl + i - j, j] = A[i, j]
+    return A, ab
+
+
+def test_band_kernels_are_lapack():
+    """``kernels.lapack`` calls scipy's own dgbtrf/dgbtrs: identical factors and
+    solutions, and the 1-based column of a zero pivot."""
+    A, ab = _banded(40, 3, seed=1)
+    lu, piv, info = lapack.dgbtrf(ab.copy(), 3, 3)
+    mine = np.ascontiguousarray(ab.T)
+    ipiv = np.zeros(40, dtype=np.int32)
+    ints = np.zeros(8, dtype=np.int32)
+    assert band_factor(ADDRESSES, mine, 3, 3, ipiv, ints) == info == 0
+    assert np.array_equal(mine.T, lu) and np.array_equal(ipiv, piv + 1)
+    b = np.arange(40.0)
+    x = b.copy()
+    assert band_solve(ADDRESSES, mine, 3, 3, ipiv, x, ints) == 0
+    assert np.array_equal(x, lapack.dgbtrs(lu, 3, 3, b, piv)[0])
+    assert np.abs(A @ x - b).max() < 1e-10 * np.abs(b).max() * np.linalg.cond(A)
+    ab[:, 7] = 0.0  # column 8 (1-based) vanishes
+    singular = np.ascontiguousarray(ab.T)
+    assert band_factor(ADDRESSES, singular, 3, 3, ipiv, ints) == 8
