@@ -31,7 +31,15 @@ pattern is built, so that many bodies of one kind are evaluated by one compiled 
 
 A *constraint* ``C(q, t) = 0`` provides ``n_eq``, ``labels``, ``name``, ``linear``,
 ``dofs(system)`` and ``value``, ``jacobian``, ``hessian``, ``velocity_term``
-(``C_t``), ``accel_term`` (``(C_q v)_q v + 2 C_qt v + C_tt``); see ``constraints``.
+(``C_t``), ``accel_term`` (``(C_q v)_q v + 2 C_qt v + C_tt``); see ``constraints``.  A
+nonlinear constraint may also provide ``kernel = (function, pack)``, a compiled hook
+``function(pack, index, cev)`` that replaces ``value``, ``jacobian`` and ``hessian`` in the
+Newton iterations: with ``index = (dofs, rows, jac, jacT, hess)`` (its coordinates, its
+multiplier rows and the positions of ``C_q``, ``C_q^T`` and ``d(C_q^T lam)/dq`` in the
+matrix values, row-major) and ``cev = (q, lam, s, r_c, f_con, data)`` with
+``s = [t, cK, scale]``, it writes ``scale C`` into ``r_c[rows]``, adds ``C_q^T lam`` to
+``f_con`` and, if ``data`` is not empty, ``scale C_q``, ``scale C_q^T`` and ``cK`` times
+the Hessian term (``kernels.rigid`` does it for the rigid body).
 
 An *observer* receives the state at the start, at every saved step and at the end of a
 time integration; see ``Observer``.
@@ -150,6 +158,10 @@ class Term:
         The same as compiled calls ``function(pack, index, ev)`` on the packed
         evaluation (``Evaluation.packed``); ``index`` is an empty int64 array for a term
         without tangent.  A term gives ``add`` or ``kernels``, not both.
+    prepare : callable or None
+        ``prepare(t)``: refresh, in place, the arrays of the packs that depend on time
+        only (e.g. a modulated voltage), before the kernels are evaluated at time ``t``;
+        the compiled step calls it once per time step (its equations hold at one time).
     rows, cols : int ndarray or None
         Global coordinates of the tangent entries (broadcast against each other); None
         for a term without tangent.
@@ -174,6 +186,7 @@ class Term:
     key: Any = None
     merge: Callable[[list], "Term"] | None = None
     name: str = ""
+    prepare: Callable[[float], None] | None = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:
@@ -193,6 +206,8 @@ class Term:
         if self.add is not None:
             self.add(ev, index)
             return
+        if self.prepare is not None:
+            self.prepare(ev.t)
         packed = ev.packed()
         index = _NO_INDEX if index is None else index
         for function, pack in self.kernels:

@@ -105,14 +105,19 @@ class SolarWindForce:
         return per_cable[self.cable_of_element]
 
     def bind(self, system):
+        """The compiled term (``kernels.coulomb.kernel``); a time-modulated voltage
+        refreshes the per-element coefficients once per time step (``Term.prepare``)."""
         edofs = np.ascontiguousarray(np.concatenate(
             [c.global_element_dofs(system) for c in self.cables]))
+        coef = np.array(self.coefficients(0.0), dtype=float)
 
-        def add(ev, index):
-            self.add_force(edofs, ev.q, ev.t, ev.f_ext, ev.data, index, -ev.cK)
+        def prepare(t):
+            coef[:] = self.coefficients(t)
 
-        return Term(add=add, rows=edofs[:, :, None], cols=edofs[:, None, :],
-                    name="solar wind")
+        pack = (edofs, self.S, self.Sx, self.w, coef, self.sun, np.zeros(3))
+        return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
+                    cols=edofs[:, None, :], name="solar wind",
+                    prepare=None if self._constant is not None else prepare)
 
     def add_force(self, edofs, q, t, f, data=None, index=None, cK=1.0):
         """Add the generalized force on the cables with global element coordinates

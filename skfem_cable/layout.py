@@ -8,6 +8,9 @@ import scipy.sparse as sp
 from .contract import merge_terms
 from .linalg import FastCSR
 
+_NO_DATA = np.zeros(0)
+_NO_INDEX = np.zeros(0, dtype=np.int64)
+
 
 class Pattern:
     """Collects blocks of (row, col) entries, then fixes the CSR pattern and the position
@@ -63,6 +66,8 @@ class Layout:
         The constant Jacobians of the linear constraints in the KKT pattern.
     cdofs, crows
         Coordinates and multiplier rows of each constraint.
+    border
+        Unknowns of the hubs, ordered last by the linear solver (``_border``).
     """
 
     def __init__(self, system):
@@ -88,7 +93,13 @@ class Layout:
         self.jac_index, self.jacT_index, self.hess_index = (
             [pattern.index(b).ravel() if b is not None else None for b in blocks]
             for blocks in con_blocks)
+        #: ``(dofs, rows, jac, jacT, hess)`` of each constraint: the ``index`` of a
+        #: compiled constraint hook (``Constraint.kernel``, see ``contract``)
+        self.cindex = [tuple(np.ascontiguousarray(a, dtype=np.int64) for a in (
+            d, r, j, jt, _NO_INDEX if h is None else h)) for d, r, j, jt, h in zip(
+            self.cdofs, self.crows, self.jac_index, self.jacT_index, self.hess_index)]
         self._mass(M)
+        self.border = self._border(system)
         self._linear_constraints(system)
         self.f_const = self._constant_force(system, loads)
         self._scales(system)
@@ -114,6 +125,28 @@ class Layout:
             row += c.n_eq
         self.n_c = row
         return jac, jacT, hess
+
+    #: A body joined by constraints to at least this many other bodies is a hub.
+    HUB_PARTNERS = 3
+
+    def _border(self, system):
+        """Unknowns of the hubs (bodies joined to ``HUB_PARTNERS`` or more others, such
+        as the E-sail's hub): their coordinates and the multipliers of the constraints on
+        them alone.  Ordered last by the linear solver, they keep the band narrow
+        (``linalg.PatternSolver``)."""
+        owner = np.empty(system.n_dofs, dtype=np.int64)
+        for b, body in enumerate(system.bodies):
+            owner[system.dofs(body)] = b
+        partners = [set() for _ in system.bodies]
+        for d in self.cdofs:
+            joined = set(owner[d].tolist())
+            for b in joined:
+                partners[b] |= joined - {b}
+        hubs = {b for b, p in enumerate(partners) if len(p) >= self.HUB_PARTNERS}
+        parts = [system.dofs(system.bodies[b]) for b in sorted(hubs)]
+        parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
+                  if d.size and set(owner[d].tolist()) <= hubs]
+        return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
 
     def _mass(self, M):
         self.mass = FastCSR(M)
@@ -169,8 +202,14 @@ class Layout:
         if self.C_lin is not None:
             r_c[self.lin_rows] = scale * (self.C_lin @ q - self.linear_offsets(t))
             f_con += self.C_lin_T @ lam[self.lin_rows]
+        packed = (q, lam, np.array([t, cK, scale]), r_c, f_con,
+                  _NO_DATA if data is None else data)
         for k in self.nonlinear:
             c, d, rows = constraints[k], self.cdofs[k], self.crows[k]
+            kernel = getattr(c, "kernel", None)
+            if kernel is not None:
+                kernel[0](kernel[1], self.cindex[k], packed)
+                continue
             qc = q[d]
             Jc = c.jacobian(qc, t)
             f_con[d] += Jc.T @ lam[rows]

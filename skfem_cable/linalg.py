@@ -1,9 +1,11 @@
 """Linear solves on the fixed sparsity pattern of the KKT (iteration) matrix.
 
 The pattern is reordered once by reverse Cuthill-McKee.  A single cable (with its
-multipliers interleaved by the ordering) is a band of half-width about 11, factored by
+multipliers interleaved by the ordering) is a band of half-width about 13, factored by
 LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
-uses the same factor) in O(n); wider patterns fall back to SuperLU.  All index maps from
+uses the same factor) in O(n).  A hub joined to many cables (the E-sail's) is ordered last
+as a dense border eliminated by its Schur complement (``kernels.bordered``), so the band
+stays that of one cable; patterns no band fits fall back to SuperLU.  All index maps from
 the CSR data array into the factor's storage, and the storage itself, are made once.
 """
 
@@ -13,7 +15,8 @@ from numba import njit
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
 
-from .kernels.lapack import ADDRESSES, band_factor, load_band, permuted_solve
+from .kernels import bordered as bordered_lu
+from .kernels.lapack import ADDRESSES
 
 #: Banded LU is used while the band half-width stays below this.
 MAX_BANDWIDTH = 64
@@ -39,53 +42,65 @@ class PatternSolver:
     indptr, indices : ndarray
         CSR pattern of a structurally symmetric square matrix.
     method : {"auto", "banded", "sparse"}
+        ``"banded"``: LAPACK's banded LU of the pattern reordered by reverse
+        Cuthill-McKee, with the ``border`` unknowns (if any) last, eliminated by a Schur
+        complement (``kernels.bordered``); ``"sparse"``: SuperLU; ``"auto"``: banded while
+        the half-width stays within ``MAX_BANDWIDTH``.
+    border : int array_like, optional
+        Unknowns coupled to many others (a hub's coordinates and its own constraints'
+        multipliers, ``Layout.border``): ordered last, they keep the band of the rest
+        narrow; used when they make the band narrower.
+
+    Attributes
+    ----------
+    method : str
+    band : int
+        Half-width of the band (of the unknowns outside the border).
+    border : int
+        Number of border unknowns (0: a plain band).
     """
 
-    def __init__(self, indptr, indices, method="auto"):
+    def __init__(self, indptr, indices, method="auto", border=None):
+        if method not in ("auto", "banded", "sparse"):
+            raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
         n = len(indptr) - 1
         self.n = n
         self.pattern = sp.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))
-        rows = np.repeat(np.arange(n), np.diff(indptr))
-        perm = reverse_cuthill_mckee(self.pattern, symmetric_mode=True).astype(np.int64)
-        iperm = np.empty_like(perm)
-        iperm[perm] = np.arange(n)
-        pr, pc = iperm[rows], iperm[indices]
-        band = int(np.max(np.abs(pr - pc))) if n else 0
+        self._rows = np.repeat(np.arange(n), np.diff(indptr))
+        perm, nb, band = self._ordering(np.zeros(0, dtype=np.int64))
+        if border is not None and len(border):
+            bordered = self._ordering(np.unique(np.asarray(border, dtype=np.int64)))
+            if bordered[2] < band:
+                perm, nb, band = bordered
         if method == "auto":
             method = "banded" if band <= MAX_BANDWIDTH else "sparse"
-        if method not in ("banded", "sparse"):
-            raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
         self.method = method
-        self.perm, self.iperm, self.band = perm, iperm, band
-        self._pr, self._pc = pr, pc
-        self.ints = np.zeros(8, dtype=np.int32)
+        self.perm, self.band, self.border = perm, band, n - nb
         if method == "banded":
-            self.kl = self.ku = band
-            self.ab, self.band_index = self._band_storage()
-            self.ipiv = np.zeros(n, dtype=np.int32)
-            self.work = np.empty(n)
+            self.lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm,
+                                          nb, band)
         self.factorizations = 0
         self._lu = None
 
-    def _band_storage(self):
-        """LAPACK band storage of the reordered matrix (``kernels.lapack``) and the
-        position of every CSR value in it."""
-        band = self.band
-        ldab = 3 * band + 1
-        return np.zeros((self.n, ldab)), self._pc * ldab + 2 * band + self._pr - self._pc
-
-    def _band_factor(self, ab, band_index, ipiv, data):
-        """Banded LU of the values ``data`` into ``ab``, ``ipiv``; returns the unknown of
-        a zero pivot, or -1."""
-        load_band(ab, band_index, data)
-        info = band_factor(ADDRESSES, ab, self.band, self.band, ipiv, self.ints)
-        return int(self.perm[info - 1]) if info > 0 else -1
+    def _ordering(self, border):
+        """``(perm, nb, band)``: reverse Cuthill-McKee of the unknowns outside ``border``,
+        then the border; ``nb`` band unknowns of half-width ``band``."""
+        rest = np.setdiff1d(np.arange(self.n), border)
+        sub = self.pattern[rest][:, rest]
+        perm = np.concatenate([rest[reverse_cuthill_mckee(sub, symmetric_mode=True)],
+                               border]).astype(np.int64)
+        iperm = np.empty_like(perm)
+        iperm[perm] = np.arange(self.n)
+        pr, pc = iperm[self._rows], iperm[self.pattern.indices]
+        inside = (pr < rest.size) & (pc < rest.size)
+        band = int(np.max(np.abs(pr - pc)[inside], initial=0))
+        return perm, rest.size, band
 
     def factor(self, data):
         """LU-factor the matrix with CSR values ``data``."""
         self.factorizations += 1
         if self.method == "banded":
-            idx = self._band_factor(self.ab, self.band_index, self.ipiv, data)
+            idx = int(bordered_lu.factor(self.lu, data))
             if idx >= 0:
                 raise SingularMatrixError(f"singular iteration matrix at unknown {idx}", idx)
         else:
@@ -102,11 +117,11 @@ class PatternSolver:
         """The unknown where a singular matrix with CSR values ``data`` loses rank, found
         by a banded LU of its bandwidth-reduced form (as the banded method does); -1 if
         that band would exceed ``MAX_LOCATE_ENTRIES`` (too large to locate)."""
-        band = self.band
+        perm, nb, band = self._ordering(np.zeros(0, dtype=np.int64))
         if self.n * (3 * band + 1) > MAX_LOCATE_ENTRIES:
             return -1
-        ab, band_index = self._band_storage()
-        return self._band_factor(ab, band_index, np.zeros(self.n, dtype=np.int32), data)
+        lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm, nb, band)
+        return int(bordered_lu.factor(lu, data))
 
     def solve(self, rhs):
         """Solve with the last factorization; ``rhs`` of shape ``(n,)`` or ``(n, k)``."""
@@ -116,8 +131,9 @@ class PatternSolver:
         out = np.empty_like(rhs)
         for k in np.ndindex(rhs.shape[1:]):
             col = (slice(None), *k)
-            permuted_solve(ADDRESSES, self.ab, self.band, self.band, self.ipiv, self.perm,
-                           np.ascontiguousarray(rhs[col]), self.work, out[col], self.ints)
+            column = np.empty(self.n)
+            bordered_lu.solve(self.lu, np.ascontiguousarray(rhs[col]), column)
+            out[col] = column
         return out
 
 

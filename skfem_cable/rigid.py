@@ -10,6 +10,7 @@ the base points rigid (Eqs. 45-49).
 import numpy as np
 import scipy.sparse as sp
 
+from .kernels.rigid import constraint_kernel
 from .section import check_positive
 
 #: Pairs of edge vectors ``(a, b)`` of the six internal constraints ``r_a . r_b = const``
@@ -200,6 +201,11 @@ class RigidConstraints:
             s = np.sqrt(np.linalg.norm(edges0[a]) * np.linalg.norm(edges0[b]))
             self.H[j] = (EDGES[a].T @ EDGES[b] + EDGES[b].T @ EDGES[a]) / s
             self.c[j] = 0.5 * d0 @ self.H[j] @ d0
+
+    @property
+    def kernel(self):
+        """The compiled hook (``kernels.rigid.constraint_kernel``, see ``contract``)."""
+        return constraint_kernel, (self.H, self.c)
 
     def dofs(self, system):
         return system.dofs(self.body)

@@ -24,8 +24,11 @@ def test_kernel_cost(capsys):
 
 
 def test_step_cost(capsys):
-    rows = load("step_cost").main(sizes=(4, 8, 16))
-    assert all(r[1] > 0 and r[2] >= 1 for r in rows)
+    """Both paths are timed, the exponent is fitted (here: of tiny sizes) and the
+    peak memory is read."""
+    rows = load("step_cost").main(sizes=(4, 8, 16), steps=3, repeats=1)
+    assert all(r[1] > 0 and r[2] > 0 and r[3] >= 1 and r[4] > 10 for r in rows)
+    assert "growth exponent per step, compiled" in capsys.readouterr().out
 
 
 def test_cantilever_convergence(capsys):
@@ -35,8 +38,9 @@ def test_cantilever_convergence(capsys):
 
 def test_pendulum_speed_error(capsys):
     ref, rows = load("pendulum_speed_error").main(elements=(4,), steps=(4e-3,),
-                                                  reference=(4, 2e-3))
+                                                  reference=(4, 2e-3), tolerances=(1e-4,))
     assert np.isfinite(ref).all() and 0 < rows[0][2] < 1e-3
+    assert rows[1][1] == -1e-4 and 0 < rows[1][2] < 1e-3  # the adaptive row
 
 
 @pytest.mark.slow
@@ -62,3 +66,13 @@ def test_commit_compare(capsys):
     assert all(ours["ms_per_step"] > 0 and theirs["ms_per_step"] > 0
                for ours, theirs in rows.values())
     assert "ratio" in capsys.readouterr().out
+
+
+@pytest.mark.slow
+def test_peers_pendulum_against_exudyn(capsys):
+    """Runs where the ``peers`` extra is installed: both codes reach the same tip."""
+    pytest.importorskip("exudyn")
+    rows = load("peers").pendulum(quick=True, repeats=1)
+    ours = next(r for r in rows if r["code"] == "ours")
+    matched = next(r for r in rows if r["code"] == "exudyn" and "matched" in r["setting"])
+    assert abs(ours["error"] - matched["error"]) < 1e-6 and ours["error"] < 1e-4

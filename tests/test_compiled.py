@@ -1,14 +1,18 @@
 """The compiled Newton step (``solvers.compiled``): the same iterates as the Python step,
-bit for bit; the same diagnostics; the systems it cannot take go the Python way and say
-why; the LAPACK bridge it factors with equals scipy's."""
+bit for bit (pendulums, the E-sail); the same diagnostics; the systems it cannot take go
+the Python way and say why; the LAPACK bridge it factors with equals scipy's, the bordered
+band LU solves an arrowhead, the rigid body's constraint kernel is its definition."""
 
 import numpy as np
 import pytest
+import scipy.sparse as sp
 from scipy.linalg import lapack
 
 import skfem_cable as sc
 from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
-from skfem_cable.scenes import classics
+from skfem_cable.linalg import PatternSolver, SingularMatrixError
+from skfem_cable.scenes import classics, esail
+from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 
 def _damped_pendulum():
@@ -122,3 +126,71 @@ def test_band_kernels_are_lapack():
     ab[:, 7] = 0.0  # column 8 (1-based) vanishes
     singular = np.ascontiguousarray(ab.T)
     assert band_factor(ADDRESSES, singular, 3, 3, ipiv, ints) == 8
+
+
+@pytest.mark.parametrize("voltage", [20e3, lambda t: 20e3 * (1.0 + 0.5 * np.sin(0.05 * t))],
+                         ids=["constant", "modulated"])
+def test_esail_takes_the_compiled_step(voltage):
+    """The E-sail (tethers, solar wind with a constant or modulated voltage, hub with its
+    rigid-body constraints through their compiled kernel, pins) takes the compiled step
+    with the hub as the border of the band: the same iterates as the Python step."""
+    cfg = esail.BaselineConfig(n_tethers=4, voltage=voltage)
+    scene = esail.build(cfg, alpha_deg=10.0, n_elements=3)
+    runs = [sc.simulate(scene.system, t_end=3.0, dt=0.1, rho_inf=0.25, initial=scene.initial,
+                        compiled=c) for c in (True, False)]
+    assert runs[0].stats["path"] == "compiled" and runs[0].stats["solver"] == "banded"
+    for field in ("q", "v", "lam"):
+        assert np.array_equal(getattr(runs[0], field), getattr(runs[1], field)), field
+    solver = GeneralizedAlpha(scene.system).solver
+    assert solver.border == 12 + 6 and solver.band <= 13  # hub coordinates, rigid rows
+
+
+def test_bordered_lu_solves_an_arrowhead():
+    """A band with a dense border (unknowns ordered last) against a dense solve; a
+    singular Schur complement is located at its unknown."""
+    n, kl, border = 60, 2, [7, 31]
+    rng = np.random.default_rng(3)
+    A = np.zeros((n, n))
+    for i in range(n):
+        lo, hi = max(0, i - kl), min(n, i + kl + 1)
+        A[i, lo:hi] = rng.normal(size=hi - lo)
+    A[border, :] = rng.normal(size=(2, n))
+    A[:, border] = rng.normal(size=(n, 2))
+    A += n * np.eye(n)
+    pattern = sp.csr_matrix(np.ones((n, n)) * (A != 0))
+    solver = PatternSolver(pattern.indptr, pattern.indices, "banded", border=border)
+    assert solver.border == 2 and solver.band <= 2 * kl + 1
+    data = np.asarray(A[pattern.nonzero()]).ravel()
+    solver.factor(data)
+    b = rng.normal(size=n)
+    assert np.abs(solver.solve(b) - np.linalg.solve(A, b)).max() < 1e-12
+    A[31, :] = 0.0  # a vanishing border row: the Schur complement is singular there
+    with pytest.raises(SingularMatrixError) as info:
+        solver.factor(np.asarray(A[pattern.nonzero()]).ravel())
+    assert info.value.index == 31
+
+
+def test_rigid_constraint_kernel_matches_its_definition():
+    """The compiled hook of the rigid body's constraints writes ``scale C``, adds
+    ``C_q^T lam`` and the scaled Jacobians and ``cK`` Hessian term, as ``value``,
+    ``jacobian`` and ``hessian`` define them."""
+    cfg = esail.BaselineConfig(n_tethers=3)
+    scene = esail.build(cfg, alpha_deg=0.0, n_elements=2)
+    system = scene.system
+    lay = system.layout
+    k = lay.nonlinear[0]
+    c = system.constraints[k]
+    rng = np.random.default_rng(5)
+    q = system.q0 + 1e-2 * rng.normal(size=system.n_dofs)
+    lam = rng.normal(size=lay.n_c)
+    d, rows = lay.cdofs[k], lay.crows[k]
+    r_c, f_con, data = np.zeros(lay.n_c), np.zeros(system.n_dofs), np.zeros(lay.nnz)
+    function, pack = c.kernel
+    function(pack, lay.cindex[k], (q, lam, np.array([0.0, 0.3, 2.0]), r_c, f_con, data))
+    J = c.jacobian(q[d])
+    assert r_c[rows] == pytest.approx(2.0 * c.value(q[d]), abs=1e-14)
+    assert f_con[d] == pytest.approx(J.T @ lam[rows], rel=1e-13, abs=1e-13)
+    assert data[lay.jac_index[k]] == pytest.approx(2.0 * J.ravel(), rel=1e-13, abs=1e-13)
+    assert data[lay.jacT_index[k]] == pytest.approx(2.0 * J.T.ravel(), rel=1e-13, abs=1e-13)
+    H = c.hessian(q[d], lam[rows])
+    assert data[lay.hess_index[k]] == pytest.approx(0.3 * H.ravel(), rel=1e-13, abs=1e-13)

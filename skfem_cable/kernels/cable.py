@@ -56,6 +56,8 @@ def force_tangent(state, elements, law, out, coef):
     H = np.zeros((6, 6))
     Gd = np.zeros(6)
     Hc = np.zeros((6, 6))
+    Hw = np.zeros((6, 6))
+    T = np.zeros((6, 12))
     fe = np.empty(12)
     fde = np.empty(12)
     Ke = np.empty((12, 12))
@@ -102,17 +104,27 @@ def force_tangent(state, elements, law, out, coef):
                     if damped:
                         fde[3 * A + i] += wg * (S6[0, A] * Gd[i] + S6[1, A] * Gd[3 + i])
             if want_matrix:
-                for A in range(4):
+                # Ke += B^T Hw B with B = S6 (x) I3, in two products: T = Hw B, B^T T
+                for a in range(3 * nu):
+                    for b in range(3 * nu):
+                        hab = cK * H[a, b]
+                        if damped:
+                            hab += cC * Hc[a, b]
+                        Hw[a, b] = wg * hab
+                for a in range(3 * nu):
                     for B in range(4):
-                        for U in range(nu):
+                        for j in range(3):
+                            t = 0.0
                             for V in range(nu):
-                                sab = wg * S6[U, A] * S6[V, B]
-                                for i in range(3):
-                                    for j in range(3):
-                                        kij = cK * H[3 * U + i, 3 * V + j]
-                                        if damped:
-                                            kij += cC * Hc[3 * U + i, 3 * V + j]
-                                        Ke[3 * A + i, 3 * B + j] += sab * kij
+                                t += Hw[a, 3 * V + j] * S6[V, B]
+                            T[a, 3 * B + j] = t
+                for A in range(4):
+                    for i in range(3):
+                        for m in range(12):
+                            k = 0.0
+                            for U in range(nu):
+                                k += S6[U, A] * T[3 * U + i, m]
+                            Ke[3 * A + i, m] += k
         for k in range(12):
             f[edofs[e, k]] += fe[k]
             if damped:

@@ -110,3 +110,15 @@ def force_tangent(q, elements, wind, out, cK):
             for k in range(12):
                 for m in range(12):
                     data[scatter[e, k, m]] += cK * Ke[k, m]
+
+
+@njit(cache=True)
+def kernel(pack, index, ev):
+    """The solar wind's compiled hook of the evaluation contract
+    (``contract.Term.kernels``): ``force_tangent`` into the external forces of the packed
+    evaluation ``ev``, with ``pack = (edofs, S, Sx, w, coef, sun, resultant)`` (the last a
+    scratch accumulator (3,)) and the tangent entries at ``index``, int (ne, 12, 12)."""
+    q, v, s, f, f_ext, fd, data, energy, power = ev
+    edofs, S, Sx, w, coef, sun, resultant = pack
+    scatter = index if data.size else index[:0]
+    force_tangent(q, (edofs, S, Sx, w), (coef, sun), (f_ext, data, scatter, resultant), -s[1])

@@ -1,4 +1,5 @@
-"""LAPACK's banded LU (``dgbtrf``/``dgbtrs``) callable from numba-compiled code.
+"""LAPACK's banded and dense LU (``dgbtrf``/``dgbtrs``, ``dgetrf``/``dgetrs``) callable
+from numba-compiled code.
 
 The routines are scipy's own (``scipy.linalg.cython_lapack``), called through their
 addresses.  The addresses are passed at run time (``ADDRESSES``), never frozen into
@@ -15,9 +16,9 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import get_cython_function_address, intrinsic
 
-#: ``(dgbtrf, dgbtrs)`` addresses in this process.
+#: ``(dgbtrf, dgbtrs, dgetrf, dgetrs)`` addresses in this process.
 ADDRESSES = np.array([get_cython_function_address("scipy.linalg.cython_lapack", name)
-                      for name in ("dgbtrf", "dgbtrs")], dtype=np.int64)
+                      for name in ("dgbtrf", "dgbtrs", "dgetrf", "dgetrs")], dtype=np.int64)
 
 
 @intrinsic
@@ -53,13 +54,13 @@ def band_factor(addresses, ab, kl, ku, ipiv, ints):
 
 @njit(cache=True)
 def band_solve(addresses, ab, kl, ku, ipiv, b, ints):
-    """Solve ``A x = b`` in place with the factor of ``band_factor`` (``dgbtrs``, one
-    right-hand side ``b`` of length ``n``)."""
+    """Solve ``A X = B`` in place with the factor of ``band_factor`` (``dgbtrs``): ``b``
+    of shape ``(n,)``, or ``(nrhs, n)`` holding the right-hand sides as rows."""
     n, ldab = ab.shape
     ints[0] = n
     ints[1] = kl
     ints[2] = ku
-    ints[3] = 1
+    ints[3] = b.size // max(n, 1)
     ints[4] = ldab
     ints[5] = 0
     ints[6] = 78  # 'N': no transpose
@@ -71,20 +72,25 @@ def band_solve(addresses, ab, kl, ku, ipiv, b, ints):
 
 
 @njit(cache=True)
-def load_band(ab, band_index, data):
-    """Zero the band storage and scatter the CSR values ``data`` into it."""
-    ab[:] = 0.0
-    flat = ab.ravel()
-    for k in range(data.size):
-        flat[band_index[k]] = data[k]
+def dense_factor(addresses, a, ipiv, ints):
+    """LU-factor the square matrix ``a`` in place (``dgetrf``; ``a`` C-ordered holds the
+    transpose, LAPACK's column-major storage).  Returns ``info``."""
+    ints[0] = a.shape[0]
+    ints[1] = 0
+    _call(addresses[2], (ints[0:].ctypes.data, ints[0:].ctypes.data, a.ctypes.data,
+                         ints[0:].ctypes.data, ipiv.ctypes.data, ints[1:].ctypes.data))
+    return ints[1]
 
 
 @njit(cache=True)
-def permuted_solve(addresses, ab, kl, ku, ipiv, perm, rhs, work, out, ints):
-    """``out = A^{-1} rhs`` for the matrix factored in the ordering ``perm`` (the band
-    holds ``A[perm][:, perm]``); ``work`` is scratch of length ``n``."""
-    for i in range(perm.size):
-        work[i] = rhs[perm[i]]
-    band_solve(addresses, ab, kl, ku, ipiv, work, ints)
-    for i in range(perm.size):
-        out[perm[i]] = work[i]
+def dense_solve(addresses, a, ipiv, b, ints):
+    """Solve ``A x = b`` in place with the factor of ``dense_factor`` (``dgetrs``)."""
+    ints[0] = a.shape[0]
+    ints[1] = 1
+    ints[2] = 0
+    ints[6] = 78  # 'N'
+    _call(addresses[3], (ints[6:].ctypes.data, ints[0:].ctypes.data, ints[1:].ctypes.data,
+                         a.ctypes.data, ints[0:].ctypes.data, ipiv.ctypes.data,
+                         b.ctypes.data, ints[0:].ctypes.data, ints[2:].ctypes.data))
+    return ints[2]
+

@@ -20,22 +20,23 @@ def newton(terms, model, lu, state, out, prm):
 
     Parameters
     ----------
-    terms : tuple ``(packs, indices)``
-        The kernels' packed data and tangent positions, for ``evaluate``.
+    terms : tuple ``(packs, indices, cpacks, cindices)``
+        The term kernels' packed data and tangent positions, for ``evaluate``, and those
+        of the nonlinear constraints' kernels, for ``constrain``.
     model : tuple
         ``(m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
         c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the
         mass matrix (CSR), the constant part of the iteration matrix, the constant force,
         the positions of the diagonal, the coordinate scales, the linear constraints'
         Jacobian and its transpose (CSR), their multiplier rows and offsets at ``t1``.
-    lu : tuple ``(addresses, ab, band_index, ipiv, perm, band, ints, work)``
-        The banded LU of ``linalg.PatternSolver`` (its storage: a factor made there is
-        used here and the reverse).
+    lu : tuple
+        The bordered band LU of ``linalg.PatternSolver`` (``kernels.bordered``; its
+        storage: a factor made there is used here and the reverse).
     state : tuple ``(q, v, a, abar, lam)``
         The state at ``t_n`` (read only).
     out : tuple
         ``(q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power,
-        res_weight, history, fq, fv, flam, dx, rhs, s)``: the new state, the residual, the
+        res_weight, history, fq, fv, flam, dx, rhs, s, cs)``: the new state, the residual, the
         matrix values, force accumulators, the scaled-residual weights (refreshed at every
         factorization), the residual history, the state at the last factorization and
         scratch.
@@ -52,7 +53,7 @@ def newton(terms, model, lu, state, out, prm):
     """
     q, v, a, abar, lam = state
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
-     history, fq, fv, flam, dx, rhs, s) = out
+     history, fq, fv, flam, dx, rhs, s, cs) = out
     xscale, inv_xscale = model[6], model[7]
     t1, h, am, gm, bt, bp, gp = prm[0], prm[1], prm[2], prm[4], prm[5], prm[6], prm[7]
     mbar, tol, con_weight = prm[8], prm[9], prm[10]
@@ -66,6 +67,7 @@ def newton(terms, model, lu, state, out, prm):
         v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)
     lam1[:] = lam
     s[0], s[1], s[2], s[3] = t1, 1.0 / bp, gp / bp, 1.0
+    cs[0], cs[1], cs[2] = t1, 1.0 / bp, mbar
     dq_err = dq_before = np.inf
     exact = False
     factorizations = corrections = 0
@@ -105,10 +107,9 @@ def newton(terms, model, lu, state, out, prm):
             fv[:] = v1
             flam[:] = lam1
             need = full
-        addresses, ab, band_index, ipiv, perm, band, ints, work = lu
         for i in range(r.size):
             rhs[i] = -r[i]
-        permuted_solve(addresses, ab, band, band, ipiv, perm, rhs, work, dx, ints)  # noqa: F821
+        lu_solve(lu, rhs, dx)  # noqa: F821
         dq_before = dq_err
         dq_err = 0.0
         for i in range(n):
@@ -125,14 +126,14 @@ def newton(terms, model, lu, state, out, prm):
 
 
 def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
-    """Evaluate every term at ``(q1, v1, lam1)`` (and, with ``data`` not empty, the
-    iteration matrix) and write the scaled residual into ``r``: dynamic rows
+    """Evaluate every term and constraint at ``(q1, v1, lam1)`` (and, with ``data`` not
+    empty, the iteration matrix) and write the scaled residual into ``r``: dynamic rows
     ``(M a1 + f - f_const - f_ext + C_q^T lam1) / beta'``, constraint rows
     ``mbar (C q1 - c(t1))`` (``System.evaluate`` and ``GeneralizedAlpha._try_step``)."""
     (m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
      c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t) = model
-    f, f_ext, fd, f_con, energy, power, s = out[7], out[8], out[9], out[10], out[11], \
-        out[12], out[20]
+    f, f_ext, fd, f_con, energy, power, s, cs = out[7], out[8], out[9], out[10], out[11], \
+        out[12], out[20], out[21]
     n = q1.size
     f[:] = 0.0
     f_ext[:] = 0.0
@@ -152,6 +153,8 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
         for j in range(ct_indptr[i], ct_indptr[i + 1]):
             acc += ct_data[j] * lam1[lin_rows[ct_indices[j]]]
         f_con[i] = acc
+    constrain(terms[2], terms[3], (q1, lam1, cs, r[n:], f_con, data))  # noqa: F821
+    for i in range(n):
         ma = 0.0
         for j in range(m_indptr[i], m_indptr[i + 1]):
             ma += m_data[j] * a1[m_indices[j]]
@@ -159,13 +162,11 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
 
 
 def _factor(lu, data, diag_index, xscale, res_weight):
-    """Banded LU of the matrix values ``data`` (``PatternSolver.factor``) and the new
-    residual weights; returns the unknown of a zero pivot, or -1."""
-    addresses, ab, band_index, ipiv, perm, band, ints, work = lu
-    load_band(ab, band_index, data)  # noqa: F821
-    info = band_factor(addresses, ab, band, band, ipiv, ints)  # noqa: F821
-    if info > 0:
-        return perm[info - 1]
+    """LU of the matrix values ``data`` (``PatternSolver.factor``) and the new residual
+    weights; returns the unknown of a zero pivot, or -1."""
+    singular = lu_factor(lu, data)  # noqa: F821
+    if singular >= 0:
+        return singular
     for i in range(res_weight.size):
         res_weight[i] = 1.0 / (abs(data[diag_index[i]]) * xscale[i])
     return -1

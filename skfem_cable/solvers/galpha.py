@@ -99,7 +99,7 @@ class GeneralizedAlpha:
         lay = system.layout
         self.lay = lay
         self.n = system.n_dofs
-        self.solver = PatternSolver(lay.indptr, lay.indices, method)
+        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
         self.mbar = float(np.mean(lay.mass_diagonal))
         if not self.mbar > 0:
             raise ValueError("the system has no mass")

@@ -49,7 +49,7 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
         diag = lay.matrix(data).diagonal()[:n]
         mdiag = lay.matrix(mass).diagonal()[:n]
         sigma = -1e-8 * float(np.mean(np.abs(diag)) / np.mean(mdiag))
-    solver = PatternSolver(lay.indptr, lay.indices)
+    solver = PatternSolver(lay.indptr, lay.indices, border=lay.border)
     solver.factor(data - sigma * mass)
     B = lay.matrix(mass)
     N = lay.N

@@ -145,7 +145,7 @@ class _Newton:
         self.line_search = line_search
         lay = system.layout
         self.lay, self.n = lay, system.n_dofs
-        self.solver = PatternSolver(lay.indptr, lay.indices, method)
+        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
         self.q0 = (system.q0 if initial is None else initial.q).copy()
         self.lam0 = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
         self.scale = constraint_scale(system, self.q0, self.lam0)

@@ -1,0 +1,111 @@
+"""Bordered band LU: a band plus a few dense border rows and columns (an arrowhead), for
+numba-compiled code and Python alike.
+
+In the ordering ``perm`` the matrix is ``[[B, E], [F, D]]``: ``B`` (``nb x nb``) a band of
+half-width ``band``, ``k`` border unknowns last (the coordinates of a hub joined to many
+bodies, and the multipliers of its own constraints).  The factorisation is LAPACK's banded
+LU of ``B``, ``W = B^{-1} E`` and the dense LU of the Schur complement ``S = D - F W``;
+a solve is one banded solve, two products with the border and one dense solve:
+
+    y = B^{-1} x_B,   x_D' = S^{-1} (x_D - F y),   x_B' = y - W x_D'.
+
+With ``k = 0`` it is the banded LU alone.  All storage is made once (``linalg``):
+
+``lu = (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints,
+work)``: LAPACK addresses; the band (``kernels.lapack`` layout) and its pivots; ``E`` and
+``F`` as ``(k, nb)`` arrays (``E`` column-major, i.e. its columns as rows; ``F``
+row-major); ``W`` like ``E``; ``S`` column-major ``(k, k)`` and its pivots; for every CSR
+value of the matrix its block (0: band, 1: E, 2: F, 3: D) and flat position there; the
+ordering; the half-width; int32 scratch (8) and float scratch (n).
+"""
+
+import numpy as np
+from numba import njit
+
+from .lapack import band_factor, band_solve, dense_factor, dense_solve
+
+
+@njit(cache=True)
+def factor(lu, data):
+    """Factor the matrix with CSR values ``data``; returns the (original) unknown of a
+    zero pivot, or -1."""
+    addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work = lu
+    nb, k = ab.shape[0], S.shape[0]
+    ab[:] = 0.0
+    E[:] = 0.0
+    F[:] = 0.0
+    S[:] = 0.0
+    flat_ab, flat_e, flat_f, flat_s = ab.ravel(), E.ravel(), F.ravel(), S.ravel()
+    for p in range(data.size):
+        where = target[p]
+        if where == 0:
+            flat_ab[position[p]] = data[p]
+        elif where == 1:
+            flat_e[position[p]] = data[p]
+        elif where == 2:
+            flat_f[position[p]] = data[p]
+        else:
+            flat_s[position[p]] = data[p]
+    info = band_factor(addresses, ab, band, band, ipiv, ints)
+    if info > 0:
+        return perm[info - 1]
+    if k == 0:
+        return -1
+    W[:] = E
+    band_solve(addresses, ab, band, band, ipiv, W, ints)
+    for c in range(k):  # S = D - F W, column c (row c of the column-major storage)
+        for r in range(k):
+            acc = 0.0
+            for p in range(nb):
+                acc += F[r, p] * W[c, p]
+            S[c, r] -= acc
+    info = dense_factor(addresses, S, ipiv_s, ints)
+    if info > 0:
+        return perm[nb + info - 1]
+    return -1
+
+
+@njit(cache=True)
+def solve(lu, rhs, out):
+    """``out = A^{-1} rhs`` with the last factorisation (original ordering)."""
+    addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work = lu
+    nb, k = ab.shape[0], S.shape[0]
+    for i in range(perm.size):
+        work[i] = rhs[perm[i]]
+    y = work[:nb]
+    band_solve(addresses, ab, band, band, ipiv, y, ints)
+    if k:
+        g = work[nb:]
+        for r in range(k):
+            acc = 0.0
+            for p in range(nb):
+                acc += F[r, p] * y[p]
+            g[r] -= acc
+        dense_solve(addresses, S, ipiv_s, g, ints)
+        for c in range(k):
+            for p in range(nb):
+                y[p] -= W[c, p] * g[c]
+    for i in range(perm.size):
+        out[perm[i]] = work[i]
+
+
+def storage(addresses, rows, cols, perm, nb, band):
+    """The ``lu`` tuple for the CSR entries ``(rows, cols)`` (original indices) of an
+    ``n x n`` matrix ordered by ``perm`` with ``nb`` band unknowns of half-width
+    ``band``."""
+    n = perm.size
+    k = n - nb
+    iperm = np.empty_like(perm)
+    iperm[perm] = np.arange(n)
+    pr, pc = iperm[rows], iperm[cols]
+    ldab = 3 * band + 1
+    in_r, in_c = pr < nb, pc < nb
+    target = np.where(in_r & in_c, 0, np.where(in_r, 1, np.where(in_c, 2, 3))).astype(np.int64)
+    position = np.select(
+        [target == 0, target == 1, target == 2],
+        [pc * ldab + 2 * band + pr - pc, (pc - nb) * nb + pr, (pr - nb) * nb + pc],
+        (pc - nb) * k + (pr - nb)).astype(np.int64)
+    return (addresses, np.zeros((nb, ldab)), np.zeros(nb, dtype=np.int32),
+            np.zeros((k, nb)), np.zeros((k, nb)), np.zeros((k, nb)), np.zeros((k, k)),
+            np.zeros(k, dtype=np.int32), target, position, perm.astype(np.int64), int(band),
+            np.zeros(8, dtype=np.int32), np.zeros(n))
