@@ -42,7 +42,7 @@ def newton(terms, model, lu, state, out, prm):
         scratch.
     prm : float ndarray
         ``[t1, h, alpha_m, alpha_f, gamma, beta, beta', gamma', mbar, tol, con_weight,
-        max_iter, need, full]``.
+        max_iter, need, full, tol_local, error_constant]`` (``tol_local = 0``: off).
 
     Returns
     -------
@@ -55,8 +55,9 @@ def newton(terms, model, lu, state, out, prm):
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
      history, fq, fv, flam, dx, rhs, s, cs) = out
     xscale, inv_xscale = model[6], model[7]
-    t1, h, am, gm, bt, bp, gp = prm[0], prm[1], prm[2], prm[4], prm[5], prm[6], prm[7]
-    mbar, tol, con_weight = prm[8], prm[9], prm[10]
+    t1, h, am, af, gm, bt = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
+    bp, gp, mbar, tol_floor, con_weight = prm[6], prm[7], prm[8], prm[9], prm[10]
+    tol_local, error_constant = prm[14], prm[15]
     max_iter, need, full = int(prm[11]), prm[12] != 0.0, prm[13] != 0.0
     n = q.size
     # predictor: constant acceleration
@@ -87,6 +88,13 @@ def newton(terms, model, lu, state, out, prm):
         history[it] = err
         if not finite:
             return NON_FINITE, it, factorizations, corrections, -1
+        tol = tol_floor
+        if tol_local > 0.0:  # GeneralizedAlpha.local_error at the iterate
+            e = 0.0
+            for i in range(n):
+                abar1 = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
+                e = max(e, abs(error_constant * h * h * (abar1 - abar[i])) * inv_xscale[i])
+            tol = max(tol, tol_local * e)
         if it > 0 and ((err <= tol and dq_err <= tol) or (
                 exact and err <= 1e3 * tol and dq_err <= 1e3 * tol
                 and (err >= 0.5 * history[it - 1] or dq_err >= 0.5 * dq_before))):

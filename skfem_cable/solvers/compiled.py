@@ -146,7 +146,7 @@ class CompiledNewton:
         self.arrays = {k: np.zeros(sizes[k]) for k in sizes}
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
-        self.prm = np.zeros(14)
+        self.prm = np.zeros(16)
 
     def iterate(self, g, h, t1, need):
         """Run the Newton iteration of the step ``t_n -> t1 = t_n + h`` of the integrator
@@ -158,6 +158,7 @@ class CompiledNewton:
             self.c_t[:] = lay.linear_offsets(t1)
         bp, gp = g._coefficients(h)
         self.prm[:] = (t1, h, g.alpha_m, g.alpha_f, g.gamma, g.beta, bp, gp, g.mbar, g.tol,
-                       g.con_weight, g.max_iter, need, g.newton == "full")
+                       g.con_weight, g.max_iter, need, g.newton == "full",
+                       g.tol_local or 0.0, g.error_constant)
         state = (g.q, g.v, g.a, g.abar, g.lam)
         return self.newton(self.terms, self.model, self.lu, state, self.out, self.prm)

@@ -113,7 +113,7 @@ def _stats(integ, wall0, stopped=None):
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
              max_halvings=10, method="auto", energy_tol=0.05, compiled=None, rtol=None,
-             atol=None):
+             atol=None, tol_local=None):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -148,7 +148,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         ``rho_inf``, ``every``, ``tol`` and ``max_iter`` must match the interrupted run;
         the continuation is bit-for-bit the uninterrupted run.  Observers are not called
         at the initial state.
-    tol, max_iter, newton, method, energy_tol, compiled
+    tol, max_iter, newton, method, energy_tol, compiled, tol_local
         See ``GeneralizedAlpha``; ``energy_tol`` is the instability guard (on by default:
         a step whose energy balance grows by more than ``energy_tol`` times the energy
         content of the run is retried smaller; None switches it off).
@@ -196,7 +196,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
                                                                     "finish")):
             raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
     integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol,
-                             compiled, rtol, atol)
+                             compiled, rtol, atol, tol_local)
     adaptive = integ.rtol is not None
     n_steps = None if adaptive else int(np.ceil((t_end - t_start) / dt - 1e-9))
     settings = {"t_start": t_start, "t_end": t_end, "dt": dt, "rho_inf": rho_inf,
@@ -205,6 +205,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
                 "n_steps": n_steps}
     if adaptive:
         settings.update(rtol=rtol, atol=atol)
+    if tol_local is not None:
+        settings["tol_local"] = tol_local
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],

@@ -1,0 +1,44 @@
+"""Numba kernel of the energy books of a time step (``GeneralizedAlpha``, ``docs/theory``):
+the sums of a step in one pass, without temporaries."""
+
+from numba import njit
+
+
+@njit(cache=True)
+def step_books(dq, before, after, mass, f_const, q, v):
+    """Work of the damping and of the external and constraint forces over a step ``dq``
+    by the trapezoidal rule, and the kinetic and potential energy at its end.
+
+    Parameters
+    ----------
+    dq : ndarray (n,)
+        The step's change of the coordinates.
+    before, after : tuple ``(f_damping, f_nc, f_con)``
+        Damping force, non-constant external force and ``C_q^T lambda`` at the step's
+        start and end.
+    mass : tuple ``(indptr, indices, data)``
+        The mass matrix (CSR).
+    f_const : ndarray (n,)
+        Constant external force (its potential is ``-f_const . q``).
+    q, v : ndarray (n,)
+        Coordinates and velocities at the step's end.
+
+    Returns
+    -------
+    dissipated, external_work, kinetic, potential : float
+        ``dq . (fd_0 + fd_1) / 2``, ``dq . (fnc_0 + fnc_1 - fcon_0 - fcon_1) / 2``,
+        ``v . M v / 2`` and ``-f_const . q`` (J).
+    """
+    fd0, fnc0, fcon0 = before
+    fd1, fnc1, fcon1 = after
+    indptr, indices, data = mass
+    dissipated = external = kinetic = potential = 0.0
+    for i in range(dq.size):
+        dissipated += dq[i] * (fd0[i] + fd1[i])
+        external += dq[i] * (fnc0[i] + fnc1[i] - fcon0[i] - fcon1[i])
+        mv = 0.0
+        for k in range(indptr[i], indptr[i + 1]):
+            mv += data[k] * v[indices[k]]
+        kinetic += v[i] * mv
+        potential -= f_const[i] * q[i]
+    return 0.5 * dissipated, 0.5 * external, 0.5 * kinetic, potential
