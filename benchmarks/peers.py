@@ -465,7 +465,7 @@ def esail_rig(quick=False, repeats=3, n_elements=5):
 WIRE = {"length": 10.0, "span": 8.0, "radius": 1e-3, "E": 2e11, "rho": 7850.0, "g": 9.81}
 CATENARY_RUN = {"t_end": 2.0, "sample": 0.02, "rho_inf": 0.8}
 CATENARY_GRID = {
-    "full": {"elements": (4, 8, 16, 32, 48, 64), "dts": (8e-3, 4e-3, 2e-3, 1e-3, 5e-4),
+    "full": {"elements": (4, 8, 16, 32, 48, 64), "dts": (1e-2, 5e-3, 4e-3, 2e-3, 1e-3, 5e-4),
              "segments": (10, 20, 40, 80, 160), "reference": (96, 5e-5)},
     "quick": {"elements": (4, 8, 16), "dts": (2e-3, 1e-3, 5e-4),
               "segments": (10, 20, 40), "reference": (48, 2.5e-4)},

@@ -17,6 +17,7 @@ which computes the same iterates; ``GeneralizedAlpha.step_path`` says which is u
 why.
 """
 
+import functools
 import inspect
 
 import numba
@@ -84,18 +85,22 @@ def source(n_kernels, n_constraints):
     return "\n\n\n".join(p for p in parts if p) + "\n"
 
 
+@functools.cache
+def _template_id():
+    return "".join(inspect.getsource(getattr(template, f)) for f in _TEMPLATE_FUNCTIONS)
+
+
+@functools.cache
 def module(kernels, constraint_kernels):
-    """The generated module of the term and constraint kernel functions (imported,
-    generated and compiled when first needed)."""
+    """The generated module of the term and constraint kernel functions (tuples; imported,
+    generated and compiled when first needed, then remembered)."""
     name = "skfem_cable_step_" + generated.digest(
-        GENERATOR, numba.__version__, *(inspect.getsource(getattr(template, f))
-                                        for f in _TEMPLATE_FUNCTIONS),
+        GENERATOR, numba.__version__, _template_id(),
         *(_kernel_source_id(k) for k in kernels), "constraints",
         *(_kernel_source_id(k) for k in constraint_kernels))
     return generated.load("steps", name,
                           lambda: source(len(kernels), len(constraint_kernels)),
-                          {"KERNELS": tuple(kernels),
-                           "CONSTRAINT_KERNELS": tuple(constraint_kernels)})
+                          {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels})
 
 
 class CompiledNewton:
@@ -118,7 +123,7 @@ class CompiledNewton:
             cfunctions.append(function)
             cpacks.append(pack)
             cindices.append(lay.cindex[k])
-        self.newton = module(functions, cfunctions).newton
+        self.newton = module(tuple(functions), tuple(cfunctions)).newton
         self.terms = (tuple(packs), tuple(indices), tuple(cpacks), tuple(cindices))
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
                         if term.prepare is not None]
