@@ -10,6 +10,7 @@ A run directory holds
 * the VTU series ``series.pvd`` + ``vtu/`` (written during the run by
   ``io.SeriesObserver``), which ParaView opens as an animation;
 * ``summary.json``: scene, parameters, wall time, steps, Newton statistics, key outputs,
+  every file of the run directory with a one-line description (``files.described``),
   the store and the files written;
 * ``plots/``: energy and cable histories, tension spectra and a rendered snapshot
   (``plot``), and ``animation.gif`` on request.
@@ -24,6 +25,7 @@ import shutil
 import sys
 import time
 from dataclasses import dataclass
+from fnmatch import fnmatch
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +33,7 @@ import numpy as np
 from . import export, plot
 from .io import RunExists, StoreError, StoreMismatch, run_observers
 from .io import resume as resume_run
-from .io.atomic import is_temporary
+from .io.atomic import is_temporary, write_atomic
 from .io.jsonable import jsonable
 from .io.store import STORE, remove_store, run_info, store_files
 from .solvers.simulate import simulate
@@ -72,9 +74,12 @@ class RunOptions:
 
 
 def write_summary(out, summary):
-    """Write ``summary.json`` into the run directory ``out``; returns its path."""
+    """Write ``summary.json`` into the run directory ``out`` with ``files.described``, the
+    run's files and their descriptions (``described_files``); returns its path."""
+    files = summary.setdefault("files", {})
+    files["described"] = {**described_files(out), SUMMARY: DESCRIPTIONS[SUMMARY]}
     path = Path(out) / SUMMARY
-    path.write_text(json.dumps(jsonable(summary), indent=2) + "\n")
+    write_atomic(path, (json.dumps(jsonable(summary), indent=2) + "\n").encode())
     return path
 
 
@@ -177,12 +182,54 @@ def run_figures(out, result, animate=False):
     return paths
 
 
+#: Every file a run directory can hold (names and patterns relative to it), with the
+#: one-line description ``summary.json`` gives it (``described_files``).
+DESCRIPTIONS = {
+    SUMMARY: "this summary: scene, parameters, solver statistics, key outputs, files",
+    "manifest.json": "the run's manifest: status, saved steps, settings and fingerprints",
+    "results.zarr": "the results store (xarray.open_zarr): every saved step's fields",
+    "checkpoint_*.npz": "integrator checkpoint: a resumed run continues bit for bit",
+    "series.pvd": "ParaView collection of the VTU frames (open this one in ParaView)",
+    "vtu/series_*.vtu": "ParaView frames: bodies with tension, strain and velocity fields",
+    "animation.gif": "animation of the run (3-D renders)",
+    "animation.mp4": "animation of the run (3-D renders)",
+    "esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays",
+    "plots/energies.png": "energy terms, balance residual and relative drift against time",
+    "plots/cables.png": "tip positions and root tensions of the cables against time",
+    "plots/chain.png": "rod-chain tip, tensions and energies against time",
+    "plots/tension_psd.png": "power spectral density of the root tensions",
+    "plots/final.png": "3-D render of the final state",
+    "plots/esail_tether.png": "tether coning, lagging and stretch against time (Fig. 6)",
+    "plots/esail_hub.png": "hub rates and attitudes, sail attitude (Figs. 7-8)",
+    "plots/esail_forces.png": "thrust and root reactions in the orbit frame (Fig. 9)",
+    "plots/esail_energy.png": "E-sail energy terms and balance (Fig. 10)",
+    "plots/esail_psd.png": "spectra of tether and hub motions, Table 2 modes marked",
+}
+
 #: Files this package writes into a run directory besides the store (``--overwrite``
 #: removes these and nothing else): exact names and patterns relative to the directory.
-RUN_FILES = (SUMMARY, "series.pvd", "vtu/series_*.vtu", "animation.gif", "animation.mp4",
-             "esail_outputs.npz", "plots/energies.png", "plots/cables.png",
-             "plots/tension_psd.png", "plots/final.png", "plots/chain.png",
-             "plots/esail_*.png")
+RUN_FILES = tuple(k for k in DESCRIPTIONS if k not in ("manifest.json", "results.zarr",
+                                                       "checkpoint_*.npz")) + (
+    "plots/esail_*.png",)
+
+
+def described_files(out):
+    """``{relative path: description}`` of every file of the run in ``out`` (the VTU
+    frames as one entry with their count); a file without description is listed as
+    such."""
+    out = Path(out)
+    listed = {}
+    for path in run_files(out):
+        name = path.relative_to(out).as_posix()
+        if is_temporary(path) or name.endswith(".tmp"):
+            continue
+        pattern = next((k for k in DESCRIPTIONS if fnmatch(name, k)), None)
+        if pattern == "vtu/series_*.vtu":
+            count = len(list(out.glob(pattern)))
+            listed[pattern] = f"{DESCRIPTIONS[pattern]} ({count} files)"
+        else:
+            listed[name] = DESCRIPTIONS.get(pattern, "written by this package")
+    return listed
 
 
 def run_files(out):

@@ -39,6 +39,13 @@ def test_toml_scene_run_directory(tmp_path, capsys):
     assert [t for t, _ in export.read_pvd(out / "series.pvd")] == list(result.t)
     for name in summary["files"]["plots"]:
         assert (out / name).stat().st_size > 1000
+    described = summary["files"]["described"]  # every file of the run, described
+    on_disk = {p.relative_to(out).as_posix() for p in out.iterdir() if p.is_file()}
+    on_disk |= {p.relative_to(out).as_posix() for p in (out / "plots").iterdir()}
+    assert on_disk <= set(described) and "results.zarr" in described
+    assert "vtu/series_*.vtu" in described and "(3 files)" in described["vtu/series_*.vtu"]
+    assert all(len(text) > 20 and text != "written by this package"
+               for text in described.values())
 
 
 def test_static_scene_file_matches_the_elastica(tmp_path):

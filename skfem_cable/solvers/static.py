@@ -127,7 +127,8 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             continue
         msg = (f"static solve did not converge at load factor {factor:.6g} (load step "
                f"{len(stats['iterations']) + 1}, increment {step:.3g}): residual history "
-               f"{[h if isinstance(h, str) else float(f'{h:.3e}') for h in history]}")
+               f"{[h if isinstance(h, str) else float(f'{h:.3e}') for h in history]}"
+               + "".join(f"; {why}" for why in _without_bending(system, q)))
         if return_last_converged:
             converged_state.stats["converged"] = False
             converged_state.stats["message"] = msg
@@ -135,6 +136,28 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
         raise StaticConvergenceError(msg, converged_state)
     converged_state.stats["converged"] = True
     return converged_state
+
+
+def _without_bending(system, q, samples=8):
+    """Why cables without bending stiffness (the truss law) may defeat a static solve:
+    one sentence per such cable that is compressed or slack somewhere in the state
+    ``q`` (its tangent then has no stiffness across the cable), with what to do."""
+    reasons = []
+    for cable in system.cables():
+        if cable.bending:
+            continue
+        s = np.linspace(0.0, cable.length, samples * cable.n_elements + 1)
+        strain = cable.strain(q[system.dofs(cable)], s)
+        k = int(np.argmin(strain))
+        if strain[k] <= 0.0:
+            reasons.append(
+                f"cable {cable.name!r} has no bending stiffness (law {cable.law.name!r}) and "
+                f"is compressed or slack (strain {strain[k]:.3g} at s = {s[k]:.4g} m): "
+                "without tension its stiffness across the cable vanishes and the tangent is "
+                "singular; start from a stretched state (initial=) or tension it first "
+                "(more load_steps, the tensioning loads applied first), give it bending "
+                "(law 'cable'), or find the hanging state with simulate and damping")
+    return reasons
 
 
 class _Newton:
