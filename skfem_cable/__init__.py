@@ -1,10 +1,40 @@
 """skfem_cable: tethers, cables and E-sails on scikit-fem.
 
-Public API: ``Section``, ``Cable``, ``RigidBody``, ``System``, ``solve_static``,
-``modes``, ``simulate``, ``State``, ``Result``, ``SolarWind``, ``SolarWindForce``,
-``RodChain``; the E-sail scene ``esail``; ``Observer`` (hooks into ``simulate``) and the
-I/O layer ``io`` (observers: run store, ParaView series, progress bar); ``export``
-(ParaView files) and ``plot``.
+Public API (``__all__``, documented on the API page of the docs):
+
+* model: ``Section``, ``Cable`` (and its ``Node``, ``ElementLineCableHermite``),
+  ``RigidBody``, ``System``;
+* loads: ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``, ``Centrifugal``,
+  ``PointMass`` (module ``loads``), the solar wind ``SolarWind``, ``SolarWindForce``;
+  constraints: ``System.clamp``, ``System.pin`` (module ``constraints``);
+* element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
+  forms ``forms``;
+* solvers: ``solve_static`` (``StaticConvergenceError``), ``modes``, ``simulate``
+  (``SimulationError``); results: ``State``, ``Result``;
+* the evaluation contract: ``Evaluation``, ``Term``, ``Observer`` (hooks into
+  ``simulate``), and the I/O layer ``io`` (observers: run store, ParaView series,
+  progress bar); ``export`` (ParaView files) and ``plot``;
+* the E-sail scene ``esail``; the rod-chain tether ``RodChain``, ``RodChainResult``,
+  ``RodChainDivergence``, ``circular_anchor`` (package ``rodchain``).
+
+References
+----------
+1. G. Pacheco-Ramos, D. Garcia-Vallejo and R. Vazquez, "Formulation of a
+   high-fidelity multibody dynamical model for an electric solar wind sail", Universidad
+   de Sevilla, preprint (the copy followed names no journal or year).  "Eq. N", "Sect. N"
+   and "Table N" in this package refer to it unless stated otherwise.
+2. Ma Shuguang and Wang Tianshu, "An Efficient Model of Tethers for Tethered
+   Satellite Systems", Advances in Astronautics Science and Technology (Springer), 2019,
+   doi:10.1007/s42423-018-0025-1: the rod-chain tether (``rodchain``).
+
+Examples
+--------
+>>> import skfem_cable as sc
+>>> sec = sc.Section.circular(radius=0.01, E=7e10, rho=7800.0)       # SI units
+>>> cable = sc.Cable.straight([0, 0, 0], [1.2, 0, 0], n_elements=16, section=sec)
+>>> system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+>>> system.n_dofs, system.n_constraints
+(102, 3)
 """
 
 from . import export as export  # VTU files for ParaView

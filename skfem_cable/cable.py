@@ -1,5 +1,13 @@
 """The ANCF cable body: a scikit-fem ``MeshLine`` over the reference arc length carrying the
-3-D cubic-Hermite position field ``r(x)`` (paper Sect. 2.2)."""
+3-D cubic-Hermite position field ``r(x)`` (paper Sect. 2.2).
+
+Examples
+--------
+>>> import skfem_cable as sc
+>>> cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sc.Section.circular(1e-3, 2e11, 7850.0))
+>>> cable.n_elements, cable.n_nodes, cable.n_dofs, cable.length
+(4, 5, 30, 2.0)
+"""
 
 import os
 
@@ -64,7 +72,25 @@ def merge_cable_terms(terms):
 
 
 class Node:
-    """A node of a body, as used by constraints and loads: ``cable.node(i)``."""
+    """A node of a body, as used by constraints and loads: ``cable.node(i)``.
+
+    Attributes
+    ----------
+    body : Cable
+        The body the node belongs to.
+    index : int
+        Index of the node in the body (non-negative).
+    position_dofs, slope_dofs : int ndarray (3,)
+        The body's local coordinates of the node's position ``r`` and slope ``r_x``.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> tip = cable.node(-1)
+    >>> tip, tip.position_dofs.tolist(), tip.slope_dofs.tolist()
+    (Node(cable, 2), [12, 13, 14], [15, 16, 17])
+    """
 
     def __init__(self, body, index):
         self.body = body
@@ -72,10 +98,12 @@ class Node:
 
     @property
     def position_dofs(self):
+        """Local coordinates of the node's position ``r`` in its body."""
         return self.body.node_dofs(self.index)[:3]
 
     @property
     def slope_dofs(self):
+        """Local coordinates of the node's slope ``r_x`` in its body."""
         return self.body.node_dofs(self.index)[3:]
 
     def __repr__(self):
@@ -135,6 +163,71 @@ class Cable:
         those points (``tension``).  Taut cables converge at fourth instead of sixth
         order (``docs/locking.md``).  False (default): the paper's formulation, every term
         with ``intorder``.
+
+    Attributes
+    ----------
+    mesh : skfem.MeshLine
+        The mesh of the reference arc length; ``mesh.p[0]`` are the nodes' arc lengths
+        ``x`` (m).
+    section : Section
+        Material and cross-section (``section.EA``, ``section.mass_per_length``, ...).
+    law : CableLaw
+        The element law (a built-in name is resolved to its ``CableLaw``).
+    name : str
+        Label used in diagnostics, outputs and the names of constraints.
+    basis : skfem.Basis
+        scikit-fem basis of the vector cubic-Hermite element
+        (``ElementVector(ElementLineCableHermite(), 3)``) with the Gauss rule ``intorder``:
+        the basis on which the forms of ``forms`` are assembled.
+    q0 : ndarray (n_dofs,)
+        Initial coordinates, node by node ``[r, r_x]`` (six per node); the reference
+        configuration of ``System.q0``.
+    n_dofs : int
+        Number of coordinates, ``6 n_nodes``.
+    n_nodes, n_elements : int
+        Numbers of nodes and elements.
+    length : float
+        Reference (unstretched) length ``L`` (m).
+    h : ndarray (n_elements,)
+        Element lengths (m).
+    element_dofs : int ndarray (n_elements, 12)
+        Local coordinates of each element.
+    intorder : int
+        Order of the Gauss rule of the elastic forces.
+    locking_free : bool
+        Whether the axial part of the law uses the reduced rule (see above).
+    S, Sx, Sxx : ndarray (n_elements, n_points, 4)
+        Hermite shape functions and their first and second arc-length derivatives at the
+        Gauss points of ``intorder``, used by kernels and loads (``LineLoad``,
+        ``SolarWindForce``).
+    weights : ndarray (n_elements, n_points)
+        The Gauss weights times the element lengths.
+    position_mask : bool ndarray (n_dofs,)
+        True for position coordinates, False for slopes.
+    bending : bool
+        True if the law has bending (involves ``r_xx``).
+
+    See Also
+    --------
+    Section : the material and cross-section.
+    System : a cable joined to other bodies, constraints and loads.
+    State, Result : the fields of a solution at arc lengths ``s``.
+
+    Examples
+    --------
+    A straight steel cable of 1.2 m in 16 elements, its nodes and fields:
+
+    >>> import numpy as np
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section.circular(radius=0.01, E=7e10, rho=7800.0)
+    >>> cable = sc.Cable.straight([0, 0, 0], [1.2, 0, 0], n_elements=16, section=sec)
+    >>> cable.n_dofs, cable.length, cable.node(-1)
+    (102, 1.2, Node(cable, 16))
+    >>> r, r_x, r_xx = cable.interpolate(cable.q0, 0.3)
+    >>> r.tolist(), r_x.tolist()
+    ([0.3, 0.0, 0.0], [1.0, 0.0, 0.0])
+    >>> float(cable.tension(cable.q0, 0.6))   # stress-free
+    0.0
     """
 
     def __init__(self, mesh, section, positions, slopes, law="cable", intorder=9, name="cable",
@@ -196,7 +289,33 @@ class Cable:
 
     @classmethod
     def straight(cls, start, end, n_elements, section, law="cable", **kwargs):
-        """A stress-free straight cable from ``start`` to ``end`` with ``n_elements`` elements."""
+        """A stress-free straight cable from ``start`` to ``end`` with ``n_elements`` elements.
+
+        Parameters
+        ----------
+        start, end : array_like (3,)
+            End points (m); the reference length is their distance.
+        n_elements : int
+            Number of equal elements, >= 1.
+        section : Section
+        law : CableLaw or str
+            See ``Cable``.
+        **kwargs
+            The other parameters of ``Cable`` (``intorder``, ``name``, ``locking_free``).
+
+        Returns
+        -------
+        Cable
+            Nodes equally spaced, unit slopes along ``end - start``.
+
+        Examples
+        --------
+        >>> import skfem_cable as sc
+        >>> sec = sc.Section.circular(1e-3, 2e11, 7850.0)
+        >>> tether = sc.Cable.straight([0, 0, 0], [0, 10, 0], 5, sec, law="truss", name="t1")
+        >>> tether.n_dofs, tether.q0[:6].tolist()
+        (36, [0.0, 0.0, 0.0, 0.0, 1.0, 0.0])
+        """
         if int(n_elements) != n_elements or n_elements < 1:
             raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
         check_memory(int(n_elements))
@@ -213,18 +332,22 @@ class Cable:
     # --- layout -------------------------------------------------------------------------
     @property
     def n_dofs(self):
+        """Number of coordinates, ``6 n_nodes``."""
         return self.q0.size
 
     @property
     def n_nodes(self):
+        """Number of nodes."""
         return self.mesh.p.shape[1]
 
     @property
     def n_elements(self):
+        """Number of elements."""
         return self.mesh.t.shape[1]
 
     @property
     def length(self):
+        """Reference (unstretched) length ``L`` (m)."""
         return float(self.mesh.p[0, -1] - self.mesh.p[0, 0])
 
     def node(self, index):
@@ -235,6 +358,7 @@ class Cable:
         return Node(self, index % n)
 
     def node_dofs(self, index):
+        """Local coordinates ``[r, r_x]`` (six) of the node ``index`` (non-negative)."""
         return 6 * index + np.arange(6)
 
     @property

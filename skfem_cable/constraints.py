@@ -15,6 +15,20 @@ A constraint acts on a few global coordinates ``q[dofs]`` and provides (the cont
 
 Driven joints take callables of time.  Their time derivatives are given by the user
 (``velocity``, ``acceleration``) or computed by ``time_derivatives``.
+
+Examples
+--------
+``System.clamp`` and ``System.pin`` build them; ``System.add_constraint`` takes any object
+with this contract:
+
+>>> import skfem_cable as sc
+>>> from skfem_cable import constraints
+>>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+>>> (joint,) = constraints.clamp(cable.node(0))
+>>> joint.n_eq, joint.labels, joint.linear
+(5, ['Fx', 'Fy', 'Fz', 'M1', 'M2'], True)
+>>> joint.value(cable.q0[:6])               # satisfied by the initial coordinates
+array([0., 0., 0., 0., 0.])
 """
 
 import numpy as np
@@ -29,7 +43,17 @@ def time_derivatives(fn, t, order):
     """First (``order=1``) or second derivative of ``fn`` at ``t`` by central differences
     with Richardson extrapolation (fourth order; step ``TIME_STEP * max(1, |t|)``): relative
     error about ``(w h)^4 / 30`` for a motion of angular frequency ``w``, 1e-7 at
-    ``w = 100 rad/s``.  Give the derivatives explicitly for faster motions."""
+    ``w = 100 rad/s``.  Give the derivatives explicitly for faster motions.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from skfem_cable.constraints import time_derivatives
+    >>> round(float(time_derivatives(np.sin, 0.0, 1)), 12)
+    1.0
+    >>> round(float(time_derivatives(np.cos, 0.0, 2)), 9)
+    -1.0
+    """
     h = TIME_STEP * max(1.0, abs(t))
 
     def central(step):
@@ -239,6 +263,25 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
     Returns
     -------
     list of constraints
+        One ``LinearConstraint`` of five equations (labels ``Fx, Fy, Fz, M1, M2``), or, with
+        a callable ``direction``, the position (three) and a ``SlopeDirection`` (two).
+
+    See Also
+    --------
+    System.clamp : adds them to a system.
+
+    Examples
+    --------
+    A clamp whose root follows a prescribed motion (exact derivatives given):
+
+    >>> import numpy as np, skfem_cable as sc
+    >>> from skfem_cable import constraints
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> root = lambda t: np.array([0.0, 0.1 * np.sin(t), 0.0])
+    >>> (c,) = constraints.clamp(cable.node(0), position=root,
+    ...                          velocity=lambda t: np.array([0.0, 0.1 * np.cos(t), 0.0]))
+    >>> c.driven, c.offset(0.0, 1)
+    (True, array([0. , 0.1, 0. , 0. , 0. ]))
     """
     if not isinstance(node, Node):
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
@@ -272,6 +315,28 @@ def pin(node, target=None, velocity=None, acceleration=None):
     optional exact ``velocity(t)`` and ``acceleration(t)``), another ``Node``, or a
     rigid-body point (``RigidBody.point``): all linear in the coordinates,
     ``C = r_node - G(x) d`` or ``C = r_node - target(t)``.
+
+    Parameters
+    ----------
+    node : Node
+    target : None, array_like (3,), callable, Node or body point, optional
+    velocity, acceleration : callable, optional
+        Exact derivatives of a callable ``target``.
+
+    Returns
+    -------
+    LinearConstraint
+        Three equations, labels ``Fx, Fy, Fz``: ``-lambda`` is the force of the joint on
+        the node.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> from skfem_cable import constraints
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> joint = constraints.pin(cable.node(-1), [1.0, 0.0, 0.0])
+    >>> joint.n_eq, joint.value(cable.q0[-6:-3])
+    (3, array([0., 0., 0.]))
     """
     if not isinstance(node, Node):
         raise TypeError(f"pin expects a Node (cable.node(i)), got {type(node).__name__}")

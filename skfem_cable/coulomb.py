@@ -1,4 +1,11 @@
-"""The solar-wind Coulomb force on charged tethers (paper Sect. 2.2.3, Eqs. 27-35)."""
+"""The solar-wind Coulomb force on charged tethers (paper Sect. 2.2.3, Eqs. 27-35).
+
+Examples
+--------
+>>> from skfem_cable import SolarWind
+>>> f"{SolarWind().force_per_length(20e3):.3e} N/m"     # 20 kV at 1 AU
+'4.494e-07 N/m'
+"""
 
 from dataclasses import dataclass
 
@@ -29,6 +36,15 @@ class SolarWind:
         Voltage of the bulk kinetic energy of a proton (V).
     proton_mass, eps0 : float
         ``m_i`` (kg) and the vacuum permittivity (F/m).
+
+    Examples
+    --------
+    >>> from skfem_cable import SolarWind
+    >>> slow = SolarWind(speed=3e5)
+    >>> round(float(slow.force_per_length(20e3) / SolarWind().force_per_length(20e3)), 6)
+    0.75
+    >>> float(SolarWind().force_per_length(500.0))        # below V1: no force
+    0.0
     """
 
     speed: float = 4.0e5
@@ -60,6 +76,25 @@ class SolarWindForce:
     wind : SolarWind
     sun_position : array_like (3,)
         Position of the Sun in the simulation frame I (``-R0``, Eq. 32).
+
+    Notes
+    -----
+    Each tether element is pushed along the wind's component perpendicular to it, with
+    ``SolarWind.force_per_length`` for a tether across the wind (Eqs. 27-35); the wind
+    blows radially from the Sun.
+
+    Examples
+    --------
+    A voltage switched off after 100 s on one of two tethers:
+
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section.circular(1e-5, 7e10, 2700.0)
+    >>> a = sc.Cable.straight([0, 0, 0], [0, 100, 0], 2, sec, name="a")
+    >>> b = sc.Cable.straight([0, 0, 0], [0, -100, 0], 2, sec, name="b")
+    >>> wind = sc.SolarWindForce([a, b], [20e3, lambda t: 20e3 if t < 100 else 0.0])
+    >>> wind.voltages(50.0).tolist(), wind.voltages(150.0).tolist()
+    ([20000.0, 20000.0], [20000.0, 0.0])
+    >>> system = sc.System([a, b]).add_load(wind)
     """
 
     def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0)):

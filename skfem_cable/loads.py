@@ -5,6 +5,19 @@ Constant loads (fixed point and line loads, gravity) become constant generalized
 (``Term.force``) whose potential is booked as potential energy; loads that depend on time,
 position or velocity add to ``Evaluation.f_ext`` at every evaluation, with the tangent
 blocks ``dF/dq`` and ``dF/dv``, and their work is booked as external work.
+
+Examples
+--------
+``System.add_gravity``, ``add_point_load``, ``add_point_moment``, ``add_line_load``,
+``add_centrifugal`` and ``add_point_mass`` build them; ``System.add_load`` takes any of
+them (or a user's contributor):
+
+>>> import numpy as np, skfem_cable as sc
+>>> cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sc.Section.circular(1e-3, 2e11, 7850.0))
+>>> drag = sc.LineLoad(cable, lambda x, v, t: -0.5 * v)           # N/m, velocity-dependent
+>>> system = sc.System([cable]).pin(cable.node(0)).add_load(drag).add_gravity([0, -9.81, 0])
+>>> [type(load).__name__ for load in system.loads]
+['LineLoad', 'Gravity']
 """
 
 import numpy as np
@@ -23,7 +36,24 @@ def vector3(v, name):
 
 class PointLoad:
     """Force (N, fixed in space) at a cable node or a rigid-body point: a 3-vector, or a
-    callable ``force(t)`` returning one (a time-dependent load)."""
+    callable ``force(t)`` returning one (a time-dependent load).
+
+    Parameters
+    ----------
+    point : Node or body point
+        ``cable.node(i)`` or ``RigidBody.point(x)``.
+    force : array_like (3,) or callable
+        The force (N), or ``force(t)``: a constant force is a generalized force with a
+        potential (booked as potential energy), a time-dependent one does external work.
+
+    Examples
+    --------
+    >>> import numpy as np, skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> pulse = sc.PointLoad(cable.node(-1), lambda t: [0.0, -np.sin(t), 0.0])
+    >>> pulse.force(np.pi / 2)
+    array([ 0., -1.,  0.])
+    """
 
     def __init__(self, point, force):
         self.point = point
@@ -33,6 +63,7 @@ class PointLoad:
             self.force(0.0)  # fail now, not in the middle of a run
 
     def force(self, t):
+        """The force (N) at time ``t``."""
         if self.fn is None:
             return self.value
         return vector3(self.fn(t), f"force({t!r})")
@@ -54,6 +85,22 @@ class PointMoment:
     From the virtual work ``dW = M . (t x dt)`` with ``t = r_x / |r_x|``, the generalized
     force on the node's slope is ``f = M x r_x / |r_x|^2`` and its derivative is
     ``df/dr_x = ([M]_x |r_x|^2 - 2 (M x r_x) r_x^T) / |r_x|^4``.
+
+    Parameters
+    ----------
+    node : Node
+        ``cable.node(i)``.
+    moment : array_like (3,)
+        The moment (N m).
+
+    Examples
+    --------
+    A moment about ``z`` turns a slope along ``x`` towards ``y``:
+
+    >>> import numpy as np, skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> sc.PointMoment(cable.node(-1), [0, 0, 1.0]).force(np.array([1.0, 0.0, 0.0]))
+    array([0., 1., 0.])
     """
 
     def __init__(self, node, moment):
@@ -61,6 +108,7 @@ class PointMoment:
         self.moment = vector3(moment, "moment")
 
     def force(self, a):
+        """Generalized force ``M x a / |a|^2`` on the slope ``a = r_x``."""
         return np.cross(self.moment, a) / (a @ a)
 
     def stiffness(self, a):
@@ -83,7 +131,14 @@ class PointMoment:
 
 class UniformLineLoad:
     """Uniform distributed load (N per metre of reference length, fixed in space) along a
-    cable: the consistent generalized force ``int S^T f dx`` (scikit-fem assembly)."""
+    cable: the consistent generalized force ``int S^T f dx`` (scikit-fem assembly).
+
+    Parameters
+    ----------
+    cable : Cable
+    force_per_length : array_like (3,)
+        The load (N/m).
+    """
 
     def __init__(self, cable, force_per_length):
         self.cable = cable
@@ -101,6 +156,22 @@ class Gravity:
     ``r(x) = g`` (positions ``g``, slopes 0): ANCF shape functions, natural coordinates and
     point masses all reproduce a constant field exactly, so ``M u_g = int rho S^T g dV`` is
     the consistent gravity load of every body.
+
+    Parameters
+    ----------
+    g : array_like (3,)
+        Gravitational acceleration (m/s^2).
+
+    Examples
+    --------
+    The forces on the position coordinates add up to the weight (0.2 kg here):
+
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section(E=1e9, A=1e-4, I=1e-10, rho=1000.0)
+    >>> cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sec)
+    >>> dofs, f = sc.Gravity([0, -9.81, 0]).bind(sc.System([cable])).force
+    >>> f[cable.position_mask].reshape(-1, 3).sum(axis=0)
+    array([ 0.   , -1.962,  0.   ])
     """
 
     def __init__(self, g):
@@ -114,7 +185,22 @@ class Gravity:
 
 class PointMass:
     """Point mass (kg) at a cable node's position or at a body point (anything
-    ``System.position_map`` accepts): a constant mass ``m G^T G``."""
+    ``System.position_map`` accepts): a constant mass ``m G^T G``.
+
+    Parameters
+    ----------
+    point : Node or body point
+    mass : float
+        Mass (kg), > 0.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> system = sc.System([cable]).add_point_mass(cable.node(-1), 0.5)   # a tip mass
+    >>> round(float(system.mass_matrix()[-6, -6] - cable.mass_matrix()[-6, -6]), 12)
+    0.5
+    """
 
     def __init__(self, point, mass):
         self.point = point
@@ -149,9 +235,24 @@ class LineLoad:
     fd_step : float
         Relative step of the finite-difference Jacobians (default ``sqrt(eps)``).
 
+    Notes
+    -----
     The generalized force is ``int S^T f dx`` and its tangent blocks ``int S^T (df/dx) S dx``
     and ``int S^T (df/dv) S dx`` (``S`` the cable's shape functions).  Its work is booked as
-    external work (drag: negative).
+    external work (drag: negative).  ``demos/drag_terminal_speed.py`` is a complete example.
+
+    Examples
+    --------
+    Linear viscous drag ``f = -c v`` with its exact velocity Jacobian:
+
+    >>> import numpy as np, skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> c = 0.5                                          # N s/m^2
+    >>> drag = sc.LineLoad(cable, lambda x, v, t: -c * v,
+    ...                    dv=lambda x, v, t: np.broadcast_to(-c * np.eye(3), v.shape + (3,)))
+    >>> drag.evaluate(np.zeros((2, 3)), np.array([[0.0, -2.0, 0.0]] * 2), 0.0)
+    array([[-0.,  1., -0.],
+           [-0.,  1., -0.]])
     """
 
     def __init__(self, cable, force, dq=None, dv=None, fd_step=1.49e-8):
@@ -237,6 +338,23 @@ class Centrifugal:
     this force exactly; it is linear in ``q`` with the constant tangent
     ``-M (I (x) [Omega]_x^2)``.  With it ``solve_static`` finds steady spinning states, and
     ``modes(..., spin=omega)`` their vibrations.
+
+    Parameters
+    ----------
+    omega : array_like (3,)
+        Angular velocity of the frame (rad/s).
+
+    Examples
+    --------
+    A tether clamped at the hub, spinning at 2 rad/s: the root tension of the steady state
+    is ``rho A Omega^2 L^2 / 2 = 0.8 N``:
+
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section(E=1e9, A=1e-4, I=1e-10, rho=1000.0)
+    >>> cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sec)
+    >>> system = sc.System([cable]).clamp(cable.node(0)).add_centrifugal([0, 0, 2.0])
+    >>> round(float(sc.solve_static(system).tension(cable, 0.0)), 4)
+    0.8
     """
 
     def __init__(self, omega):

@@ -37,7 +37,56 @@ def step_record(step):
 
 class Result:
     """Saved steps of a run: ``t, q, v, a, lam`` (leading axis: time), ``iterations``
-    (Newton iterations of each saved step), ``energy`` and ``stats``."""
+    (Newton iterations of each saved step), ``energy`` and ``stats``.
+
+    Parameters
+    ----------
+    system : System
+        The system that was run.
+    records : dict of array_like
+        The ``FIELDS``, each with the saved steps along its first axis.
+    stats : dict, optional
+        Solver counters.
+
+    Attributes
+    ----------
+    system : System
+    t : ndarray (nt,)
+        Saved times (s).
+    q, v, a : ndarray (nt, n_dofs)
+        Coordinates, velocities and accelerations (NaN where a store left them out).
+    lam : ndarray (nt, n_constraints)
+        Lagrange multipliers.
+    iterations : ndarray (nt,)
+        Newton iterations of each saved step.
+    kinetic, axial, bending, potential, dissipated, external_work : ndarray (nt,)
+        The energies (J) of ``ENERGIES``; ``energy`` combines them.
+    stats : dict
+        Solver counters: ``steps``, ``newton``, ``rejected``, ``wall_time``, ...
+
+    See Also
+    --------
+    simulate : returns a ``Result``.
+    State : one configuration; ``state(i)``.
+
+    Examples
+    --------
+    A pendulum released from horizontal, 20 steps of 1 ms:
+
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section.circular(radius=0.01, E=7e10, rho=7800.0)
+    >>> cable = sc.Cable.straight([0, 0, 0], [1.2, 0, 0], 4, sec)
+    >>> system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+    >>> result = sc.simulate(system, t_end=0.02, dt=1e-3, every=10)
+    >>> len(result), result.t.tolist(), result.position(cable, 1.2).shape
+    (3, [0.0, 0.01, 0.02], (3, 3))
+    >>> round(float(result.position(cable, 1.2)[-1, 1]), 4)   # tip height (m)
+    -0.0024
+    >>> bool(abs(result.energy["balance"]).max() < 1e-5)     # energy books close (J)
+    True
+    >>> result.state(-1).q.shape, list(result.multipliers)
+    ((30,), ['pin Node(cable, 0)'])
+    """
 
     def __init__(self, system, records, stats=None):
         self.system = system
@@ -69,12 +118,16 @@ class Result:
         return self._fields(cable, self.q, s, 0)
 
     def velocity(self, cable, s):
+        """Velocities ``(nt,) + s.shape + (3,)`` at reference arc lengths ``s``."""
         return self._fields(cable, self.v, s, 0)
 
     def tension(self, cable, s):
+        """Axial forces (N) ``(nt,) + s.shape`` at reference arc lengths ``s``
+        (``Cable.tension``)."""
         return cable.tension(self.q[:, self.system.dofs(cable)], s)
 
     def curvature(self, cable, s):
+        """Curvatures (1/m) ``(nt,) + s.shape`` at reference arc lengths ``s``."""
         return cable.curvature(self.q[:, self.system.dofs(cable)], s)
 
     @property

@@ -5,6 +5,13 @@ The coordinates are the global positions of four non-coplanar base points,
 affine combination ``r = G(x) d`` (Eqs. 39, 131-132), the mass matrix
 ``M = int rho G^T G dV`` (Eq. 52) is constant, and six quadratic internal constraints keep
 the base points rigid (Eqs. 45-49).
+
+Examples
+--------
+>>> import skfem_cable as sc
+>>> hub = sc.RigidBody.cylinder(radius=1.0, height=2.0, density=884.0)
+>>> hub.n_dofs, [c.n_eq for c in hub.internal_constraints()]
+(12, [6])
 """
 
 import numpy as np
@@ -31,7 +38,16 @@ EDGES = _edge_operators()
 
 
 class BodyPoint:
-    """A material point of a rigid body: ``position = position_matrix @ d``."""
+    """A material point of a rigid body: ``position = position_matrix @ d``.
+
+    Attributes
+    ----------
+    body : RigidBody
+    x : ndarray (3,)
+        Body-frame coordinates (m).
+    position_matrix : ndarray (3, 12)
+        ``G(x)``.
+    """
 
     def __init__(self, body, x):
         self.body = body
@@ -59,6 +75,39 @@ class RigidBody:
         Initial position of the body-frame origin and rotation matrix ``C_B^I``
         (body to inertial, default identity), defining the initial coordinates.
     name : str
+
+    Attributes
+    ----------
+    mass, center_of_mass, inertia, base_points, name
+        As given.
+    q0 : ndarray (12,)
+        Initial coordinates ``d = [r_A, r_B, r_C, r_D]`` (inertial frame).
+    n_dofs : int
+        12.
+    position_mask : bool ndarray (12,)
+        All True: every coordinate is a position.
+    radius, height : float
+        Of a ``cylinder``.
+
+    See Also
+    --------
+    System.pin : ``pin(cable.node(0), body.point(x))`` joins a cable to the body.
+
+    Examples
+    --------
+    The E-sail's hub with a tether pinned to its rim:
+
+    >>> import numpy as np, skfem_cable as sc
+    >>> hub = sc.RigidBody.cylinder(radius=1.0, height=2.0, density=884.0)
+    >>> round(hub.mass, 1), hub.q0.reshape(4, 3)[:, 0].tolist()
+    (5554.3, [-1.0, 1.0, 0.0, 0.0])
+    >>> sec = sc.Section.circular(1e-3, 7e10, 2700.0)
+    >>> tether = sc.Cable.straight([0, 1, 0], [0, 11, 0], 4, sec)
+    >>> system = sc.System([hub, tether]).pin(tether.node(0), hub.point([0, 1, 0]))
+    >>> system.n_dofs, system.n_constraints
+    (42, 9)
+    >>> hub.positions(hub.q0, np.array([0.0, 0.0, 1.0])), float(hub.rotation(hub.q0).trace())
+    (array([0., 0., 1.]), 3.0)
     """
 
     def __init__(self, mass, center_of_mass, inertia, base_points, position=(0, 0, 0),
@@ -109,6 +158,7 @@ class RigidBody:
 
     @property
     def position_mask(self):
+        """All True: every coordinate is a position."""
         return np.ones(12, dtype=bool)
 
     def describe_dof(self, index):

@@ -1,4 +1,12 @@
-"""Cross-section and material of a cable (paper Table 1 symbols ``E_t, A_t, I_t, rho_t``)."""
+"""Cross-section and material of a cable (paper Table 1 symbols ``E_t, A_t, I_t, rho_t``).
+
+Examples
+--------
+>>> from skfem_cable import Section
+>>> steel = Section.circular(radius=1e-3, E=2e11, rho=7850.0)
+>>> round(steel.EA), round(steel.mass_per_length, 5)
+(628319, 0.02466)
+"""
 
 import math
 from dataclasses import dataclass
@@ -20,7 +28,7 @@ def check_positive(name, value, allow_zero=False):
 
 @dataclass(frozen=True)
 class Section:
-    """Homogeneous cable section.
+    """Homogeneous cable section (frozen: change one with ``dataclasses.replace``).
 
     Parameters
     ----------
@@ -35,6 +43,33 @@ class Section:
     gamma_axial, gamma_bending : float
         Internal (Kelvin-Voigt) damping coefficients ``gamma_x, gamma_b`` of Eq. 36 in
         seconds, >= 0: ``N = EA (eps + gamma_x eps_dot)``, ``M = EI (kappa + gamma_b kappa_dot)``.
+
+    Attributes
+    ----------
+    EA, EI : float
+        Axial (N) and bending (N m^2) stiffness.
+    mass_per_length : float
+        ``rho A`` (kg/m).
+
+    Raises
+    ------
+    ValueError
+        A parameter that is not finite and positive (the damping: non-negative).
+
+    See Also
+    --------
+    Cable : the cable that carries the section.
+
+    Examples
+    --------
+    >>> from skfem_cable import Section
+    >>> s = Section(E=7e10, A=1e-6, I=1e-13, rho=2700.0, gamma_axial=0.01)
+    >>> s.EA, s.EI
+    (70000.0, 0.007)
+    >>> Section(E=-1.0, A=1e-6, I=1e-13, rho=2700.0)
+    Traceback (most recent call last):
+        ...
+    ValueError: E must be finite and > 0, got -1.0
     """
 
     E: float
@@ -53,18 +88,38 @@ class Section:
 
     @classmethod
     def circular(cls, radius, E, rho, **damping):
-        """Solid circular section of the given ``radius`` (m), ``A = pi r^2``, ``I = pi r^4/4``."""
+        """Solid circular section of the given ``radius`` (m), ``A = pi r^2``, ``I = pi r^4/4``.
+
+        Parameters
+        ----------
+        radius : float
+            Radius (m), > 0.
+        E, rho : float
+            Young's modulus (Pa) and density (kg/m^3).
+        **damping
+            ``gamma_axial``, ``gamma_bending`` (s).
+
+        Examples
+        --------
+        >>> from skfem_cable import Section
+        >>> s = Section.circular(radius=0.01, E=7e10, rho=7800.0)
+        >>> round(s.EA / 1e6, 3), round(s.EI, 3)
+        (21.991, 549.779)
+        """
         r = check_positive("radius", radius)
         return cls(E=E, A=math.pi * r**2, I=math.pi * r**4 / 4, rho=rho, **damping)
 
     @property
     def EA(self):
+        """Axial stiffness ``E A`` (N)."""
         return self.E * self.A
 
     @property
     def EI(self):
+        """Bending stiffness ``E I`` (N m^2)."""
         return self.E * self.I
 
     @property
     def mass_per_length(self):
+        """Mass per unit length ``rho A`` (kg/m)."""
         return self.rho * self.A

@@ -10,6 +10,14 @@ The KKT (iteration) matrix of the unknowns ``(q, lambda')`` is
 with ``K`` and ``D`` the stiffness and damping tangents of the bodies (Eqs. 13-15), ``H`` the
 constraint Hessian term of Eq. 15 and ``s`` a constraint scaling (``lambda = s lambda'``)
 chosen by the solvers for conditioning.
+
+Examples
+--------
+>>> import skfem_cable as sc
+>>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, sc.Section.circular(1e-3, 2e11, 7850.0))
+>>> system = sc.System([cable]).clamp(cable.node(0)).add_gravity([0, -9.81, 0])
+>>> system.n_dofs, system.n_constraints, [c.name for c in system.constraints]
+(30, 5, ['clamp Node(cable, 0)'])
 """
 
 import numpy as np
@@ -31,6 +39,47 @@ class System:
     bodies : sequence of bodies
         Anything with the body contract (``contract``): ``Cable``, ``RigidBody`` or a
         user's body.
+
+    Attributes
+    ----------
+    bodies : list
+        The bodies, in the order of their coordinates.
+    n_dofs : int
+        Number of coordinates (all bodies).
+    n_constraints : int
+        Number of constraint equations (Lagrange multipliers).
+    constraints : list
+        The constraints: the bodies' internal ones (a rigid body's six) first, then those
+        added (``clamp``, ``pin``, ``add_constraint``).
+    loads, point_masses : list
+        The contributors added by ``add_load`` (and the ``add_*`` shortcuts) and
+        ``add_point_mass``.
+    offsets : dict
+        First global coordinate of each body, by ``id(body)``.
+    q0 : ndarray (n_dofs,)
+        The bodies' initial coordinates, stacked.
+
+    Notes
+    -----
+    The building methods (``clamp``, ``pin``, ``add_*``) return the system, so that they
+    chain.  Build the system before solving it: the first solve fixes its sparsity pattern
+    (``layout``), which a later change rebuilds.
+
+    Examples
+    --------
+    A cable pinned at one end under gravity, and a cable clamped at both ends:
+
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section.circular(radius=0.01, E=7e10, rho=7800.0)
+    >>> cable = sc.Cable.straight([0, 0, 0], [1.2, 0, 0], n_elements=16, section=sec)
+    >>> pendulum = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+    >>> pendulum.n_dofs, pendulum.n_constraints
+    (102, 3)
+    >>> beam = sc.System([cable]).clamp(cable.node(0)).clamp(cable.node(-1))
+    >>> beam.n_constraints
+    10
+    >>> sc.System([cable]).dofs(cable.node(1)).tolist()
+    [6, 7, 8, 9, 10, 11]
     """
 
     def __init__(self, bodies):
@@ -74,7 +123,26 @@ class System:
 
     def clamp(self, node, direction=None, position=None, velocity=None, acceleration=None):
         """Clamp a node: position and slope direction fixed, or driven (callables of time,
-        see ``constraints.clamp``). Returns the system."""
+        see ``constraints.clamp``). Returns the system.
+
+        Five equations: the position (three) and the direction of the slope (two); the
+        axial stretch at the clamp stays free.
+
+        Parameters
+        ----------
+        node : Node
+            ``cable.node(i)``.
+        direction, position : array_like (3,) or callable, optional
+            Slope direction and position (default: the node's initial ones), or callables
+            ``f(t)`` of a driven clamp.
+        velocity, acceleration : callable, optional
+            Exact time derivatives of a driven ``position``.
+
+        Returns
+        -------
+        System
+            ``self``.
+        """
         for c in cons.clamp(node, direction, position, velocity, acceleration):
             self.add_constraint(c)
         return self
@@ -82,7 +150,35 @@ class System:
     def pin(self, node, target=None, velocity=None, acceleration=None):
         """Spherical joint of a node to ground (``target`` None, a point, or a callable
         ``target(t)`` with optional exact ``velocity(t)``, ``acceleration(t)``) or to
-        another node/body point. Returns the system."""
+        another node/body point. Returns the system.
+
+        Parameters
+        ----------
+        node : Node
+            ``cable.node(i)``.
+        target : None, array_like (3,), callable, Node or body point, optional
+            Ground at the node's initial position (None), a ground point, a ground point
+            moving on ``target(t)``, another cable's node, or a rigid-body point
+            (``RigidBody.point``); see ``constraints.pin``.
+        velocity, acceleration : callable, optional
+            Exact derivatives of a callable ``target`` (else by differences).
+
+        Returns
+        -------
+        System
+            ``self``; three constraint equations (multipliers ``Fx, Fy, Fz``) are added.
+
+        Examples
+        --------
+        >>> import numpy as np, skfem_cable as sc
+        >>> sec = sc.Section.circular(1e-3, 2e11, 7850.0)
+        >>> a = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sec, name="a")
+        >>> b = sc.Cable.straight([1, 0, 0], [2, 0, 0], 2, sec, name="b")
+        >>> shaker = lambda t: np.array([0.0, 0.01 * np.sin(10 * t), 0.0])
+        >>> system = sc.System([a, b]).pin(a.node(0), shaker).pin(b.node(0), a.node(-1))
+        >>> system.n_constraints, system.constraints[1].name
+        (6, 'pin Node(b, 0)-Node(a, 2)')
+        """
         return self.add_constraint(cons.pin(node, target, velocity, acceleration))
 
     def add_load(self, load):
@@ -132,14 +228,18 @@ class System:
     # --- layout ---------------------------------------------------------------------------
     @property
     def q0(self):
+        """The bodies' initial coordinates, stacked (n_dofs,)."""
         return np.concatenate([b.q0 for b in self.bodies])
 
     @property
     def n_constraints(self):
+        """Number of constraint equations."""
         return sum(c.n_eq for c in self.constraints)
 
     @property
     def layout(self):
+        """The fixed sparsity pattern of the KKT matrix (``layout.Layout``), built on first
+        use and again after the system changes."""
         if self._layout is None:
             self._layout = Layout(self)
         return self._layout

@@ -1,6 +1,7 @@
 """Tether as a chain of straight elastic rods joined by frictionless spherical hinges
-(Ma & Wang, "An Efficient Model of Tethers for Tethered Satellite Systems";
-``shared/papers/rod-chain-tether-On.md``), with the O(n) solve of the constant mass matrix.
+(Ma Shuguang & Wang Tianshu, "An Efficient Model of Tethers for Tethered Satellite
+Systems", Advances in Astronautics Science and Technology, 2019,
+doi:10.1007/s42423-018-0025-1), with the O(n) solve of the constant mass matrix.
 
 The generalized coordinates are the rod vectors ``q_i = O_{i-1} -> O_i`` (no angles).  The
 anchor ``O_0`` is fixed or follows a prescribed motion; ``O_n`` is free.  The equations of

@@ -1,0 +1,562 @@
+"""The demo gallery: an MkDocs hook that writes the page ``gallery.md`` at build time, and
+the script that draws its pictures.
+
+Each entry of ``ENTRIES`` is one file of ``demos/``: its picture (a PNG committed under
+``docs/figures/gallery/``), the one number its test checks with the tolerance, the test
+and the command that runs it.  The page text comes from the demo itself, its module
+docstring (a scene file: its leading comment block), read without importing or running
+it, so the docs build stays fast (``mkdocs.yml``: ``hooks: [scripts/gallery.py]``).
+
+The pictures are drawn once, by running the demos (about two minutes; the E-sail reuses
+the run directory ``runs/esail`` of ``python3 tasks.py demo`` when it holds a complete
+run)::
+
+    .venv/bin/python scripts/gallery.py              # every picture
+    .venv/bin/python scripts/gallery.py kapitza      # one demo
+
+``tests/test_docs.py`` checks that every demo has an entry, that every picture exists and
+stays small, and that every test an entry names exists.
+"""
+
+import ast
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+ROOT = Path(__file__).resolve().parents[1]
+DEMOS = ROOT / "demos"
+#: Folder of the pictures, relative to ``docs/``.
+FIGURES = "figures/gallery"
+#: Largest picture size (bytes).
+MAX_BYTES = 150_000
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One demo of the gallery.
+
+    Attributes
+    ----------
+    demo : str
+        File name in ``demos/``.
+    check : str
+        The number the test checks (Markdown).
+    tolerance : str
+        Its tolerance (Markdown).
+    test : str
+        ``tests/FILE.py::FUNCTION``, the test that checks it.
+    caption : str
+        What the picture shows.
+    """
+
+    demo: str
+    check: str
+    tolerance: str
+    test: str
+    caption: str
+
+    @property
+    def name(self):
+        """The demo's name: its file name without the suffix."""
+        return Path(self.demo).stem
+
+    @property
+    def picture(self):
+        """The picture, relative to ``docs/``."""
+        return f"{FIGURES}/{self.name}.png"
+
+    @property
+    def command(self):
+        """The command that runs the demo."""
+        if self.demo.endswith(".toml"):
+            return f"skfem-cable run demos/{self.demo} --out runs/{self.name}"
+        return f"python demos/{self.demo}"
+
+
+ENTRIES = (
+    Entry("cantilever.py",
+          "relative error of the tip shortening and deflection against the elliptic-integral "
+          "elastica, 8 elements, `k = P L^2 / EI = 2`",
+          "< 1e-2", "tests/test_demos.py::test_cantilever_demo",
+          "Deformed cantilevers for k = 1, 2, 5 and 10 (16 elements); crosses: the exact tips."),
+    Entry("pendulum.py",
+          "first passage through the vertical (a quarter period) against the rigid compound "
+          "pendulum, 4 elements, `dt = 2e-3 s`",
+          "relative 1e-3", "tests/test_demos.py::test_pendulum_demo",
+          "Shapes every 0.05 s until the first passage through the vertical, and the tip's "
+          "horizontal position against the rigid bar's quarter period."),
+    Entry("spinning_tether.py",
+          "period of the radial oscillation of the tip mass against the spring-mass "
+          "estimate `2 pi / omega_r`, 4 elements, 0.5 s",
+          "relative 3e-2", "tests/test_demos.py::test_spinning_tether_demo",
+          "Tip radius and root tension over 0.5 s (10 elements) against the steady values."),
+    Entry("custom_element.py",
+          "tip stretch of the bar of the Biot law pulled by `P = 0.1 EA`: exactly "
+          "`P L / EA = 0.1`",
+          "relative 1e-8", "tests/test_demos.py::test_custom_element_demo",
+          "Tip stretch against the pull for the Biot law (the four-line law) and the "
+          "built-in Green law; line: `P L / EA`."),
+    Entry("law_gallery.py",
+          "tip stretch of the polymer tether pulled by `P = 0.02 EA` against "
+          "`e0 ln(1 + P / (EA e0))` (the test also checks no force when slack and the energy "
+          "balance of the power-law damping)",
+          "relative 1e-9", "tests/test_demos.py::test_law_gallery",
+          "Polymer tether: stretch against pull, computed (dots) and exact (line); power-law "
+          "damping: energy of the released bar and what it dissipated."),
+    Entry("drag_terminal_speed.py",
+          "fall speed after 40 time constants against the terminal speed `rho A g / c`, with "
+          "the exact and with the finite-difference Jacobian",
+          "relative 1e-8", "tests/test_extending.py::test_drag_demo_reaches_terminal_speed",
+          "Fall speed against the exact `v_T (1 - exp(-t / tau))`."),
+    Entry("kapitza.py",
+          "largest tilt of the rod with the pivot amplitude 5 % above the Floquet threshold "
+          "(and 5 % below it: > 1 rad; the threshold against Kapitza's estimate: relative "
+          "5e-3)",
+          "< 0.15 rad", "tests/test_extending.py::test_kapitza_demo_threshold_both_sides",
+          "Tilt from the upward vertical, 5 % above and 5 % below the threshold amplitude."),
+    Entry("hanging_chain.py",
+          "largest distance of the free end to the rigid-link chain, relative to the length, "
+          "4 rods, 0.3 s (and to RK4 with half the step: < 1e-8)",
+          "< 2e-5", "tests/test_rodchain.py::test_demo_runs_reduced",
+          "The eleven rods every 0.05 s of the first second, released from horizontal."),
+    Entry("esail_baseline.py",
+          "angle of the thrust from the Sun line at the sailing angle `alpha = 10 deg`, at "
+          "every saved step of three spin periods: about `alpha / 2`",
+          "5 deg +- 0.1 deg",
+          "tests/test_esail_baseline.py::test_tilted_thrust_drops_and_turns_by_about_half_alpha",
+          "Thrust angle over three spin periods with the tolerance band, and the coning "
+          "angle of the twelve tethers (`runs/esail`)."),
+    Entry("spinning_hub.toml",
+          "the tip position of `tether1` in `summary.json` against the stored results (run "
+          "directory at 2 elements, 10 steps, 3 saved)",
+          "`numpy.allclose`", "tests/test_cli.py::test_toml_scene_run_directory",
+          "The two tethers and their remote units seen along the spin axis, every 0.5 s "
+          "of the 5 s run."),
+    Entry("falling_chain.toml",
+          "total energy at `t = 0` (the paper's Sect. 5.2)",
+          "-62.87 J +- 0.01 J",
+          "tests/test_rodchain_io.py::test_example_scene_file_is_the_papers_energy_experiment",
+          "The twenty rods every 0.5 s, and the energies: their total stays constant."),
+)
+
+
+# --- the page ---------------------------------------------------------------------------
+def docstring(path):
+    """The module docstring of a demo; for a scene file, its ``title`` then its leading
+    comment block."""
+    path = Path(path)
+    text = path.read_text()
+    if path.suffix == ".py":
+        return ast.get_docstring(ast.parse(text)) or ""
+    lines = []
+    for line in text.splitlines():
+        if not line.startswith("#"):
+            break
+        lines.append(line[2:] if line.startswith("# ") else line[1:])
+    title = tomllib.loads(text).get("title", path.name)
+    return title + "\n\n" + "\n".join(lines).strip()
+
+
+def markdown_body(text):
+    """Docstring text as Markdown: numpydoc section underlines become bold paragraphs
+    (not headings of the page), the rest is kept (indented blocks are code)."""
+    lines = text.splitlines()
+    out = []
+    for k, line in enumerate(lines):
+        nxt = lines[k + 1] if k + 1 < len(lines) else ""
+        if line.strip() and set(nxt.strip()) == {"-"} and len(nxt.strip()) >= 3:
+            out.append(f"**{line.strip()}**")
+        elif set(line.strip()) == {"-"} and k > 0 and lines[k - 1].strip():
+            continue
+        else:
+            out.append(line)
+    return "\n".join(out)
+
+
+def entry_markdown(entry, demos=DEMOS):
+    """The section of one demo."""
+    text = docstring(Path(demos) / entry.demo)
+    summary, _, body = text.partition("\n")
+    parts = [f"## {summary.strip().rstrip('.')}", "",
+             f"`demos/{entry.demo}`", "",
+             f"![{entry.name}]({entry.picture})", "",
+             f"*{entry.caption}*", "",
+             "| checks | tolerance | test |", "| --- | --- | --- |",
+             f"| {entry.check} | {entry.tolerance} | `{entry.test}` |", "",
+             "```bash", entry.command, "```", "",
+             markdown_body(body.strip()), ""]
+    return "\n".join(parts)
+
+
+def page(entries=ENTRIES, demos=DEMOS):
+    """The whole gallery page (Markdown)."""
+    head = ["# Gallery", "",
+            "Each file of `demos/` is a short, runnable script (or scene file) whose docstring "
+            "states the physics; its test imports it at reduced size and checks one number "
+            "against an independent reference (scikit-fem's habit).  Below: the demo's "
+            "docstring, a picture drawn from a run of it, the number its test checks with "
+            "the tolerance, and the command that runs it.  The page is generated when the "
+            "docs are built (`scripts/gallery.py`, an MkDocs hook) from the demos' "
+            "docstrings; the pictures are redrawn with `.venv/bin/python scripts/gallery.py`.",
+            "",
+            "| demo | checks | tolerance |", "| --- | --- | --- |"]
+    for e in entries:
+        title = docstring(Path(demos) / e.demo).partition("\n")[0].strip().rstrip(".")
+        anchor = _slug(title)
+        head.append(f"| [`{e.demo}`](#{anchor}) | {e.check} | {e.tolerance} |")
+    head.append("")
+    return "\n".join(head + [entry_markdown(e, demos) for e in entries])
+
+
+def _slug(title):
+    """The anchor MkDocs' ``toc`` extension gives a heading."""
+    from markdown.extensions.toc import slugify
+
+    plain = re.sub(r"`", "", title)
+    return slugify(plain, "-")
+
+
+def on_files(files, config):
+    """MkDocs hook: add the generated ``gallery.md`` to the documentation files."""
+    from mkdocs.structure.files import File
+
+    files.append(File.generated(config, "gallery.md", content=page()))
+    return files
+
+
+# --- the pictures -------------------------------------------------------------------------
+def _load_demo(name):
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"gallery_{name}", DEMOS / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _figure(ncols=1, width=7.0, height=3.0):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, ncols, figsize=(width, height), layout="constrained")
+    return fig, axes
+
+
+def _save(fig, name):
+    import matplotlib.pyplot as plt
+
+    path = ROOT / "docs" / FIGURES / f"{name}.png"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+    size = path.stat().st_size
+    print(f"{path.relative_to(ROOT)}: {size / 1e3:.0f} kB")
+    if size > MAX_BYTES:
+        raise RuntimeError(f"{path} is {size} bytes, more than {MAX_BYTES}")
+
+
+def draw_cantilever():
+    import numpy as np
+
+    import skfem_cable as sc
+    from skfem_cable.analytic import elastica_tip_load
+    from skfem_cable.scenes import classics
+
+    fig, ax = _figure(width=6.5, height=3.6)
+    s = np.linspace(0, 1, 101)
+    for k in (1.0, 2.0, 5.0, 10.0):
+        scene = classics.cantilever(16, k)
+        state = sc.solve_static(scene.system, load_steps=20)
+        r = state.position(scene.cable, s)
+        u, w = elastica_tip_load(k)
+        tip = r[-1]
+        err = max(abs(1 - tip[0] - u) / u, abs(-tip[1] - w) / w)
+        ax.plot(r[:, 0], r[:, 1], label=f"k = {k:g} (error {err:.1e})")
+        ax.plot(1 - u, -w, "kx")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x / L")
+    ax.set_ylabel("y / L")
+    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.02, 0.5))
+    ax.set_title("Elastica: ANCF cable against the elliptic integrals", fontsize=10)
+    _save(fig, "cantilever")
+
+
+def draw_pendulum():
+    import numpy as np
+
+    import skfem_cable as sc
+    from skfem_cable.analytic import compound_pendulum_period
+    from skfem_cable.scenes import classics
+
+    length = 1.2
+    scene = classics.pendulum(n_elements=16, length=length, g=9.81)
+    r = sc.simulate(scene.system, t_end=0.7, dt=1e-3, rho_inf=0.8, initial=scene.initial)
+    quarter = compound_pendulum_period(length, np.pi / 2, 9.81) / 4
+    fig, (a, b) = _figure(2, width=8.0, height=3.2)
+    s = np.linspace(0, length, 65)
+    for k in range(0, len(r.t), 50):
+        if r.t[k] > quarter + 1e-9:
+            break
+        p = r.position(scene.cable, s)[k]
+        a.plot(p[:, 0], p[:, 1], color="C0", alpha=0.3 + 0.7 * r.t[k] / quarter)
+    a.plot(0, 0, "ko")
+    a.set_aspect("equal")
+    a.set_xlabel("x [m]")
+    a.set_ylabel("y [m]")
+    a.set_title("shapes every 0.05 s", fontsize=10)
+    b.plot(r.t, r.position(scene.cable, length)[:, 0], label="cable tip x")
+    b.axvline(quarter, color="k", ls="--", label=f"rigid T/4 = {quarter:.4f} s")
+    b.axhline(0, color="0.6", lw=0.8)
+    b.set_xlabel("t [s]")
+    b.set_ylabel("x [m]")
+    b.legend(fontsize=8)
+    b.set_title("first passage through the vertical", fontsize=10)
+    _save(fig, "pendulum")
+
+
+def draw_spinning_tether():
+    import numpy as np
+
+    import skfem_cable as sc
+    from skfem_cable.scenes import classics
+
+    spin, tip_mass = 2.0, 0.5
+    scene = classics.spinning_tether(n_elements=10, spin=spin, tip_mass=tip_mass)
+    cable = scene.cable
+    r = sc.simulate(scene.system, t_end=0.5, dt=1e-3, rho_inf=0.9, initial=scene.initial)
+    L, mu, EA = cable.length, cable.section.mass_per_length, cable.section.EA
+    tip = r.position(cable, L)
+    radius = np.linalg.norm(tip[:, :2], axis=1)
+    omega_r = np.sqrt(EA / L / (tip_mass + mu * L / 3) - spin**2)
+    T0 = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
+    fig, (a, b) = _figure(2, width=8.0, height=3.0)
+    a.plot(r.t, (radius - L) * 1e3)
+    a.set_xlabel("t [s]")
+    a.set_ylabel("tip radius - L [mm]")
+    a.set_title(f"radial oscillation; spring model period {2 * np.pi / omega_r * 1e3:.1f} ms",
+                fontsize=10)
+    b.plot(r.t, r.tension(cable, 0.0), label="root tension")
+    b.axhline(T0, color="k", ls="--", label=f"rigid T0 = {T0:.2f} N")
+    b.set_xlabel("t [s]")
+    b.set_ylabel("N [N]")
+    b.legend(fontsize=8, loc="lower right")
+    b.set_title("root tension", fontsize=10)
+    _save(fig, "spinning_tether")
+
+
+def draw_custom_element():
+    import numpy as np
+
+    demo = _load_demo("custom_element")
+    loads = np.linspace(0.02, 0.2, 6)
+    biot = [demo.pulled_bar(demo.biot, p) for p in loads]
+    green = [demo.pulled_bar("cable", p) for p in loads]
+    fig, ax = _figure(width=5.5, height=3.4)
+    ax.plot(loads, loads, "k-", lw=0.8, label="P L / EA")
+    ax.plot(loads, biot, "o", label="Biot law (four lines)")
+    ax.plot(loads, green, "s", label="Green law (built-in)")
+    ax.set_xlabel("P / EA")
+    ax.set_ylabel("tip stretch u / L")
+    ax.legend(fontsize=8)
+    ax.set_title(f"pulled bar: Biot stretch at P = 0.1 EA: {demo.pulled_bar(demo.biot):.10f}",
+                 fontsize=10)
+    _save(fig, "custom_element")
+
+
+def draw_law_gallery():
+    import numpy as np
+
+    import skfem_cable as sc
+
+    demo = _load_demo("law_gallery")
+    e0 = demo.polymer.values["e0"]
+    loads = np.linspace(0.002, 0.03, 8)
+    stretch = [demo.pulled_bar(demo.polymer, p) for p in loads]
+    fine = np.linspace(0, 0.031, 100)
+    bar = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, demo.SECTION, law=demo.damped_biot)
+    system = sc.System([bar]).clamp(bar.node(0))
+    q0 = bar.q0.copy()
+    q0[0::6] *= 1.01
+    q0[3::6] = 1.01
+    r = sc.simulate(system, t_end=2e-3, dt=2e-6, initial=(q0, np.zeros_like(q0)))
+    E = r.energy
+    fig, (a, b) = _figure(2, width=8.0, height=3.0)
+    a.plot(fine, e0 * np.log1p(fine / e0), "k-", lw=0.8, label="e0 ln(1 + P/(EA e0))")
+    a.plot(loads, stretch, "o", label="polymer law")
+    a.set_xlabel("P / EA")
+    a.set_ylabel("tip stretch u / L")
+    a.legend(fontsize=8)
+    a.set_title("tension-only polymer tether", fontsize=10)
+    b.plot(r.t * 1e3, E["total"] / E["total"][0], label="energy")
+    b.plot(r.t * 1e3, E["dissipated"] / E["total"][0], label="dissipated")
+    b.plot(r.t * 1e3, (E["total"] + E["dissipated"]) / E["total"][0], "k--", lw=0.8,
+           label="sum")
+    b.set_xlabel("t [ms]")
+    b.set_ylabel("/ initial energy")
+    b.legend(fontsize=8)
+    b.set_title("power-law damping", fontsize=10)
+    _save(fig, "law_gallery")
+
+
+def draw_drag_terminal_speed():
+    import numpy as np
+
+    import skfem_cable as sc
+
+    demo = _load_demo("drag_terminal_speed")
+    tau = 0.05
+    section = sc.Section.circular(radius=1e-3, E=2e11, rho=7850.0)
+    cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, section)
+    c = section.mass_per_length / tau
+    force, dv = demo.linear_drag(c)
+    system = sc.System([cable]).add_gravity([0, -demo.G, 0])
+    system.add_load(sc.LineLoad(cable, force, dv=dv))
+    r = sc.simulate(system, t_end=40 * tau, dt=tau / 10, rho_inf=0.8)
+    speed = -r.velocity(cable, 1.0)[:, 1]
+    vT = section.mass_per_length * demo.G / c
+    fine = np.linspace(0, r.t[-1], 400)
+    fig, ax = _figure(width=5.5, height=3.2)
+    ax.plot(fine, vT * (1 - np.exp(-fine / tau)), "k-", lw=0.8, label="v_T (1 - exp(-t/tau))")
+    ax.plot(r.t, speed, ".", ms=4, label="cable (mid-point)")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("fall speed [m/s]")
+    ax.legend(fontsize=8)
+    ax.set_title(f"linear drag: final speed / v_T - 1 = {speed[-1] / vT - 1:.1e}",
+                 fontsize=10)
+    _save(fig, "drag_terminal_speed")
+
+
+def draw_kapitza():
+    import numpy as np
+
+    demo = _load_demo("kapitza")
+    omega = 2 * np.pi * 10
+    a_c = demo.threshold(omega)
+    fig, ax = _figure(width=6.0, height=3.2)
+    for label, factor in (("5 % above", 1.05), ("5 % below", 0.95)):
+        t, tilt = demo.tilt_history(factor * a_c, omega, 5.0)
+        ax.plot(t, np.unwrap(tilt), label=f"a = {factor:.2f} a_c ({label})")
+    ax.axhspan(-0.15, 0.15, color="0.85", label="|tilt| < 0.15 rad")
+    ax.set_ylim(-0.5, 3.5)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("tilt from upward vertical [rad]")
+    ax.legend(fontsize=8)
+    ax.set_title(f"Kapitza's pendulum, 10 Hz pivot, threshold a_c = {a_c * 1e3:.2f} mm",
+                 fontsize=10)
+    _save(fig, "kapitza")
+
+
+def draw_hanging_chain():
+    from skfem_cable.scenes import hanging_chain
+
+    res = hanging_chain.simulate_release(11, t_end=1.0, output_dt=1e-3)
+    fig, ax = _figure(width=5.0, height=4.0)
+    n = len(res.t)
+    for k in range(0, n, 50):
+        joints = res.joints[k]
+        ax.plot(joints[:, 0], joints[:, 1], ".-", color="C0", ms=3, lw=1,
+                alpha=0.25 + 0.75 * k / (n - 1))
+    ax.plot(0, 0, "ko")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("steel rod chain released from horizontal, 0 to 1 s", fontsize=10)
+    _save(fig, "hanging_chain")
+
+
+def draw_esail_baseline():
+    import json
+
+    import numpy as np
+
+    run = ROOT / "runs" / "esail"
+    summary = run / "summary.json"
+    ok = summary.is_file() and json.loads(summary.read_text()).get("steps") == 47124
+    if not ok:
+        _load_demo("esail_baseline").main(out=str(run), plots=False)
+    out = np.load(run / "esail_outputs.npz")
+    t = out["t"] / 3600
+    fig, (a, b) = _figure(2, width=8.5, height=3.0)
+    a.axhspan(4.9, 5.1, color="0.85", label="5 deg +- 0.1 deg")
+    a.plot(t, np.rad2deg(out["thrust_angle"]), label="thrust angle")
+    a.set_ylim(4.8, 5.2)
+    a.set_xlabel("t [h]")
+    a.set_ylabel("deg")
+    a.legend(fontsize=8)
+    a.set_title("thrust angle from the Sun line, alpha = 10 deg", fontsize=10)
+    b.plot(t, np.rad2deg(out["coning"]), lw=0.8)
+    b.set_xlabel("t [h]")
+    b.set_ylabel("deg")
+    b.set_title("coning angle of the 12 tethers", fontsize=10)
+    _save(fig, "esail_baseline")
+
+
+def draw_spinning_hub():
+    import numpy as np
+
+    import skfem_cable as sc
+    from skfem_cable import scene_file
+
+    spec = scene_file.load(DEMOS / "spinning_hub.toml")
+    r = sc.simulate(spec.system, initial=spec.initial, **spec.solver)
+    cables = spec.system.cables()
+    fig, ax = _figure(width=4.6, height=4.4)
+    s_of = {c.name: np.linspace(0, c.length, 41) for c in cables}
+    times = np.arange(0.0, r.t[-1] + 1e-9, 0.5)
+    for k, t in enumerate(times):
+        i = int(np.argmin(abs(r.t - t)))
+        for j, c in enumerate(cables):
+            p = r.position(c, s_of[c.name])[i]
+            ax.plot(p[:, 1], p[:, 2], color=f"C{j}", alpha=0.3 + 0.7 * k / len(times), lw=1)
+            ax.plot(p[-1, 1], p[-1, 2], "o", color=f"C{j}", ms=3)
+    phi = np.linspace(0, 2 * np.pi, 60)
+    ax.fill(0.5 * np.cos(phi), 0.5 * np.sin(phi), color="0.6")
+    ax.set_aspect("equal")
+    ax.set_xlabel("y [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_title("spinning hub, 2 tethers, every 0.5 s", fontsize=10)
+    _save(fig, "spinning_hub")
+
+
+def draw_falling_chain():
+    import numpy as np
+
+    from skfem_cable import scene_file
+
+    spec = scene_file.load(DEMOS / "falling_chain.toml")
+    res = spec.chain.simulate(*spec.initial, spec.solver["t_end"], spec.solver["step"],
+                              output_every=10, **spec.loads)
+    fig, (a, b) = _figure(2, width=8.5, height=3.4)
+    frames = np.searchsorted(res.t, np.arange(0.0, res.t[-1] + 1e-9, 0.5) - 1e-9)
+    for k in frames:
+        j = res.joints[k]
+        a.plot(j[:, 0], j[:, 1], color="C0", lw=1, alpha=0.2 + 0.8 * res.t[k] / res.t[-1])
+    a.plot(0, 0, "ko")
+    a.set_aspect("equal")
+    a.set_xlabel("x [m]")
+    a.set_ylabel("y [m]")
+    a.set_title("20 soft rods, every 0.5 s to 5 s", fontsize=10)
+    E = res.energy
+    for key in ("kinetic", "elastic", "potential", "total"):
+        b.plot(res.t, E[key], label=key)
+    b.set_xlabel("t [s]")
+    b.set_ylabel("J")
+    b.legend(fontsize=8)
+    b.set_title(f"energies; total at t = 0: {E['total'][0]:.2f} J", fontsize=10)
+    _save(fig, "falling_chain")
+
+
+DRAW = {e.name: globals()[f"draw_{e.name}"] for e in ENTRIES}
+
+
+if __name__ == "__main__":
+    for name in sys.argv[1:] or list(DRAW):
+        DRAW[name]()
