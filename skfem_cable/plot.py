@@ -2,7 +2,10 @@
 time histories, spectra and speed-vs-error tables (matplotlib, no display needed).
 
 Renders show the cables as tubes coloured by tension, rigid bodies as solids and point
-masses as spheres, from the same mesh as ``export.system_mesh``.  They need an OpenGL
+masses as spheres, from the same mesh as ``export.system_mesh``, with an axes triad, a
+scale bar and a colour bar whose labels carry enough digits for the range, in parallel
+projection from a camera chosen from the scene (``scene_camera``: up against gravity;
+along or across the spin axis of a spinning scene).  They need an OpenGL
 context but no display: on Linux without ``DISPLAY`` VTK is pointed at EGL (Mesa's
 ``libegl1``, ``libegl-mesa0``, ``libgl1-mesa-dri``; ``scripts/install_system_deps.sh``
 installs them), and ``rendering_available`` tells whether a context can be created.
@@ -11,15 +14,24 @@ installs them), and ``rendering_available`` tells whether a context can be creat
 import os
 import subprocess
 import sys
+from collections import namedtuple
 from functools import lru_cache
+from itertools import cycle
 from pathlib import Path
 
 import numpy as np
 
 from . import export
+from .loads import Gravity
 
 #: Colour map of the tension along the tubes.
 TENSION_CMAP = "viridis"
+
+#: Views of ``render`` and ``animate`` (see ``view_camera``).
+VIEWS = ("auto", "isometric", "xy", "xz", "yz", "gravity", "axial", "side")
+
+#: A camera: unit vectors from the focal point towards the eye, and up on the screen.
+Camera = namedtuple("Camera", "eye up")
 
 
 # --- 3-D renders ------------------------------------------------------------------------
@@ -71,76 +83,360 @@ def _grids(system, frames, points_per_element):
             for q, v in frames]
 
 
+# --- cameras ------------------------------------------------------------------------------
+def gravity_vector(system):
+    """Sum of the ``loads.Gravity`` loads of ``system`` (m/s^2); zeros without gravity."""
+    return sum((load.g for load in system.loads if isinstance(load, Gravity)), np.zeros(3))
+
+
+def _position_blocks(system):
+    """Mask of the 3-vector blocks of the coordinates that are positions (not slopes)."""
+    return np.concatenate([b.position_mask for b in system.bodies]).reshape(-1, 3)[:, 0]
+
+
+def spin_axis(system, q, v, share=0.5):
+    """Unit vector along the angular momentum about the centroid of the positions when
+    the motion is a spin, else None.
+
+    It is a spin when the angular momenta of the coordinate blocks (position or slope
+    times momentum) add up to at least ``share`` of the sum of their norms: a rigid
+    rotation (the E-sail) passes, a state at rest or without a common axis does not.
+    """
+    if v is None:
+        return None
+    pos = _position_blocks(system)
+    blocks = np.asarray(q, dtype=float).reshape(-1, 3)
+    rel = np.where(pos[:, None], blocks - blocks[pos].mean(axis=0), blocks)
+    momenta = np.cross(rel, (system.layout.mass @ np.asarray(v, dtype=float)).reshape(-1, 3))
+    total = momenta.sum(axis=0)
+    size = np.linalg.norm(total)
+    if size == 0 or size < share * np.linalg.norm(momenta, axis=1).sum():
+        return None
+    return total / size
+
+
+def scene_camera(system, q, v=None, view=None, sun=None, points=None):
+    """The camera of ``view_camera`` for configurations of ``system``: its gravity
+    (``gravity_vector``) and spin axis (``spin_axis`` of ``q``, ``v``; the first row when
+    they are 2-D, e.g. a run's) decide the automatic view.
+
+    Parameters
+    ----------
+    system : System
+    q, v : ndarray (n_dofs,) or (n_frames, n_dofs)
+        Coordinates and velocities (``v`` None: at rest).
+    view, sun
+        As in ``view_camera``.
+    points : ndarray (..., 3), optional
+        The points to frame (default: the position coordinates of ``q``).
+
+    Returns
+    -------
+    Camera
+    """
+    q = np.atleast_2d(q)
+    if points is None:
+        points = q.reshape(len(q), -1, 3)[:, _position_blocks(system)]
+    g = gravity_vector(system)
+    axis = spin_axis(system, q[0], None if v is None else np.atleast_2d(v)[0])
+    return view_camera(view, points, gravity=g if np.any(g) else None, spin=axis, sun=sun)
+
+
+def view_camera(view, points, gravity=None, spin=None, sun=None):
+    """Camera of a named view of ``points``.
+
+    Parameters
+    ----------
+    view : str or None
+        One of ``VIEWS``.  ``None`` or ``"auto"``: ``"gravity"`` with gravity, else
+        ``"axial"`` with a spin axis, else ``"isometric"``.  ``"gravity"``: up is
+        ``-gravity``, looking horizontally across the points' main horizontal extent,
+        which runs left to right.  ``"axial"``: looking down the spin axis (the spin turns
+        anticlockwise on the screen), the Sun's direction (else a coordinate axis)
+        up.  ``"side"``: the spin axis up, looking perpendicular to it and to the Sun's
+        direction (the Sun on the left).  ``"isometric"`` (z up) and ``"xy"``, ``"xz"``,
+        ``"yz"`` (looking along the third axis) are pyvista's.
+    points : ndarray (..., 3)
+    gravity, spin, sun : array_like (3,), optional
+        Gravity (m/s^2), the unit spin axis and the direction towards the Sun.
+
+    Returns
+    -------
+    Camera
+    """
+    view = "auto" if view is None else view
+    if view not in VIEWS:
+        raise ValueError(f"view must be one of {VIEWS}, got {view!r}")
+    if view == "auto":
+        view = "gravity" if gravity is not None else "axial" if spin is not None else "isometric"
+    if view == "gravity":
+        if gravity is None:
+            raise ValueError("the 'gravity' view needs a scene with gravity")
+        return _gravity_camera(np.reshape(points, (-1, 3)), -_unit(gravity))
+    if view in ("axial", "side"):
+        if spin is None:
+            raise ValueError(f"the {view!r} view needs a spinning scene")
+        axis = _unit(spin)
+        across = _perpendicular(axis, sun)
+        if view == "axial":
+            return Camera(axis, across)
+        return Camera(np.cross(axis, across), axis)
+    eye, up = _FIXED_VIEWS[view]
+    return Camera(_unit(eye), np.asarray(up, dtype=float))
+
+
+#: ``(eye, up)`` of pyvista's fixed views.
+_FIXED_VIEWS = {"isometric": ((1, 1, 1), (0, 0, 1)), "xy": ((0, 0, 1), (0, 1, 0)),
+                "xz": ((0, -1, 0), (0, 0, 1)), "yz": ((1, 0, 0), (0, 0, 1))}
+
+
+def _unit(x):
+    x = np.asarray(x, dtype=float)
+    return x / np.linalg.norm(x)
+
+
+def _perpendicular(a, hint=None):
+    """Unit vector perpendicular to the unit vector ``a``: the part of ``hint`` normal to
+    ``a`` when there is one, else that of the coordinate axis least aligned with ``a``."""
+    candidates = [] if hint is None else [_unit(hint)]
+    for h in candidates + [np.eye(3)[np.argmin(np.abs(a))]]:
+        normal = h - (h @ a) * a
+        if np.linalg.norm(normal) > 1e-6:
+            return _unit(normal)
+    raise AssertionError("unreachable: a coordinate axis is never parallel to all of a")
+
+
+def _gravity_camera(points, up):
+    """Up ``up``, looking horizontally with the main horizontal extent of ``points`` (its
+    first principal direction) running left to right, towards its positive side."""
+    rel = points - points.mean(axis=0)
+    horizontal = rel - np.outer(rel @ up, up)
+    right = np.linalg.svd(horizontal, full_matrices=False)[2][0]
+    right -= (right @ up) * up
+    if np.linalg.norm(right) < 1e-6 or not np.any(horizontal):  # a vertical line
+        right = _perpendicular(up)
+    right = _unit(right)
+    right *= np.sign(right[np.argmax(np.abs(right))])
+    return Camera(np.cross(right, up), up)
+
+
+# --- renders ------------------------------------------------------------------------------
+def colorbar_format(lo, hi, n_labels=5):
+    """printf format of ``n_labels`` evenly spaced colour-bar labels from ``lo`` to ``hi``
+    with one digit more than their spacing needs, so that narrow ranges (213.0001 to
+    213.0009) do not print as repeated values; exponent notation beyond ``[1e-3, 1e5)``."""
+    step = (hi - lo) / (n_labels - 1)
+    big = max(abs(lo), abs(hi))
+    if not np.isfinite(step) or step <= 0 or big == 0:
+        return "%.3g"
+    decimals = int(np.ceil(-np.log10(step))) + 1
+    if 1e-3 <= big < 1e5 and decimals <= 6:
+        return f"%.{max(decimals, 0)}f"
+    significant = int(np.floor(np.log10(big))) + decimals + 1
+    return f"%.{min(max(significant, 2), 15) - 1}e"
+
+
+def nice_length(x):
+    """The largest ``1, 2 or 5 times 10^k`` not above ``x`` (> 0)."""
+    k = np.floor(np.log10(x))
+    return max(m * 10**k for m in (1, 2, 5) if m * 10**k <= x)
+
+
+def format_length(x):
+    """A length in m as text, in km or mm when that reads better."""
+    if x >= 1e3:
+        return f"{x / 1e3:g} km"
+    if x < 1e-2:
+        return f"{x * 1e3:g} mm"
+    return f"{x:g} m"
+
+
+def _colour_range(grids):
+    tension = np.concatenate([g.point_data["tension"] for g in grids])
+    tension = tension[np.isfinite(tension)]
+    lo, hi = (tension.min(), tension.max()) if tension.size else (0.0, 1.0)
+    return (lo - 0.5, lo + 0.5) if hi <= lo else (lo, hi)
+
+
+def _stretch(grids, camera, factor):
+    """Scale the offsets of the grids' points along ``camera.up`` from their centre by
+    ``factor`` (in place)."""
+    centre = np.vstack([g.points for g in grids]).mean(axis=0)
+    for g in grids:
+        g.points = g.points + (factor - 1) * np.outer((g.points - centre) @ camera.up,
+                                                      camera.up)
+
+
+#: Part of the window width the scene is fitted into (left of the colour bar); the
+#: height below the title is set by the number of its lines.
+_SCENE_WIDTH = (0.03, 0.78)
+
+
 class _Renderer:
     """An off-screen plotter drawing configurations (grids of ``_grids``) with fixed
-    colour limits, tube radius and camera, so that the frames of an animation match."""
+    colour limits, tube radius and camera, an axes triad, a scale bar and an optional
+    arrow towards the Sun, so that the frames of an animation match."""
 
-    def __init__(self, grids, window_size, clim, tube_radius):
+    def __init__(self, grids, window_size, clim, tube_radius, camera, sun=None,
+                 horizontal_only=False, text_lines=2):
         import pyvista as pv
 
         self.pv = pv
         points = np.vstack([g.points for g in grids])
-        lo, hi = points.min(axis=0), points.max(axis=0)
-        diag = float(np.linalg.norm(hi - lo)) or 1.0
+        diag = float(np.linalg.norm(np.ptp(points, axis=0))) or 1.0
         self.radius = 0.004 * diag if tube_radius is None else tube_radius
-        if clim is None:
-            tension = np.concatenate([g.point_data["tension"] for g in grids])
-            tension = tension[np.isfinite(tension)]
-            clim = (tension.min(), tension.max()) if tension.size else (0.0, 1.0)
-            if clim[1] <= clim[0]:
-                clim = (clim[0] - 0.5, clim[0] + 0.5)
-        self.clim = clim
+        self.clim = _colour_range(grids) if clim is None else tuple(clim)
+        self.window_size = tuple(window_size)
+        self.camera = camera
+        self.right = np.cross(camera.up, camera.eye)
         self.plotter = pv.Plotter(off_screen=True, window_size=list(window_size))
         self.plotter.set_background("white")
-        self.plotter.view_isometric()
-        self.plotter.reset_camera(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
+        self.plotter.enable_parallel_projection()
+        self.plotter.add_axes(color="black", line_width=3, viewport=(0.0, 0.0, 0.17, 0.17))
+        if sun is not None:
+            points = np.vstack([points, self._sun_arrow(points, _unit(sun))])
+        points = np.vstack([points, self._scale_bar(points, horizontal_only)])
+        self._aim(points, top=1 - (17 * text_lines + 12) / window_size[1])
+        self.text = self.plotter.add_text("", position="upper_left", font_size=10,
+                                          color="black", render=False)
+        self.frame_actors = []
+
+    def _screen(self, points):
+        """Coordinates of points along the screen's right and up directions."""
+        return points @ self.right, points @ self.camera.up
+
+    def _scale_bar(self, points, horizontal_only):
+        """A black bar of a round length (a quarter of the scene's width or so) with end
+        ticks and its length below, under the scene; returns its corner points."""
+        x, y = self._screen(points)
+        width, height = np.ptp(x), np.ptp(y)
+        length = nice_length(max(0.3 * width, 0.3 * height, 1e-300))
+        tick = 0.04 * max(width, height)
+        depth = points.mean(axis=0) @ self.camera.eye
+        start = ((x.min() + x.max() - length) / 2, y.min() - 2 * tick)
+        corners = np.array([[start[0] + dx, start[1] + dy] for dx in (0, length)
+                            for dy in (0, tick)])
+        world = (corners[:, :1] * self.right + corners[:, 1:] * self.camera.up
+                 + depth * self.camera.eye)
+        bar = self.pv.PolyData(world, lines=[2, 0, 2, 2, 0, 1, 2, 2, 3])
+        self.plotter.add_mesh(bar, color="black", line_width=3, render=False)
+        text = format_length(length) + (" (horizontal)" if horizontal_only else "")
+        self.plotter.add_point_labels(world[[0, 2]].mean(axis=0, keepdims=True), [text],
+                                      font_size=18, text_color="black", shape=None,
+                                      show_points=False, always_visible=True, bold=False,
+                                      justification_horizontal="center",
+                                      justification_vertical="top", render=False)
+        return world - 1.5 * tick * self.camera.up  # room for the label
+
+    def _sun_arrow(self, points, sun):
+        """An orange arrow pointing at the Sun, just outside the scene on the Sun's side,
+        a quarter of the scene's size long; returns its ends."""
+        centre = (points.min(axis=0) + points.max(axis=0)) / 2
+        size = max(np.ptp(self._screen(points), axis=1))
+        start = centre + (np.max((points - centre) @ sun) + 0.08 * size) * sun
+        arrow = self.pv.Arrow(start=start, direction=sun, scale=0.25 * size, tip_length=0.3,
+                              tip_radius=0.08, shaft_radius=0.025)
+        self.plotter.add_mesh(arrow, color="darkorange", render=False)
+        tip = start + 0.28 * size * sun
+        sx, sy = self._screen(sun)
+        self.plotter.add_point_labels(
+            tip[None], ["Sun"], font_size=18, text_color="black", shape=None,
+            show_points=False, always_visible=True, bold=False, render=False,
+            justification_horizontal="left" if sx > 0.3 else "right" if sx < -0.3 else "center",
+            justification_vertical="top" if sy < -0.3 else "bottom" if sy > 0.3 else "center")
+        return np.array([start, tip + 0.05 * size * sun])
+
+    def _aim(self, points, top):
+        """Point the camera and zoom (parallel projection) so that ``points`` (widened by
+        the point masses' spheres) fill ``_SCENE_WIDTH`` of the window's width and the
+        height from 0.04 to ``top``."""
+        x, y = np.asarray(self._screen(points))
+        pad = 3 * self.radius
+        x0, x1 = _SCENE_WIDTH
+        y0, y1 = 0.04, top
+        aspect = self.window_size[0] / self.window_size[1]
+        half = max((np.ptp(x) + 2 * pad) / (2 * (x1 - x0) * aspect),
+                   (np.ptp(y) + 2 * pad) / (2 * (y1 - y0)), 1e-300)
+        # screen centre in the scene's coordinates, shifted to put the box's centre there
+        cx = (x.min() + x.max()) / 2 - ((x0 + x1) / 2 - 0.5) * 2 * half * aspect
+        cy = (y.min() + y.max()) / 2 - ((y0 + y1) / 2 - 0.5) * 2 * half
+        depth = points.mean(axis=0) @ self.camera.eye
+        focal = cx * self.right + cy * self.camera.up + depth * self.camera.eye
+        size = float(np.linalg.norm(np.ptp(points, axis=0))) + 2 * pad or 1.0
+        cam = self.plotter.camera
+        cam.focal_point = tuple(focal)
+        cam.position = tuple(focal + 4 * size * self.camera.eye)
+        cam.up = tuple(self.camera.up)
+        cam.parallel_scale = half
+        cam.clipping_range = (2 * size, 6 * size)  # every frame, not only what is drawn now
 
     def draw(self, grid, title=None):
         """Replace the drawn configuration by ``grid`` (one of ``_grids``)."""
         pl = self.plotter
-        pl.clear_actors()
+        for actor in self.frame_actors:
+            pl.remove_actor(actor, render=False)
         for bar in list(pl.scalar_bars.keys()):
-            pl.remove_scalar_bar(bar)
+            pl.remove_scalar_bar(bar, render=False)
+        self.frame_actors = [pl.add_mesh(mesh, render=False, **style)
+                             for mesh, style in self._pieces(grid)]
+        self.text.set_text("upper_left",
+                           "\n".join(filter(None, [title, "colour: axial tension [N]"])))
+
+    def _pieces(self, grid):
+        """``(mesh, add_mesh keywords)`` of the cables (tubes coloured by tension), rigid
+        bodies and point masses of ``grid``."""
         part = grid.cell_data["part"]
-        for value, style in ((export.PART_CABLE, "tube"), (export.PART_RIGID, "solid"),
-                             (export.PART_POINT_MASS, "sphere")):
+        for value in (export.PART_CABLE, export.PART_RIGID, export.PART_POINT_MASS):
             if not np.any(part == value):
                 continue
             piece = grid.extract_cells(part == value).extract_surface(algorithm=None)
-            if style == "tube":
-                tube = piece.tube(radius=self.radius, n_sides=16)
-                pl.add_mesh(tube, scalars="tension", cmap=TENSION_CMAP, clim=self.clim,
-                            smooth_shading=True,
-                            scalar_bar_args={"title": "tension [N]", "color": "black",
-                                             "vertical": True, "position_x": 0.83,
-                                             "position_y": 0.1, "height": 0.8,
-                                             "width": 0.06, "fmt": "%.3g"})
-            elif style == "solid":
-                solid = piece.compute_normals(split_vertices=True, feature_angle=30.0)
-                pl.add_mesh(solid, color="lightsteelblue", smooth_shading=True)
+            if value == export.PART_CABLE:
+                yield piece.tube(radius=self.radius, n_sides=16), {
+                    "scalars": "tension", "cmap": TENSION_CMAP, "clim": self.clim,
+                    "smooth_shading": True, "scalar_bar_args": {
+                        "title": "tension [N]", "color": "black", "vertical": True,
+                        "position_x": 0.84, "position_y": 0.1, "height": 0.75,
+                        "width": 0.05, "n_labels": 5, "fmt": colorbar_format(*self.clim)}}
+            elif value == export.PART_RIGID:
+                yield piece.compute_normals(split_vertices=True, feature_angle=30.0), {
+                    "color": "lightsteelblue", "smooth_shading": True}
             else:
-                spheres = piece.glyph(geom=self.pv.Sphere(radius=3 * self.radius),
-                                      scale=False, orient=False)
-                pl.add_mesh(spheres, color="firebrick", smooth_shading=True)
-        if title:
-            pl.add_text(title, position="upper_left", font_size=10, color="black")
+                yield piece.glyph(geom=self.pv.Sphere(radius=3 * self.radius), scale=False,
+                                  orient=False), {"color": "firebrick", "smooth_shading": True}
 
     def image(self):
+        """The drawn frame (rendered now: drawing does not render)."""
+        self.plotter.render()
         return self.plotter.screenshot(return_img=True)
 
     def close(self):
         self.plotter.close()
 
 
+def _render_grid(grid, path, window_size, clim, tube_radius, title, camera, sun=None):
+    r = _Renderer([grid], window_size, clim, tube_radius, camera, sun,
+                  text_lines=1 + (title or "").count("\n") + bool(title))
+    try:
+        r.draw(grid, title)
+        img = r.image()
+    finally:
+        r.close()
+    _save_png(path, img)
+    return img
+
+
 def render(system, state, path, points_per_element=8, window_size=(1024, 768), clim=None,
-           tube_radius=None, title=None):
-    """Render one configuration to a PNG.
+           tube_radius=None, title=None, view=None, sun=None):
+    """Render one configuration to a PNG: tubes coloured by tension (a colour bar with
+    tick labels precise enough for the range), rigid bodies, point masses, an axes triad
+    and a scale bar, in parallel projection from a camera chosen from the scene
+    (``scene_camera``: with gravity, up is up).
 
     Parameters
     ----------
     system : System
     state : State
-        Configuration (its velocities, if any, are not drawn).
+        Configuration; its velocities (if any) only decide whether it spins.
     path : path
         Output ``.png``.
     points_per_element : int
@@ -153,35 +449,32 @@ def render(system, state, path, points_per_element=8, window_size=(1024, 768), c
         Radius of the tubes (m); default 0.4 % of the scene's diagonal (real tethers are
         far too thin to see).
     title : str, optional
-        Text in the upper left corner.
+        Text in the upper left corner, above the name of the colour field.
+    view : str, optional
+        One of ``VIEWS`` (``view_camera``); default automatic.
+    sun : array_like (3,), optional
+        Direction towards the Sun: drawn as an arrow (and used by the spin views).
 
     Returns
     -------
     ndarray (height, width, 3)
         The image.
     """
-    grids = _grids(system, [(state.q, state.v)], points_per_element)
-    r = _Renderer(grids, window_size, clim, tube_radius)
-    try:
-        r.draw(grids[0], title)
-        img = r.image()
-    finally:
-        r.close()
-    _save_png(path, img)
-    return img
+    (grid,) = _grids(system, [(state.q, state.v)], points_per_element)
+    camera = scene_camera(system, state.q, state.v, view, sun, points=grid.points)
+    return _render_grid(grid, path, window_size, clim, tube_radius, title, camera, sun)
 
 
 def render_mesh(mesh, path, window_size=(1024, 768), clim=None, tube_radius=None,
                 title=None, view="isometric"):
     """Render a ``meshio.Mesh`` of lines (e.g. ``rodchain.chain_mesh``) as ``render``
     draws cables: tubes coloured by ``tension`` (point data, or cell data averaged to the
-    points) with its colour bar.  Cells without the cell data ``part`` are drawn as
-    cables.  ``view``: ``"isometric"`` (the camera of ``render``), or ``"xy"``, ``"xz"``,
+    points) with its colour bar, an axes triad and a scale bar.  Cells without the cell
+    data ``part`` are drawn as cables.  ``view``: ``"isometric"``, or ``"xy"``, ``"xz"``,
     ``"yz"`` (looking along the third axis, for planar motions).  Other arguments and the
     return value as ``render``."""
-    views = ("isometric", "xy", "xz", "yz")
-    if view not in views:
-        raise ValueError(f"view must be one of {views}, got {view!r}")
+    if view not in _FIXED_VIEWS:
+        raise ValueError(f"view must be one of {tuple(_FIXED_VIEWS)}, got {view!r}")
     use_egl_without_display()
     import pyvista as pv
 
@@ -190,31 +483,8 @@ def render_mesh(mesh, path, window_size=(1024, 768), clim=None, tube_radius=None
         grid = grid.cell_data_to_point_data(pass_cell_data=True)
     if "part" not in grid.cell_data:
         grid.cell_data["part"] = np.full(grid.n_cells, export.PART_CABLE, dtype=np.int32)
-    r = _Renderer([grid], window_size, clim, tube_radius)
-    try:
-        if view != "isometric":
-            getattr(r.plotter, f"view_{view}")()
-            _fit_left_of_colour_bar(r.plotter, grid.bounds)
-        r.draw(grid, title)
-        img = r.image()
-    finally:
-        r.close()
-    _save_png(path, img)
-    return img
-
-
-def _fit_left_of_colour_bar(plotter, bounds, room=0.3):
-    """Fit the camera (direction kept) to ``bounds`` widened by ``room`` times their
-    on-screen width to the right, so that the colour bar at the right edge covers
-    nothing, with a margin all round."""
-    cam = plotter.camera
-    d = np.subtract(cam.focal_point, cam.position)
-    right = np.cross(d / np.linalg.norm(d), cam.up)
-    lo, hi = np.array(bounds[::2]), np.array(bounds[1::2])
-    shift = room * float(np.abs(right) @ (hi - lo)) * right
-    lo, hi = np.minimum(lo, lo + shift), np.maximum(hi, hi + shift)
-    plotter.reset_camera(bounds=(lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]))
-    cam.zoom(0.9)
+    camera = view_camera(view, grid.points)
+    return _render_grid(grid, path, window_size, clim, tube_radius, title, camera)
 
 
 def _save_png(path, img):
@@ -224,9 +494,10 @@ def _save_png(path, img):
 
 
 def animate(result, path, every=None, max_frames=150, fps=15, points_per_element=8,
-            window_size=(800, 600), clim=None, tube_radius=None):
+            window_size=(800, 600), clim=None, tube_radius=None, view=None, sun=None,
+            up_scale=1.0, title=None):
     """Animate a run: a GIF (Pillow) or an MP4 (needs ``imageio-ffmpeg``: the ``video``
-    extra) of its saved steps, with fixed camera and tension colour range.
+    extra) of its saved steps, with fixed camera, scale bar and tension colour range.
 
     Parameters
     ----------
@@ -238,8 +509,15 @@ def animate(result, path, every=None, max_frames=150, fps=15, points_per_element
         giving at most ``max_frames`` frames.
     fps : float
         Frames per second.
-    points_per_element, window_size, clim, tube_radius
-        As in ``render`` (``clim`` defaults to the tension range over all frames).
+    points_per_element, window_size, clim, tube_radius, view, sun
+        As in ``render`` (``clim`` defaults to the tension range over all frames; the
+        camera is chosen from all frames and the velocities of the first).
+    up_scale : float
+        Offsets along the screen's up direction (from the centre of the frames) are
+        drawn this many times larger, e.g. to show a small coning in a ``"side"`` view;
+        the title says so and the scale bar is then horizontal only.
+    title : str, optional
+        First line of every frame's text, above the time.
 
     Returns
     -------
@@ -257,11 +535,18 @@ def animate(result, path, every=None, max_frames=150, fps=15, points_per_element
         idx.append(n - 1)
     grids = _grids(result.system, [(result.q[i], result.v[i]) for i in idx],
                    points_per_element)
-    r = _Renderer(grids, window_size, clim, tube_radius)
+    camera = scene_camera(result.system, result.q[idx], result.v[idx], view, sun,
+                          points=np.vstack([g.points for g in grids]))
+    lines = [title] if title else []
+    if up_scale != 1:
+        _stretch(grids, camera, up_scale)
+        lines.append(f"vertical offsets drawn {up_scale:g} times larger")
+    r = _Renderer(grids, window_size, clim, tube_radius, camera, sun,
+                  horizontal_only=up_scale != 1, text_lines=len(lines) + 2)
     try:
         frames = []
         for i, grid in zip(idx, grids):
-            r.draw(grid, f"t = {result.t[i]:.4g} s")
+            r.draw(grid, "\n".join(filter(None, lines + [f"t = {result.t[i]:.4g} s"])))
             frames.append(r.image())
     finally:
         r.close()
@@ -340,14 +625,9 @@ def histories(t, panels, path=None, title=None, xlabel="t [s]"):
     return _finish(fig, path)
 
 
-def spectrum(t, x, segments=4):
-    """One-sided power spectral density of a uniformly sampled signal (Welch's method,
-    Hann window, ``segments`` half-overlapping segments, mean removed).
-
-    Returns ``f`` (Hz) and ``psd`` (units^2 / Hz).
-    """
-    from scipy.signal import welch
-
+def _uniform_samples(t, x):
+    """``t``, ``x`` and the step, without a shortened last step; raises ``ValueError``
+    unless uniformly spaced."""
     t = np.asarray(t, dtype=float)
     x = np.asarray(x, dtype=float)
     dt = np.diff(t)
@@ -357,14 +637,50 @@ def spectrum(t, x, segments=4):
     if len(t) < 8 or np.ptp(dt) > 1e-6 * dt.mean():
         raise ValueError("the PSD needs at least 8 uniformly spaced samples "
                          "(save steps with a constant stride)")
-    nperseg = min(len(t), max(8, 2 * len(t) // (segments + 1)))
-    return welch(x, fs=1.0 / dt.mean(), nperseg=nperseg,
-                 detrend="constant")
+    return t, x, float(dt.mean())
 
 
-def psd(t, signals, path=None, title=None, markers=None):
+def welch_plan(n, dt, segments=4, f_min=None, cycles=4):
+    """Segment and FFT lengths (samples) of ``spectrum`` for ``n`` samples ``dt`` apart.
+
+    With ``f_min`` (Hz, the lowest frequency to resolve, e.g. a spin frequency): segments
+    of ``cycles`` periods of ``f_min`` (bins ``f_min / cycles`` wide), half-overlapping
+    and averaged as often as the run allows; a shorter run is one segment zero-padded to
+    that length (the bins are as fine, but peaks closer than about ``2 / (n dt)``, the
+    Hann window's main lobe, merge).  Otherwise ``segments`` half-overlapping segments.
+
+    Returns
+    -------
+    nperseg, nfft : int
+    """
+    if f_min is not None:
+        nfft = int(np.ceil(cycles / (f_min * dt)))
+        return min(n, nfft), nfft
+    nperseg = min(n, max(8, 2 * n // (segments + 1)))
+    return nperseg, nperseg
+
+
+def spectrum(t, x, segments=4, f_min=None, cycles=4):
+    """One-sided power spectral density of a uniformly sampled signal (Welch's method,
+    Hann window, half-overlapping segments of ``welch_plan``, mean removed).
+
+    Returns ``f`` (Hz) and ``psd`` (units^2 / Hz).
+    """
+    from scipy.signal import welch
+
+    t, x, dt = _uniform_samples(t, x)
+    nperseg, nfft = welch_plan(len(t), dt, segments, f_min, cycles)
+    return welch(x, fs=1.0 / dt, nperseg=nperseg, nfft=nfft, detrend="constant")
+
+
+def _psd_unit(unit):
+    """Unit of the PSD of a signal in ``unit`` (``""``, "1" or None: dimensionless)."""
+    return "1/Hz" if unit in (None, "", "1") else f"{unit}$^2$/Hz"
+
+
+def psd(t, signals, path=None, title=None, markers=None, units=None, f_min=None):
     """Power spectral densities of several signals on log axes (the paper's PSD figures),
-    with optional vertical markers at known frequencies.
+    one panel per unit, with vertical marks at known frequencies.
 
     Parameters
     ----------
@@ -373,33 +689,132 @@ def psd(t, signals, path=None, title=None, markers=None):
     signals : dict
         ``{label: ndarray (nt,)}``.
     markers : dict, optional
-        ``{label: frequency in Hz}``, e.g. the spin rate or natural frequencies.
+        ``{label: frequency in Hz}`` (a dashed line named on the top axis, e.g. the spin
+        or a tabulated mode), or ``{label: sequence of frequencies}`` (dotted lines with
+        one legend entry, e.g. computed modes).  Frequencies outside the plotted band are
+        left out.
+    units : str or dict, optional
+        Unit of every signal, or ``{label: unit}`` (``""``: dimensionless); the y label
+        is ``PSD [unit^2/Hz]``.  Default: ``"unit"``.
+    f_min : float, optional
+        Lowest frequency to resolve (Hz), which sets the segments (``welch_plan``);
+        default: 4 half-overlapping segments.  The segments and bin width are printed
+        on the figure.
     """
-    fig, (ax,) = _figure(1, height_per_panel=3.5)
+    units = units if isinstance(units, dict) else dict.fromkeys(signals, units or "unit")
+    panels = {}
     for label, x in signals.items():
-        f, p = spectrum(t, x)
-        ax.loglog(f[1:], p[1:], label=label, lw=1.0)
-    for label, f0 in (markers or {}).items():
-        ax.axvline(f0, color="gray", ls="--", lw=0.8)
-        ax.text(f0, 1.0, f" {label}", transform=ax.get_xaxis_transform(), rotation=90,
-                va="top", fontsize="small", color="gray")
-    ax.set_xlabel("frequency [Hz]")
-    ax.set_ylabel("PSD [unit$^2$/Hz]")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize="small")
+        panels.setdefault(units[label], {})[label] = x
+    fig, axes = _figure(len(panels), height_per_panel=3.0 if len(panels) > 1 else 3.5)
+    for ax, (unit, group) in zip(axes, panels.items()):
+        for label, x in group.items():
+            f, p = spectrum(t, x, f_min=f_min)
+            ax.loglog(f[1:], p[1:], label=label, lw=1.0)
+        ax.set_xlim(f[1], f[-1])
+        ax.set_ylim(bottom=max(ax.get_ylim()[0], 1e-12 * ax.get_ylim()[1]))
+        ax.set_ylabel(f"PSD [{_psd_unit(unit)}]")
+        ax.grid(True, which="both", alpha=0.3)
+    _frequency_marks(axes, markers or {}, (f[1], f[-1]))
+    for ax in axes:
+        ax.legend(fontsize="small", loc="lower left")
+    axes[-1].set_xlabel("frequency [Hz]")
+    fig.supxlabel(_welch_note(t, next(iter(signals.values())), f_min), fontsize="x-small",
+                  color="dimgray")
+    if title:
+        fig.suptitle(title)
+    return _finish(fig, path)
+
+
+def _welch_note(t, x, f_min):
+    """What ``spectrum`` averaged: segments, their length, the bin width and, for a
+    zero-padded segment, the resolution the run allows."""
+    t, _, dt = _uniform_samples(t, x)
+    nperseg, nfft = welch_plan(len(t), dt, f_min=f_min)
+    count = 1 + (len(t) - nperseg) // (nperseg - nperseg // 2)
+    note = (f"Welch, Hann window: {count} segment{'s' if count > 1 else ''} of "
+            f"{nperseg * dt:.4g} s; bins {1 / (nfft * dt):.3g} Hz")
+    if nfft > nperseg:
+        note += f"\nzero-padded: peaks closer than ~{2 / (nperseg * dt):.2g} Hz merge"
+    return note
+
+
+#: Colours of the dotted frequency marks (``psd``).
+_MARK_COLOURS = ("tab:red", "tab:purple", "tab:brown", "tab:olive")
+
+
+def _frequency_marks(axes, markers, band):
+    """Dashed lines at single frequencies (named on a top axis) and dotted ones at
+    sequences (one legend entry each), inside ``band``."""
+    named, groups = {}, {}
+    for label, value in markers.items():
+        fs = np.atleast_1d(np.asarray(value, dtype=float))
+        fs = fs[(fs >= band[0]) & (fs <= band[1])]
+        if fs.size:
+            (named if np.ndim(value) == 0 else groups)[label] = fs
+    for ax in axes:
+        for (f0,) in named.values():
+            ax.axvline(f0, color="dimgray", ls="--", lw=0.9)
+        for (label, fs), colour in zip(groups.items(), cycle(_MARK_COLOURS)):
+            for i, f0 in enumerate(fs):
+                ax.axvline(f0, color=colour, ls=":", lw=1.0, alpha=0.7,
+                           label=None if i else label)
+    if named:
+        top = axes[0].secondary_xaxis("top")
+        top.set_xticks([f0 for (f0,) in named.values()], list(named), fontsize="small")
+        top.minorticks_off()
+        top.tick_params(colors="dimgray")
+
+
+#: Energy terms of ``energies``' first panel.
+ENERGY_TERMS = ("kinetic", "axial", "bending", "potential", "dissipated", "external_work")
+
+
+def energy_scale(E):
+    """Energy in play in a run (J): the largest ``kinetic + axial + bending +
+    |potential change| + dissipated + |external work|`` over its saved steps."""
+    content = (np.abs(E["kinetic"]) + np.abs(E["axial"]) + np.abs(E["bending"])
+               + np.abs(E["potential"] - E["potential"][0]) + np.abs(E["dissipated"])
+               + np.abs(E["external_work"]))
+    return float(content.max())
+
+
+def energy_figure(t, E, path=None, title="Energy"):
+    """``energies`` from the times and the energy dict (``Result.energy``'s keys)."""
+    fig, (terms, balance, drift) = _figure(3, width=8.5)
+    zero = [k for k in ENERGY_TERMS if not np.any(E[k] - E[k][0])]
+    for k in ENERGY_TERMS:
+        if k not in zero:  # works dashed, over the energies they feed
+            change = E[k] - E[k][0]
+            terms.plot(t, change, lw=1.0, ls="--" if k in ("dissipated", "external_work") else "-",
+                       label=f"{k.replace('_', ' ')}\n(max |Δ| {np.abs(change).max():.2g} J)")
+    terms.set_ylabel("change since\nfirst step [J]")
+    terms.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.01, 0.5),
+                 title=f"zero: {', '.join(zero)}".replace("_", " ") if zero else None,
+                 title_fontsize="small")
+    balance.plot(t, E["balance"], color="k", lw=1.0)
+    balance.set_ylabel("balance\nresidual [J]")
+    scale = energy_scale(E)
+    rel = np.abs(E["balance"]) / scale if scale > 0 else np.zeros_like(t)
+    drift.semilogy(t, np.where(rel > 0, rel, np.nan), color="tab:red", lw=1.0)
+    if not np.any(rel > 0):
+        drift.text(0.5, 0.5, "balance exactly zero", transform=drift.transAxes, ha="center")
+    drift.set_ylabel("|balance| / E_scale")
+    drift.set_title(f"E_scale = max(K + V_axial + V_bending + |ΔV_pot| + D + |W|) = "
+                    f"{scale:.4g} J", fontsize="small", loc="left")
+    for ax in (terms, balance, drift):
+        ax.grid(True, which="both", alpha=0.3)
+    drift.set_xlabel("t [s]")
     if title:
         fig.suptitle(title)
     return _finish(fig, path)
 
 
 def energies(result, path=None, title="Energy"):
-    """Energy histories of a run: total and balance; kinetic, elastic and potential;
-    dissipated and external work (the paper's Fig. 8)."""
-    E = result.energy
-    panels = {"total, balance [J]": {"total": E["total"], "balance": E["balance"]},
-              "energy [J]": {k: E[k] for k in ("kinetic", "axial", "bending", "potential")},
-              "work [J]": {k: E[k] for k in ("dissipated", "external_work")}}
-    return histories(result.t, panels, path, title)
+    """Energy books of a run in three panels: the terms (kinetic, axial, bending,
+    potential energy; dissipated energy and external work) as changes since the first
+    saved step, the balance residual (J), and the relative drift ``|balance| / E_scale``
+    (``energy_scale``) on a log axis."""
+    return energy_figure(result.t, result.energy, path, title)
 
 
 def speed_error(rows, path=None, group="elements", cost="wall", error="error", title=None):

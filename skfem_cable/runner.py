@@ -169,7 +169,7 @@ def run_figures(out, result, animate=False):
     if len(result) >= 16 and result.system.cables():
         signals = {c.name: result.tension(c, 0.0) for c in result.system.cables()}
         paths.append(plots / "tension_psd.png")
-        plot.psd(result.t, signals, paths[-1], title="root tension")
+        plot.psd(result.t, signals, paths[-1], title="root tension", units="N")
     final = snapshot(out, result.system, result.state(len(result) - 1),
                      title=f"t = {result.t[-1]:.4g} s")
     if final is not None:
@@ -204,13 +204,14 @@ DESCRIPTIONS = {
     "plots/esail_forces.png": "thrust and root reactions in the orbit frame (Fig. 9)",
     "plots/esail_energy.png": "E-sail energy terms and balance (Fig. 10)",
     "plots/esail_psd.png": "spectra of tether and hub motions, Table 2 modes marked",
+    "plots/esail_coning.gif": "side view of the sail's coning, Sun direction drawn (--animate)",
 }
 
 #: Files this package writes into a run directory besides the store (``--overwrite``
 #: removes these and nothing else): exact names and patterns relative to the directory.
 RUN_FILES = tuple(k for k in DESCRIPTIONS if k not in ("manifest.json", "results.zarr",
                                                        "checkpoint_*.npz")) + (
-    "plots/esail_*.png",)
+    "plots/esail_*.png", "plots/esail_*.gif")
 
 
 def described_files(out):

@@ -365,10 +365,62 @@ def psd(t, x, segments=4):
                  axis=0)
 
 
-def figures(out, plots_dir, tether=0):
+#: Table 2 of the paper: first natural frequencies (Hz) of a pinned rotating tether with
+#: its remote unit (the bending value is no mode of this sail: ``docs/esail.md``); its
+#: spin frequency, 6.37e-4 Hz, is ``1 / T_s``, which ``psd_figure`` takes from the run.
+TABLE2_HZ = {"1st bending": 7.34e-3, "1st axial": 2.17e-2}
+
+
+def distinct_frequencies(freqs, rtol=0.02):
+    """The frequencies (Hz) of ``freqs`` that differ by more than ``rtol`` from the next
+    lower one kept: one mark per cluster of near-equal modes (the ``p`` tethers' copies
+    of a mode), zeros dropped."""
+    kept = []
+    for f in np.sort(np.asarray(freqs, dtype=float)):
+        if f > 0 and (not kept or f > kept[-1] * (1 + rtol)):
+            kept.append(f)
+    return np.array(kept)
+
+
+def psd_figure(out, path, tether=0, modes=None):
+    """PSDs of tether ``tether``'s tip coning and lagging angles (deg) and length ratio
+    (``plot.psd``, segments fit to resolve the spin) with marks at the run's mean spin
+    frequency, the bending and axial frequencies of Table 2 and, when given, the
+    ``distinct_frequencies`` of ``modes`` (Hz, e.g. ``spinning_modes``)."""
+    from .. import plot
+
+    t, k, deg = out["t"], tether, np.rad2deg(1.0)
+    f_spin = float(np.mean(out["omega_B"][:, 0])) / (2 * np.pi)
+    markers = {"spin": f_spin}
+    markers.update({f"{name}\n(Table 2)": f for name, f in TABLE2_HZ.items()})
+    if modes is not None:
+        markers["modes of the spinning sail"] = distinct_frequencies(modes)
+    signals = {"tip coning": deg * out["coning"][:, k], "tip lagging": deg * out["lagging"][:, k],
+               "L / L0": out["length_ratio"][:, k]}
+    units = {"tip coning": "deg", "tip lagging": "deg", "L / L0": ""}
+    return plot.psd(t, signals, path, title=f"tether {k + 1}: power spectral densities",
+                    markers=markers, units=units, f_min=f_spin)
+
+
+def coning_animation(result, path, up_scale=10.0, **options):
+    """Side view of a run of the sail (``plot.animate``, view ``"side"``): the spin axis
+    up, looking perpendicular to it and to the Sun, whose direction is drawn as an arrow
+    (from the ``SolarWindForce`` of ``result.system``); offsets along the spin axis are
+    drawn ``up_scale`` times larger so that a coning of a degree shows.  ``options`` go
+    to ``plot.animate``.  Returns the number of frames."""
+    from .. import plot
+
+    wind = next(load for load in result.system.loads if isinstance(load, SolarWindForce))
+    return plot.animate(result, path, view="side", sun=wind.sun, up_scale=up_scale,
+                        title="E-sail, side view: spin axis up", **options)
+
+
+def figures(out, plots_dir, tether=0, modes=None, animation=None):
     """The paper's kinds of figures (Figs. 6-10) from ``outputs``: tether angles, hub
-    rates and attitude, thrust and reactions in the orbit frame, energies, PSDs with the
-    Table 2 frequencies marked.  Returns the paths written."""
+    rates and attitude, thrust and reactions in the orbit frame, energies
+    (``plot.energy_figure``), PSDs (``psd_figure``, ``modes`` marked when given) and,
+    when ``animation`` (the run's ``Result``) is given, ``esail_coning.gif``
+    (``coning_animation``; needs off-screen OpenGL).  Returns the paths written."""
     from pathlib import Path
 
     from .. import plot
@@ -399,16 +451,11 @@ def figures(out, plots_dir, tether=0):
                        "angles from Z_O [deg]": {"thrust": deg * out["thrust_angle"],
                                                  "reaction": deg * out["reaction_angle"]}},
                    paths[2], title="thrust and reactions")
-    plot.histories(t, {"energy [J]": {n: out[n] - out[n][0]
-                                      for n in ("kinetic", "elastic", "total")},
-                       "work, dissipation [J]": {"wind work": out["external_work"],
-                                                 "dissipated": out["dissipated"],
-                                                 "balance": out["balance"]}},
-                   paths[3], title="energies (changes from t = 0)")
-    plot.psd(t, {"coning": out["coning"][:, k], "lagging": out["lagging"][:, k],
-                 "L / L0": out["length_ratio"][:, k]}, paths[4],
-             title=f"tether {k + 1}",
-             markers={"spin": 6.37e-4, "bending": 4.47e-3, "axial": 2.18e-2})
+    plot.energy_figure(t, out, paths[3], title="E-sail energies")
+    psd_figure(out, paths[4], k, modes)
+    if animation is not None:
+        paths.append(d / "esail_coning.gif")
+        coning_animation(animation, paths[-1])
     return paths
 
 
@@ -431,7 +478,8 @@ def run(options):
         if options.out is not None:
             np.savez_compressed(Path(options.out) / "esail_outputs.npz", **out)
             if options.plots:
-                figures(out, Path(options.out) / "plots")
+                figures(out, Path(options.out) / "plots",
+                        animation=result if options.animate else None)
         thrust = np.linalg.norm(out["thrust"], axis=1)
         return {"thrust_mean_N": thrust.mean(),
                 "thrust_angle_mean_deg": np.rad2deg(out["thrust_angle"]).mean(),
