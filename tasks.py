@@ -1,5 +1,9 @@
 """Single entry point for a fresh machine: ``python3 tasks.py demo|test|docs|bench|lint``.
 
+Extra arguments go to the task's command; a leading ``--`` is dropped, so that
+``python3 tasks.py bench -- --quick kernel_cost`` runs ``skfem-cable bench --quick
+kernel_cost`` (its tables stream as they are computed).
+
 Each task creates (or reuses) the local virtual environment ``.venv``, installs the
 package with its test and docs extras when ``pyproject.toml`` changed since the last
 install, and runs the task inside it.  ``demo`` and ``test`` first run
@@ -24,7 +28,7 @@ TASKS = {
     "demo": [["demos/esail_baseline.py"]],
     "test": [["-m", "pytest", "-q"]],
     "docs": [["-m", "mkdocs", "build", "--strict", "--quiet"]],
-    "bench": [["-m", "skfem_cable.cli", "bench"]],
+    "bench": [["-u", "-m", "skfem_cable.cli", "bench"]],
     "lint": [["-m", "ruff", "check", "."]],
 }
 NEEDS_RENDERING = ("demo", "test")
@@ -43,12 +47,20 @@ def ensure_venv():
     STAMP.write_text(digest)
 
 
+def task_arguments(argv):
+    """``(task, extra arguments)`` of the command line ``argv`` (without the program name),
+    with a leading ``--`` of the extra arguments dropped."""
+    task, extra = argv[0], argv[1:]
+    return task, extra[1:] if extra[:1] == ["--"] else extra
+
+
 def main(argv):
     if len(argv) < 1 or argv[0] not in TASKS:
-        print(f"usage: python3 tasks.py {{{'|'.join(TASKS)}}} [extra args]", file=sys.stderr)
+        print(f"usage: python3 tasks.py {{{'|'.join(TASKS)}}} [[--] extra args]",
+              file=sys.stderr)
         return 2
     ensure_venv()
-    task, extra = argv[0], argv[1:]
+    task, extra = task_arguments(argv)
     if task in NEEDS_RENDERING and SYSTEM_DEPS.exists() and os.name != "nt":
         subprocess.run(["bash", str(SYSTEM_DEPS)], cwd=ROOT)
     for cmd in TASKS[task]:

@@ -7,7 +7,8 @@ Python process (numba caches warm: one untimed run first), ``--repeats`` times; 
 gives the minimum ms per step of each and the ratio (this tree / base).  Machines are noisy:
 read the ratio, not the absolute times.
 
-Run ``python benchmarks/commit_compare.py --base 0e078c5``.
+Run ``python benchmarks/commit_compare.py --base 0e078c5`` (``--quick``: one repeat of a
+tenth of the steps unless ``--repeats`` or ``--steps-scale`` say otherwise).
 """
 
 import argparse
@@ -75,21 +76,35 @@ def compare(base, repeats=5, cases=CASES):
 
 
 def main(argv=None):
+    """Parse the arguments, time both trees and print the table.
+
+    Returns
+    -------
+    list of dict
+        Per case: ``case``, ``steps``, ``ms_per_step`` and ``newton_per_step`` of this
+        tree (``here``) and of ``base``, and ``ratio`` (here / base).
+    """
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", default="HEAD~1", help="commit to compare with")
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--steps-scale", type=float, default=1.0,
-                        help="multiply the number of timed steps")
+    parser.add_argument("--quick", action="store_true",
+                        help="defaults --repeats 1 --steps-scale 0.1")
+    parser.add_argument("--repeats", type=int, default=None, help="default 5")
+    parser.add_argument("--steps-scale", type=float, default=None,
+                        help="multiply the number of timed steps (default 1)")
     args = parser.parse_args(argv)
-    cases = {k: max(2, int(v * args.steps_scale)) for k, v in CASES.items()}
-    rows = compare(args.base, args.repeats, cases)
+    repeats = args.repeats or (1 if args.quick else 5)
+    scale = args.steps_scale or (0.1 if args.quick else 1.0)
+    cases = {k: max(2, int(v * scale)) for k, v in CASES.items()}
+    rows = compare(args.base, repeats, cases)
     print(f"{'case':>10} {'ms/step here':>13} {'ms/step base':>13} {'ratio':>7} "
           f"{'Newton/step':>12}")
     for case, (ours, theirs) in rows.items():
         print(f"{case:>10} {ours['ms_per_step']:13.3f} {theirs['ms_per_step']:13.3f} "
               f"{ours['ms_per_step'] / theirs['ms_per_step']:7.3f} "
               f"{ours['newton_per_step']:6.2f}/{theirs['newton_per_step']:.2f}")
-    return rows
+    return [{"case": case, "steps": cases[case], "here": ours, "base": theirs,
+             "ratio": ours["ms_per_step"] / theirs["ms_per_step"]}
+            for case, (ours, theirs) in rows.items()]
 
 
 if __name__ == "__main__":

@@ -3,11 +3,11 @@
 Prints markdown tables: the baseline runs (thrust, thrust angle, energy, frequencies, the
 rigid coning equation), the convergence study of Fig. 4 (elements per tether, cable and
 truss), and the speed figures (baseline wall time, growth with tethers and elements).
-Run ``python benchmarks/esail_report.py [--quick]`` (``--quick``: one spin period and fewer
-cases, a few minutes).
+Run ``python benchmarks/esail_report.py [--quick]`` (``--quick``: one spin period, fewer
+cases and 100 steps per speed case, a few minutes).
 """
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -48,17 +48,23 @@ def psd_peaks(t, x, n=3):
 
 
 def baseline(periods):
+    """Print the baseline tables; returns one row per run (``alpha``, ``voltage``,
+    ``wall_s``, ``stats``, mean ``thrust_N`` and ``thrust_angle_deg``, ``energy_drift``)."""
     print(f"## Baseline, 12 tethers x 5 cable elements, dt = 0.1 s, rho_inf = 0.25, "
           f"{periods:g} T_s\n")
     print("| case | wall [s] | steps | Newton | factorizations | rejected | |F_c| [N] "
           "| thrust angle [deg] | max |E - E0|/E0 | balance/E0 |")
     print("|---|---|---|---|---|---|---|---|---|---|")
-    runs = {}
+    runs, rows = {}, []
     for alpha, V in ((0.0, 20e3), (10.0, 20e3), (10.0, 0.0)):
         cfg, scene, res, out, wall = run(alpha, periods=periods, voltage=V)
         runs[(alpha, V)] = (cfg, scene, res, out)
         E = out["total"]
         st = res.stats
+        rows.append({"alpha": alpha, "voltage": V, "wall_s": wall, "stats": dict(st),
+                     "thrust_N": np.linalg.norm(out["thrust"], axis=1).mean(),
+                     "thrust_angle_deg": np.rad2deg(out["thrust_angle"]).mean(),
+                     "energy_drift": np.abs(E / E[0] - 1).max()})
         print(f"| alpha={alpha:g}, V0={V / 1e3:g} kV | {wall:.1f} | {st['steps']} | "
               f"{st['newton']} | {st['factorizations']} | {st['rejected']} | "
               f"{np.linalg.norm(out['thrust'], axis=1).mean():.5e} | "
@@ -98,14 +104,17 @@ def baseline(periods):
           f"lagging: {peaks('lagging')} |")
     print(f"| 1st axial | 2.17e-2 | {axial:.4e} | length ratio: {peaks('length_ratio')} |")
     print(f"\nPSD resolution 1/T = {1 / (t[-1] - t[0]):.2e} Hz\n")
+    return rows
 
 
 def convergence(periods, elements=(1, 3, 5, 7, 9)):
+    """Print the convergence table; returns its rows (``kind``, ``elements`` and the
+    normalised thrust, thrust angle, max strain and wall time)."""
     print(f"## Convergence (Fig. 4), alpha = 10 deg, {periods:g} T_s, normalised by one cable "
           "element\n")
     print("| kind | elements | |F_c| | thrust angle | max strain | wall [s] | wall / 1 cable |")
     print("|---|---|---|---|---|---|---|")
-    ref = None
+    ref, rows = None, []
     for kind in ("cable", "truss"):
         for n in elements:
             cfg, scene, res, out, wall = run(10.0, n, kind, periods=periods)
@@ -114,15 +123,22 @@ def convergence(periods, elements=(1, 3, 5, 7, 9)):
             eps = max_strain(scene, res)
             if ref is None:
                 ref = (F, ang, eps, wall)
+            rows.append({"kind": kind, "elements": n, "thrust": F / ref[0],
+                         "thrust_angle": ang / ref[1], "max_strain": eps / ref[2],
+                         "wall_s": wall, "wall_ratio": wall / ref[3]})
             print(f"| {kind} | {n} | {F / ref[0]:.5f} | {ang / ref[1]:.5f} | {eps / ref[2]:.4f} "
                   f"| {wall:.1f} | {wall / ref[3]:.2f} |")
     print()
+    return rows
 
 
 def speed(steps=300):
+    """Print the cost table; returns its rows (``tethers``, ``elements``, ``ms_per_step``,
+    ``newton_per_step``)."""
     print(f"## Cost per step ({steps} steps of 0.1 s)\n")
     print("| tethers | elements/tether | ms/step | Newton/step |")
     print("|---|---|---|---|")
+    rows = []
     for p, n in [(4, 5), (12, 5), (24, 5), (48, 5), (12, 1), (12, 10), (12, 20), (12, 50)]:
         cfg = esail.BaselineConfig(n_tethers=p)
         scene = esail.build(cfg, 10.0, n)
@@ -131,13 +147,24 @@ def speed(steps=300):
         r = sc.simulate(scene.system, t_end=steps * 0.1, dt=0.1, rho_inf=0.25,
                         initial=scene.initial, every=steps)
         wall = time.perf_counter() - start
+        rows.append({"tethers": p, "elements": n, "ms_per_step": 1e3 * wall / steps,
+                     "newton_per_step": r.stats["newton"] / steps})
         print(f"| {p} | {n} | {1e3 * wall / steps:.3f} | {r.stats['newton'] / steps:.2f} |")
     print()
+    return rows
+
+
+def main(argv=None):
+    """Parse the arguments (``--quick``), print the tables and return their rows."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true",
+                        help="one spin period, fewer cases and steps")
+    quick = parser.parse_args(argv).quick
+    periods = 1.0 if quick else 3.0
+    return {"baseline": baseline(periods),
+            "convergence": convergence(periods, elements=(1, 3, 5) if quick else (1, 3, 5, 7, 9)),
+            "speed": speed(100 if quick else 300)}
 
 
 if __name__ == "__main__":
-    quick = "--quick" in sys.argv
-    periods = 1.0 if quick else 3.0
-    baseline(periods)
-    convergence(periods, elements=(1, 3, 5) if quick else (1, 3, 5, 7, 9))
-    speed()
+    main()

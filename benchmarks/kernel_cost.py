@@ -1,15 +1,19 @@
 """Cost of one force + tangent evaluation and one KKT solve versus the number of elements.
 
 Prints a table (median of repeated runs) and the fitted growth exponents, which must be
-about 1 (linear cost).  Run ``python benchmarks/kernel_cost.py``.
+about 1 (linear cost).  Run ``python benchmarks/kernel_cost.py [--quick]`` (``--quick``:
+100 to 10,000 elements).
 """
 
+import argparse
 import time
 
 import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.linalg import PatternSolver
+
+SIZES = {"full": (10, 30, 100, 300, 1000, 3000, 10000), "quick": (100, 300, 1000, 3000, 10000)}
 
 
 def median_time(fn, repeat):
@@ -46,19 +50,45 @@ def measure(n_elements, repeat=7):
     return median_time(assemble, repeat), median_time(solve, repeat), solver.method, solver.band
 
 
-def main(sizes=(10, 30, 100, 300, 1000, 3000, 10000)):
-    rows = [(n, *measure(n)) for n in sizes]
+def exponents(rows):
+    """Growth exponents (log-log slopes over the larger half of the sizes) of
+    ``force_tangent_ms`` and ``factor_solve_ms`` of ``rows``."""
+    n = np.array([r["elements"] for r in rows], float)
+    big = n >= np.sort(n)[len(n) // 2]
+    return {key: float(np.polyfit(np.log(n[big]),
+                                  np.log([r[key] for r, b in zip(rows, big) if b]), 1)[0])
+            for key in ("force_tangent_ms", "factor_solve_ms")}
+
+
+def table(sizes=SIZES["full"]):
+    """Print the cost table and the growth exponents.
+
+    Returns
+    -------
+    dict
+        ``rows`` (per size: ``elements``, ``force_tangent_ms``, ``factor_solve_ms``,
+        ``solver``, ``band``) and ``growth_exponents`` (of both costs).
+    """
     print(f"{'elements':>9} {'force+tangent [ms]':>19} {'factor+solve [ms]':>18} {'solver':>8} "
           f"{'band':>5}")
-    for n, ta, ts, method, band in rows:
+    rows = []
+    for n in sizes:
+        ta, ts, method, band = measure(n)
+        rows.append({"elements": n, "force_tangent_ms": 1e3 * ta, "factor_solve_ms": 1e3 * ts,
+                     "solver": method, "band": band})
         print(f"{n:9d} {1e3 * ta:19.3f} {1e3 * ts:18.3f} {method:>8} {band:5d}")
-    n = np.array([r[0] for r in rows], float)
-    big = n >= np.sort(n)[len(n) // 2]  # the larger half of the sizes
-    for label, col in (("force+tangent", 1), ("factor+solve", 2)):
-        t = np.array([r[col] for r in rows])
-        slope = np.polyfit(np.log(n[big]), np.log(t[big]), 1)[0]
-        print(f"growth exponent of {label} (larger half of the sizes): {slope:.2f}")
-    return rows
+    slopes = exponents(rows)
+    for label, key in (("force+tangent", "force_tangent_ms"), ("factor+solve", "factor_solve_ms")):
+        print(f"growth exponent of {label} (larger half of the sizes): {slopes[key]:.2f}")
+    return {"rows": rows, "growth_exponents": slopes}
+
+
+def main(argv=None):
+    """Parse the arguments (``--quick``), print the table and return its figures."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="100 to 10,000 elements")
+    args = parser.parse_args(argv)
+    return table(SIZES["quick" if args.quick else "full"])
 
 
 if __name__ == "__main__":

@@ -40,8 +40,9 @@ in a numba loop over the same points and the whole compiled kernel (force and ta
 undamped).  JAX's time excludes the chain rule and the scatter, which would still need
 compiled loops; its first call traces and compiles (again for every new number of points).
 
-Run ``python benchmarks/laws.py [--base 93f5041] [--repeats 5] [--jax]``.  Machines are noisy:
-read the ratios, not the absolute times.
+Run ``python benchmarks/laws.py [--base 93f5041] [--repeats 5] [--jax] [--quick]``
+(``--quick``: sizes 60 and 1000, one repeat, 0.1 s per process, unless given).  Machines
+are noisy: read the ratios, not the absolute times.
 """
 
 import argparse
@@ -424,18 +425,39 @@ def print_tables(sizes, times, checks, one_off, jax_rows):
                   f"| {r['diff']:.1e} |")
 
 
+def records(times, checks, one_off, jax_rows):
+    """The results as plain rows: ``evaluation`` (``path``, ``n``, ``ms``, ``ratio`` to
+    (a), ``diff`` force / tangent or ``None``), ``one_off`` (``law``, ``cold``, ``cached``)
+    and ``jax`` (``n`` and the figures)."""
+    first = ROWS[0][0]
+    return {"evaluation": [{"path": label, "n": n, "ms": ms, "ratio": ms / times[first, n],
+                            "diff": checks[label, n]} for (label, n), ms in times.items()],
+            "one_off": [{"law": label, "cold": cold, "cached": cached}
+                        for label, (cold, cached) in one_off.items()],
+            "jax": [{"n": n, **row} for n, row in jax_rows.items()]}
+
+
 def main(argv=None):
-    """Parse the arguments, run the measurements in a temporary folder and print them."""
+    """Parse the arguments, run the measurements in a temporary folder, print them and
+    return them (``records``)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--base", default=BASE,
                         help="a commit with the hand-written kernel (no skfem_cable/laws)")
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
-    parser.add_argument("--seconds", type=float, default=0.5,
-                        help="timed duration of each process (at least 3 calls)")
+    parser.add_argument("--quick", action="store_true",
+                        help="defaults --sizes 60 1000 --repeats 1 --seconds 0.1")
+    parser.add_argument("--repeats", type=int, default=None, help="default 5")
+    parser.add_argument("--sizes", type=int, nargs="+", default=None,
+                        help=f"default {' '.join(map(str, SIZES))}")
+    parser.add_argument("--seconds", type=float, default=None,
+                        help="timed duration of each process (at least 3 calls; default 0.5)")
     parser.add_argument("--jax", action="store_true",
                         help="also time JAX's gradient and Hessian (if jax is installed)")
     args = parser.parse_args(argv)
+    quick = {"repeats": 1, "sizes": [60, 1000], "seconds": 0.1}
+    full = {"repeats": 5, "sizes": list(SIZES), "seconds": 0.5}
+    for key, value in (quick if args.quick else full).items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
     use_jax = args.jax and importlib.util.find_spec("jax") is not None
     if args.jax and not use_jax:
         print("jax is not importable: skipping the JAX comparison", file=sys.stderr)
@@ -461,7 +483,7 @@ def main(argv=None):
                            cwd=ROOT, check=False, capture_output=True)
     print(f"base: {args.base}, repeats: {args.repeats}, CPUs: {os.cpu_count()}\n")
     print_tables(args.sizes, times, checks, one_off, jax_rows)
-    return times, one_off, jax_rows
+    return records(times, checks, one_off, jax_rows)
 
 
 if __name__ == "__main__":

@@ -50,8 +50,9 @@ with the 3-point Gauss rule; its strain and tension are recovered from the Lobat
 ``--plots DIR`` saves ``cantilever_tension.png`` (N(s)/P of the 16-element cantilever at
 ``k = 5``) and ``locking_convergence.png`` (errors against elements).
 
-Run ``python benchmarks/locking.py [--plots DIR] [--repeats 5] [--no-timing]``.  Machines
-are noisy: read the ratios, not the absolute times.
+Run ``python benchmarks/locking.py [--plots DIR] [--repeats 5] [--no-timing] [--quick]``
+(``--quick``: the cost of section 5 with one repeat of 0.1 s unless given).  Machines are
+noisy: read the ratios, not the absolute times.
 """
 
 import argparse
@@ -796,30 +797,80 @@ def print_changes(rows, extra):
         print(_row([scene, label, *(f"{v:.2e}" for v in values)]))
 
 
+def records(accuracy, best, changes):
+    """The results as plain rows (per table) for a JSON record.
+
+    Parameters
+    ----------
+    accuracy : tuple
+        The arguments of ``print_accuracy``.
+    best : dict or None
+        ``costs()`` (``None`` without timing).
+    changes : tuple
+        ``result_changes()``.
+
+    Returns
+    -------
+    dict
+    """
+    elastica_rows, catenary_rows, truss, (errors, ref, checks), strings, zeros = accuracy
+    names = dict(OPTIONS)
+    rows, extra = changes
+    return {
+        "elements": ELEMENTS,
+        "elastica": [{"k": k, "option": names[lf], "floor": elastica_rows["floor"][k],
+                      **{key: elastica_rows[key][k, lf]
+                         for key in ("exact", "discretisation", "tension")}}
+                     for k in LOADS for lf, _ in OPTIONS],
+        "catenary": [{"case": case, "quantity": key, "option": names[lf], "errors": e}
+                     for (case, key, lf), e in catenary_rows.items()],
+        "truss_start": [{"n": n, "paper": a, "locking_free": b, "strain_min": low,
+                         "strain_max": high} for n, (a, b, low, high) in truss.items()],
+        "tether": {"reference_hz": ref, "checks": checks,
+                   "errors": {names[lf]: e for lf, e in errors.items()}},
+        "string": [{"law": kind, "option": names[lf], "errors": e}
+                   for (kind, lf), e in strings.items()],
+        "zero_modes": [{"law": law, "n": n, "paper": a, "lobatto": b, "gauss2": c}
+                       for (law, n), (a, b, c) in zeros.items()],
+        "cost": None if best is None else [{"case": case, "option": names[lf], **value}
+                                           for (case, lf), value in best.items()],
+        "changes": [{"scene": scene, "quantity": label, "options": a, "paper_2n_n": b,
+                     "locking_free_2n_n": c} for (scene, label), (a, b, c) in rows.items()],
+        "changes_scale": extra,
+    }
+
+
 def main(argv=None):
-    """Parse the arguments, measure and print the tables, save the figures."""
+    """Parse the arguments, measure and print the tables, save the figures; returns the
+    results (``records``)."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--plots", type=Path, default=None,
                         help="folder for cantilever_tension.png and locking_convergence.png")
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--seconds", type=float, default=0.5,
-                        help="timed duration of each evaluation process (at least 3 calls)")
+    parser.add_argument("--quick", action="store_true",
+                        help="defaults --repeats 1 --seconds 0.1")
+    parser.add_argument("--repeats", type=int, default=None, help="default 5")
+    parser.add_argument("--seconds", type=float, default=None,
+                        help="timed duration of each evaluation process (at least 3 calls; "
+                        "default 0.5)")
     parser.add_argument("--no-timing", action="store_true",
                         help="skip the cost measurements (section 5)")
     args = parser.parse_args(argv)
+    repeats = args.repeats or (1 if args.quick else 5)
+    seconds = args.seconds or (0.1 if args.quick else 0.5)
     elastica_rows = elastica_errors()
     catenary_rows = catenary_table()
-    tether = tether_table()
-    strings = string_table()
-    zeros = zero_modes()
-    print_accuracy(elastica_rows, catenary_rows, truss_start_check(), tether, strings,
-                   zeros)
-    if not args.no_timing:
-        print_costs(costs(args.repeats, args.seconds), args.repeats)
-    print_changes(*result_changes())
+    accuracy = (elastica_rows, catenary_rows, truss_start_check(), tether_table(),
+                string_table(), zero_modes())
+    print_accuracy(*accuracy)
+    best = None if args.no_timing else costs(repeats, seconds)
+    if best is not None:
+        print_costs(best, repeats)
+    changes = result_changes()
+    print_changes(*changes)
     if args.plots is not None:
         figures(args.plots, elastica_rows, catenary_rows)
         print(f"\nfigures saved in {args.plots}")
+    return records(accuracy, best, changes)
 
 
 if __name__ == "__main__":

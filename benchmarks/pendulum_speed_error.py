@@ -6,15 +6,24 @@ dt = 2.5e-5 s.  Prints, for each (elements, dt): the tip error, wall time and Ne
 iterations, so a user can pick the cheapest setting for an accuracy; then the same for
 adaptive steps (``rtol = atol``, first step 1e-3 s): the speed-error front of fixed
 against adaptive steps.
-Run ``python benchmarks/pendulum_speed_error.py``.
+Run ``python benchmarks/pendulum_speed_error.py [--quick]`` (``--quick``: 4 and 8
+elements, two steps, two tolerances, reference 16 elements and dt = 2.5e-4 s).
 """
 
+import argparse
 import time
 
 import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.scenes import classics
+
+SETTINGS = {
+    "full": {"elements": (4, 8, 16, 32), "steps": (4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4),
+             "reference": (32, 2.5e-5), "tolerances": (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)},
+    "quick": {"elements": (4, 8), "steps": (2e-3, 1e-3), "reference": (16, 2.5e-4),
+              "tolerances": (1e-4, 1e-6)},
+}
 
 
 def tip(n_elements, dt, **adaptive):
@@ -26,30 +35,41 @@ def tip(n_elements, dt, **adaptive):
     return r.position(scene.cable, 1.2)[-1], wall, r.stats["newton"]
 
 
-def main(elements=(4, 8, 16, 32), steps=(4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4),
-         reference=(32, 2.5e-5), tolerances=(1e-3, 1e-4, 1e-5, 1e-6, 1e-7)):
-    """Rows ``(elements, dt, error, wall, Newton)``; adaptive rows carry ``dt = -tol``."""
+def table(elements, steps, reference, tolerances):
+    """Print the fixed-step and adaptive tables.
+
+    Returns
+    -------
+    dict
+        ``reference`` (the reference tip, m) and ``rows``: per setting ``elements``,
+        ``dt`` (fixed steps) or ``tol`` (adaptive, ``rtol = atol``), ``error`` (tip error
+        at t = 1 s, m), ``wall_s`` and ``newton`` (iterations).
+    """
     tip(4, 1e-2)  # compile
     ref, ref_wall, _ = tip(*reference)
     print(f"reference ({reference[0]} elements, dt={reference[1]}): tip at t=1 s = {ref} "
           f"({ref_wall:.1f} s)")
-    print(f"{'elements':>9} {'dt':>9} {'tip error [m]':>14} {'wall [s]':>9} {'Newton':>8}")
     rows = []
-    for n in elements:
-        for dt in steps:
-            x, wall, newton = tip(n, dt)
-            err = float(np.linalg.norm(x - ref))
-            rows.append((n, dt, err, wall, newton))
-            print(f"{n:9d} {dt:9.1e} {err:14.3e} {wall:9.3f} {newton:8d}")
-    print(f"{'elements':>9} {'rtol=atol':>9} {'tip error [m]':>14} {'wall [s]':>9} "
-          f"{'Newton':>8}")
-    for n in elements:
-        for tol in tolerances:
-            x, wall, newton = tip(n, 1e-3, rtol=tol, atol=tol)
-            err = float(np.linalg.norm(x - ref))
-            rows.append((n, -tol, err, wall, newton))
-            print(f"{n:9d} {tol:9.1e} {err:14.3e} {wall:9.3f} {newton:8d}")
-    return ref, rows
+    for label, key, values in (("dt", "dt", steps), ("rtol=atol", "tol", tolerances)):
+        print(f"{'elements':>9} {label:>9} {'tip error [m]':>14} {'wall [s]':>9} "
+              f"{'Newton':>8}")
+        for n in elements:
+            for value in values:
+                adaptive = {"rtol": value, "atol": value} if key == "tol" else {}
+                x, wall, newton = tip(n, 1e-3 if adaptive else value, **adaptive)
+                err = float(np.linalg.norm(x - ref))
+                rows.append({"elements": n, key: value, "error": err, "wall_s": wall,
+                             "newton": newton})
+                print(f"{n:9d} {value:9.1e} {err:14.3e} {wall:9.3f} {newton:8d}")
+    return {"reference": ref, "rows": rows}
+
+
+def main(argv=None):
+    """Parse the arguments (``--quick``), print the tables and return their figures."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="a few small settings")
+    args = parser.parse_args(argv)
+    return table(**SETTINGS["quick" if args.quick else "full"])
 
 
 if __name__ == "__main__":

@@ -1,9 +1,10 @@
 """Speed of the rod-chain tether: the O(n) mass solve against dense and sparse solvers, and
 the cost of one RK4 step versus the number of rods.
 
-Run ``python benchmarks/rodchain_speed.py`` (``--quick`` stops at n = 10^4).  Times are
-the best of several repeats of averaged loops (seconds per call), right-hand sides of
-shape (n, 3) as in the equations of motion.
+Run ``python benchmarks/rodchain_speed.py [--quick]`` (``--quick``: n = 10, 10^3 and
+10^4, a tenth of the RK4 steps per timed run).  Times are the best of several repeats of
+averaged loops (seconds per call), right-hand sides of shape (n, 3) as in the equations of
+motion.
 
 Solvers of ``M x = b`` compared:
 
@@ -19,7 +20,7 @@ Solvers of ``M x = b`` compared:
 Dense solvers run up to ``DENSE_MAX`` (M takes 8 n^2 bytes; LU costs O(n^3)).
 """
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -30,6 +31,13 @@ from scipy.sparse.linalg import splu, spsolve
 from skfem_cable.rodchain import RodChain
 
 DENSE_MAX = 4000
+
+#: Sizes of the two tables and the work (rods x steps) of one timed RK4 run.
+SETTINGS = {
+    "full": {"solve": (10, 20, 50, 100, 200, 500, 1000, 2000, 4000, 10_000, 30_000, 100_000),
+             "rk4": (10, 30, 100, 300, 1000, 3000, 10_000, 30_000, 100_000), "work": 4e6},
+    "quick": {"solve": (10, 1000, 10_000), "rk4": (10, 1000, 10_000), "work": 4e5},
+}
 
 
 def best_time(fn, budget=0.2, repeats=5):
@@ -73,12 +81,20 @@ def exponent(ns, ts, n_min):
 
 
 def solve_table(ns):
+    """Print the table of the solvers of ``M x = b``.
+
+    Returns
+    -------
+    dict
+        ``rows`` (per ``n``: seconds per solve of each solver, ``None`` where not run, and
+        ``diff_to_lu``) and ``growth_exponent`` of the O(n) solve for ``n >= 1000``.
+    """
     rng = np.random.default_rng(0)
     print("M x = b, b of shape (n, 3): seconds per solve and ratios to the O(n) solve")
     head = ["n", "O(n)", "us/rod", "LU", "chol", "splu", "spsolve", "LU/O(n)", "chol/O(n)",
             "splu/O(n)", "diff to LU"]
     print(("{:>8s}" + "{:>11s}" * (len(head) - 1)).format(*head))
-    fast = []
+    rows = []
     for n in ns:
         chain = RodChain(rng.uniform(0.5, 2.0, n), np.ones(n), np.ones(n))
         b = rng.standard_normal((n, 3))
@@ -98,28 +114,40 @@ def solve_table(ns):
             t_lu = best_time(lambda M=M, b=b: np.linalg.solve(M, b), budget=0.3, repeats=3)
             cf = cho_factor(M)
             t_chol = best_time(lambda cf=cf, b=b: cho_solve(cf, b), budget=0.2, repeats=3)
-        fast.append(t_fast)
+        rows.append({"n": n, "o_n": t_fast, "lu": t_lu, "chol": t_chol, "splu": t_splu,
+                     "spsolve": t_spsolve, "diff_to_lu": diff})
         row = [t_fast, 1e6 * t_fast / n, t_lu, t_chol, t_splu, t_spsolve,
                t_lu / t_fast, t_chol / t_fast, t_splu / t_fast, diff]
         print(f"{n:8d}" + "".join(f"{x:11.3g}" if np.isfinite(x) else f"{'-':>11s}" for x in row))
-    print(f"growth exponent of the O(n) solve for n >= 1000: {exponent(ns, fast, 1000):.2f}")
+    slope = exponent(ns, [r["o_n"] for r in rows], 1000)
+    print(f"growth exponent of the O(n) solve for n >= 1000: {slope:.2f}")
     print("(diff to LU: |x - x_LU| / |x_LU|, dominated by LU's own error ~ cond(M) eps ~ n^2 eps)")
-    return fast
+    return {"rows": rows, "growth_exponent": slope}
 
 
-def rk4_table(ns):
+def rk4_table(ns, work=4e6):
+    """Print the table of the RK4 step; one timed run takes ``min(work / 200, work / n)``
+    steps (at least 4).
+
+    Returns
+    -------
+    dict
+        ``rows`` (per ``n``: ``steps``, seconds per step ``s_per_step`` and, with a callable
+        line load, ``callable_s_per_step``, ``None`` where not run) and ``growth_exponent``
+        for ``n >= 1000``.
+    """
     print("\nOne RK4 step (4 right-hand sides incl. the O(n) solve), hanging chain")
     head = ["n", "steps", "s/step", "us/rod", "callable s/step", "callable/plain"]
     print(("{:>8s}" + "{:>16s}" * (len(head) - 1)).format(*head))
     g = np.array([0.0, -9.81, 0.0])
-    costs = []
+    rows = []
     for n in ns:
         chain = RodChain.uniform(n, mass=1e-3, length=1.0, E=1e11, A=1e-6)  # strain < 1 %
         q0 = chain.static_equilibrium(g)
         q0[:, 0] += 0.01  # a little transverse offset so that everything moves
         v0 = np.zeros_like(q0)
         dt = 0.5 * chain.stable_dt()
-        steps = int(max(4, min(20000, 4e6 / n)))
+        steps = int(max(4, min(work / 200, work / n)))
 
         def run(steps=steps, chain=chain, q0=q0, v0=v0, dt=dt, **kw):
             chain.simulate(q0, v0, steps * dt, dt, gravity=g, output_every=steps, **kw)
@@ -133,16 +161,25 @@ def rk4_table(ns):
                 run(steps=steps, line_load=lambda t, r, v: np.zeros_like(r))
 
             t_py = best_time(run_py, budget=0.5, repeats=3) / py_steps
-        costs.append(t_step)
+        rows.append({"n": n, "steps": steps, "s_per_step": t_step,
+                     "callable_s_per_step": t_py})
         row = [t_step, 1e6 * t_step / n, t_py, t_py / t_step]
         print(f"{n:8d}{steps:16d}" + "".join(f"{x:16.3g}" if np.isfinite(x) else f"{'-':>16s}"
                                                for x in row))
-    print(f"growth exponent of the RK4 step for n >= 1000: {exponent(ns, costs, 1000):.2f}")
+    slope = exponent(ns, [r["s_per_step"] for r in rows], 1000)
+    print(f"growth exponent of the RK4 step for n >= 1000: {slope:.2f}")
+    return {"rows": rows, "growth_exponent": slope}
+
+
+def main(argv=None):
+    """Parse the arguments (``--quick``), print both tables and return their figures."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="up to n = 10^4, fewer steps")
+    args = parser.parse_args(argv)
+    settings = SETTINGS["quick" if args.quick else "full"]
+    return {"solve": solve_table(settings["solve"]),
+            "rk4": rk4_table(settings["rk4"], settings["work"])}
 
 
 if __name__ == "__main__":
-    quick = "--quick" in sys.argv[1:]
-    top = 10_000 if quick else 100_000
-    solve_table([n for n in (10, 20, 50, 100, 200, 500, 1000, 2000, 4000, 10_000, 30_000,
-                             100_000) if n <= top])
-    rk4_table([n for n in (10, 30, 100, 300, 1000, 3000, 10_000, 30_000, 100_000) if n <= top])
+    main()

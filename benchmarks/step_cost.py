@@ -6,9 +6,11 @@ steps by each path (``simulate(..., compiled=True/False)``, the same iterates); 
 per step of both, their ratio, Newton iterations per step, the fitted growth exponents of
 the larger half of the sizes (goal: <= 1.05) and the peak resident memory of the process
 after each size (it includes the largest run so far).
-Run ``python benchmarks/step_cost.py``.
+Run ``python benchmarks/step_cost.py [--quick]`` (``--quick``: 10 to 3000 elements, 10
+steps, one repeat).
 """
 
+import argparse
 import resource
 import sys
 import time
@@ -17,6 +19,9 @@ import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.scenes import classics
+
+SETTINGS = {"full": {"sizes": (10, 30, 100, 300, 1000, 3000, 10000), "steps": 20, "repeats": 3},
+            "quick": {"sizes": (10, 100, 1000, 3000), "steps": 10, "repeats": 1}}
 
 
 def peak_memory_mb():
@@ -48,20 +53,39 @@ def exponent(n, y):
     return float(np.polyfit(np.log(n[big]), np.log(y[big]), 1)[0])
 
 
-def main(sizes=(10, 30, 100, 300, 1000, 3000, 10000), steps=20, repeats=3):
+def table(sizes, steps=20, repeats=3):
+    """Print the cost table and the growth exponents.
+
+    Returns
+    -------
+    dict
+        ``rows`` (per size: ``elements``, ``compiled_ms``, ``python_ms`` per step,
+        ``ratio`` compiled / Python, ``newton_per_step``, ``peak_mb``) and
+        ``growth_exponents`` (``compiled``, ``python``).
+    """
     rows = []
     print(f"{'elements':>9} {'compiled ms/step':>17} {'Python ms/step':>15} {'ratio':>6} "
           f"{'Newton/step':>12} {'peak MB':>8}")
     for n in sizes:
         fast, slow, it = cost_per_step(n, steps, repeats)
-        rows.append((n, fast, slow, it, peak_memory_mb()))
+        rows.append({"elements": n, "compiled_ms": fast, "python_ms": slow,
+                     "ratio": fast / slow, "newton_per_step": it, "peak_mb": peak_memory_mb()})
         print(f"{n:9d} {fast:17.3f} {slow:15.3f} {fast / slow:6.2f} {it:12.2f} "
-              f"{rows[-1][4]:8.0f}", flush=True)
-    n = [r[0] for r in rows]
-    for label, k in (("compiled", 1), ("Python", 2)):
-        print(f"growth exponent per step, {label} (larger half of the sizes): "
-              f"{exponent(n, [r[k] for r in rows]):.2f}")
-    return rows
+              f"{rows[-1]['peak_mb']:8.0f}", flush=True)
+    n = [r["elements"] for r in rows]
+    slopes = {}
+    for label, key in (("compiled", "compiled_ms"), ("Python", "python_ms")):
+        slope = slopes[label.lower()] = exponent(n, [r[key] for r in rows])
+        print(f"growth exponent per step, {label} (larger half of the sizes): {slope:.2f}")
+    return {"rows": rows, "growth_exponents": slopes}
+
+
+def main(argv=None):
+    """Parse the arguments (``--quick``), print the table and return its figures."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="small sizes, one repeat")
+    args = parser.parse_args(argv)
+    return table(**SETTINGS["quick" if args.quick else "full"])
 
 
 if __name__ == "__main__":

@@ -5,7 +5,6 @@ Run ``skfem-cable --help`` or ``skfem-cable COMMAND --help``.
 
 import argparse
 import shlex
-import subprocess
 import sys
 import textwrap
 from pathlib import Path
@@ -13,15 +12,13 @@ from pathlib import Path
 from .solvers.simulate import SimulationError
 from .solvers.static import StaticConvergenceError
 
-#: The benchmark scripts run by ``skfem-cable bench`` (a source checkout's ``benchmarks/``).
-BENCHMARKS = Path(__file__).resolve().parents[1] / "benchmarks"
-
 EPILOG = """examples:
   skfem-cable run pendulum --out runs/pendulum
   skfem-cable run demos/spinning_hub.toml --t-end 2 --out runs/hub --animate
   skfem-cable run pendulum --out runs/pendulum --t-end 5 --resume
   skfem-cable validate
   skfem-cable bench kernel_cost step_cost
+  skfem-cable bench --quick
 """
 
 
@@ -112,12 +109,21 @@ def build_parser():
     bench = sub.add_parser(
         "bench", help="run the benchmark scripts of benchmarks/",
         description=_wrap("Run the benchmark scripts (speed and speed-vs-error tables) of "
-        "a source checkout's benchmarks/ folder, one after the other, with this Python."))
+        "a source checkout's benchmarks/ folder, one after the other, with this Python. "
+        "Each table is printed as it is computed, with a header line per benchmark and "
+        "its wall time; each run writes a JSON record (machine, versions, git commit, "
+        "command, wall time, figures) named <UTC time>-NAME.json into --json DIR."))
     bench.add_argument("names", nargs="*", metavar="NAME",
-                       help="benchmarks to run, without .py (default: all; see --list)")
+                       help="benchmarks to run, without .py (default: all, or with --quick "
+                       "the quick set; see --list)")
     bench.add_argument("--list", action="store_true", help="list the benchmarks and exit")
+    bench.add_argument("--quick", action="store_true",
+                       help="small sizes and few repeats (passed to every script); without "
+                       "NAMEs the quick set, under a minute")
     bench.add_argument("--out", type=Path, metavar="DIR",
                        help="also save each benchmark's output as DIR/NAME.txt")
+    bench.add_argument("--json", type=Path, metavar="DIR", default=None,
+                       help="folder of the JSON records (default: benchmarks/results)")
     return parser
 
 
@@ -176,37 +182,17 @@ def cmd_validate(args):
     return 0 if all(r["passed"] for r in rows) else 1
 
 
-def benchmark_scripts():
-    """``{name: path}`` of the scripts in ``benchmarks/``."""
-    return {p.stem: p for p in sorted(BENCHMARKS.glob("*.py"))}
-
-
 def cmd_bench(args):
-    scripts = benchmark_scripts()
-    if not scripts:
-        raise FileNotFoundError(f"no benchmark scripts in {BENCHMARKS} (they are part of a "
-                                "source checkout)")
+    from . import bench
+
     if args.list:
-        for name, path in scripts.items():
-            print(f"{name:<24} {path}")
+        for name in bench.scripts():
+            reason = bench.NOT_QUICK.get(name)
+            print(f"{name:<24} " + ("quick set" if reason is None else
+                                    f"not in the quick set: {reason}"))
         return 0
-    unknown = [n for n in args.names if n not in scripts]
-    if unknown:
-        raise ValueError(f"unknown benchmark {unknown[0]!r}: use one of {', '.join(scripts)}")
-    if args.out is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
-    status = 0
-    for name in args.names or list(scripts):
-        print(f"== {name}", flush=True)
-        proc = subprocess.run([sys.executable, str(scripts[name])], stdout=subprocess.PIPE,
-                              text=True)
-        print(proc.stdout, end="", flush=True)
-        if args.out is not None:
-            (args.out / f"{name}.txt").write_text(proc.stdout)
-        if proc.returncode != 0:
-            print(f"benchmark {name} failed with exit code {proc.returncode}", file=sys.stderr)
-            status = 1
-    return status
+    return bench.run(args.names, quick=args.quick, out=args.out,
+                     json_dir=bench.RESULTS if args.json is None else args.json)
 
 
 COMMANDS = {"run": cmd_run, "validate": cmd_validate, "bench": cmd_bench}
