@@ -6,13 +6,13 @@ Run ``python benchmarks/cantilever_convergence.py [--quick]`` (``--quick``: 4 to
 elements).
 """
 
-import argparse
 import time
 
 import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.bench import arguments
 from skfem_cable.scenes import classics
 
 KS = (1, 2, 5, 10)
@@ -57,9 +57,7 @@ def table(ks=KS, elements=ELEMENTS["full"]):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print the table and return its rows."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="4 to 16 elements")
-    args = parser.parse_args(argv)
+    args = arguments(__doc__, "4 to 16 elements", argv)
     return table(elements=ELEMENTS["quick" if args.quick else "full"])
 
 

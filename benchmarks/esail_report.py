@@ -7,12 +7,12 @@ Run ``python benchmarks/esail_report.py [--quick]`` (``--quick``: one spin perio
 cases and 100 steps per speed case, a few minutes).
 """
 
-import argparse
 import time
 
 import numpy as np
 
 import skfem_cable as sc
+from skfem_cable.bench import arguments
 from skfem_cable.coulomb import SolarWind
 from skfem_cable.scenes import esail
 
@@ -156,10 +156,7 @@ def speed(steps=300):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print the tables and return their rows."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true",
-                        help="one spin period, fewer cases and steps")
-    quick = parser.parse_args(argv).quick
+    quick = arguments(__doc__, "one spin period, fewer cases and steps", argv).quick
     periods = 1.0 if quick else 3.0
     return {"baseline": baseline(periods),
             "convergence": convergence(periods, elements=(1, 3, 5) if quick else (1, 3, 5, 7, 9)),

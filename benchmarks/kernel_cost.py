@@ -5,12 +5,12 @@ about 1 (linear cost).  Run ``python benchmarks/kernel_cost.py [--quick]`` (``--
 100 to 10,000 elements).
 """
 
-import argparse
 import time
 
 import numpy as np
 
 import skfem_cable as sc
+from skfem_cable.bench import arguments
 from skfem_cable.linalg import PatternSolver
 
 SIZES = {"full": (10, 30, 100, 300, 1000, 3000, 10000), "quick": (100, 300, 1000, 3000, 10000)}
@@ -85,9 +85,7 @@ def table(sizes=SIZES["full"]):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print the table and return its figures."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="100 to 10,000 elements")
-    args = parser.parse_args(argv)
+    args = arguments(__doc__, "100 to 10,000 elements", argv)
     return table(SIZES["quick" if args.quick else "full"])
 
 

@@ -10,12 +10,12 @@ Run ``python benchmarks/pendulum_speed_error.py [--quick]`` (``--quick``: 4 and 
 elements, two steps, two tolerances, reference 16 elements and dt = 2.5e-4 s).
 """
 
-import argparse
 import time
 
 import numpy as np
 
 import skfem_cable as sc
+from skfem_cable.bench import arguments
 from skfem_cable.scenes import classics
 
 SETTINGS = {
@@ -66,9 +66,7 @@ def table(elements, steps, reference, tolerances):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print the tables and return their figures."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="a few small settings")
-    args = parser.parse_args(argv)
+    args = arguments(__doc__, "a few small settings", argv)
     return table(**SETTINGS["quick" if args.quick else "full"])
 
 

@@ -20,7 +20,6 @@ Solvers of ``M x = b`` compared:
 Dense solvers run up to ``DENSE_MAX`` (M takes 8 n^2 bytes; LU costs O(n^3)).
 """
 
-import argparse
 import time
 
 import numpy as np
@@ -28,6 +27,7 @@ import scipy.sparse as sp
 from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse.linalg import splu, spsolve
 
+from skfem_cable.bench import arguments
 from skfem_cable.rodchain import RodChain
 
 DENSE_MAX = 4000
@@ -173,9 +173,7 @@ def rk4_table(ns, work=4e6):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print both tables and return their figures."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="up to n = 10^4, fewer steps")
-    args = parser.parse_args(argv)
+    args = arguments(__doc__, "up to n = 10^4, fewer steps", argv)
     settings = SETTINGS["quick" if args.quick else "full"]
     return {"solve": solve_table(settings["solve"]),
             "rk4": rk4_table(settings["rk4"], settings["work"])}

@@ -10,7 +10,6 @@ Run ``python benchmarks/step_cost.py [--quick]`` (``--quick``: 10 to 3000 elemen
 steps, one repeat).
 """
 
-import argparse
 import resource
 import sys
 import time
@@ -18,6 +17,7 @@ import time
 import numpy as np
 
 import skfem_cable as sc
+from skfem_cable.bench import arguments
 from skfem_cable.scenes import classics
 
 SETTINGS = {"full": {"sizes": (10, 30, 100, 300, 1000, 3000, 10000), "steps": 20, "repeats": 3},
@@ -82,9 +82,7 @@ def table(sizes, steps=20, repeats=3):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print the table and return its figures."""
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="small sizes, one repeat")
-    args = parser.parse_args(argv)
+    args = arguments(__doc__, "small sizes, one repeat", argv)
     return table(**SETTINGS["quick" if args.quick else "full"])
 
 

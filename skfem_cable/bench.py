@@ -9,6 +9,7 @@ machine, Python and package versions, git commit, command, wall time and the fig
 rows), so that results can be compared over time.
 """
 
+import argparse
 import importlib.util
 import json
 import os
@@ -265,3 +266,12 @@ def _child(argv):
 
 if __name__ == "__main__":
     sys.exit(_child(sys.argv[1:]))
+
+
+def arguments(doc, quick_help, argv=None):
+    """The command line of a benchmark script whose only option is ``--quick``
+    (described by ``quick_help``); ``doc`` is the script's docstring.  Returns the parsed
+    arguments."""
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help=quick_help)
+    return parser.parse_args(argv)
