@@ -57,8 +57,10 @@ from numba import njit
 #: another kind of stored energy adds it to ``AXIAL``.
 AXIAL, BENDING = 0, 1
 
-_NO_DATA = np.zeros(0)
-_NO_INDEX = np.zeros(0, dtype=np.int64)
+#: What compiled hooks receive for "no matrix values" (no tangent wanted) and for "no
+#: tangent entries": empty arrays of the right types.
+NO_DATA = np.zeros(0)
+NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
 @njit(cache=True)
@@ -129,7 +131,7 @@ class Evaluation:
         ``s = [t, cK, cC, dynamic]`` (float64) and ``data`` of size 0 when no tangent is
         wanted; the arrays are this evaluation's own (kernels add into them)."""
         s = np.array([self.t, self.cK, self.cC, float(self.dynamic)])
-        data = _NO_DATA if self.data is None else self.data
+        data = NO_DATA if self.data is None else self.data
         return (self.q, self.v, s, self.f, self.f_ext, self.f_damping, data, self.energy,
                 self.power)
 
@@ -209,7 +211,7 @@ class Term:
         if self.prepare is not None:
             self.prepare(ev.t)
         packed = ev.packed()
-        index = _NO_INDEX if index is None else index
+        index = NO_INDEX if index is None else index
         for function, pack in self.kernels:
             function(pack, index, packed)
 

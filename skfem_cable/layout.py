@@ -5,11 +5,8 @@ loads), all computed once when the system's layout is first needed."""
 import numpy as np
 import scipy.sparse as sp
 
-from .contract import merge_terms
+from .contract import NO_DATA, NO_INDEX, merge_terms
 from .linalg import FastCSR
-
-_NO_DATA = np.zeros(0)
-_NO_INDEX = np.zeros(0, dtype=np.int64)
 
 
 class Pattern:
@@ -96,7 +93,7 @@ class Layout:
         #: ``(dofs, rows, jac, jacT, hess)`` of each constraint: the ``index`` of a
         #: compiled constraint hook (``Constraint.kernel``, see ``contract``)
         self.cindex = [tuple(np.ascontiguousarray(a, dtype=np.int64) for a in (
-            d, r, j, jt, _NO_INDEX if h is None else h)) for d, r, j, jt, h in zip(
+            d, r, j, jt, NO_INDEX if h is None else h)) for d, r, j, jt, h in zip(
             self.cdofs, self.crows, self.jac_index, self.jacT_index, self.hess_index)]
         self._mass(M)
         self.border = self._border(system)
@@ -203,7 +200,7 @@ class Layout:
             r_c[self.lin_rows] = scale * (self.C_lin @ q - self.linear_offsets(t))
             f_con += self.C_lin_T @ lam[self.lin_rows]
         packed = (q, lam, np.array([t, cK, scale]), r_c, f_con,
-                  _NO_DATA if data is None else data)
+                  NO_DATA if data is None else data)
         for k in self.nonlinear:
             c, d, rows = constraints[k], self.cdofs[k], self.crows[k]
             kernel = getattr(c, "kernel", None)

@@ -23,6 +23,7 @@ import inspect
 import numba
 import numpy as np
 
+from ..contract import NO_INDEX
 from ..kernels import generated
 from ..kernels import step as template
 
@@ -112,7 +113,7 @@ class CompiledNewton:
         lay, n, N = g.lay, g.n, g.lay.N
         functions, packs, indices = [], [], []
         for term, index in lay.body_terms + lay.load_terms:
-            index = np.zeros(0, dtype=np.int64) if index is None else index
+            index = NO_INDEX if index is None else index
             for function, pack in term.kernels:
                 functions.append(function)
                 packs.append(pack)
