@@ -302,9 +302,13 @@ class GeneralizedAlpha:
         with ``abar_n = a(t_n + (alpha_m - alpha_f) h) + O(h^2)`` and ``abar_(n+1) -
         abar_n = h dddq + O(h^2)`` (Newmark's estimate of Zienkiewicz & Xie 1991, for the
         pseudo-accelerations of Arnold & Bruls 2007)."""
+        return self.error_constant * h * h * (self._next_abar(a1) - self.abar)
+
+    def _next_abar(self, a1):
+        """The pseudo-acceleration at the end of a step ending with acceleration ``a1``:
+        ``(1 - alpha_m) abar_(n+1) = (1 - alpha_f) a_(n+1) + alpha_f a_n - alpha_m abar_n``."""
         am, af = self.alpha_m, self.alpha_f
-        abar1 = ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
-        return self.error_constant * h * h * (abar1 - self.abar)
+        return ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
 
     def _try_step(self, h, fresh):
         # the factored matrix fits while the step is the same up to round-off (the macro
@@ -327,8 +331,7 @@ class GeneralizedAlpha:
                                 "lam": arrays["flam"].copy(), "h": h}
         if status == codes.SINGULAR:
             self.h_factored = None
-            return False, (f"t={t1:.6g}, h={h:.3g}: singular iteration matrix at "
-                           f"{self.system.describe_dof(singular)}")
+            return False, self._singular(t1, h, singular)
         if status != codes.CONVERGED:
             what = "non-finite residual" if status == codes.NON_FINITE else "no convergence"
             return False, self._diagnose(t1, h, list(arrays["history"][:it + 1]),
@@ -388,9 +391,7 @@ class GeneralizedAlpha:
                     self._factor(q1, v1, t1, lam1, h, data)
                 except SingularMatrixError as exc:
                     self.h_factored = None
-                    where = system.describe_dof(exc.index) if exc.index >= 0 else \
-                        "an unknown not located (system too large)"
-                    return False, f"t={t1:.6g}, h={h:.3g}: singular iteration matrix at {where}"
+                    return False, self._singular(t1, h, exc.index)
                 need = self.newton == "full"
             dx = self.solver.solve(-r)
             dq = dx[:n]
@@ -407,7 +408,6 @@ class GeneralizedAlpha:
     def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations):
         """Book the energies of a converged step, apply the instability guard and, if it
         passes, make the step's end the current state."""
-        am, af = self.alpha_m, self.alpha_f
         if self.rtol is not None:
             scale = self.atol_q + self.rtol * np.maximum(np.abs(self.q), np.abs(q1))
             self.error_ratio = float(np.max(np.abs(self.local_error(h, q1, a1)) / scale))
@@ -421,14 +421,20 @@ class GeneralizedAlpha:
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
         self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
-        # (1 - am) abar1_new = (1 - af) a1 + af a_n - am abar_n
-        self.abar = ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
+        self.abar = self._next_abar(a1)
         self.a = a1
         self.iterations = iterations
         self.__dict__.update(books)
         self.guard.accept(t1, energies)
         self.stats["steps"] += 1
         return True, "converged"
+
+    def _singular(self, t, h, index):
+        """The message of a singular iteration matrix, naming the unknown ``index``
+        (-1: not located)."""
+        where = self.system.describe_dof(index) if index >= 0 else \
+            "an unknown not located (system too large)"
+        return f"t={t:.6g}, h={h:.3g}: singular iteration matrix at {where}"
 
     def _diagnose_growth(self, t, h, v1, reason):
         """Where a rejected step put its energy: the body whose kinetic energy grew most,
