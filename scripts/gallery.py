@@ -138,6 +138,58 @@ ENTRIES = (
           "`numpy.allclose`", "tests/test_cli.py::test_toml_scene_run_directory",
           "The two tethers and their remote units seen along the spin axis, every 0.5 s "
           "of the 5 s run."),
+    Entry("mooring_current.py",
+          "upstream end tension after 30 s of the transient against the static solve, 8 "
+          "elements",
+          "relative 1e-4", "tests/test_drag.py::test_demo_transient_settles_on_the_static_shape",
+          "A 1 m/s current switched on: shapes every 2 s and the end tensions against the "
+          "equilibrium equations."),
+    Entry("mooring_line.toml",
+          "end tensions and sag against `demos/mooring_current.py`, 20 elements",
+          "relative 1e-6", "tests/test_drag.py::test_scene_file_mooring_line",
+          "The 100 m line built straight and settled in the current."),
+    Entry("esail_steady.py",
+          "mean coning angle of a run started from the steady state against the steady "
+          "angle, and its largest deviation (integrator noise), 3 elements, one period",
+          "relative 1e-5", "tests/test_steady.py::test_esail_steady_demo",
+          "Coning angle over two spin periods from the steady state and from the usual "
+          "start (the sail at rest in the stress-free configuration)."),
+    Entry("slack_catenary.py",
+          "largest position error of the catenary found from the straight 12 m start, "
+          "against the elastic catenary, 16 elements",
+          "< 1e-5 of the span", "tests/test_slack_statics.py::test_demo_slack_catenary",
+          "The cable hung between points 10 m apart, and the convergence of its errors."),
+    Entry("spinning_hub_steady.toml",
+          "tether tension against the rotating string anchored at the hub rim, and the tip "
+          "radius during a run started from the steady state",
+          "relative 1e-6 and 1e-7",
+          "tests/test_steady.py::test_spinning_hub_scene_starts_steady",
+          "Tip radius over 0.2 s from the steady state and from the stress-free start."),
+    Entry("spinning_tether_steady.toml",
+          "root tension in `summary.json` against the rotating extensible string",
+          "relative 1e-6",
+          "tests/test_steady.py::test_steady_analysis_scene_on_the_command_line",
+          "Axial force along the spinning tether: `analysis = \"steady\"` and the "
+          "rotating string."),
+    Entry("tether_lowering.toml",
+          "depth of the end mass after the tether is lowered from 10 m to 30 m",
+          "30 m, relative 1e-3", "tests/test_deploy.py::test_scene_file_lowers_a_tether",
+          "Depth of the end mass and tension below the reel against the weight hanging "
+          "from it (started stress-free: the end mass bounces on the tether first)."),
+    Entry("tether_retrieval.py",
+          "growth of the swing amplitude while the reel pulls the tether in from 10 m to 5 m "
+          "in 30 s, against the variable-length pendulum",
+          "relative 2e-3",
+          "tests/test_deploy.py::test_retrieval_demo_follows_the_variable_length_pendulum",
+          "Swing angle while retrieving from 10 m to 2.5 m: the cable model on the "
+          "pendulum's curve."),
+    Entry("hub_deployment.py",
+          "largest drift of the angular momentum about the spin axis, four tethers deployed "
+          "from 10 m to 20 m in 20 s",
+          "< 1e-3",
+          "tests/test_deploy.py::test_hub_deployment_demo_conserves_angular_momentum",
+          "Spin rate of the hub and rotation rate of the fan of tethers while they are "
+          "deployed from 10 m to 50 m (the animation is on the deployment page)."),
     Entry("falling_chain.toml",
           "total energy at `t = 0` (the paper's Sect. 5.2)",
           "-62.87 J +- 0.01 J",
@@ -250,13 +302,23 @@ def _figure(ncols=1, width=7.0, height=3.0):
     return fig, axes
 
 
+def _path(name):
+    path = ROOT / "docs" / FIGURES / f"{name}.png"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return path
+
+
 def _save(fig, name):
     import matplotlib.pyplot as plt
 
-    path = ROOT / "docs" / FIGURES / f"{name}.png"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    fig.savefig(_path(name), dpi=90, bbox_inches="tight", pad_inches=0.05)
     plt.close(fig)
+    _written(name)
+
+
+def _written(name):
+    """Report the size of the picture ``name``; refuse one that is too large."""
+    path = _path(name)
     size = path.stat().st_size
     print(f"{path.relative_to(ROOT)}: {size / 1e3:.0f} kB")
     if size > MAX_BYTES:
@@ -552,6 +614,160 @@ def draw_falling_chain():
     b.legend(fontsize=8)
     b.set_title(f"energies; total at t = 0: {E['total'][0]:.2f} J", fontsize=10)
     _save(fig, "falling_chain")
+
+
+
+def draw_esail_steady():
+    _load_demo("esail_steady").main(figure=_path("esail_steady"))
+    _written("esail_steady")
+
+
+def draw_slack_catenary():
+    _load_demo("slack_catenary").main(figure=_path("slack_catenary"))
+    _written("slack_catenary")
+
+
+def draw_spinning_hub_steady():
+    import numpy as np
+
+    import skfem_cable as sc
+    from skfem_cable import scene_file
+
+    path = DEMOS / "spinning_hub_steady.toml"
+    spec = scene_file.load(path)
+    omega = tomllib.loads(path.read_text())["initial"]["angular_velocity"]
+    fig, ax = _figure(width=6.0, height=3.0)
+    rest = sc.State(spec.system, spec.system.q0,
+                    v=spec.system.rigid_motion_velocity(spec.system.q0, omega))
+    for label, initial in (("steady state", spec.initial), ("stress-free start", rest)):
+        r = sc.simulate(spec.system, t_end=1.0, dt=5e-3, rho_inf=0.8, initial=initial)
+        cable = spec.system.cables()[0]
+        radius = np.linalg.norm(r.position(cable, cable.length)[:, 1:], axis=1)
+        ax.plot(r.t, radius, label=label)
+    ax.set(xlabel="t [s]", ylabel="tip radius [m]")
+    ax.legend(fontsize=8)
+    _save(fig, "spinning_hub_steady")
+
+
+def draw_spinning_tether_steady():
+    import numpy as np
+
+    from skfem_cable import scene_file
+    from skfem_cable.analytic import rotating_string
+    from skfem_cable.solvers.steady import solve_steady
+
+    spec = scene_file.load(DEMOS / "spinning_tether_steady.toml")
+    state = solve_steady(spec.system, **spec.solver)
+    cable = spec.system.cables()[0]
+    s = np.linspace(0.0, cable.length, 101)
+    omega = np.linalg.norm(spec.solver["omega"])
+    mass = spec.system.point_masses[0].mass
+    _, T = rotating_string(s, cable.length, cable.section.EA, cable.section.mass_per_length,
+                           mass, omega)
+    fig, ax = _figure(width=6.0, height=3.0)
+    ax.plot(s, T, color="0.6", lw=3, label="rotating extensible string")
+    ax.plot(s, state.tension(cable, s), "C0", lw=1, label="solve_steady")
+    ax.set(xlabel="s [m]", ylabel="axial force [N]")
+    ax.legend(fontsize=8)
+    _save(fig, "spinning_tether_steady")
+
+
+def draw_tether_lowering():
+    import skfem_cable as sc
+    from skfem_cable import scene_file
+
+    spec = scene_file.load(DEMOS / "tether_lowering.toml")
+    r = sc.simulate(spec.system, initial=spec.initial, **spec.solver)
+    cable = spec.system.bodies[0]
+    mu = cable.section.mass_per_length
+    ell = [spec.system.deployment(cable).state(t)[0] for t in r.t]
+    weight = [(mu * x + spec.system.point_masses[0].mass) * 9.81 for x in ell]
+    fig, (ax, bx) = _figure(ncols=2, width=8.0, height=3.0)
+    ax.plot(r.t, -r.position(cable, cable.length)[:, 1], label="end mass")
+    ax.plot(r.t, ell, "k:", lw=1, label="free length")
+    ax.set(xlabel="t [s]", ylabel="depth [m]")
+    ax.legend(fontsize=8)
+    bx.plot(r.t, r.tension(cable, 0.0), label="tension below the reel")
+    bx.plot(r.t, weight, "k:", lw=1, label="weight hanging from it")
+    bx.set(xlabel="t [s]", ylabel="force [N]")
+    bx.legend(fontsize=8)
+    _save(fig, "tether_lowering")
+
+
+def draw_mooring_current():
+    import numpy as np
+
+    demo = _load_demo("mooring_current")
+    result, cable = demo.switched_on(20, 40.0, 0.05, every=10)
+    s = np.linspace(0.0, cable.length, 201)
+    fig, (ax, bx) = _figure(ncols=2, width=8.0, height=3.0)
+    for i, t in enumerate(result.t):
+        if i % 4 == 0:
+            r = result.state(i).position(cable, s)
+            ax.plot(r[:, 0], r[:, 2], "-", color=str(0.8 - 0.8 * t / result.t[-1]), lw=0.8)
+    reference, solution = demo.equilibrium()
+    y = solution.sol(s)
+    ax.plot(y[0], y[2], "C3--", lw=1, label="solve_bvp, settled")
+    ax.set(xlabel="x [m]", ylabel="z [m]", aspect="equal", ylim=(-30, 2))
+    ax.legend(fontsize=8, loc="upper center")
+    ends = [demo.numbers(result.state(i), cable) for i in range(len(result.t))]
+    bx.plot(result.t, [m["tension_a"] for m in ends], label="upstream")
+    bx.plot(result.t, [m["tension_b"] for m in ends], label="downstream")
+    for key in ("tension_a", "tension_b"):
+        bx.axhline(reference[key], color="k", lw=0.6, ls=":")
+    bx.set(xlabel="t [s]", ylabel="end tension [N]")
+    bx.legend(fontsize=8)
+    ax.set_title("1 m/s current switched on: shapes every 2 s", fontsize=10)
+    bx.set_title("dotted: equilibrium equations", fontsize=10)
+    _save(fig, "mooring_current")
+
+
+def draw_mooring_line():
+    import numpy as np
+
+    import skfem_cable as sc
+    from skfem_cable import scene_file
+
+    spec = scene_file.load(DEMOS / "mooring_line.toml")
+    state = sc.solve_static(spec.system)
+    cable = spec.system.bodies[0]
+    r = state.position(cable, np.linspace(0.0, cable.length, 201))
+    fig, ax = _figure(width=5.0, height=2.8)
+    ax.plot([0, cable.length], [0, 0], "C7:", label="built straight (100 m)")
+    ax.plot(r[:, 0], r[:, 2], "C0-", label="settled in the current")
+    ax.annotate("1 m/s", xy=(70, -8), xytext=(52, -8), arrowprops={"arrowstyle": "->"},
+                va="center", fontsize=8)
+    ax.set(xlabel="x [m]", ylabel="z [m]", aspect="equal")
+    ax.legend(fontsize=8, loc="lower left")
+    _save(fig, "mooring_line")
+
+
+def draw_tether_retrieval():
+    import numpy as np
+
+    out = _load_demo("tether_retrieval").main()
+    fig, ax = _figure(width=7.5, height=3.0)
+    ax.plot(out["t"], np.degrees(out["reference_angle"]), color="0.6", lw=3,
+            label="variable-length pendulum")
+    ax.plot(out["t"], np.degrees(out["angle"]), color="C0", lw=1, label="cable model")
+    ax.set(xlabel="t [s]", ylabel="swing angle [deg]")
+    ax.set_title(f"Retrieval 10 m -> 2.5 m: the swing grows {out['growth']:.4f}x "
+                 f"(pendulum {out['reference']:.4f}x)", fontsize=10)
+    ax.legend(fontsize=8, loc="upper left")
+    _save(fig, "tether_retrieval")
+
+
+def draw_hub_deployment():
+    out = _load_demo("hub_deployment").main()
+    fig, ax = _figure(width=6.5, height=3.0)
+    ax.plot(out["t"], out["hub_rate"], label="hub")
+    ax.plot(out["t"], out["fan_rate"], label="fan of tethers (end masses)")
+    ax.axvline(60.0, color="k", lw=0.6, ls=":")
+    ax.set(xlabel="t [s]", ylabel="rotation rate [rad/s]")
+    ax.set_title(f"Deployment 10 m -> 50 m in 60 s; angular momentum drift "
+                 f"{out['momentum_drift']:.1e}", fontsize=10)
+    ax.legend(fontsize=8)
+    _save(fig, "hub_deployment")
 
 
 DRAW = {e.name: globals()[f"draw_{e.name}"] for e in ENTRIES}

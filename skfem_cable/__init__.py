@@ -5,12 +5,15 @@ Public API (``__all__``, documented on the API page of the docs):
 * model: ``Section``, ``Cable`` (and its ``Node``, ``ElementLineCableHermite``),
   ``RigidBody``, ``System``;
 * loads: ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``, ``Centrifugal``,
-  ``PointMass`` (module ``loads``), the solar wind ``SolarWind``, ``SolarWindForce``;
-  constraints: ``System.clamp``, ``System.pin`` (module ``constraints``);
+  ``PointMass`` (module ``loads``), the solar wind ``SolarWind``, ``SolarWindForce``, drag
+  in water and in a rarefied atmosphere ``MorisonDrag``, ``Buoyancy``, ``CurrentProfile``,
+  ``FreeMolecularDrag`` (module ``drag``); constraints: ``System.clamp``, ``System.pin``
+  (module ``constraints``); deploying and retrieving cables: ``System.deploy`` (module
+  ``deploy``);
 * element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
   forms ``forms``;
-* solvers: ``solve_static`` (``StaticConvergenceError``), ``modes``, ``simulate``
-  (``SimulationError``); results: ``State``, ``Result``;
+* solvers: ``solve_static`` (``StaticConvergenceError``), ``solve_steady``, ``modes``,
+  ``simulate`` (``SimulationError``); results: ``State``, ``Result``;
 * the evaluation contract: ``Evaluation``, ``Term``, ``Observer`` (hooks into
   ``simulate``), and the I/O layer ``io`` (observers: run store, ParaView series,
   progress bar); ``export`` (ParaView files) and ``plot``;
@@ -45,6 +48,7 @@ from . import plot as plot  # renders and figures
 from .cable import Cable, Node
 from .contract import Evaluation, Observer, Term
 from .coulomb import SolarWind, SolarWindForce
+from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from .element import ElementLineCableHermite
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
@@ -56,16 +60,21 @@ from .section import Section
 from .solvers.modal import modes
 from .solvers.simulate import SimulationError, simulate
 from .solvers.static import StaticConvergenceError, solve_static
+from .solvers.steady import solve_steady
 from .state import State
 from .system import System
 
 __all__ = [
+    "Buoyancy",
     "Cable",
     "CableLaw",
     "Centrifugal",
+    "CurrentProfile",
     "Evaluation",
+    "FreeMolecularDrag",
     "Gravity",
     "LineLoad",
+    "MorisonDrag",
     "Observer",
     "PointLoad",
     "PointMass",
@@ -93,4 +102,5 @@ __all__ = [
     "modes",
     "simulate",
     "solve_static",
+    "solve_steady",
 ]

@@ -102,3 +102,157 @@ def string_frequency(length, tension, mass_per_length, EI=0.0, n=1):
     k = n * np.pi / length
     return float(n / (2 * length) * np.sqrt(tension / mass_per_length)
                  * np.sqrt(1 + EI * k * k / tension))
+
+
+def green_stretch(T, EA):
+    """Stretch ``lambda - 1`` of the Green-strain law at the true axial force ``T`` (N):
+    the energy ``EA eps^2 / 2`` per reference length, ``eps = (lambda^2 - 1) / 2``, carries
+    ``T = dW/dlambda = EA lambda (lambda^2 - 1) / 2`` (``Cable.tension`` of the built-in
+    laws), i.e. ``e (1 + e) (2 + e) = 2 T / EA`` for ``e = lambda - 1``, solved by Newton's
+    method in ``e`` (no cancellation in ``lambda - 1``).
+
+    Examples
+    --------
+    >>> from skfem_cable.analytic import green_stretch
+    >>> e = green_stretch(1e3, 1e6)
+    >>> round(float(1e6 * (1 + e) * ((1 + e) ** 2 - 1) / 2), 9)
+    1000.0
+    """
+    tau = np.asarray(T, dtype=float) / EA
+    if np.any(tau < 0) or not np.all(np.isfinite(tau)):
+        raise ValueError("T must be finite and >= 0 (a tension)")
+    e = tau / (1.0 + 1.5 * tau)
+    for _ in range(60):
+        de = (e * (1 + e) * (2 + e) - 2 * tau) / (3 * e * e + 6 * e + 2)
+        e = e - de
+        if np.all(np.abs(de) <= 1e-16 * np.maximum(np.abs(e), 1e-300)):
+            break
+    return e
+
+
+def rotating_string(s, length, EA, mass_per_length, tip_mass, omega, hub_radius=0.0):
+    """Steady radial state of an extensible string (Green-strain law, no bending) spinning
+    at ``omega`` (rad/s) about an axis, its root at ``hub_radius`` (m) from the axis and a
+    point mass ``tip_mass`` (kg) at its tip.
+
+    With ``s`` the reference arc length, the radius ``r(s)`` and the axial force ``T(s)``
+    solve the two-point problem
+
+        r' = 1 + e(T),   T' = -mu omega^2 r,   r(0) = hub_radius,   T(L) = m omega^2 r(L)
+
+    (``e = green_stretch``): each element of length ``ds`` carries the centrifugal force
+    ``mu omega^2 r ds``.  It is solved by shooting on ``T(0)`` (``brentq`` to 1e-15 relative)
+    with ``solve_ivp`` (DOP853, relative tolerance 1e-13): a reference independent of the
+    finite elements, accurate to about 1e-11.
+
+    Returns
+    -------
+    r, T : ndarray
+        Radius (m) and axial force (N) at ``s``.
+
+    Examples
+    --------
+    A light stiff string: ``T(0) ~ m omega^2 L + mu omega^2 L^2 / 2 = 20 N + 0.8 N``:
+
+    >>> from skfem_cable.analytic import rotating_string
+    >>> r, T = rotating_string([0.0, 10.0], 10.0, 1e9, 4e-3, 0.5, 2.0)
+    >>> [round(float(x), 4) for x in T]
+    [20.8, 20.0]
+    """
+    s = np.asarray(s, dtype=float)
+    if np.any(s < 0) or np.any(s > length):
+        raise ValueError(f"s must lie in [0, length = {length}]")
+    w2 = omega * omega
+
+    def shoot(T0, dense=False):
+        def rhs(x, y):
+            return [1.0 + green_stretch(max(y[1], 0.0), EA), -mass_per_length * w2 * y[0]]
+
+        sol = solve_ivp(rhs, (0.0, length), [hub_radius, T0], method="DOP853", rtol=1e-13,
+                        atol=1e-14 * max(length, T0), dense_output=dense)
+        return sol if dense else sol.y[1, -1] - tip_mass * w2 * sol.y[0, -1]
+
+    rigid = tip_mass * w2 * (hub_radius + length) + mass_per_length * w2 * (
+        hub_radius * length + length**2 / 2)
+    T0 = brentq(shoot, 0.5 * rigid, 2.0 * rigid + 1e-300, xtol=1e-15 * rigid, rtol=1e-15)
+    r, T = shoot(T0, dense=True).sol(s)
+    return r, T
+
+
+def elastic_catenary(s, span, height, length, w, EA):
+    """Elastic catenary of the Green-strain law (no bending) hanging between ``(0, 0)``
+    and ``(span, height)`` (m, ``x`` horizontal, ``z`` up) under the weight ``w`` (N per
+    metre of unstretched length ``length``).
+
+    With ``H`` the horizontal force and ``V_A`` the upward support force at the left end,
+    the force in the cable at unstretched arc length ``s`` is ``(H, w s - V_A)``, of
+    magnitude ``T``, and its tangent is parallel to it:
+
+        x(s) = int_0^s (1 + e) H / T ds,   z(s) = int_0^s (1 + e) (w s - V_A) / T ds
+
+    (Irvine, *Cable Structures*, 1981, Sect. 2.2, with the stretch ``e = green_stretch(T)``
+    of this law instead of Hooke's ``T / EA``).  The inextensible part is Irvine's closed
+    form in ``asinh``; the elastic part is integrated by 64-point Gauss-Legendre quadrature
+    (the integrand is analytic: round-off accuracy).  ``H`` and ``V_A`` solve the closure
+    ``x(L) = span, z(L) = height`` by Newton's method with a finite-difference Jacobian,
+    to a residual below 1e-14 of the span.
+
+    Returns
+    -------
+    xz : ndarray (len(s), 2)
+        Positions (m).
+    T : ndarray (len(s),)
+        Axial force (N).
+    H, VA : float
+        Horizontal force and upward support force at the left end (N).
+
+    Examples
+    --------
+    A 12 m cable hung between points 10 m apart: the two support forces carry its weight
+    ``w L = 12 N`` by symmetry:
+
+    >>> from skfem_cable.analytic import elastic_catenary
+    >>> xz, T, H, VA = elastic_catenary([0.0, 6.0, 12.0], 10.0, 0.0, 12.0, 1.0, 1e6)
+    >>> round(VA, 9), round(float(xz[1, 0]), 9)
+    (6.0, 5.0)
+    """
+    chord = np.hypot(span, height)
+    if not length > chord:
+        raise ValueError(f"length must exceed the chord {chord} m (a slack cable), got "
+                         f"{length!r}")
+    s = np.atleast_1d(np.asarray(s, dtype=float))
+    gx, gw = np.polynomial.legendre.leggauss(64)
+
+    def shape(s, H, VA):
+        V = w * s - VA
+        x = H / w * (np.arcsinh(V / H) + np.arcsinh(VA / H))
+        z = (np.hypot(H, V) - np.hypot(H, VA)) / w
+        sg = 0.5 * s[:, None] * (gx + 1.0)
+        wg = 0.5 * s[:, None] * gw
+        Vg = w * sg - VA
+        Tg = np.hypot(H, Vg)
+        e = green_stretch(Tg, EA)
+        return np.column_stack([x + np.sum(wg * e * H / Tg, axis=1),
+                                z + np.sum(wg * e * Vg / Tg, axis=1)])
+
+    W = w * length
+    sag = np.sqrt(3.0 * span * (length - chord) / 8.0)
+    u = np.array([span / (8.0 * sag), 0.5 + height / (2.0 * length)])  # H/W, VA/W
+    target = np.array([span, height])
+
+    def closure(u):
+        return (shape(np.array([length]), u[0] * W, u[1] * W)[0] - target) / span
+
+    for _ in range(100):
+        f = closure(u)
+        if np.max(np.abs(f)) < 1e-14:
+            break
+        J = np.column_stack([(closure(u + d) - f) / d[k] for k, d in
+                             enumerate(np.diag(1e-7 * np.maximum(np.abs(u), 1e-3)))])
+        du = np.linalg.solve(J, -f)
+        u = u + du * min(1.0, 0.5 * u[0] / max(abs(du[0]), 1e-300))  # keep H > 0
+    else:
+        raise RuntimeError(f"catenary closure did not converge: residual {closure(u)}")
+    H, VA = u * W
+    return shape(s, H, VA), np.hypot(H, w * s - VA), float(H), float(VA)
+

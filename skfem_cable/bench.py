@@ -42,6 +42,7 @@ NOT_QUICK = {
     "esail_report": "about 2 minutes quick: E-sail runs over a spin period",
     "laws": "about 3 minutes quick: a git worktree, fresh processes with cold caches",
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",
+    "mooring_moordyn": "a peer code (optional extra), transient runs of both codes",
     "peers": "about 25 s quick: peer codes (optional extra), reference runs",
 }
 

@@ -10,13 +10,14 @@ Examples
 """
 
 import os
+from dataclasses import replace
 
 import numpy as np
 from skfem import Basis, BilinearForm, ElementVector, LinearForm, MeshLine, asm
 from skfem.helpers import dot
 from skfem.quadrature import get_quadrature
 
-from .contract import Term
+from .contract import NO_DATA, NO_INDEX, Term
 from .element import ElementLineCableHermite, hermite
 from .laws import BUILTIN, SLOPE_FLOOR, CableLaw
 from .section import Section
@@ -69,6 +70,57 @@ def merge_cable_terms(terms):
     return Term(kernels=tuple(kernels), rows=edofs[:, :, None], cols=edofs[:, None, :],
                 key=terms[0].key, merge=merge_cable_terms,
                 name=" + ".join(t.name for t in terms))
+
+
+#: No tangent entries, as the cable kernels take them (int, 3-D).
+NO_ELEMENT_INDEX = NO_INDEX.reshape(0, 12, 12)
+
+
+class _Stretched:
+    """The hooks of a deploying cable's term (``deploy``): its tables ``(Sx, Sxx, weights,
+    h)`` rescaled to the material arc length of the mesh stretched by ``lam = l(t) / L0``
+    (``Sx / lam``, ``Sxx / lam^2``, ``lam weights``, ``lam h``), and the explicit time
+    derivative of its elastic energy."""
+
+    def __init__(self, deployment, term, passes):
+        self.deployment = deployment
+        self.built = [tuple(np.array(t) for t in tables) for _, tables, _, _ in passes]
+        self.kernels = term.kernels
+
+    def scaled(self, lam, out=None):
+        """The tables of every pass for the stretch ``lam`` (into ``out`` if given)."""
+        out = out or [tuple(np.empty_like(t) for t in tables) for tables in self.built]
+        for (Sx0, Sxx0, w0, h0), (Sx, Sxx, w, h) in zip(self.built, out):
+            np.divide(Sx0, lam, out=Sx)
+            np.divide(Sxx0, lam * lam, out=Sxx)
+            np.multiply(w0, lam, out=w)
+            np.multiply(h0, lam, out=h)
+        return out
+
+    def prepare(self, t):
+        """``Term.prepare``: the term's own tables at time ``t``."""
+        self.scaled(self.deployment.stretch(t), [pack[1:5] for _, pack in self.kernels])
+
+    def energy(self, q, lam):
+        """The elastic energy of the coordinates ``q`` (all the system's) on the mesh
+        stretched by ``lam``, by the law's kernels."""
+        energy = np.zeros(2)
+        zeros = np.zeros_like(q)
+        ev = (q, zeros, np.zeros(4), zeros.copy(), zeros.copy(), zeros.copy(), NO_DATA,
+              energy, np.zeros(2))
+        for (function, pack), tables in zip(self.kernels, self.scaled(lam)):
+            function((pack[0], *tables, *pack[5:]), NO_ELEMENT_INDEX, ev)
+        return energy.sum()
+
+    def energy_rate(self, q, t):
+        """``Term.energy_rate``: ``dU/dt = (l' / L0) dU/dlam`` at fixed coordinates, the
+        power the reel takes from the stored energy (``dU/dlam`` by central differences
+        of relative step 1e-6)."""
+        ell, rate, _ = self.deployment.state(t)
+        lam = ell / self.deployment.L0
+        d = 1e-6 * lam
+        return rate / self.deployment.L0 * (self.energy(q, lam + d)
+                                            - self.energy(q, lam - d)) / (2 * d)
 
 
 class Node:
@@ -414,15 +466,23 @@ class Cable:
             pieces = [(law.part(0), self.axial_tables), (law.part(1), self.bending_tables)]
         else:
             pieces = [(law, full)]
+        deployment = system.deployment(self)
         passes, key = [], []
         for piece, tables in pieces:
             if piece.vanishes:
                 continue
             damped = piece.damped and piece.dissipates(values)
+            if deployment is not None:  # the term's own tables, rescaled in time
+                tables = tuple(np.array(t) for t in tables)
             passes.append((piece.compiled(), tables, values, damped))
             key.append((piece.key, damped, tables[0].shape[1]))
-        return cable_term(self.global_element_dofs(system), passes,
+        term = cable_term(self.global_element_dofs(system), passes,
                           ("ancf-cable", values, *key), self.name)
+        if deployment is None:
+            return term
+        stretched = _Stretched(deployment, term, passes)
+        return replace(term, key=None, prepare=stretched.prepare,
+                       energy_rate=stretched.energy_rate)
 
     def assemble(self, q, v=None, cK=1.0, cC=0.0):
         """Internal force ``f = dU/dq + dD/dv`` and tangent ``cK df/dq + cC df/dv`` (sparse,
@@ -453,12 +513,17 @@ class Cable:
         """
         return self._fields(q, *self.locate(s))
 
-    def _fields(self, q, e, xi):
-        """``r``, ``r_x``, ``r_xx`` in elements ``e`` at reference coordinates ``xi``."""
+    def _fields(self, q, e, xi, stretch=1.0):
+        """``r``, ``r_s``, ``r_ss`` in elements ``e`` at reference coordinates ``xi``:
+        derivatives in the material arc length ``s = stretch x`` of a mesh stretched by
+        ``stretch`` (scalar, or one value per leading index of ``q``; 1 unless the cable
+        is deploying, see ``deploy``)."""
         S = hermite(xi, self.h[e])
         q = np.asarray(q)
         qe = q[..., self.element_dofs[e]].reshape(q.shape[:-1] + np.shape(e) + (4, 3))
-        return tuple(np.einsum("A...,...Ai->...i", Sk, qe) for Sk in S)
+        r, a, b = (np.einsum("A...,...Ai->...i", Sk, qe) for Sk in S)
+        lam = np.reshape(stretch, np.shape(stretch) + (1,) * (np.ndim(e) + 1))
+        return r, a / lam, b / lam**2
 
     def _recovered(self, value, q, s):
         """``value(q, e, xi)`` at arc lengths ``s``.  On a locking-free cable it is sampled
@@ -478,16 +543,17 @@ class Cable:
         return (2 * (xi - 0.5) * (xi - 1) * nodes[..., e] - 4 * xi * (xi - 1) * middle[..., e]
                 + 2 * xi * (xi - 0.5) * nodes[..., e + 1])
 
-    def strain(self, q, s):
+    def strain(self, q, s, stretch=1.0):
         """Green axial strain ``eps = (|r_x|^2 - 1)/2`` (Eq. 24), recovered from the axial
-        sampling points on a locking-free cable (see ``tension``)."""
+        sampling points on a locking-free cable (see ``tension``); ``stretch``: the
+        mesh stretch of a deploying cable (``_fields``)."""
         def green(q, e, xi):
-            a = self._fields(q, e, xi)[1]
+            a = self._fields(q, e, xi, stretch)[1]
             return 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
 
         return self._recovered(green, q, s)
 
-    def tension(self, q, s):
+    def tension(self, q, s, stretch=1.0):
         """Axial force in the section (N): ``N = t . W_a + t' . W_b`` with ``t = r_x/|r_x|``.
 
         This is the axial component ``t . (W_a - (W_b)')`` of the section force of the law
@@ -504,13 +570,15 @@ class Cable:
         to the discretisation (an elastica of 16 elements matches the exact
         ``P sin(theta)`` to 0.7 % of ``P`` at ``k = 10``, root included).  Between those points
         the raw strain of the cubic field is not constrained and is not shown.
+        ``stretch``: the mesh stretch of a deploying cable (``_fields``).
         """
-        return self._recovered(self._tension, q, s)
+        return self._recovered(lambda q, e, xi: self._tension(q, e, xi, stretch), q, s)
 
-    def _tension(self, q, e, xi):
-        _, a, b = self._fields(q, e, xi)
+    def _tension(self, q, e, xi, stretch=1.0):
+        _, a, b = self._fields(q, e, xi, stretch)
         x = np.moveaxis(np.concatenate([a, b], axis=-1), -1, 0)
-        h = np.broadcast_to(self.h[e], x.shape[1:])
+        lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
+        h = np.broadcast_to(self.h[e] * lam, x.shape[1:])
         G = self.densities(x, np.zeros_like(x), h)["G"]
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         lam = np.sqrt(p)[..., None]
@@ -532,9 +600,10 @@ class Cable:
             out[k] = np.stack([[out.pop(f"{k}_{i}_{j}") for j in range(6)] for i in range(6)])
         return out
 
-    def curvature(self, q, s):
-        """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24), 1/m."""
-        _, a, b = self.interpolate(q, s)
+    def curvature(self, q, s, stretch=1.0):
+        """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24), 1/m; ``stretch``: the
+        mesh stretch of a deploying cable (``_fields``)."""
+        _, a, b = self._fields(q, *self.locate(s), stretch)
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         return np.sqrt(_kappa2(a, b, p))
 

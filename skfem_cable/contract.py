@@ -26,6 +26,13 @@ Sign conventions (residual ``r = f_int - f_ext + C_q^T lambda``):
 * their work is booked by the integrator as external work; the damping part of the
   internal force, ``ev.f_damping``, as dissipation.
 
+Inertia that the constant mass matrix cannot express (a body whose mass changes in time,
+such as a deploying tether, ``deploy``) is added like an external force: ``-(F_in - M a)``
+into ``ev.f_ext``, with ``F_in`` the body's inertial force ``d/dt dT/dv - dT/dq`` and ``M``
+the constant mass it declared, evaluated at the accelerations ``ev.a``; its tangent
+carries ``ev.cM`` times the derivative in ``a`` (``add_tangent(..., da=...)``).  Such a
+term has a Python ``add`` (the integrator then takes its Python step).
+
 Terms with equal, non-None ``key`` are merged with ``merge`` into one term before the
 pattern is built, so that many bodies of one kind are evaluated by one compiled call.
 
@@ -100,20 +107,26 @@ class Evaluation:
         wanted (``want_tangent``).
     energy, power : ndarray (2,)
         Stored elastic energy and dissipated power, split ``[AXIAL, BENDING]``.
+    a : ndarray (n_dofs,)
+        Accelerations (zero in statics and where the integrator solves for them).
+    cM : float
+        Coefficient of the derivatives in ``a`` in the tangent (1 in dynamics, where the
+        iteration matrix is ``M + cC dr/dv + cK dr/dq``; 0 in statics).
     """
 
     __slots__ = ("system", "t", "q", "v", "lam", "cK", "cC", "dynamic", "f", "f_ext",
-                 "f_damping", "data", "energy", "power")
+                 "f_damping", "data", "energy", "power", "a", "cM")
 
-    def __init__(self, system, t, q, v, lam, cK=1.0, cC=0.0, data=None):
+    def __init__(self, system, t, q, v, lam, cK=1.0, cC=0.0, data=None, a=None, cM=0.0):
         n = system.n_dofs
         self.system = system
         self.t = float(t)
         self.q = q
         self.dynamic = v is not None
         self.v = v if v is not None else np.zeros(n)
+        self.a = a if a is not None else np.zeros(n)
         self.lam = lam
-        self.cK, self.cC = float(cK), float(cC)
+        self.cK, self.cC, self.cM = float(cK), float(cC), float(cM)
         self.data = data
         self.f = np.zeros(n)
         self.f_ext = np.zeros(n)
@@ -135,16 +148,15 @@ class Evaluation:
         return (self.q, self.v, s, self.f, self.f_ext, self.f_damping, data, self.energy,
                 self.power)
 
-    def add_tangent(self, index, dq=None, dv=None, sign=1.0):
-        """Add ``sign (cK dq + cC dv)`` at the matrix positions ``index`` (``dq``, ``dv``
-        of the shape of ``index`` or broadcastable; None for a zero block).  Use
-        ``sign=-1`` for the derivatives of an external force."""
+    def add_tangent(self, index, dq=None, dv=None, sign=1.0, da=None):
+        """Add ``sign (cK dq + cC dv + cM da)`` at the matrix positions ``index`` (``dq``,
+        ``dv``, ``da`` of the shape of ``index`` or broadcastable; None for a zero block).
+        Use ``sign=-1`` for the derivatives of an external force."""
         if self.data is None:
             return
-        if dq is not None and self.cK != 0.0:
-            scatter_add(self.data, index, np.broadcast_to(sign * self.cK * dq, index.shape))
-        if dv is not None and self.cC != 0.0:
-            scatter_add(self.data, index, np.broadcast_to(sign * self.cC * dv, index.shape))
+        for block, c in ((dq, self.cK), (dv, self.cC), (da, self.cM)):
+            if block is not None and c != 0.0:
+                scatter_add(self.data, index, np.broadcast_to(sign * c * block, index.shape))
 
 
 @dataclass(frozen=True)
@@ -177,6 +189,11 @@ class Term:
         and returning one term): the compiled path batches all cables of one law.
     name : str
         Label used in diagnostics.
+    energy_rate : callable or None
+        ``energy_rate(q, t)``: the explicit time derivative (W) of the term's stored
+        energy at fixed coordinates, for energies that depend on time (a deploying
+        cable's elastic energy: the work of its reel); the integrator books its time
+        integral as external work.
     """
 
     add: Callable[..., None] | None = None
@@ -189,6 +206,7 @@ class Term:
     merge: Callable[[list], "Term"] | None = None
     name: str = ""
     prepare: Callable[[float], None] | None = None
+    energy_rate: Callable[[Any, float], float] | None = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:

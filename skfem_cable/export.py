@@ -36,7 +36,7 @@ PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
 CABLE_FIELDS = ("tension", "axial_strain", "curvature", "arc_length")
 
 
-def sample_cable(cable, q, v=None, points_per_element=8):
+def sample_cable(cable, q, v=None, points_per_element=8, stretch=1.0):
     """Fields of a cable at ``points_per_element`` equally spaced points of each element.
 
     Parameters
@@ -48,6 +48,9 @@ def sample_cable(cable, q, v=None, points_per_element=8):
         Samples per element, the element's first node included; consecutive elements
         share their common node, so there are ``n_elements * points_per_element + 1``
         points.
+    stretch : float
+        Mesh stretch of a deploying cable (``System.stretch``): its fields are
+        derivatives in the material arc length ``arc_length = stretch x``.
 
     Returns
     -------
@@ -64,13 +67,13 @@ def sample_cable(cable, q, v=None, points_per_element=8):
     ne = cable.n_elements
     s = np.append((x[:-1, None] + cable.h[:, None] * (np.arange(m) / m)).ravel(), x[-1])
     velocity = np.zeros((len(s), 3)) if v is None else cable.interpolate(v, s)[0]
-    return {"arc_length": s,
+    return {"arc_length": stretch * s,
             "element_id": np.append(np.repeat(np.arange(ne), m), ne - 1),
             "position": cable.interpolate(q, s)[0],
             "velocity": velocity,
-            "tension": cable.tension(q, s),
-            "axial_strain": cable.strain(q, s),
-            "curvature": cable.curvature(q, s)}
+            "tension": cable.tension(q, s, stretch),
+            "axial_strain": cable.strain(q, s, stretch),
+            "curvature": cable.curvature(q, s, stretch)}
 
 
 def cylinder_surface(radius, height, resolution=32):
@@ -141,7 +144,7 @@ class _Builder:
         return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
 
 
-def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
+def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
     """The deformed system as one ``meshio.Mesh`` (see the module docstring).
 
     Parameters
@@ -153,6 +156,8 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
         Samples per cable element (``sample_cable``).
     resolution : int
         Segments around a cylinder.
+    t : float
+        Time (s): the fields of deploying cables depend on it (``System.deploy``).
     """
     q = np.asarray(q, dtype=float)
     v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
@@ -162,7 +167,8 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32):
     for body_id, body in enumerate(system.bodies):
         dofs = system.dofs(body)
         if body in cables:
-            f = sample_cable(body, q[dofs], v[dofs], points_per_element)
+            f = sample_cable(body, q[dofs], v[dofs], points_per_element,
+                             system.stretch(body, t))
             n = len(f["arc_length"])
             lines = np.column_stack([np.arange(n - 1), np.arange(1, n)])
             out.add(f.pop("position"), "line", lines, PART_CABLE, body_id,
@@ -194,7 +200,8 @@ def write_vtu(path, system, state, points_per_element=8, resolution=32):
     """Write one configuration (a ``State``, with or without velocities) to ``path``
     (``.vtu``); returns the path."""
     path = Path(path)
-    _write_atomic(path, system_mesh(system, state.q, state.v, points_per_element, resolution))
+    _write_atomic(path, system_mesh(system, state.q, state.v, points_per_element, resolution,
+                                    state.t))
     return path
 
 
@@ -298,7 +305,7 @@ class SeriesWriter(VtuSeries):
         """Write the step at time ``t``; entries at or after ``t`` are replaced.
         Returns the path of the ``.vtu``."""
         return self.add(t, system_mesh(self.system, q, v, self.points_per_element,
-                                       self.resolution))
+                                       self.resolution, t))
 
 
 def write_series(result, run_dir, every=1, **options):

@@ -75,7 +75,7 @@ class Layout:
         loads = [load.bind(system) for load in system.loads]
         body_blocks = [self._block(pattern, t) for t in bodies]
         load_blocks = [self._block(pattern, t) for t in loads]
-        M = system.mass_matrix().tocoo()
+        M = self._with_loads_mass(system.mass_matrix(), loads).tocoo()
         pattern.block(M.row, M.col)
         con_blocks = self._constraint_blocks(pattern, system, n)
         pattern.finish(n + self.n_c)
@@ -144,6 +144,17 @@ class Layout:
         parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
                   if d.size and set(owner[d].tolist()) <= hubs]
         return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
+
+    @staticmethod
+    def _with_loads_mass(M, loads):
+        """The mass the integrator sees: the system's (bodies and point masses, the mass
+        gravity weighs) plus the constant mass of loads (``Term.mass``: the added mass of
+        a fluid)."""
+        parts = [t.mass for t in loads if t.mass is not None]
+        if not parts:
+            return M
+        rows, cols, values = (np.concatenate(a) for a in zip(*parts))
+        return M + sp.csr_matrix((values, (rows, cols)), shape=M.shape)
 
     def _mass(self, M):
         self.mass = FastCSR(M)

@@ -140,13 +140,15 @@ class UniformLineLoad:
         The load (N/m).
     """
 
+    label = "line load"
+
     def __init__(self, cable, force_per_length):
         self.cable = cable
         self.value = vector3(force_per_length, "force_per_length")
 
     def bind(self, system):
         return Term(force=(system.dofs(self.cable), self.cable.line_load(self.value)),
-                    name=f"line load {self.cable.name}")
+                    name=f"{self.label} {self.cable.name}")
 
 
 class Gravity:
@@ -155,7 +157,9 @@ class Gravity:
     The generalized force is ``M u_g`` with ``u_g`` the coordinates of the uniform field
     ``r(x) = g`` (positions ``g``, slopes 0): ANCF shape functions, natural coordinates and
     point masses all reproduce a constant field exactly, so ``M u_g = int rho S^T g dV`` is
-    the consistent gravity load of every body.
+    the consistent gravity load of every body.  The mass a deploying cable gains or loses
+    (``System.deploy``) adds a time-dependent weight (``Deployment.weight``), booked as
+    external work.
 
     Parameters
     ----------
@@ -179,8 +183,16 @@ class Gravity:
 
     def bind(self, system):
         u = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=self.g)
-        return Term(force=(np.arange(system.n_dofs), system.mass_matrix() @ u),
-                    name="gravity")
+        force = (np.arange(system.n_dofs), system.mass_matrix() @ u)
+        deployments = list(system.deployments.values())
+        if not deployments:
+            return Term(force=force, name="gravity")
+
+        def add(ev, index):  # the weight of the mass deploying cables gain or lose
+            for deployment in deployments:
+                ev.f_ext += deployment.weight(system, self.g, ev.t)
+
+        return Term(force=force, add=add, name="gravity")
 
 
 class PointMass:
@@ -330,19 +342,25 @@ class LineLoad:
 
 
 class Centrifugal:
-    """Centrifugal force ``-M (Omega x (Omega x q))`` on every 3-vector of coordinates in a
-    frame rotating at the constant rate ``omega`` (rad/s) about the origin.
+    """Centrifugal force ``-M (Omega x (Omega x (q - u_c)))`` on every 3-vector of
+    coordinates in a frame rotating at the constant rate ``omega`` (rad/s) about the axis
+    through ``center``.
 
     All coordinates (ANCF positions and slopes, natural coordinates of rigid bodies) are
     vectors that rotate with the frame, so the kinetic energy in the rotating frame gives
-    this force exactly; it is linear in ``q`` with the constant tangent
-    ``-M (I (x) [Omega]_x^2)``.  With it ``solve_static`` finds steady spinning states, and
-    ``modes(..., spin=omega)`` their vibrations.
+    this force exactly; ``u_c`` holds the coordinates of the uniform field ``r(x) = center``
+    (positions ``center``, slopes and unit vectors 0, as in ``Gravity``), so that only
+    positions are measured from the axis.  The force is affine in ``q`` with the constant
+    tangent ``-M (I (x) [Omega]_x^2)``.  With it ``solve_static`` finds steady spinning
+    states of supported systems (``solve_steady`` adds it itself and handles free ones),
+    and ``modes(..., spin=omega)`` their vibrations.
 
     Parameters
     ----------
     omega : array_like (3,)
         Angular velocity of the frame (rad/s).
+    center : array_like (3,)
+        A point of the rotation axis (m); default the origin.
 
     Examples
     --------
@@ -357,16 +375,18 @@ class Centrifugal:
     0.8
     """
 
-    def __init__(self, omega):
+    def __init__(self, omega, center=(0.0, 0.0, 0.0)):
         self.omega = vector3(omega, "omega")
+        self.center = vector3(center, "center")
 
     def bind(self, system):
         C = spin_matrix(system.mass_matrix(), self.omega, 2).tocoo()
         matrix = C.tocsr()
         values = C.data
+        u_c = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=self.center)
 
         def add(ev, index):
-            ev.f_ext -= matrix @ ev.q
+            ev.f_ext -= matrix @ (ev.q - u_c)
             ev.add_tangent(index, -values, sign=-1.0)
 
         return Term(add=add, rows=C.row.astype(np.int64), cols=C.col.astype(np.int64),

@@ -75,12 +75,12 @@ def rendering_available():
 
 
 def _grids(system, frames, points_per_element):
-    """pyvista grids of the configurations ``frames`` (pairs ``(q, v)``)."""
+    """pyvista grids of the configurations ``frames`` (triples ``(q, v, t)``)."""
     use_egl_without_display()
     import pyvista as pv
 
-    return [pv.from_meshio(export.system_mesh(system, q, v, points_per_element))
-            for q, v in frames]
+    return [pv.from_meshio(export.system_mesh(system, q, v, points_per_element, t=t))
+            for q, v, t in frames]
 
 
 # --- cameras ------------------------------------------------------------------------------
@@ -460,7 +460,7 @@ def render(system, state, path, points_per_element=8, window_size=(1024, 768), c
     ndarray (height, width, 3)
         The image.
     """
-    (grid,) = _grids(system, [(state.q, state.v)], points_per_element)
+    (grid,) = _grids(system, [(state.q, state.v, state.t)], points_per_element)
     camera = scene_camera(system, state.q, state.v, view, sun, points=grid.points)
     return _render_grid(grid, path, window_size, clim, tube_radius, title, camera, sun)
 
@@ -533,7 +533,7 @@ def animate(result, path, every=None, max_frames=150, fps=15, points_per_element
     idx = list(range(0, n, every))
     if idx[-1] != n - 1:
         idx.append(n - 1)
-    grids = _grids(result.system, [(result.q[i], result.v[i]) for i in idx],
+    grids = _grids(result.system, [(result.q[i], result.v[i], result.t[i]) for i in idx],
                    points_per_element)
     camera = scene_camera(result.system, result.q[idx], result.v[idx], view, sun,
                           points=np.vstack([g.points for g in grids]))

@@ -124,11 +124,13 @@ class Result:
     def tension(self, cable, s):
         """Axial forces (N) ``(nt,) + s.shape`` at reference arc lengths ``s``
         (``Cable.tension``)."""
-        return cable.tension(self.q[:, self.system.dofs(cable)], s)
+        return cable.tension(self.q[:, self.system.dofs(cable)], s,
+                             self.system.stretch(cable, self.t))
 
     def curvature(self, cable, s):
         """Curvatures (1/m) ``(nt,) + s.shape`` at reference arc lengths ``s``."""
-        return cable.curvature(self.q[:, self.system.dofs(cable)], s)
+        return cable.curvature(self.q[:, self.system.dofs(cable)], s,
+                               self.system.stretch(cable, self.t))
 
     @property
     def multipliers(self):
@@ -141,7 +143,7 @@ class Result:
 
     def state(self, i):
         """The ``i``-th saved step as a ``State``."""
-        return State(self.system, self.q[i], self.lam[i], v=self.v[i])
+        return State(self.system, self.q[i], self.lam[i], v=self.v[i], t=self.t[i])
 
     def __len__(self):
         return len(self.t)

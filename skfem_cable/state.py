@@ -32,6 +32,8 @@ class State:
         Solver statistics (``solve_static``: ``iterations`` per load step, ...).
     v : array_like (n_dofs,), optional
         Velocities (an initial condition of ``simulate``).
+    t : float
+        Time (s): where a cable deploys (``System.deploy``), its fields depend on it.
 
     Attributes
     ----------
@@ -64,8 +66,9 @@ class State:
     True
     """
 
-    def __init__(self, system, q, lam=None, stats=None, v=None):
+    def __init__(self, system, q, lam=None, stats=None, v=None, t=0.0):
         self.system = system
+        self.t = float(t)
         self.q = np.asarray(q, dtype=float)
         self.v = None if v is None else np.asarray(v, dtype=float)
         self.lam = np.zeros(system.n_constraints) if lam is None else np.asarray(lam, float)
@@ -84,15 +87,15 @@ class State:
 
     def strain(self, cable, s):
         """Green axial strain at arc lengths ``s`` (``Cable.strain``)."""
-        return cable.strain(self._q(cable), s)
+        return cable.strain(self._q(cable), s, self.system.stretch(cable, self.t))
 
     def tension(self, cable, s):
         """Axial force (N) at arc lengths ``s`` (``Cable.tension``)."""
-        return cable.tension(self._q(cable), s)
+        return cable.tension(self._q(cable), s, self.system.stretch(cable, self.t))
 
     def curvature(self, cable, s):
         """Curvature (1/m) at arc lengths ``s`` (``Cable.curvature``)."""
-        return cable.curvature(self._q(cable), s)
+        return cable.curvature(self._q(cable), s, self.system.stretch(cable, self.t))
 
     @property
     def multipliers(self):

@@ -97,6 +97,7 @@ class System:
         self.constraints = [c for body in self.bodies for c in body.internal_constraints()]
         self.loads = []
         self.point_masses = []
+        self.deployments = {}
         self._layout = None
 
     # --- building -------------------------------------------------------------------------
@@ -180,6 +181,82 @@ class System:
         (6, 'pin Node(b, 0)-Node(a, 2)')
         """
         return self.add_constraint(cons.pin(node, target, velocity, acceleration))
+
+    def deploy(self, cable, anchor=None, length=None, rate=None, acceleration=None,
+               direction=None, capacity=None):
+        """Deploy (or retrieve) ``cable`` through a reel at ``anchor``: its node 0 is
+        pinned there and its free length follows ``length(t)`` (see ``deploy``: the mesh
+        stretches with the length, the nodes keep their identity). Returns the system.
+
+        Parameters
+        ----------
+        cable : Cable
+            Node 0 at the anchor, node -1 the tip; its length as built is the mesh length
+            (build it with the free length at the start to start stress-free).
+        anchor : None, array_like (3,) or body point
+            The reel's exit point: fixed in space (None: node 0's initial position), or a
+            point of a rigid body (``RigidBody.point``), e.g. a hub.
+        length : callable or float
+            Free (unstretched) length ``length(t)`` (m), > 0.
+        rate, acceleration : callable, optional
+            Its exact first and second derivatives (else central differences).
+        direction : array_like (3,), optional
+            Exit direction of a reel fixed in space: the slope at node 0 is clamped to it.
+        capacity : float, optional
+            Total tether length (reel and free, m): the material still on the reel moves
+            with a body ``anchor`` (its mass, ``rho A (capacity - length)``, changes).
+
+        Returns
+        -------
+        System
+            ``self``.
+
+        Examples
+        --------
+        A tether deployed at 2 m/s from 1 m, with a 5 kg end mass:
+
+        >>> import numpy as np, skfem_cable as sc
+        >>> tether = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4,
+        ...                            sc.Section.circular(1e-3, 1e9, 1000.0))
+        >>> system = sc.System([tether]).deploy(tether, length=lambda t: 1 + 2 * t,
+        ...                                     rate=lambda t: 2.0, acceleration=lambda t: 0.0)
+        >>> system = system.add_point_mass(tether.node(-1), 5.0)
+        >>> round(system.deployments[id(tether)].stretch(0.5), 12)
+        2.0
+        """
+        from .deploy import Deployment
+
+        if id(cable) in self.deployments:
+            raise ValueError(f"cable {cable.name!r} is already deployed")
+        if length is None:
+            raise TypeError("deploy needs length: a callable length(t) or a number (m)")
+        fixed = anchor is None or np.ndim(anchor) == 1
+        if direction is not None:
+            if not fixed:
+                raise ValueError("direction applies to a reel fixed in space, not to a "
+                                 "body point")
+            self.clamp(cable.node(0), direction=direction, position=anchor)
+        else:
+            self.pin(cable.node(0), anchor)
+        deployment = Deployment(cable, length, rate, acceleration, None if fixed else anchor,
+                                capacity)
+        self.deployments[id(cable)] = deployment
+        return self.add_load(deployment)
+
+    def deployment(self, body):
+        """The ``Deployment`` of ``body`` (``deploy``), or None."""
+        return self.deployments.get(id(body))
+
+    def stretch(self, cable, t):
+        """The mesh stretch of ``cable`` at times ``t`` (scalar or array): the free length
+        over the length as built for a deploying cable (``deploy``), else 1."""
+        deployment = self.deployment(cable)
+        if deployment is None:
+            return np.ones(np.shape(t)) if np.ndim(t) else 1.0
+        if np.ndim(t):
+            return np.array([deployment.stretch(float(ti)) for ti in np.ravel(t)]).reshape(
+                np.shape(t))
+        return deployment.stretch(float(t))
 
     def add_load(self, load):
         """Add a contributor with ``bind(system) -> Term`` (loads, point masses, gravity,
@@ -292,14 +369,38 @@ class System:
         v = np.cross(omega, rel) + np.where(is_position[:, None], _vector3(velocity, "velocity"), 0)
         return v.ravel()
 
-    def angular_momentum(self, q, v, center=(0, 0, 0)):
-        """Angular momentum about ``center``: ``sum_AB M_AB e_A x e_B_dot`` over the 3-vector
-        blocks of the coordinates (exact for ANCF cables, natural coordinates and point
-        masses, whose positions are linear in the coordinates)."""
+    def momentum(self, q, v, t=0.0):
+        """Generalized momentum ``dT/dv`` (n_dofs): ``M v`` plus the part of deploying
+        cables (``deploy``), whose mass changes with time."""
+        p = self.layout.mass @ v
+        for deployment in self.deployments.values():
+            p += deployment.momentum(self, q, v, t)
+        return p
+
+    def energy_rate(self, q, t):
+        """Explicit time derivative (W) of the stored energy at fixed coordinates: the sum
+        of the terms' ``energy_rate`` (``contract.Term``; 0 when no energy depends on
+        time)."""
+        lay = self.layout
+        return float(sum(term.energy_rate(q, t) for term, _ in lay.body_terms + lay.load_terms
+                         if term.energy_rate is not None))
+
+    def linear_momentum(self, q, v, t=0.0):
+        """Linear momentum (kg m/s): the sum of the momentum over the position blocks of
+        the coordinates (positions are linear in the coordinates, slopes carry none)."""
+        is_position = np.concatenate([b.position_mask for b in self.bodies])
+        return self.momentum(q, v, t)[is_position].reshape(-1, 3).sum(axis=0)
+
+    def angular_momentum(self, q, v, center=(0, 0, 0), t=0.0):
+        """Angular momentum about ``center``: ``sum_A e_A x p_A`` over the 3-vector blocks
+        ``e_A`` of the coordinates (positions relative to ``center``) and of the momentum
+        ``p = momentum(q, v, t)`` (``sum_AB M_AB e_A x e_B_dot`` for constant masses;
+        exact for ANCF cables, natural coordinates and point masses, whose positions are
+        linear in the coordinates)."""
         is_position = np.concatenate([b.position_mask for b in self.bodies]).reshape(-1, 3)[:, 0]
         blocks = np.asarray(q, dtype=float).reshape(-1, 3)
         rel = np.where(is_position[:, None], blocks - np.asarray(center, dtype=float), blocks)
-        p = (self.layout.mass @ v).reshape(-1, 3)
+        p = self.momentum(q, v, t).reshape(-1, 3)
         return np.cross(rel, p).sum(axis=0)
 
     # --- evaluation -------------------------------------------------------------------------
@@ -326,14 +427,16 @@ class System:
         return out
 
     def evaluate(self, q, v, t, lam, load_factor=1.0, cK=1.0, cC=0.0, scale=1.0, data=None,
-                 reference_force=False):
+                 reference_force=False, a=None, cM=0.0):
         """Residual of the equations of motion without inertia, and tangents.
 
         ``r = [f_int(q, v) - load_factor f_ext(q, v, t) + C_q^T lambda, scale C(q, t)]``
         with ``lambda = lam`` the true multipliers.  ``v = None`` means statics (no
         damping, zero velocity).  If ``data`` (CSR values of the KKT pattern, holding the
         caller's constant part ``Layout.mass_data``/``Layout.linear_data``) is given,
-        ``cK`` times the stiffness and ``cC`` times the damping tangent are added.
+        ``cK`` times the stiffness and ``cC`` times the damping tangent are added.  ``a``
+        and ``cM``: the accelerations and the coefficient of their derivatives, for terms
+        with inertia beyond the constant mass (``contract``).
 
         Returns
         -------
@@ -348,7 +451,7 @@ class System:
         """
         lay = self.layout
         n = self.n_dofs
-        ev = Evaluation(self, t, q, v, lam, cK, cC, data)
+        ev = Evaluation(self, t, q, v, lam, cK, cC, data, a, cM)
         for term, index in lay.body_terms:
             term.evaluate(ev, index)
         # loads see the load factor through their tangent coefficients

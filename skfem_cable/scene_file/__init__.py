@@ -10,7 +10,8 @@ the offending value, and an unknown key lists the keys allowed in its table::
 
 The pieces, one job each: ``schema`` (``Table`` and the value checks), ``bodies``
 (sections, cables, rigid bodies, point references), ``constraints``, ``loads`` (and point
-masses), ``solver`` (solver, initial motion, output), ``system_scene`` (a ``System``
+masses), ``deploy`` (cables leaving a reel), ``solver`` (solver, initial motion, output),
+``system_scene`` (a ``System``
 scene in schema order) and ``chain_scene`` (a rod-chain scene).  A new key goes into the
 reader of its table; a new constraint type or array of load tables is one entry of
 ``constraints.CONSTRAINTS`` or ``loads.LOADS``.

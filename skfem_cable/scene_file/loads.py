@@ -1,10 +1,12 @@
 """The ``[[point_masses]]`` and the ``[loads]`` of a scene file (gravity, centrifugal,
-``[[loads.point]]``, ``[[loads.line]]``, ``[[loads.moment]]``).  ``LOADS`` maps each array
+``[[loads.point]]``, ``[[loads.line]]``, ``[[loads.moment]]``, ``[[loads.morison]]``,
+``[[loads.buoyancy]]``, ``[[loads.free_molecular]]``).  ``LOADS`` maps each array
 of load tables to its reader; a new kind of load is one more entry."""
 
 from ..cable import Cable
+from ..drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from ..loads import PointMoment
-from .schema import positive, vector3
+from .schema import non_negative, number, positive, vector3
 
 
 def read_point_mass(t, bodies, system):
@@ -29,8 +31,65 @@ def moment_load(p, bodies, system):
                                 p.get("moment", vector3)))
 
 
+def profile(p, key):
+    """An inline table ``{ elevations = [...], velocities = [[...], ...], vertical = [...] }``
+    as a ``CurrentProfile``."""
+    if not isinstance(p.data[key], dict):
+        p.fail(key, "must be an inline table { elevations = ..., velocities = ... }",
+               p.data[key])
+    t = p.inline(key)
+
+    def numbers(v):
+        if not isinstance(v, list) or not v:
+            raise ValueError("must be a non-empty list of numbers")
+        return [number(x) for x in v]
+
+    def vectors(v):
+        if not isinstance(v, list) or not v:
+            raise ValueError("must be a non-empty list of 3-vectors")
+        return [vector3(x) for x in v]
+
+    z, u = t.get("elevations", numbers), t.get("velocities", vectors)
+    vertical = t.get("vertical", vector3, (0.0, 0.0, 1.0))
+    t.finish()
+    try:
+        return CurrentProfile(z, u, vertical)
+    except ValueError as err:
+        p.fail(key, str(err))
+
+
+def morison_load(p, bodies, system):
+    """``[[loads.morison]]``: Morison drag of a steady ``current`` (vector) or
+    ``current_profile`` on a cable."""
+    cable = bodies.body(p, "cable", Cable)
+    args = [p.get(k, positive) for k in ("rho", "diameter")]
+    args += [p.get(k, non_negative) for k in ("cd_normal", "cd_tangential")]
+    current = p.get("current", vector3, None)
+    if p.has("current_profile"):
+        if current is not None:
+            p.fail("current_profile", "cannot be given with current")
+        current = profile(p, "current_profile")
+    system.add_load(MorisonDrag(cable, *args, current=current))
+
+
+def buoyancy_load(p, bodies, system):
+    """``[[loads.buoyancy]]``: the weight of the water a cable displaces."""
+    system.add_load(Buoyancy(bodies.body(p, "cable", Cable), p.get("rho", positive),
+                             p.get("diameter", positive), p.get("g", vector3)))
+
+
+def free_molecular_load(p, bodies, system):
+    """``[[loads.free_molecular]]``: free-molecular drag of a rarefied atmosphere."""
+    system.add_load(FreeMolecularDrag(
+        bodies.body(p, "cable", Cable), p.get("density", positive),
+        p.get("diameter", positive), p.get("cd", non_negative, 2.2),
+        p.get("velocity", vector3, (0.0, 0.0, 0.0)), p.get("omega", vector3, (0.0, 0.0, 0.0))))
+
+
 #: Readers of the arrays of load tables ``[[loads.KEY]]``: ``reader(p, bodies, system)``.
-LOADS = {"point": point_load, "line": line_load, "moment": moment_load}
+LOADS = {"point": point_load, "line": line_load, "moment": moment_load,
+         "morison": morison_load, "buoyancy": buoyancy_load,
+         "free_molecular": free_molecular_load}
 
 
 def read_loads(t, bodies, system, analysis):

@@ -1,21 +1,24 @@
 """The ``[solver]``, ``[initial]`` and ``[output]`` tables of a system scene (cables and
-rigid bodies): the ``simulate`` or ``solve_static`` keywords, the initial motion and the
-VTU sampling."""
+rigid bodies): the ``simulate``, ``solve_static`` or ``solve_steady`` keywords, the initial
+motion (a rigid motion, or the steady spinning state) and the VTU sampling."""
 
 import numpy as np
 
+from ..solvers.steady import solve_steady
 from ..state import State
-from .schema import choice, count, interval, positive, vector3
+from .schema import boolean, choice, count, interval, positive, vector3
 
 
 def read_analysis(t):
-    """``analysis`` of ``[solver]``: ``"dynamic"`` (default) or ``"static"``."""
-    return t.get("analysis", choice("dynamic", "static"), "dynamic")
+    """``analysis`` of ``[solver]``: ``"dynamic"`` (default), ``"static"`` or ``"steady"``
+    (the relative equilibrium spinning at ``omega`` about the axis through ``center``)."""
+    return t.get("analysis", choice("dynamic", "static", "steady"), "dynamic")
 
 
 def read_solver(t, analysis):
-    """The rest of ``[solver]``: ``simulate`` keywords (dynamic) or ``solve_static``
-    keywords (static); keys left out are left to the solver's defaults."""
+    """The rest of ``[solver]``: ``simulate`` keywords (dynamic), ``solve_static``
+    keywords (static) or ``solve_steady`` keywords (steady: ``omega`` required,
+    ``center``); keys left out are left to the solver's defaults."""
     common = {"tol": t.get("tol", interval(1e-16, 0.1), None),
               "max_iter": t.get("max_iter", count, None)}
     if analysis == "dynamic":
@@ -25,20 +28,30 @@ def read_solver(t, analysis):
              "newton": t.get("newton", choice("full", "modified"), None)}
     else:
         s = {"load_steps": t.get("load_steps", count, 1)}
+        if analysis == "steady":
+            s["omega"] = t.get("omega", vector3)
+            s["center"] = t.get("center", vector3, np.zeros(3))
     t.finish()
     return {k: v for k, v in {**s, **common}.items() if v is not None}
 
 
 def read_initial(t, system, analysis):
     """``[initial]``: the stress-free configuration with the velocity of a rigid motion
-    (``angular_velocity`` about ``center`` plus ``velocity``; dynamic only)."""
+    (``angular_velocity`` about ``center`` plus ``velocity``; dynamic only), or with
+    ``steady = true`` the relative equilibrium spinning at ``angular_velocity`` about
+    ``center`` (``solve_steady``): the run starts at rest in the rotating frame."""
     q = system.q0
-    if analysis == "static":
+    if analysis != "dynamic":
         t.finish()
         return State(system, q)
-    v = system.rigid_motion_velocity(q, t.get("angular_velocity", vector3, np.zeros(3)),
-                                     t.get("center", vector3, np.zeros(3)),
-                                     t.get("velocity", vector3, np.zeros(3)))
+    omega = t.get("angular_velocity", vector3, np.zeros(3))
+    center = t.get("center", vector3, np.zeros(3))
+    if t.get("steady", boolean, False):
+        if not np.any(omega):
+            t.fail("angular_velocity", "must be non-zero with steady = true", omega.tolist())
+        t.finish()
+        return solve_steady(system, omega, center)
+    v = system.rigid_motion_velocity(q, omega, center, t.get("velocity", vector3, np.zeros(3)))
     t.finish()
     return State(system, q, v=v)
 

@@ -1,5 +1,6 @@
 """A scene of cables and rigid bodies (``System``) from a scene file: the tables are read
-in schema order by the readers of ``bodies``, ``constraints``, ``loads`` and ``solver``;
+in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loads`` and
+``solver``;
 ``run`` simulates (``runner.run_dynamic``) or solves it (``runner.run_static``)."""
 
 from dataclasses import dataclass
@@ -7,10 +8,12 @@ from pathlib import Path
 
 from ..runner import run_dynamic, run_static
 from ..solvers.static import solve_static
+from ..solvers.steady import solve_steady
 from ..state import State
 from ..system import System
 from .bodies import Bodies, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
+from .deploy import read_deploy
 from .loads import read_loads, read_point_mass
 from .schema import text
 from .solver import read_analysis, read_initial, read_output, read_solver
@@ -19,7 +22,8 @@ from .solver import read_analysis, read_initial, read_output, read_solver
 @dataclass
 class SceneSpec:
     """A scene read from a file: ``analysis`` is ``"dynamic"`` (``solver`` holds the
-    ``simulate`` keywords) or ``"static"`` (``solve_static`` keywords)."""
+    ``simulate`` keywords), ``"static"`` (``solve_static`` keywords) or ``"steady"``
+    (``solve_steady`` keywords)."""
 
     title: str
     system: System
@@ -47,6 +51,8 @@ def build(root, elements=None):
     system = System(list(bodies.bodies.values()))
     for t in root.tables("constraints"):
         read_constraint(t, bodies, system)
+    for t in root.tables("deploy"):
+        read_deploy(t, bodies, system)
     for t in root.tables("point_masses"):
         read_point_mass(t, bodies, system)
     read_loads(root.table("loads"), bodies, system, analysis)
@@ -66,6 +72,14 @@ def run(path, spec, options):
         return run_dynamic(name, spec.system, spec.initial, options, spec.solver, parameters,
                            points_per_element=spec.points_per_element)[0]
     options.reject(Path(path).name, "t_end", "dt", "every")
-    state = solve_static(spec.system, **spec.solver)
-    return run_static(name, spec.system, [(1.0, state)], options, {**parameters, **spec.solver},
-                      title=spec.title or name, points_per_element=spec.points_per_element)
+    settings = {k: v.tolist() if hasattr(v, "tolist") else v for k, v in spec.solver.items()}
+    outputs = None
+    if spec.analysis == "steady":
+        state = solve_steady(spec.system, **spec.solver)
+        outputs = {"frame_acceleration": state.stats["frame_acceleration"].tolist(),
+                   "phase_torque": state.stats["phase_torque"]}
+    else:
+        state = solve_static(spec.system, **spec.solver)
+    return run_static(name, spec.system, [(1.0, state)], options, {**parameters, **settings},
+                      outputs=outputs, title=spec.title or name,
+                      points_per_element=spec.points_per_element)

@@ -178,8 +178,9 @@ class GeneralizedAlpha:
             raise ValueError(f"initial positions violate {system.describe_dof(n + k)} by "
                              f"{C[k]:.3e}; start from positions that satisfy the constraints")
         data = self.base.copy()
+        rest = np.zeros(n)  # accelerations: the unknowns of this solve
         r, _ = system.evaluate(q, v, t, np.zeros(lay.n_c), cK=0.0, cC=0.0, scale=self.mbar,
-                               data=data)
+                               data=data, a=rest, cM=1.0)
         self.solver.factor(data)
         self.stats["factorizations"] += 1
         rhs = np.zeros(lay.N)
@@ -187,7 +188,7 @@ class GeneralizedAlpha:
         rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t)
         proj = self.solver.solve(rhs)
         v = proj[:n]
-        r, info = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar)
+        r, info = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar, a=rest)
         rhs = -r
         rhs[n:] = -self.mbar * system.constraint_accel_term(q, v, t)
         sol = self.solver.solve(rhs)
@@ -196,17 +197,19 @@ class GeneralizedAlpha:
         self.a = sol[:n]
         self.abar = self.a.copy()
         self.lam = self.mbar * sol[n:]
-        self.__dict__.update(self._booked(info, self.q, self.v, start=True))
+        self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
         self.iterations = 0
         self.guard.reset(self.t, self.energies())
 
-    def _booked(self, info, q1, v1, start=False):
-        """Energy books at the end ``(q1, v1)`` of a step with the evaluation ``info``
+    def _booked(self, info, q1, v1, t1, start=False):
+        """Energy books at the end ``(q1, v1, t1)`` of a step with the evaluation ``info``
         there: the work of the damping and of the non-constant external forces over the
         step, ``dq . (f_n + f_{n+1}) / 2`` (exact for the trapezoidal rule), the constraint
         forces ``-C_q^T lambda`` counted as external (they work where a constraint is
-        driven, a moving pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), and the kinetic
-        and potential energy (``kernels.books``); ``start`` opens the books at ``q1``."""
+        driven, a moving pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), the work of the
+        explicit time dependence of stored energies (``System.energy_rate``: a deploying
+        cable's reel), ``h (P_n + P_{n+1}) / 2``, and the kinetic and potential energy
+        (``kernels.books``); ``start`` opens the books at ``q1``."""
         fd, fnc, fcon = info["f_damping"], info["f_nc"], info["f_con"]
         lay = self.lay
         M = lay.mass
@@ -214,12 +217,13 @@ class GeneralizedAlpha:
         dq = np.zeros_like(q1) if start else q1 - self.q
         dissipated, external, kinetic, potential = step_books(
             dq, before, (fd, fnc, fcon), (M.indptr, M.indices, M.data), lay.f_const, q1, v1)
+        rate = self.system.energy_rate(q1, t1)
         if not start:
             dissipated += self.dissipated
-            external += self.external_work
+            external += self.external_work + 0.5 * (t1 - self.t) * (self.energy_rate + rate)
         return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
                 "external_work": external, "elastic": info["energy"].copy(),
-                "kinetic": kinetic, "potential": potential}
+                "kinetic": kinetic, "potential": potential, "energy_rate": rate}
 
     @staticmethod
     def _energies(books):
@@ -250,8 +254,9 @@ class GeneralizedAlpha:
         self.t = float(self.t)
         at_end = {"f_damping": self.fd, "f_nc": self.fnc, "f_con": self.fcon,
                   "energy": self.elastic}
-        start = self._booked(at_end, self.q, self.v, start=True)
+        start = self._booked(at_end, self.q, self.v, self.t, start=True)
         self.kinetic, self.potential = start["kinetic"], start["potential"]
+        self.energy_rate = start["energy_rate"]
         self.h_next = float(snap["h_next"]) if "h_next" in snap else None
         self.h_factored = None
         if "guard_lowest" in snap:
@@ -260,24 +265,26 @@ class GeneralizedAlpha:
             self.guard.reset(self.t, self.energies())
         if "fact_h" in snap:
             at = {k: np.array(snap["fact_" + k]) for k in ("q", "v", "t", "lam", "h")}
-            self._factor(at["q"], at["v"], float(at["t"]), at["lam"], float(at["h"]))
+            a = np.array(snap["fact_a"]) if "fact_a" in snap else np.zeros(self.n)
+            self._factor(at["q"], at["v"], float(at["t"]), at["lam"], float(at["h"]), a)
 
     def _coefficients(self, h):
         bp = (1.0 - self.alpha_m) / (self.beta * h * h * (1.0 - self.alpha_f))
         return bp, self.gamma / (self.beta * h)
 
-    def _factor(self, q, v, t, lam, h, data=None):
-        """Factor the iteration matrix at ``(q, v, t, lam)`` for step ``h``."""
+    def _factor(self, q, v, t, lam, h, a, data=None):
+        """Factor the iteration matrix at ``(q, v, t, lam, a)`` for step ``h``."""
         if data is None:
             bp, gp = self._coefficients(h)
             data = self.base.copy()
             self.system.evaluate(q, v, t, lam, cK=1.0 / bp, cC=gp / bp, scale=self.mbar,
-                                 data=data)
+                                 data=data, a=a, cM=1.0)
         self.solver.factor(data)
         self.stats["factorizations"] += 1
         self.res_weight[:] = 1.0 / (np.abs(data[self.diag_index]) * self.xscale)
         self.h_factored = h
-        self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h}
+        self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h,
+                            "a": a.copy()}
 
     def energies(self):
         """Kinetic, axial, bending and potential energy, dissipated energy and external
@@ -359,7 +366,7 @@ class GeneralizedAlpha:
         for it in range(self.max_iter + 1):
             data = self.base.copy() if need else None
             r, info = system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
-                                      scale=self.mbar, data=data)
+                                      scale=self.mbar, data=data, a=a1, cM=1.0)
             r[:n] = (lay.mass @ a1 + r[:n]) / bp
             err = max(np.max(np.abs(r[:n]) * self.res_weight, initial=0.0),
                       np.max(np.abs(r[n:]), initial=0.0) * self.con_weight)
@@ -386,9 +393,9 @@ class GeneralizedAlpha:
                 if data is None:  # tangent requested after this evaluation: rebuild it
                     data = self.base.copy()
                     system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
-                                    scale=self.mbar, data=data)
+                                    scale=self.mbar, data=data, a=a1, cM=1.0)
                 try:
-                    self._factor(q1, v1, t1, lam1, h, data)
+                    self._factor(q1, v1, t1, lam1, h, a1, data)
                 except SingularMatrixError as exc:
                     self.h_factored = None
                     return False, self._singular(t1, h, exc.index)
@@ -415,7 +422,7 @@ class GeneralizedAlpha:
                 return False, (f"t={t1:.6g}, h={h:.3g}: local error {self.error_ratio:.3g} "
                                "times the tolerance")
         self.guard.set_scale(self.total_mass, self.L_ref, h)
-        books = self._booked(info, q1, v1)
+        books = self._booked(info, q1, v1, t1)
         energies = self._energies(books)
         grown = self.guard.check(energies)
         if grown is not None:

@@ -54,7 +54,7 @@ def line_search_alpha(residual, merit, q, lam, dx, r0, m0, factor, scale, max_st
 
 
 def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line_search=True,
-                 max_bisections=8, method="auto", return_last_converged=False):
+                 max_bisections=8, method="auto", return_last_converged=False, relax=True):
     """Solve ``f_int(q) - f_ext(q) + C_q^T lambda = 0``, ``C(q) = 0``.
 
     Parameters
@@ -82,22 +82,61 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     return_last_converged : bool
         On failure return the last converged state (with ``stats["converged"] = False``)
         instead of raising ``StaticConvergenceError``.
+    relax : bool
+        Retry a load step whose Newton iteration failed by pseudo-transient continuation
+        (``_Newton.relax``) before bisecting it: this finds the hanging state of slack
+        cables, whose straight, untensioned start has a singular tangent.
 
     Returns
     -------
     State
         With ``stats``: ``iterations`` (per load step), ``residual``, ``load_factor``,
-        ``factorizations``.
+        ``factorizations``, ``relaxed`` (the load factors reached by relaxation).
+
+    Notes
+    -----
+    An initial state that violates the constraints (a cable built straight and pinned
+    with its far end at a point closer than its length) is solved in two stages of one
+    continuation (``_Newton.stage``): the loads are applied to the system as built, with
+    the constraints held at their initial values ``C(q) = C(q_0)``, then the violation is
+    closed, ``C(q) = (1 - s) C(q_0)``, ``s`` from 0 to 1; only the right-hand side of the
+    constraints moves.  ``docs/steady.md`` validates it on the elastic catenary.
+
+    Examples
+    --------
+    A 12 m cable built straight, its far end pinned 10 m from the first: it hangs with
+    its lowest point 3 m below the supports (``analytic.elastic_catenary``):
+
+    >>> import skfem_cable as sc
+    >>> sec = sc.Section(E=1e7, A=1e-4, I=1e-20, rho=1e3)
+    >>> cable = sc.Cable.straight([0, 0, 0], [12, 0, 0], 16, sec, law="truss")
+    >>> system = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1), [10, 0, 0])
+    >>> state = sc.solve_static(system.add_gravity([0, 0, -9.81]))
+    >>> round(float(state.position(cable, 6.0)[2]), 2), state.stats["relaxed"]
+    (-2.98, [0.5])
     """
+    return equilibrium(system, load_steps, tol, max_iter, initial, line_search,
+                       max_bisections, method, return_last_converged, relax)
+
+
+def equilibrium(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line_search=True,
+                max_bisections=8, method="auto", return_last_converged=False, relax=True,
+                motion=None):
+    """``solve_static`` in a frame where the system moves rigidly: with ``motion`` (an
+    object with ``velocity(q)``, the velocities of the rigid motion, and ``operator``,
+    their constant derivative ``dv/dq``), the forces are evaluated at those velocities
+    and the tangent is the total derivative (``solvers.steady``)."""
     if int(load_steps) != load_steps or load_steps < 1:
         raise ValueError(f"load_steps must be a positive integer, got {load_steps!r}")
     if not (0 < tol < 1):
         raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
-    newton = _Newton(system, initial, tol, max_iter, line_search, method)
+    newton = _Newton(system, initial, tol, max_iter, line_search, method, motion)
     q, lam = newton.q0, newton.lam0
-    stats = {"iterations": [], "load_factor": [], "residual": [], "factorizations": 0}
+    stats = {"iterations": [], "load_factor": [], "residual": [], "factorizations": 0,
+             "relaxed": []}
     converged_state = State(system, q.copy(), lam.copy(), stats)
-    done, step = 0.0, 1.0 / load_steps
+    max_step = 1.0 / (load_steps * (2 if newton.closing else 1))
+    done, step = 0.0, max_step
     previous = None
     bisections = 0
     while done < 1.0 - 1e-14:
@@ -108,7 +147,15 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             w = (factor - done) / (done - previous[2])
             qk += w * (q - previous[0])
             lamk += w * (lam - previous[1])
-        ok, it, qk, lamk, history = newton.solve(qk, lamk, factor)
+        ok, it, qk1, lamk1, history = newton.solve(qk, lamk, factor)
+        ok = ok and (not newton.closing or _admissible(system, qk1, tol, history))
+        if not ok and relax:
+            ok, it, qk1, lamk1, more = newton.relax(qk, lamk, factor)
+            history += ["relaxation"] + more[-5:]
+            ok = ok and _admissible(system, qk1, tol, history)
+            if ok:
+                stats["relaxed"].append(factor)
+        qk, lamk = qk1, lamk1
         stats["factorizations"] = newton.solver.factorizations
         if ok:
             previous = (q, lam, done)
@@ -118,7 +165,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
             stats["residual"].append(newton.merit(*newton.residual(qk, lamk, factor)))
             converged_state = State(system, q.copy(), lam.copy(), stats)
             if bisections:
-                step = min(2 * step, 1.0 / load_steps)
+                step = min(2 * step, max_step)
                 bisections -= 1
             continue
         if bisections < max_bisections:
@@ -138,21 +185,44 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     return converged_state
 
 
-def _without_bending(system, q, samples=8):
-    """Why cables without bending stiffness (the truss law) may defeat a static solve:
-    one sentence per such cable that is compressed or slack somewhere in the state
-    ``q`` (its tangent then has no stiffness across the cable), with what to do."""
-    reasons = []
+def _least_strains(system, q, samples=8):
+    """``(cable, s, strain)`` at the least strain of each cable without bending stiffness
+    (the truss law) in the state ``q``, sampled ``samples`` times per element."""
     for cable in system.cables():
         if cable.bending:
             continue
         s = np.linspace(0.0, cable.length, samples * cable.n_elements + 1)
         strain = cable.strain(q[system.dofs(cable)], s)
         k = int(np.argmin(strain))
-        if strain[k] <= 0.0:
+        yield cable, s[k], strain[k]
+
+
+def _admissible(system, q, tol, history):
+    """False (noted in ``history``) when a cable without bending stiffness is compressed in
+    the state ``q`` (strain below ``-sqrt(tol)``).  Checked on the equilibria reached by
+    relaxation or while a constraint violation is closed, paths that start slack: there
+    such an equilibrium is spurious (the cable crumples between the quadrature points, or
+    stands as an arch) and the step is refused, to be bisected.  (A truss built compressed
+    and solved by Newton's method keeps its unstable straight equilibrium, which ``modes``
+    reports.)"""
+    for cable, s, strain in _least_strains(system, q):
+        if strain < -np.sqrt(tol):
+            history.append(f"cable {cable.name!r} without bending compressed (strain "
+                           f"{strain:.3g} at s = {s:.4g} m): refused")
+            return False
+    return True
+
+
+def _without_bending(system, q):
+    """Why cables without bending stiffness (the truss law) may defeat a static solve:
+    one sentence per such cable that is compressed or slack somewhere in the state
+    ``q`` (its tangent then has no stiffness across the cable), with what to do."""
+    reasons = []
+    for cable, s, strain in _least_strains(system, q):
+        if strain <= 0.0:
             reasons.append(
                 f"cable {cable.name!r} has no bending stiffness (law {cable.law.name!r}) and "
-                f"is compressed or slack (strain {strain[k]:.3g} at s = {s[k]:.4g} m): "
+                f"is compressed or slack (strain {strain:.3g} at s = {s:.4g} m): "
                 "without tension its stiffness across the cable vanishes and the tangent is "
                 "singular; start from a stretched state (initial=) or tension it first "
                 "(more load_steps, the tensioning loads applied first), give it bending "
@@ -163,9 +233,9 @@ def _without_bending(system, q, samples=8):
 class _Newton:
     """Newton's method with exact tangent for one load factor (see ``solve_static``)."""
 
-    def __init__(self, system, initial, tol, max_iter, line_search, method):
+    def __init__(self, system, initial, tol, max_iter, line_search, method, motion=None):
         self.system, self.tol, self.max_iter = system, tol, max_iter
-        self.line_search = line_search
+        self.line_search, self.motion = line_search, motion
         lay = system.layout
         self.lay, self.n = lay, system.n_dofs
         self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
@@ -174,11 +244,44 @@ class _Newton:
         self.scale = constraint_scale(system, self.q0, self.lam0)
         pos = system.q0.reshape(-1, 3)
         self.L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300)
+        self.violation = system.constraint_values(self.q0)
+        self.closing = bool(np.max(np.abs(self.violation), initial=0.0) > tol * self.L_ref)
+
+    def stage(self, factor):
+        """``(load factor, part of the initial constraint violation kept)`` at the factor
+        of the continuation: the load factor itself; or, when the start violates the
+        constraints, the loads applied to the system as built up to 1/2, then the
+        violation closed."""
+        if not self.closing:
+            return factor, 0.0
+        closed = max(0.0, 2.0 * factor - 1.0) ** 2
+        return min(1.0, 2.0 * factor), 1.0 - closed
 
     def residual(self, q, lam, factor, data=None):
-        r, info = self.system.evaluate(q, None, 0.0, lam, factor, scale=self.scale, data=data,
+        load, kept = self.stage(factor)
+        v = None if self.motion is None else self.motion.velocity(q)
+        r, info = self.system.evaluate(q, v, 0.0, lam, load, scale=self.scale, data=data,
                                        reference_force=True)
+        if kept:
+            r[self.n:] -= self.scale * kept * self.violation
+        if v is not None and data is not None:
+            self._velocity_tangent(q, v, lam, load, data)
         return r, info["force_ref"]
+
+    def _velocity_tangent(self, q, v, lam, factor, data):
+        """Add ``(dr/dv) (dv/dq)`` of the velocities of the rigid motion: the tangent of
+        ``r(q, v(q))`` is then the total derivative.  Entries outside the pattern (a
+        contributor whose velocity tangent couples coordinates its stiffness does not)
+        are left out: Newton then converges linearly, to the same answer."""
+        lay, n = self.lay, self.n
+        dv = np.zeros(lay.nnz)
+        self.system.evaluate(q, v, 0.0, lam, factor, cK=0.0, cC=1.0, scale=self.scale,
+                             data=dv)
+        P = (lay.matrix(dv)[:n, :n] @ self.motion.operator).tocoo()
+        key = P.row.astype(np.int64) * lay.N + P.col
+        pos = np.minimum(np.searchsorted(lay.pattern.ukey, key), lay.nnz - 1)
+        inside = lay.pattern.ukey[pos] == key
+        np.add.at(data, pos[inside], P.data[inside])
 
     def merit(self, r, f_ref):
         n = self.n
@@ -189,7 +292,7 @@ class _Newton:
     def solve(self, qk, lamk, factor):
         """Iterate from ``(qk, lamk)``; returns ``(converged, iterations, q, lam,
         history)``."""
-        n, tol, L_ref, scale = self.n, self.tol, self.L_ref, self.scale
+        n, tol, scale = self.n, self.tol, self.scale
         history = []
         dx_prev = np.inf
         for it in range(self.max_iter + 1):
@@ -212,9 +315,7 @@ class _Newton:
                 return False, it, qk, lamk, history
             dx = self.solver.solve(-r)
             dxn = np.max(np.abs(dx[:n]))
-            if dxn <= tol * L_ref or (dxn <= np.sqrt(tol) * L_ref and dxn >= 0.5 * dx_prev):
-                # the correction is negligible, or stopped contracting at a small size:
-                # the round-off floor of the residual is reached
+            if self._floor(dxn, dx_prev):
                 return True, it, qk + dx[:n], lamk + scale * dx[n:], history
             dx_prev = dxn
             alpha = 1.0
@@ -223,4 +324,69 @@ class _Newton:
                                           factor, scale)
             qk = qk + alpha * dx[:n]
             lamk = lamk + alpha * scale * dx[n:]
+        return False, it, qk, lamk, history
+
+    def _floor(self, dxn, dx_prev):
+        """True when the Newton correction is negligible, or stopped contracting at a small
+        size: the round-off floor of the residual is reached (see ``solve_static``)."""
+        tol, L_ref = self.tol, self.L_ref
+        return dxn <= tol * L_ref or (dxn <= np.sqrt(tol) * L_ref and dxn >= 0.5 * dx_prev)
+
+    #: Iterations allowed to a relaxation, per Newton iteration of ``max_iter``.
+    RELAX_ITERATIONS = 20
+    #: Size of the first step of a relaxation, relative to the system size.
+    RELAX_START = 1e-2
+
+    #: A relaxation step is refused when it multiplies the merit by more than this.
+    RELAX_GROWTH = 2.0
+
+    def relax(self, qk, lamk, factor):
+        """Pseudo-transient continuation from ``(qk, lamk)`` (Kelley & Keyes, SIAM J.
+        Numer. Anal. 35, 1998): steps ``(K + c M) dx = -r`` (constraints kept in the KKT
+        system) with a mass shift ``c`` (1/s^2) that follows the residual (switched
+        evolution relaxation, ``c <- c (m_k / m_{k-1})^2`` for the merit ``m``, the factor
+        kept in [0.01, 100]); a step that multiplies the merit by more than
+        ``RELAX_GROWTH`` is refused and the shift multiplied by 10.  With a large shift it
+        is an implicit, strongly damped pseudo-dynamics (dynamic relaxation): the mass
+        term keeps the tangent of a slack or compressed cable regular; as the residual
+        vanishes the shift does too (below ``1e-12`` of its start it is zero) and the last
+        steps are Newton's.  The first shift moves the coordinates by ``RELAX_START`` of
+        the system size under the residual force, ``c = max |r_i / M_ii| / (RELAX_START
+        L)``.  Returns what ``solve`` returns."""
+        n, tol, scale, lay = self.n, self.tol, self.scale, self.lay
+        data = scale * lay.linear_data
+        r, f_ref = self.residual(qk, lamk, factor, data)
+        m = self.merit(r, f_ref)
+        history = [m]
+        mass = lay.mass_diagonal
+        accel = np.abs(r[:n][mass > 0] / mass[mass > 0])
+        c0 = float(np.max(accel, initial=0.0)) / (self.RELAX_START * self.L_ref)
+        c0 = c0 if np.isfinite(c0) and c0 > 0 else self.scale
+        c = c0
+        for it in range(self.RELAX_ITERATIONS * self.max_iter):
+            if not np.isfinite(m):
+                return False, it, qk, lamk, history
+            if m <= np.sqrt(tol):
+                # close enough for Newton's method (and its round-off floor test)
+                ok, more, qk, lamk, tail = self.solve(qk, lamk, factor)
+                return ok, it + more, qk, lamk, history + tail
+            try:
+                self.solver.factor(data + c * lay.mass_data)
+            except SingularMatrixError:
+                c = max(10.0 * c, 1e-6 * c0)
+                continue
+            dx = self.solver.solve(-r)
+            q1, lam1 = qk + dx[:n], lamk + scale * dx[n:]
+            data1 = scale * lay.linear_data
+            r1, f1 = self.residual(q1, lam1, factor, data1)
+            m1 = self.merit(r1, f1)
+            if np.isfinite(m1) and m1 < self.RELAX_GROWTH * m:
+                # switched evolution relaxation: the pseudo-time step grows as the
+                # residual falls (Kelley & Keyes 1998, Eq. 2.3), c ~ 1 / step^2
+                c *= min(max(m1 / m, 0.1), 10.0) ** 2
+                c = 0.0 if c < 1e-12 * c0 else c
+                qk, lamk, r, data, m = q1, lam1, r1, data1, m1
+                history.append(m)
+            else:
+                c = max(10.0 * c, 1e-6 * c0)
         return False, it, qk, lamk, history

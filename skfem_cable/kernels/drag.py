@@ -1,0 +1,167 @@
+"""Numba kernel of quadratic fluid drag on cables (``drag``: Morison and free-molecular).
+
+At every Gauss point, with ``r = S q`` the position, ``a = r_x = S_x q`` the slope,
+``p = |a|``, ``t = a / p`` the tangent, ``u = c(r, t) - r_dot`` the velocity of the flow
+relative to the cable, ``s = t . u`` and ``u_n = u - s t`` (``m = |u_n|``), the force per
+unit length is
+
+    h = k_n m u_n + k_t |s| s t + k_x m s t,
+
+times ``lam = p`` (per unit deformed length) or ``lam = 1`` (per unit reference length).
+Morison drag has ``k_n = rho d C_dn / 2``, ``k_t = rho pi d C_dt / 2``, ``k_x = 0``;
+free-molecular drag ``k_n = k_x = rho d C_D / 2``, ``k_t = 0`` (``m u`` with
+``m = |u x t|``).  The flow is ``c(r, t) = c_0 + W r + sigma U(e . r)``: a uniform part,
+a linear part (a co-rotating atmosphere: ``W = [omega]_x``) and a piecewise-linear
+profile ``U`` in the elevation ``z = e . r`` (held constant outside its table) scaled by
+``sigma``; ``c_0`` and ``sigma`` depend on time only (refreshed by ``Term.prepare``).
+
+Exact derivatives (``G(w) = |w| I + w w^T / |w|``, ``P = I - t t^T``, ``u^T P = u_n^T``):
+
+    dh/du   = k_n (m P + u_n u_n^T / m) + 2 k_t |s| t t^T + k_x (s t u_n^T / m + m t t^T)
+    p dh/da = -k_n (m t u_n^T + m s P + s u_n u_n^T / m) + k_t |s| (2 t u_n^T + s P)
+              + k_x (m t u_n^T + m s P - s^2 t u_n^T / m)
+
+(terms divided by ``m`` are dropped at ``m = 0``, their limit or a subgradient), and
+``df/du = lam dh/du``, ``df/da = lam dh/da + [deformed] h t^T``,
+``df/dr = df/du (W + sigma U'(z) e^T)``, ``df/dr_dot = -df/du``.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
+    """The flow velocity ``c`` (3,) at ``x`` and its gradient ``dc = dc/dx`` (3, 3);
+    ``slope`` (3,) is scratch."""
+    z = vertical[0] * x[0] + vertical[1] * x[1] + vertical[2] * x[2]
+    nz = heights.size
+    for i in range(3):
+        slope[i] = 0.0
+        c[i] = uniform[i] + W[i, 0] * x[0] + W[i, 1] * x[1] + W[i, 2] * x[2]
+    if nz > 0:
+        if z <= heights[0]:
+            for i in range(3):
+                c[i] += sigma * velocities[0, i]
+        elif z >= heights[nz - 1]:
+            for i in range(3):
+                c[i] += sigma * velocities[nz - 1, i]
+        else:
+            k = np.searchsorted(heights, z) - 1
+            dz = heights[k + 1] - heights[k]
+            xi = (z - heights[k]) / dz
+            for i in range(3):
+                c[i] += sigma * ((1.0 - xi) * velocities[k, i] + xi * velocities[k + 1, i])
+                slope[i] = sigma * (velocities[k + 1, i] - velocities[k, i]) / dz
+    for i in range(3):
+        for j in range(3):
+            dc[i, j] = W[i, j] + slope[i] * vertical[j]
+
+
+@njit(cache=True)
+def point_force(a, u, coef, h, Hu, Ha, t, un):
+    """Force ``lam h`` per unit length (into ``h``) and its derivatives ``df/du`` (``Hu``)
+    and ``df/da`` (``Ha``) at one point; ``coef = [k_n, k_t, k_x, deformed]``; ``t``,
+    ``un`` (3,) are scratch (they receive the tangent and the normal relative flow)."""
+    kn, kt, kx, deformed = coef[0], coef[1], coef[2], coef[3]
+    p = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+    for i in range(3):
+        t[i] = a[i] / p
+    s = t[0] * u[0] + t[1] * u[1] + t[2] * u[2]
+    for i in range(3):
+        un[i] = u[i] - s * t[i]
+    m = math.sqrt(un[0] * un[0] + un[1] * un[1] + un[2] * un[2])
+    inv_m = 1.0 / m if m > 0.0 else 0.0
+    lam = p if deformed != 0.0 else 1.0
+    for i in range(3):
+        h[i] = kn * m * un[i] + (kt * abs(s) + kx * m) * s * t[i]
+    for i in range(3):
+        for j in range(3):
+            d = 1.0 if i == j else 0.0
+            P = d - t[i] * t[j]
+            tt = t[i] * t[j]
+            nn = un[i] * un[j] * inv_m
+            tn = t[i] * un[j]
+            du = (kn * (m * P + nn) + 2.0 * kt * abs(s) * tt
+                  + kx * (s * tn * inv_m + m * tt))
+            da = (-kn * (m * tn + m * s * P + s * nn) + kt * abs(s) * (2.0 * tn + s * P)
+                  + kx * (m * tn + m * s * P - s * s * tn * inv_m)) / p
+            Hu[i, j] = lam * du
+            Ha[i, j] = lam * da + (h[i] * t[j] if deformed != 0.0 else 0.0)
+    for i in range(3):
+        h[i] *= lam
+
+
+@njit(cache=True)
+def kernel(pack, index, ev):
+    """The drag's compiled hook of the evaluation contract (``contract.Term.kernels``):
+    ``int S^T f dx`` into the external forces of the packed evaluation ``ev`` and
+    ``-(cK dF/dq + cC dF/dv)`` into its matrix values at ``index`` (ne, 12, 12), with
+    ``pack = (edofs, S, Sx, w, coef, uniform, W, vertical, heights, velocities, sigma)``
+    (``sigma`` of shape (1,))."""
+    q, v, s, f, f_ext, fd, data, energy, power = ev
+    edofs, S, Sx, w, coef, uniform, W, vertical, heights, velocities, sigma = pack
+    ne, nq = w.shape
+    want = data.size > 0
+    cK, cC = s[1], s[2] if s[3] != 0.0 else 0.0
+    qe = np.empty((4, 3))
+    ve = np.empty((4, 3))
+    x = np.empty(3)
+    a = np.empty(3)
+    u = np.empty(3)
+    c = np.empty(3)
+    dc = np.empty((3, 3))
+    h = np.empty(3)
+    Hu = np.empty((3, 3))
+    Ha = np.empty((3, 3))
+    Hx = np.empty((3, 3))
+    scratch = np.empty((3, 3))
+    fe = np.empty(12)
+    Ke = np.empty((12, 12))
+    for e in range(ne):
+        for A in range(4):
+            for i in range(3):
+                qe[A, i] = q[edofs[e, 3 * A + i]]
+                ve[A, i] = v[edofs[e, 3 * A + i]]
+        fe[:] = 0.0
+        Ke[:] = 0.0
+        for g in range(nq):
+            for i in range(3):
+                x[i] = 0.0
+                a[i] = 0.0
+                u[i] = 0.0
+                for A in range(4):
+                    x[i] += S[e, g, A] * qe[A, i]
+                    a[i] += Sx[e, g, A] * qe[A, i]
+                    u[i] -= S[e, g, A] * ve[A, i]
+            flow(x, uniform, W, vertical, heights, velocities, sigma[0], c, dc, scratch[0])
+            for i in range(3):
+                u[i] += c[i]
+            point_force(a, u, coef, h, Hu, Ha, scratch[1], scratch[2])
+            wg = w[e, g]
+            for A in range(4):
+                for i in range(3):
+                    fe[3 * A + i] += wg * S[e, g, A] * h[i]
+            if not want:
+                continue
+            for i in range(3):
+                for j in range(3):
+                    Hx[i, j] = Hu[i, 0] * dc[0, j] + Hu[i, 1] * dc[1, j] + Hu[i, 2] * dc[2, j]
+            for A in range(4):
+                sA = wg * S[e, g, A]
+                for B in range(4):
+                    sB = S[e, g, B]
+                    xB = Sx[e, g, B]
+                    for i in range(3):
+                        for j in range(3):
+                            # external force: -(cK dF/dq + cC dF/dv), dF/dv = -dF/du
+                            Ke[3 * A + i, 3 * B + j] -= sA * (
+                                cK * (sB * Hx[i, j] + xB * Ha[i, j]) - cC * sB * Hu[i, j])
+        for k in range(12):
+            f_ext[edofs[e, k]] += fe[k]
+        if want:
+            for k in range(12):
+                for m in range(12):
+                    data[index[e, k, m]] += Ke[k, m]
