@@ -148,6 +148,13 @@ ENTRIES = (
           "end tensions and sag against `demos/mooring_current.py`, 20 elements",
           "relative 1e-6", "tests/test_drag.py::test_scene_file_mooring_line",
           "The 100 m line built straight and settled in the current."),
+    Entry("esail_sweep.py",
+          "mean thrust magnitude at `alpha = 0`, 20 kV (runs of 7.9 s, one element per "
+          "tether, on a `LocalCluster` of two processes) against the Sun-facing "
+          "`12 x 10 km x f(20 kV)`",
+          "relative 1e-3", "tests/test_sweep.py::test_demo_esail_sweep",
+          "Mean thrust magnitude and thrust angle against the sailing angle at 10 and 20 kV: "
+          "14 runs of one spin period, one Dask task each (`runs/esail_sweep`)."),
     Entry("esail_steady.py",
           "mean coning angle of a run started from the steady state against the steady "
           "angle, and its largest deviation (integrator noise), 3 elements, one period",
@@ -615,6 +622,12 @@ def draw_falling_chain():
     b.set_title(f"energies; total at t = 0: {E['total'][0]:.2f} J", fontsize=10)
     _save(fig, "falling_chain")
 
+
+
+def draw_esail_sweep():
+    demo = _load_demo("esail_sweep")
+    study = demo.main(out=str(ROOT / "runs" / "esail_sweep"), plot=False)  # reuses runs
+    _save(demo.figure(study), "esail_sweep")
 
 
 def draw_esail_steady():

@@ -62,6 +62,7 @@ from .solvers.simulate import SimulationError, simulate
 from .solvers.static import StaticConvergenceError, solve_static
 from .solvers.steady import solve_steady
 from .state import State
+from .study import sweep  # parameter studies on Dask distributed
 from .system import System
 
 __all__ = [
@@ -103,4 +104,5 @@ __all__ = [
     "simulate",
     "solve_static",
     "solve_steady",
+    "sweep",
 ]

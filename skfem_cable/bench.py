@@ -44,6 +44,8 @@ NOT_QUICK = {
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",
     "mooring_moordyn": "a peer code (optional extra), transient runs of both codes",
     "peers": "about 25 s quick: peer codes (optional extra), reference runs",
+    "sweep_efficiency": "about 3 minutes quick: 8 E-sail runs serial, on a new and on a "
+                        "running 2-worker cluster",
 }
 
 #: Distributions whose versions go into the records.

@@ -1,4 +1,5 @@
-"""The ``skfem-cable`` command: ``run`` a scene, ``validate`` against references, ``bench``.
+"""The ``skfem-cable`` command: ``run`` a scene, ``sweep`` it over parameters (on Dask),
+``validate`` against references, ``bench``.
 
 Run ``skfem-cable --help`` or ``skfem-cable COMMAND --help``.
 """
@@ -7,6 +8,7 @@ import argparse
 import shlex
 import sys
 import textwrap
+from contextlib import contextmanager
 from pathlib import Path
 
 from .solvers.simulate import SimulationError
@@ -16,6 +18,7 @@ EPILOG = """examples:
   skfem-cable run pendulum --out runs/pendulum
   skfem-cable run demos/spinning_hub.toml --t-end 2 --out runs/hub --animate
   skfem-cable run pendulum --out runs/pendulum --t-end 5 --resume
+  skfem-cable sweep esail --param alpha=0,30,60 --param voltage=1e4,2e4 --t-end 600 --out runs/s
   skfem-cable validate
   skfem-cable bench kernel_cost step_cost
   skfem-cable bench --quick
@@ -97,6 +100,38 @@ def build_parser():
                           help="continue the interrupted (or finished) run in --out DIR, "
                           "with the same scene and options (--t-end may grow)")
 
+    sweep = sub.add_parser(
+        "sweep", help="run a scene over a grid of parameters on Dask distributed",
+        description=_wrap("Run a built-in scene for every combination of the --param "
+        "values, one Dask task per run, on a local cluster (--workers) or an existing one "
+        "(--scheduler, started with Dask's 'dask scheduler' and 'dask worker'). DIR "
+        "receives study.zarr (an xarray dataset with one dimension per --param, named as "
+        "given: the runs' key numbers, status and errors) and runs/NAME/, each run's "
+        "directory. Running the same command again reuses finished runs and continues "
+        "interrupted ones from their checkpoints; a failed run is recorded and the others "
+        "complete (exit status 1 if one failed)."),
+        epilog="sweepable scenes: " + ", ".join(sorted(
+            n for n, e in SCENES.items() if e.build is not None)),
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    sweep.add_argument("scene", metavar="SCENE", help="built-in scene name")
+    sweep.add_argument("--param", action="append", required=True, metavar="NAME=V1,V2",
+                       help="a swept parameter of the scene's build function and its values "
+                       "(repeat for more dimensions), e.g. alpha=0,10,20")
+    sweep.add_argument("--t-end", type=_positive_float, metavar="T",
+                       help="end time in s of every run (default: the scene's)")
+    sweep.add_argument("--out", type=Path, metavar="DIR", required=True,
+                       help="study directory to write")
+    where = sweep.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="address of a running Dask scheduler, e.g. tcp://host:8786")
+    where.add_argument("--workers", type=_positive_int, metavar="N",
+                       help="worker processes of the local cluster (default: the cores)")
+    sweep.add_argument("--no-progress", action="store_true",
+                       help="no progress bar (default: shown when stderr is a terminal)")
+    sweep.add_argument("--plots", action="store_true", help="write each run's figures")
+    sweep.add_argument("--overwrite", action="store_true",
+                       help="run every point again, replacing the runs already in DIR")
+
     val = sub.add_parser(
         "validate", help="run the validation cases and print a table against the references",
         description=_wrap("Run reduced validation cases (statics, modes, pendulum period, "
@@ -170,6 +205,44 @@ def _interrupted(args, err):
     return exit_status(signum)
 
 
+def cmd_sweep(args):
+    from .scenes.catalog import builder
+    from .study import format_study, parse_param, sweep
+
+    grid = {}
+    for text in args.param:
+        name, values = parse_param(text)
+        if name in grid:
+            raise ValueError(f"--param {name} is given twice")
+        grid[name] = values
+    build = builder(args.scene)
+    fixed = {} if args.t_end is None else {"t_end": args.t_end}
+    with _client(args.scheduler) as client:
+        ds = sweep(build, grid, client=client, store=args.out, fixed=fixed,
+                   workers=args.workers, progress=False if args.no_progress else None,
+                   plots=args.plots, overwrite=args.overwrite)
+    print(format_study(ds))
+    print(f"study: {args.out / 'study.zarr'}")
+    return 0 if (ds.status == "complete").all() else 1
+
+
+@contextmanager
+def _client(address):
+    """A Dask client of the scheduler at ``address`` (None: none, ``sweep`` starts a
+    local cluster)."""
+    if address is None:
+        yield None
+        return
+    from dask.distributed import Client
+
+    try:
+        client = Client(address, timeout="20s")
+    except OSError as err:
+        raise ValueError(f"--scheduler {address}: cannot connect ({err})") from err
+    with client:
+        yield client
+
+
 def cmd_validate(args):
     from . import validation
 
@@ -195,7 +268,7 @@ def cmd_bench(args):
                      json_dir=bench.RESULTS if args.json is None else args.json)
 
 
-COMMANDS = {"run": cmd_run, "validate": cmd_validate, "bench": cmd_bench}
+COMMANDS = {"run": cmd_run, "sweep": cmd_sweep, "validate": cmd_validate, "bench": cmd_bench}
 
 
 def main(argv=None):

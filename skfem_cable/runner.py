@@ -24,7 +24,7 @@ import json
 import shutil
 import sys
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fnmatch import fnmatch
 from pathlib import Path
 
@@ -405,6 +405,40 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
         summary["total_wall_time"] = time.perf_counter() - wall0
         write_summary(out, summary)
     return summary, result
+
+
+@dataclass
+class RunScene:
+    """A scene ready to run (``run``), and what the ``build`` function of a
+    parameter study (``sweep``) returns.
+
+    Attributes
+    ----------
+    name : str
+        Scene name (recorded in the summary).
+    system : System
+    initial : State or None
+    settings : dict
+        The ``defaults`` of ``run_dynamic``: ``t_end``, ``dt``, ``every`` and optionally
+        ``rho_inf``, other ``simulate`` keywords, ``series_every``, ``chunk``, ``fields``.
+    parameters : dict
+        Scene parameters recorded in the summary.
+    outputs : callable, optional
+        ``outputs(result) -> dict`` of the scene's key numbers (added to the summary).
+    """
+
+    name: str
+    system: object
+    initial: object
+    settings: dict
+    parameters: dict = field(default_factory=dict)
+    outputs: object = None
+
+    def run(self, options):
+        """Run the scene into the run directory ``options.out`` (``run_dynamic``; the
+        options override the settings); returns the summary."""
+        return run_dynamic(self.name, self.system, self.initial, options, self.settings,
+                           self.parameters, self.outputs)[0]
 
 
 def store_summary(out):

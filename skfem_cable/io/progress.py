@@ -10,13 +10,14 @@ from ..contract import Observer
 class Progress:
     """``Progress(t_start, t_end, enabled)``; call ``update(t)`` and ``close()``.
 
-    ``enabled=None`` shows the bar only when stderr is a terminal.
+    ``enabled=None`` shows the bar only when stderr is a terminal; ``label`` names the
+    progress variable (``t=``, or ``runs=`` for a study's tasks).
     """
 
-    def __init__(self, t_start, t_end, enabled=None, stream=None, width=30):
+    def __init__(self, t_start, t_end, enabled=None, stream=None, width=30, label="t"):
         self.stream = stream or sys.stderr
         self.enabled = self.stream.isatty() if enabled is None else bool(enabled)
-        self.t0, self.t1, self.width = t_start, t_end, width
+        self.t0, self.t1, self.width, self.label = t_start, t_end, width, label
         self.wall0 = time.perf_counter()
         self.last = -1.0
         self.shown = None  # the time last shown
@@ -32,7 +33,7 @@ class Progress:
         elapsed = now - self.wall0
         eta = elapsed * (1 - frac) / frac if frac > 0 else float("nan")
         bar = "#" * int(frac * self.width)
-        self.stream.write(f"\r[{bar:<{self.width}}] {100 * frac:5.1f}%  t={t:.6g}  "
+        self.stream.write(f"\r[{bar:<{self.width}}] {100 * frac:5.1f}%  {self.label}={t:.6g}  "
                           f"elapsed {elapsed:6.1f}s  ETA {eta:6.1f}s {note}")
         self.stream.flush()
 

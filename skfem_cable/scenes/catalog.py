@@ -9,6 +9,10 @@ import or needs optional pieces.  Adding a scene is one call::
     from skfem_cable.scenes import catalog
     catalog.register("my-scene", "mypackage.scenes:run", "what it shows")
 
+An entry that also names a ``build`` function (``build(**params) -> runner.RunScene``, a
+module-level function, also as a ``"module:function"`` string) can be swept over its
+parameters: ``skfem-cable sweep NAME --param NAME=V1,V2`` (``skfem_cable.study``).
+
 ``run_scene`` also accepts the path of a TOML scene file (``scene_file``).
 """
 
@@ -19,32 +23,56 @@ from pathlib import Path
 import numpy as np
 
 from ..analytic import elastica_tip_load
-from ..runner import run_dynamic, run_static
+from ..runner import RunScene, run_static
 from ..solvers.static import solve_static
 from . import classics
 
 
+def _resolve(target):
+    """``target`` itself when callable, else the function a ``"module:function"`` string
+    names (imported now)."""
+    if callable(target):
+        return target
+    module, _, function = target.partition(":")
+    return getattr(importlib.import_module(module), function)
+
+
 @dataclass
 class Entry:
-    """A runnable scene: ``target`` is a callable or a ``"module:function"`` string."""
+    """A runnable scene: ``target`` (the runner) and ``build`` (the scene builder of
+    sweeps, or None) are callables or ``"module:function"`` strings."""
 
     name: str
     target: object
     help: str
+    build: object = None
 
     def runner(self):
-        if callable(self.target):
-            return self.target
-        module, _, function = self.target.partition(":")
-        return getattr(importlib.import_module(module), function)
+        return _resolve(self.target)
+
+    def builder(self):
+        """The scene's ``build(**params) -> RunScene``; ``ValueError`` when it has none."""
+        if self.build is None:
+            sweepable = ", ".join(sorted(n for n, e in SCENES.items() if e.build is not None))
+            raise ValueError(f"scene {self.name!r} cannot be swept (it has no build "
+                             f"function): sweep one of {sweepable}")
+        return _resolve(self.build)
 
 
 SCENES = {}
 
 
-def register(name, target, help):
-    """Add (or replace) the scene ``name``; ``target(options) -> summary``."""
-    SCENES[name] = Entry(name, target, help)
+def register(name, target, help, build=None):
+    """Add (or replace) the scene ``name``; ``target(options) -> summary``; ``build``:
+    ``build(**params) -> RunScene`` for sweeps (optional)."""
+    SCENES[name] = Entry(name, target, help, build)
+
+
+def builder(scene):
+    """The build function of the registered scene ``scene`` (for ``sweep``)."""
+    if scene not in SCENES:
+        raise ValueError(f"unknown scene {scene!r}: use one of {', '.join(sorted(SCENES))}")
+    return SCENES[scene].builder()
 
 
 def run_scene(scene, options):
@@ -60,6 +88,17 @@ def run_scene(scene, options):
 
 
 # --- built-in scenes -------------------------------------------------------------------------
+def elastica_row(cable, k, state):
+    """Tip displacements ``u`` (along the cable), ``w`` (along the load) of the cantilever
+    ``cable`` (``classics.cantilever``, unit length) at ``state``, against the exact
+    elastica of the load parameter ``k``, and their largest relative error."""
+    tip = state.position(cable, 1.0)
+    u, w = 1.0 - tip[0], -tip[1]
+    u_ref, w_ref = elastica_tip_load(k)
+    return {"k": k, "u": u, "u_exact": u_ref, "w": w, "w_exact": w_ref,
+            "rel_error": max(abs(u - u_ref) / u_ref, abs(w - w_ref) / w_ref)}
+
+
 def cantilever(options):
     """Static elastica: tip loads ``k = P L^2 / EI = 1, 2, 5, 10``, each solved from the
     straight cable (20 load steps) and compared with the exact elastica; the
@@ -72,39 +111,59 @@ def cantilever(options):
     rows, steps = [], []
     for k in (1.0, 2.0, 5.0, 10.0):
         scene = classics.cantilever(n, k, locking_free=options.value("locking_free", True))
-        system, cable = scene.system, scene.cable
-        state = solve_static(system, load_steps=20)
-        tip = state.position(cable, 1.0)
-        u, w = 1.0 - tip[0], -tip[1]
-        u_ref, w_ref = elastica_tip_load(k)
-        rows.append({"k": k, "u": u, "u_exact": u_ref, "w": w, "w_exact": w_ref,
-                     "rel_error": max(abs(u - u_ref) / u_ref, abs(w - w_ref) / w_ref)})
+        state = solve_static(scene.system, load_steps=20)
+        rows.append(elastica_row(scene.cable, k, state))
         steps.append((k, state))
     parameters = {"elements": n, "EA L^2/EI": section.EA / section.EI,
-                  "locking_free": cable.locking_free}
-    return run_static("cantilever", system, steps, options, parameters, {"elastica": rows},
-                      title="cantilever, k = P L^2/EI = 10")
+                  "locking_free": scene.cable.locking_free}
+    return run_static("cantilever", scene.system, steps, options, parameters,
+                      {"elastica": rows}, title="cantilever, k = P L^2/EI = 10")
+
+
+def cantilever_point(elements=16, k=5.0, locking_free=False, load_steps=20):
+    """One point of the cantilever convergence study (``benchmarks/
+    cantilever_convergence.py``) as a sweep's scene: ``elements`` elements, tip load
+    ``k = P L^2 / EI``, solved in ``load_steps`` steps; run it with
+    ``run_cantilever_point``."""
+    scene = classics.cantilever(elements, k, locking_free=locking_free)
+    return RunScene("cantilever", scene.system, scene.initial, {"load_steps": load_steps},
+                    {"elements": elements, "k": k, "locking_free": locking_free})
+
+
+def run_cantilever_point(scene, options):
+    """Solve the ``cantilever_point`` scene and write its run directory (``run_static``);
+    its outputs are ``elastica_row``'s: ``rel_error`` against the exact elastica."""
+    k = scene.parameters["k"]
+    state = solve_static(scene.system, load_steps=scene.settings["load_steps"])
+    row = elastica_row(scene.system.cables()[0], k, state)
+    return run_static("cantilever", scene.system, [(k, state)], options, scene.parameters,
+                      row, title=f"cantilever, k = {k:g}")
+
+
+def pendulum_scene(elements=16, locking_free=False, t_end=1.0, dt=1e-3, every=10):
+    """The ``pendulum`` scene (``classics.pendulum``) with ``elements`` cable elements,
+    run to ``t_end`` with step ``dt``, every ``every``-th step saved."""
+    scene = classics.pendulum(n_elements=elements, locking_free=locking_free)
+    return RunScene("pendulum", scene.system, scene.initial,
+                    {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
+                    {"elements": scene.cable.n_elements, "length": scene.cable.length,
+                     "locking_free": scene.cable.locking_free})
 
 
 def pendulum(options):
     """Flexible pendulum released horizontally (``classics.pendulum``)."""
     options.reject("pendulum", "alpha")
-    scene = classics.pendulum(n_elements=options.value("elements", 16),
-                              locking_free=options.value("locking_free", False))
-    return run_dynamic("pendulum", scene.system, scene.initial, options,
-                       {"t_end": 1.0, "dt": 1e-3, "every": 10, "rho_inf": 0.8},
-                       {"elements": scene.cable.n_elements, "length": scene.cable.length,
-                        "locking_free": scene.cable.locking_free})[0]
+    return pendulum_scene(options.value("elements", 16),
+                          options.value("locking_free", False)).run(options)
 
 
-def spinning_tether(options):
-    """Tether with a tip mass spinning about z (``classics.spinning_tether``); the mean root
-    tension is compared with the rigid rotating cable ``m W^2 L + rho A W^2 L^2 / 2``."""
-    options.reject("spinning-tether", "alpha")
-    spin, tip_mass = 2.0, 0.5
-    scene = classics.spinning_tether(n_elements=options.value("elements", 10), spin=spin,
-                                     tip_mass=tip_mass,
-                                     locking_free=options.value("locking_free", False))
+def spinning_tether_scene(elements=10, locking_free=False, spin=2.0, tip_mass=0.5, t_end=5.0,
+                          dt=5e-3, every=4):
+    """Tether with a tip mass spinning about z (``classics.spinning_tether``); its
+    outputs compare the mean root tension with the rigid rotating cable
+    ``m W^2 L + rho A W^2 L^2 / 2``."""
+    scene = classics.spinning_tether(n_elements=elements, spin=spin, tip_mass=tip_mass,
+                                     locking_free=locking_free)
     cable = scene.cable
     L, mu = cable.length, cable.section.mass_per_length
     rigid = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
@@ -114,19 +173,66 @@ def spinning_tether(options):
         return {"root_tension_mean": mean, "root_tension_rigid": rigid,
                 "root_tension_rel_error": mean / rigid - 1}
 
-    return run_dynamic("spinning-tether", scene.system, scene.initial, options,
-                       {"t_end": 5.0, "dt": 5e-3, "every": 4, "rho_inf": 0.8},
-                       {"elements": cable.n_elements, "spin": spin, "tip_mass": tip_mass,
-                        "locking_free": cable.locking_free},
-                       outputs)[0]
+    return RunScene("spinning-tether", scene.system, scene.initial,
+                    {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
+                    {"elements": cable.n_elements, "spin": spin, "tip_mass": tip_mass,
+                     "locking_free": cable.locking_free}, outputs)
+
+
+def spinning_tether(options):
+    """``spinning_tether_scene`` (2 rad/s, 0.5 kg tip mass) run by ``skfem-cable run``."""
+    options.reject("spinning-tether", "alpha")
+    return spinning_tether_scene(options.value("elements", 10),
+                                 options.value("locking_free", False)).run(options)
+
+
+def esail_scene(alpha=10.0, voltage=20e3, elements=5, locking_free=False, t_end=None, dt=0.1,
+                every=50):
+    """The baseline E-sail (``esail.build``, 12 tethers of ``elements`` cable elements) at
+    sailing angle ``alpha`` (deg) and tether voltage ``voltage`` (V), run to ``t_end``
+    (default three spin periods) with step ``dt`` (rho_inf = 0.25), every ``every``-th
+    step saved: the scene ``skfem-cable sweep esail`` sweeps.  Its outputs
+    (``esail_numbers``): mean thrust vector and magnitude, thrust angle, coning and
+    lagging amplitudes, peak tether tension."""
+    from . import esail
+
+    cfg = esail.BaselineConfig(voltage=voltage)
+    scene = esail.build(cfg, alpha, elements, locking_free=locking_free)
+    settings = {"t_end": 3 * cfg.spin_period if t_end is None else t_end, "dt": dt,
+                "every": every, "rho_inf": 0.25, "series_every": 12}
+    parameters = {"alpha_deg": alpha, "voltage": voltage, "elements_per_tether": elements,
+                  "tethers": cfg.n_tethers, "locking_free": scene.tethers[0].locking_free}
+    return RunScene("esail", scene.system, scene.initial, settings, parameters,
+                    lambda result: esail_numbers(scene, result))
+
+
+def esail_numbers(scene, result):
+    """Key numbers of an E-sail run (``esail.outputs`` averaged over the saved steps):
+    ``thrust_mean_O`` (the mean thrust vector in the orbit frame, N), ``thrust_mean_N``
+    (mean magnitude), ``thrust_angle_mean_deg`` (from the Sun line), ``coning_max_deg``,
+    ``lagging_max_deg`` (largest over tethers and time), ``tension_max_N`` (largest tether
+    tension at the nodes over the run)."""
+    from . import esail
+
+    out = esail.outputs(scene, result)
+    tension = max(result.tension(c, c.mesh.p[0]).max() for c in scene.tethers)
+    return {"thrust_mean_O": out["thrust_O"].mean(axis=0),
+            "thrust_mean_N": np.linalg.norm(out["thrust"], axis=1).mean(),
+            "thrust_angle_mean_deg": np.rad2deg(out["thrust_angle"]).mean(),
+            "coning_max_deg": np.rad2deg(np.abs(out["coning"])).max(),
+            "lagging_max_deg": np.rad2deg(np.abs(out["lagging"])).max(),
+            "tension_max_N": tension}
 
 
 register("esail", "skfem_cable.scenes.esail:run",
-         "E-sail baseline of the paper (12 tethers, 3 spin periods); --alpha sailing angle")
+         "E-sail baseline of the paper (12 tethers, 3 spin periods); --alpha sailing angle",
+         build=esail_scene)
 register("cantilever", cantilever,
          "static elastica under tip loads k = PL^2/EI = 1..10 against the exact solution")
-register("pendulum", pendulum, "flexible pendulum released from horizontal under gravity")
+register("pendulum", pendulum, "flexible pendulum released from horizontal under gravity",
+         build=pendulum_scene)
 register("spinning-tether", spinning_tether,
-         "tether with a tip mass spinning at 2 rad/s, root tension against the rigid value")
+         "tether with a tip mass spinning at 2 rad/s, root tension against the rigid value",
+         build=spinning_tether_scene)
 register("hanging-chain", "skfem_cable.scenes.hanging_chain:run",
          "steel rod chain released from horizontal, against rigid links")

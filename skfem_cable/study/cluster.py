@@ -1,0 +1,131 @@
+"""Parameter studies on Dask distributed: ``sweep`` runs every point of a grid as one task
+(``client.map`` of ``task.run_point``), each into its own run directory of the study, on a
+given cluster or a ``LocalCluster`` it starts, and gathers the small records the tasks
+return into the study's dataset (``dataset``)."""
+
+import os
+import time
+import uuid
+from contextlib import contextmanager
+from pathlib import Path
+
+import numpy as np
+
+from ..io.jsonable import jsonable
+from ..io.progress import Progress
+from . import grid as grids
+from .dataset import RUNS, STUDY, dataset, write_study
+from .task import run_point
+
+
+def sweep(build, grid, run=None, client=None, store="runs/study", fixed=None,
+          overwrite=False, workers=None, progress=None, plots=False):
+    """Run a parameter study on Dask distributed and return its dataset.
+
+    Parameters
+    ----------
+    build : callable
+        ``build(**params) -> runner.RunScene``: the scene of one point (system, initial
+        state, solver settings, parameters, outputs).  The contract: a module-level
+        function (workers import it by name), deterministic (the same parameters give the
+        same scene in every process), taking the parameters as keywords; it is called in
+        the worker, so the scene is never shipped.
+    grid : dict or list of dict
+        ``{name: [values]}`` (the outer product, one dimension per name) or a list of
+        ``{name: value}`` (one dimension ``run``), see ``grid.points``.
+    run : callable, optional
+        ``run(scene, options) -> summary``, a module-level function that runs a scene into
+        ``options.out`` (``runner.RunOptions``); default ``scene.run(options)``.
+    client : dask.distributed.Client, optional
+        The cluster to run on; default a ``LocalCluster`` of ``workers`` processes with
+        one thread each, closed at the end.
+    store : path
+        The study's directory (``study.zarr`` and ``runs/``).
+    fixed : dict, optional
+        Parameters of ``build`` common to every point (not dimensions).
+    overwrite : bool
+        Run every point again, replacing its run directory; by default a point whose run
+        is finished with the same scene is reused and an interrupted one continued.
+    workers : int, optional
+        Processes of the local cluster (default: the cores, at most the points).
+    progress : bool, optional
+        Progress bar over the tasks on stderr (None: when stderr is a terminal).
+    plots : bool
+        Write each run's figures.
+
+    Returns
+    -------
+    xarray.Dataset
+        The study (also written to ``store/study.zarr``).
+
+    Examples
+    --------
+    >>> from skfem_cable.scenes.catalog import pendulum_scene
+    >>> ds = sweep(pendulum_scene, {"elements": [4, 8]},       # doctest: +SKIP
+    ...            fixed={"t_end": 0.5}, store="runs/pendulum-study")
+    >>> ds.energy_max_abs_balance_relative.sel(elements=8)     # doctest: +SKIP
+    """
+    fixed = dict(fixed or {})
+    dims, pts, coords = grids.points(grid)
+    clash = sorted(set(fixed) & {n for _, p in pts for n in p})
+    if clash:
+        raise ValueError(f"parameter {clash[0]!r} is both fixed and swept")
+    grids.check_names(build, [*fixed, *pts[0][1]])
+    if workers is not None and (int(workers) != workers or workers < 1 or client is not None):
+        raise ValueError(f"workers must be a positive integer, without client (which has "
+                         f"its own), got {workers!r}")
+    store = Path(store).resolve()
+    names = [grids.run_name(build, {**p, **fixed}) for _, p in pts]
+    with _cluster(client, workers, len(pts)) as c:
+        records = _gather(c, build, run, [{**fixed, **p} for _, p in pts],
+                          [store / RUNS / n for n in names], overwrite, plots, progress)
+    ds = dataset(dims, coords, [i for i, _ in pts], records,
+                 [f"{RUNS}/{n}" for n in names])
+    ds.attrs.update(build=grids.build_name(build), fixed=jsonable(fixed), directory=str(store),
+                    created=time.strftime("%Y-%m-%dT%H:%M:%S%z"))
+    write_study(ds, store / STUDY)
+    return ds
+
+
+@contextmanager
+def _cluster(client, workers, n_tasks):
+    """``client``, or a client of a new ``LocalCluster`` (closed on exit)."""
+    if client is not None:
+        yield client
+        return
+    from dask.distributed import Client, LocalCluster
+
+    n = workers or max(1, min(n_tasks, os.cpu_count() or 1))
+    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as c:
+        yield c
+
+
+def _gather(client, build, run, params, dirs, overwrite, plots, progress):
+    """Submit one task per point and collect the records as they come (a task the cluster
+    lost for good is a failed record)."""
+    from dask.distributed import as_completed
+
+    token = uuid.uuid4().hex[:8]
+    futures = client.map(run_point, [build] * len(params), params, dirs, run=run,
+                         overwrite=overwrite, plots=plots,
+                         key=[f"skfem-cable-sweep-{token}-{d.name}" for d in dirs])
+    index = {f.key: k for k, f in enumerate(futures)}
+    records = [None] * len(futures)
+    bar = Progress(0, len(futures), progress, label="runs")
+    failed = 0
+    for done, future in enumerate(as_completed(futures), 1):
+        try:
+            record = future.result()
+        except Exception as err:  # the task itself records failures: this is the cluster
+            record = {"status": "failed", "error": f"{type(err).__name__}: {err}",
+                      "reused": False, "numbers": {}, "t_last": np.nan,
+                      "task_wall_time": np.nan}
+        records[index[future.key]] = record
+        failed += record["status"] != "complete"
+        bar.update(done, f"{failed} failed" if failed else "")
+        future.release()
+    bar.close()
+    return records
+
+
