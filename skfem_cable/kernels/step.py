@@ -32,8 +32,8 @@ def newton(terms, model, lu, state, out, prm):
     lu : tuple
         The bordered band LU of ``linalg.PatternSolver`` (``kernels.bordered``; its
         storage: a factor made there is used here and the reverse).
-    state : tuple ``(q, v, a, abar, lam)``
-        The state at ``t_n`` (read only).
+    state : tuple ``(q, v, a, abar, lam, a_pred)``
+        The state at ``t_n`` and the predicted acceleration at ``t_n+1`` (read only).
     out : tuple
         ``(q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power,
         res_weight, history, fq, fv, flam, dx, rhs, s, cs)``: the new state, the residual, the
@@ -51,7 +51,7 @@ def newton(terms, model, lu, state, out, prm):
         iteration count; the factorizations and Newton corrections made; the unknown
         of a zero pivot (-1 otherwise).
     """
-    q, v, a, abar, lam = state
+    q, v, a, abar, lam, a_pred = state
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
      history, fq, fv, flam, dx, rhs, s, cs) = out
     xscale, inv_xscale = model[6], model[7]
@@ -60,10 +60,10 @@ def newton(terms, model, lu, state, out, prm):
     tol_local, error_constant = prm[14], prm[15]
     max_iter, need, full = int(prm[11]), prm[12] != 0.0, prm[13] != 0.0
     n = q.size
-    # predictor: constant acceleration
+    # predictor: the acceleration a_pred (GeneralizedAlpha.predicted_acceleration)
     for i in range(n):
-        abar1 = (a[i] - am * abar[i]) / (1.0 - am)
-        a1[i] = a[i]
+        a1[i] = a_pred[i]
+        abar1 = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
         q1[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * abar[i] + bt * abar1)
         v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)
     lam1[:] = lam

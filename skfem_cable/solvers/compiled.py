@@ -166,5 +166,5 @@ class CompiledNewton:
         self.prm[:] = (t1, h, g.alpha_m, g.alpha_f, g.gamma, g.beta, bp, gp, g.mbar, g.tol,
                        g.con_weight, g.max_iter, need, g.newton == "full",
                        g.tol_local or 0.0, g.error_constant)
-        state = (g.q, g.v, g.a, g.abar, g.lam)
+        state = (g.q, g.v, g.a, g.abar, g.lam, g.predicted_acceleration(h))
         return self.newton(self.terms, self.model, self.lu, state, self.out, self.prm)

@@ -131,6 +131,7 @@ class GeneralizedAlpha:
         self.con_weight = 1.0 / (self.mbar * self.L_ref)
         self.h_factored = None
         self.h_next = None  # the step the driver chose next (adaptive steps)
+        self.a_prev = self.h_prev = None  # the last step (predicted_acceleration)
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
         self.compiled = self._compiled_newton(compiled)
@@ -196,6 +197,7 @@ class GeneralizedAlpha:
         self.t, self.q, self.v = float(t), q.copy(), v.copy()
         self.a = sol[:n]
         self.abar = self.a.copy()
+        self.a_prev = self.h_prev = None
         self.lam = self.mbar * sol[n:]
         self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
         self.iterations = 0
@@ -243,6 +245,8 @@ class GeneralizedAlpha:
         snap.update(self.guard.snapshot())
         if self.h_next is not None:
             snap["h_next"] = np.float64(self.h_next)
+        if self.a_prev is not None:
+            snap["a_prev"], snap["h_prev"] = np.copy(self.a_prev), np.float64(self.h_prev)
         if self.h_factored is not None:
             snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
         return snap
@@ -258,6 +262,8 @@ class GeneralizedAlpha:
         self.kinetic, self.potential = start["kinetic"], start["potential"]
         self.energy_rate = start["energy_rate"]
         self.h_next = float(snap["h_next"]) if "h_next" in snap else None
+        self.a_prev = np.array(snap["a_prev"]) if "a_prev" in snap else None
+        self.h_prev = float(snap["h_prev"]) if "a_prev" in snap else None
         self.h_factored = None
         if "guard_lowest" in snap:
             self.guard.restore(snap)
@@ -311,6 +317,23 @@ class GeneralizedAlpha:
         pseudo-accelerations of Arnold & Bruls 2007)."""
         return self.error_constant * h * h * (self._next_abar(a1) - self.abar)
 
+    #: Newton iterations of the last step up to which the motion counts as smooth enough
+    #: for the extrapolated predictor (``predicted_acceleration``).
+    SMOOTH_ITERATIONS = 3
+
+    def predicted_acceleration(self, h):
+        """Newton's starting acceleration for a step ``h``.  After a step that converged in
+        at most ``SMOOTH_ITERATIONS`` iterations: linear extrapolation from the last two
+        accepted steps, ``a_n + h (a_n - a_(n-1)) / h_(n-1)`` (the E-sail: a fifth fewer
+        iterations, 2.46 -> 1.99 per step, and half the factorizations); otherwise, and
+        after a start, the constant acceleration ``a_n`` (Arnold & Bruls start from
+        ``a = 0``, about one iteration more per step on smooth motions): on a coarse,
+        under-resolved step the extrapolation overshoots (the spinning tether at
+        ``dt = 0.5 s``: 294 rejected steps instead of none)."""
+        if self.a_prev is None or self.iterations > self.SMOOTH_ITERATIONS:
+            return self.a.copy()
+        return self.a + (h / self.h_prev) * (self.a - self.a_prev)
+
     def _next_abar(self, a1):
         """The pseudo-acceleration at the end of a step ending with acceleration ``a1``:
         ``(1 - alpha_m) abar_(n+1) = (1 - alpha_f) a_(n+1) + alpha_f a_n - alpha_m abar_n``."""
@@ -350,13 +373,11 @@ class GeneralizedAlpha:
 
     def _python_step(self, h, need):
         system, lay, n = self.system, self.lay, self.n
-        am, gm, bt = self.alpha_m, self.gamma, self.beta
+        gm, bt = self.gamma, self.beta
         bp, gp = self._coefficients(h)
         t1 = self.t + h
-        # predictor: constant acceleration (Arnold & Bruls start from a = 0, which costs
-        # about one Newton iteration more per step on smooth motions)
-        a1 = self.a.copy()
-        abar1 = (self.a - am * self.abar) / (1.0 - am)
+        a1 = self.predicted_acceleration(h)
+        abar1 = self._next_abar(a1)
         q1 = self.q + h * self.v + h * h * ((0.5 - bt) * self.abar + bt * abar1)
         v1 = self.v + h * ((1.0 - gm) * self.abar + gm * abar1)
         lam1 = self.lam.copy()
@@ -429,6 +450,7 @@ class GeneralizedAlpha:
             return False, self._diagnose_growth(t1, h, v1, grown)
         self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
         self.abar = self._next_abar(a1)
+        self.a_prev, self.h_prev = self.a, h
         self.a = a1
         self.iterations = iterations
         self.__dict__.update(books)
