@@ -275,10 +275,11 @@ class System:
         """Moment (N m, fixed in space) at a cable node; see ``loads.PointMoment``."""
         return self.add_load(PointMoment(node, moment))
 
-    def add_centrifugal(self, omega):
-        """Centrifugal forces of a frame rotating at ``omega`` (rad/s): for steady spinning
-        states (``solve_static``) and their modes (``modes(..., spin=omega)``)."""
-        return self.add_load(Centrifugal(omega))
+    def add_centrifugal(self, omega, center=(0.0, 0.0, 0.0)):
+        """Centrifugal forces of a frame rotating at ``omega`` (rad/s) about the axis
+        through ``center`` (m): for steady spinning states (``solve_static``; free-floating
+        systems: ``solve_steady``) and their modes (``modes(..., spin=omega)``)."""
+        return self.add_load(Centrifugal(omega, center))
 
     def add_gravity(self, g):
         """Uniform gravity (m/s^2) on every body and point mass (consistent nodal forces)."""

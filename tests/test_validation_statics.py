@@ -18,6 +18,7 @@ from scipy.spatial.transform import Rotation
 from skfem import MeshLine
 
 import skfem_cable as sc
+from skfem_cable.analytic import green_stretch
 
 #: Steel beam of the README script: EA L^2/EI = 1e6 for L = 1 m.
 STEEL = sc.Section(E=2.1e11, A=1e-4, I=1e-10, rho=7850.0)
@@ -192,39 +193,13 @@ _GX, _GW = np.polynomial.legendre.leggauss(64)
 
 
 def stretch_minus_one(T, EA, law="green"):
-    """Stretch ``e = lambda - 1`` at true tension ``T`` for the element's material law.
-
-    The axial energy per reference length is ``EA/2 eps^2`` with the Green strain
-    ``eps = (lambda^2 - 1)/2``, so the force carried by the section is
-    ``T = dW/dlambda = EA lambda (lambda^2 - 1)/2``, i.e. ``e (1 + e) (2 + e) = 2 T/EA``.
-    Solved by Newton's method in ``e`` (no cancellation in ``lambda - 1``).
-
-    Parameters
-    ----------
-    T : array_like
-        True tension (N), >= 0.
-    EA : float
-        Axial stiffness (N); ``None`` for an inextensible cable (returns zeros).
-    law : {"green", "hooke"}
-        ``"hooke"``: the classical ``T = EA e`` of Irvine's catenary, for comparison.
-
-    Returns
-    -------
-    ndarray
-    """
+    """Stretch ``e = lambda - 1`` at true tension ``T``: the element's Green-strain law
+    (``analytic.green_stretch``), ``"hooke"`` (``T = EA e``, the classical law of Irvine's
+    catenary, for comparison), or zero for an inextensible cable (``EA`` None)."""
     T = np.asarray(T, dtype=float)
     if EA is None:
         return np.zeros_like(T)
-    tau = T / EA
-    if law == "hooke":
-        return tau
-    e = tau / (1.0 + 1.5 * tau)
-    for _ in range(50):
-        de = (e * (1 + e) * (2 + e) - 2 * tau) / (3 * e * e + 6 * e + 2)
-        e = e - de
-        if np.all(np.abs(de) <= 1e-16 * np.maximum(np.abs(e), 1e-300)):
-            break
-    return e
+    return T / EA if law == "hooke" else green_stretch(T, EA)
 
 
 def catenary_xz(s, H, VA, w, EA=None, law="green"):

@@ -100,7 +100,8 @@ def read_loads(t, bodies, system, analysis):
     if t.has("centrifugal"):
         if analysis != "static":
             t.fail("centrifugal", "applies to static analyses only (the steady state in a "
-                   "frame rotating at this rate)", t.data["centrifugal"])
+                   "frame rotating at this rate); analysis = \"steady\" adds it from "
+                   "[solver] omega", t.data["centrifugal"])
         system.add_centrifugal(t.get("centrifugal", vector3))
     for key, reader in LOADS.items():
         for p in t.tables(key):
