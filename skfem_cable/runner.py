@@ -37,6 +37,7 @@ from .io.atomic import is_temporary, write_atomic
 from .io.jsonable import jsonable
 from .io.store import STORE, remove_store, run_info, store_files
 from .solvers.simulate import simulate
+from .state import State
 
 SUMMARY = "summary.json"
 
@@ -83,17 +84,18 @@ def write_summary(out, summary):
     return path
 
 
-def cable_outputs(system, q):
-    """Key numbers of every cable at coordinates ``q``: tip position, root and peak
-    tension, length and number of elements."""
+def cable_outputs(system, q, t=0.0):
+    """Key numbers of every cable at coordinates ``q`` and time ``t``: tip position, root
+    and peak tension, (free) length and number of elements."""
     out = {}
+    state = State(system, q, t=t)
     for cable in system.cables():
-        qc = q[system.dofs(cable)]
         s = cable.mesh.p[0]
-        tension = cable.tension(qc, s)
-        out[cable.name] = {"tip_position": cable.interpolate(qc, cable.length)[0],
+        tension = state.tension(cable, s)
+        out[cable.name] = {"tip_position": state.position(cable, cable.length),
                            "root_tension": tension[0], "max_tension": tension.max(),
-                           "length": cable.length, "elements": cable.n_elements}
+                           "length": cable.length * system.stretch(cable, t),
+                           "elements": cable.n_elements}
     return out
 
 
@@ -101,7 +103,7 @@ def run_outputs(result):
     """Key numbers of a dynamic run: the cables at the end and their tension extremes over
     the run, and the energy budget."""
     system = result.system
-    out = {"cables": cable_outputs(system, result.q[-1])}
+    out = {"cables": cable_outputs(system, result.q[-1], result.t[-1])}
     for cable in system.cables():
         T = result.tension(cable, cable.mesh.p[0])
         out["cables"][cable.name].update(max_tension_run=T.max(), min_tension_run=T.min())

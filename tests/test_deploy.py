@@ -267,3 +267,21 @@ def test_scene_file_lowers_a_tether():
     r = sc.simulate(spec.system, initial=spec.initial, **spec.solver)
     tip = r.position(cable, cable.length)[-1]
     assert tip[1] == pytest.approx(-30.0, rel=1e-3)
+
+
+def test_summary_of_a_deploying_scene_reports_the_free_length(tmp_path):
+    """``skfem-cable run demos/tether_lowering.toml``: the summary's length is the free
+    length at the end (30 m), and its root tension the one at that length (within 10 %
+    of the weight hanging there; the run ends 2 s after the lowering stopped)."""
+    import json
+    from pathlib import Path
+
+    from skfem_cable.cli import main
+
+    scene = Path(__file__).resolve().parents[1] / "demos" / "tether_lowering.toml"
+    out = tmp_path / "run"
+    assert main(["run", str(scene), "--out", str(out), "--no-plots"]) == 0
+    cable = json.loads((out / "summary.json").read_text())["outputs"]["cables"]["tether"]
+    assert cable["length"] == pytest.approx(30.0, rel=1e-12)
+    weight = (sc.Section.circular(1e-3, 1e11, 970.0).mass_per_length * 30.0 + 2.0) * 9.81
+    assert cable["root_tension"] == pytest.approx(weight, rel=0.1)
