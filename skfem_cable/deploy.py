@@ -99,9 +99,10 @@ class Deployment:
             return self._last[1]
         ell, rate, acc = (float(self.length(t, k)[0]) for k in range(3))
         if not ell > 0 or (self.capacity is not None and ell > self.capacity * (1 + 1e-12)):
-            cap = "" if self.capacity is None else f", capacity {self.capacity:g} m"
+            bound = "be > 0" if self.capacity is None else \
+                f"lie in (0, {self.capacity:g}] (the capacity)"
             raise ValueError(f"deployment of {self.cable.name!r}: length({t!r}) = {ell!r} m "
-                             f"must lie in (0, capacity]{cap}")
+                             f"must {bound}")
         self._last = (t, (ell, rate, acc))
         return ell, rate, acc
 

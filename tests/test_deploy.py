@@ -180,8 +180,10 @@ def test_hub_deployment_conserves_momentum_to_second_order():
 
 def test_bad_deployments_are_refused():
     tether = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SECTION)
-    with pytest.raises(ValueError, match=r"length\(0.0\) = -1.0 m must lie in \(0, capacity\]"):
+    with pytest.raises(ValueError, match=r"length\(0.0\) = -1.0 m must be > 0"):
         sc.System([tether]).deploy(tether, length=lambda t: -1.0 + t)
+    with pytest.raises(ValueError, match=r"= 3.0 m must lie in \(0, 2\] \(the capacity\)"):
+        sc.System([tether]).deploy(tether, length=3.0, capacity=2.0)
     with pytest.raises(ValueError, match="capacity must be a length > 0"):
         sc.System([tether]).deploy(tether, length=1.0, capacity=-2.0)
     system = sc.System([tether]).deploy(tether, length=1.0)
