@@ -1,43 +1,33 @@
 """Each demo imported at reduced size, checking one number (scikit-fem's habit)."""
 
-import importlib.util
-from pathlib import Path
 
 import pytest
+from demo_modules import load_demo
 
 import skfem_cable as sc
 
-DEMOS = Path(__file__).resolve().parents[1] / "demos"
-
-
-def load(name):
-    spec = importlib.util.spec_from_file_location(f"demo_{name}", DEMOS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
 
 def test_cantilever_demo():
-    (row,) = load("cantilever").main(n_elements=8, ks=(2.0,))
+    (row,) = load_demo("cantilever").main(n_elements=8, ks=(2.0,))
     assert row["rel_error"] < 1e-2
 
 
 def test_pendulum_demo():
     """Quarter period of the nearly rigid cable within 1e-3 of the compound pendulum."""
-    out = load("pendulum").main(n_elements=4, dt=2e-3)
+    out = load_demo("pendulum").main(n_elements=4, dt=2e-3)
     assert out["quarter_period"] == pytest.approx(out["rigid_quarter_period"], rel=1e-3)
 
 
 def test_spinning_tether_demo():
     """Radial oscillation period within 3 % of the spring-mass estimate."""
-    out = load("spinning_tether").main(n_elements=4, t_end=0.5)
+    out = load_demo("spinning_tether").main(n_elements=4, t_end=0.5)
     assert out["radial_period"] == pytest.approx(out["radial_period_spring"], rel=0.03)
 
 
 def test_custom_element_force():
     """A uniformly stretched element of the Biot law pulls its end with exactly
     EA (stretch - 1)."""
-    demo = load("custom_element")
+    demo = load_demo("custom_element")
     section = sc.Section(E=1e9, A=1e-4, I=1e-10, rho=7850.0)
     bar = sc.Cable.straight([0, 0, 0], [1, 0, 0], 1, section, law=demo.biot)
     q = bar.q0.copy()
@@ -50,7 +40,7 @@ def test_custom_element_force():
 def test_law_gallery():
     """Polymer tether: exact stretch e0 ln(1 + P/(EA e0)), no force when slack; power-law
     damping: the energy balance closes (to 1e-6 of the initial energy) while it dissipates."""
-    demo = load("law_gallery")
+    demo = load_demo("law_gallery")
     stretch, exact = demo.polymer_stretch()
     assert stretch == pytest.approx(exact, rel=1e-9)
     assert demo.slack_force() < 1e-12 * demo.SECTION.EA
@@ -61,5 +51,5 @@ def test_law_gallery():
 def test_custom_element_demo():
     """With the engineering strain the pulled bar stretches by exactly P L / EA (the Green
     cable by 0.088): the law written in four lines is the one the solver sees."""
-    out = load("custom_element").main(n_elements=8)
+    out = load_demo("custom_element").main(n_elements=8)
     assert out["stretch_biot"] == pytest.approx(0.1, rel=1e-8)

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable.contract import Evaluation
@@ -227,14 +228,7 @@ def test_lowering_a_hanging_tether_balances_momentum():
 def test_retrieval_demo_follows_the_variable_length_pendulum():
     """Reeling in a swinging tether makes the swing grow, as the variable-length pendulum
     does (full demo, 10 m -> 2.5 m: growth 2.5932 against 2.5926; here 10 m -> 5 m)."""
-    import importlib.util
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parents[1] / "demos" / "tether_retrieval.py"
-    spec = importlib.util.spec_from_file_location("demo_tether_retrieval", path)
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
-    out = demo.main(l1=5.0, duration=30.0)
+    out = load_demo("tether_retrieval").main(l1=5.0, duration=30.0)
     assert out["growth"] > 1.5
     assert out["growth"] == pytest.approx(out["reference"], rel=2e-3)
 
@@ -243,14 +237,7 @@ def test_hub_deployment_demo_conserves_angular_momentum():
     """Four tethers deployed from a spinning hub (reduced: 10 m -> 20 m): the angular
     momentum about the spin axis drifts by less than 1e-3 (full demo: see its output),
     and the tension brakes the hub."""
-    import importlib.util
-    from pathlib import Path
-
-    path = Path(__file__).resolve().parents[1] / "demos" / "hub_deployment.py"
-    spec = importlib.util.spec_from_file_location("demo_hub_deployment", path)
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
-    out = demo.main(n_elements=4, l1=20.0, duration=20.0, hold=4.0, dt=0.05)
+    out = load_demo("hub_deployment").main(n_elements=4, l1=20.0, duration=20.0, hold=4.0, dt=0.05)
     assert out["momentum_drift"] < 1e-3
     assert out["hub_rate"][-1] < 0.9
 

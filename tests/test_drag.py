@@ -5,11 +5,11 @@ cable equilibrium equations (``solve_bvp``), the demo's transient, MoorDyn (skip
 without ``moordyn``), the scene file and errors."""
 
 import doctest
-import importlib.util
 from pathlib import Path
 
 import numpy as np
 import pytest
+from demo_modules import load, load_demo
 
 import skfem_cable as sc
 from skfem_cable import scene_file
@@ -19,16 +19,9 @@ ROOT = Path(__file__).resolve().parents[1]
 SECTION = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0)
 
 
-def load(path):
-    spec = importlib.util.spec_from_file_location(Path(path).stem, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 @pytest.fixture(scope="module")
 def demo():
-    return load(ROOT / "demos" / "mooring_current.py")
+    return load_demo("mooring_current")
 
 
 def external_force(system, q, v, t=0.0):

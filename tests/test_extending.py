@@ -2,26 +2,17 @@
 constraints, user bodies and Cable subclasses on the compiled path; every analytic Jacobian
 against finite differences."""
 
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
+from demo_modules import load_demo
 from numba import njit
 
 import skfem_cable as sc
 from skfem_cable.constraints import SlopeDirection, pin, time_derivatives
 
-DEMOS = Path(__file__).resolve().parents[1] / "demos"
 SECTION = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0, gamma_axial=0.01,
                      gamma_bending=0.02)
-
-
-def load_demo(name):
-    spec = importlib.util.spec_from_file_location(f"demo_{name}", DEMOS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def tangents(system, q, v, t=0.3):

@@ -4,24 +4,13 @@ by a continuation that applies the loads first and then closes the violation, wi
 pseudo-transient continuation where Newton's method fails; checked against the exact
 elastic catenary of the Green-strain law (``analytic.elastic_catenary``)."""
 
-import importlib.util
-from pathlib import Path
 
 import numpy as np
 import pytest
+from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable.analytic import elastic_catenary, green_stretch
-
-DEMOS = Path(__file__).resolve().parents[1] / "demos"
-
-
-def load_demo(name):
-    spec = importlib.util.spec_from_file_location(f"demo_{name}", DEMOS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
 
 demo = load_demo("slack_catenary")
 

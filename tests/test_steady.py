@@ -3,12 +3,12 @@ string against an independent shooting reference, the gauge conditions chosen fr
 constraints, velocity-dependent loads at the rigid-rotation velocities (exact tangent),
 refusals, the steady E-sail against a dynamic run, and the TOML scene."""
 
-import importlib.util
 import json
 from pathlib import Path
 
 import numpy as np
 import pytest
+from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable import scene_file
@@ -201,13 +201,6 @@ def test_oblique_solar_wind_is_refused():
     omega = scene.hub.rotation(scene.system.q0[scene.system.dofs(scene.hub)]) @ [4e-3, 0, 0]
     with pytest.raises(ValueError, match="not constant in the rotating frame"):
         sc.solve_steady(scene.system, omega, initial=scene.initial)
-
-
-def load_demo(name):
-    spec = importlib.util.spec_from_file_location(f"demo_{name}", DEMOS / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def test_esail_steady_demo():

@@ -4,7 +4,6 @@ grids and run names, one point's task (reuse, continue, failures), sweeps on a
 and the command line against a scheduler and workers started as separate processes, one
 of which is killed mid-sweep."""
 
-import importlib.util
 import io
 import json
 import os
@@ -16,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable.io import open_dataset
@@ -24,8 +24,6 @@ from skfem_cable.runner import RunOptions
 from skfem_cable.scenes import catalog, classics
 from skfem_cable.scenes.catalog import pendulum_scene
 from skfem_cable.study import open_run, open_study, parse_param, points, run_name, run_point
-
-ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="module")
@@ -200,10 +198,7 @@ def test_convergence_study_as_a_sweep(client, tmp_path):
 
 
 def test_demo_esail_sweep(client, tmp_path):
-    spec = importlib.util.spec_from_file_location("demo_esail_sweep",
-                                                  ROOT / "demos" / "esail_sweep.py")
-    demo = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(demo)
+    demo = load_demo("esail_sweep")
     ds = demo.main(alphas=(0, 30), voltages=(20e3,), periods=0.005, elements=1,
                    out=tmp_path / "e", client=client)
     assert (tmp_path / "e" / "esail_sweep.png").is_file()
