@@ -197,6 +197,22 @@ ENTRIES = (
           "tests/test_deploy.py::test_hub_deployment_demo_conserves_angular_momentum",
           "Spin rate of the hub and rotation rate of the fan of tethers while they are "
           "deployed from 10 m to 50 m (the animation is on the deployment page)."),
+    Entry("reel_brake.toml",
+          "free length after 1 s of a tether unwinding under gravity from a braked reel, "
+          "against the closed system's equation of the drum, its content and the hanging "
+          "part",
+          "5.6875 m, relative 1e-5", "tests/test_reel.py::test_scene_file_with_a_braked_reel",
+          "Free length and tension below the reel: the cable model on the closed system's "
+          "curve; started stress-free, the tension rings at the axial frequency (about "
+          "80 Hz) around the weight less the force accelerating the hanging part."),
+    Entry("reel_spin_rate.py",
+          "settled spin rate after two reels on a spinning hub paid out 10 m -> 40 m of "
+          "tether, against the rate at which the deployed, stretched configuration carries "
+          "the run's angular momentum",
+          "relative 1e-6",
+          "tests/test_reel.py::test_settled_spin_rate_is_the_angular_momentum_prediction",
+          "Hub spin rate and free length while the reels pay out 10 m -> 1 km; dashed: the "
+          "angular-momentum prediction for the deployed configuration."),
     Entry("falling_chain.toml",
           "total energy at `t = 0` (the paper's Sect. 5.2)",
           "-62.87 J +- 0.01 J",
@@ -781,6 +797,53 @@ def draw_hub_deployment():
                  f"{out['momentum_drift']:.1e}", fontsize=10)
     ax.legend(fontsize=8)
     _save(fig, "hub_deployment")
+
+
+def draw_reel_brake():
+    from scipy.integrate import solve_ivp
+
+    import skfem_cable as sc
+    from skfem_cable import scene_file
+
+    spec = scene_file.load(DEMOS / "reel_brake.toml")
+    r = sc.simulate(spec.system, initial=spec.initial, **spec.solver)
+    tether, reel = spec.system.bodies
+    ell = r.q[:, spec.system.dofs(reel)[0]]
+    mu, J, R, C, m, c, g = tether.section.mass_per_length, 0.02, 0.1, 30.0, 0.5, 0.3, 9.81
+
+    def rhs(t, y):
+        return [y[1], ((mu * y[0] + m) * g - c * y[1] / R) / (J / R**2 + mu * C + m)]
+
+    exact = solve_ivp(rhs, (0.0, 1.0), [5.0, 0.0], rtol=1e-12, atol=1e-12,
+                      dense_output=True).sol(r.t)[0]
+    fig, (ax, bx) = _figure(ncols=2, width=7.5, height=3.0)
+    ax.plot(r.t, exact, color="0.6", lw=3, label="closed system")
+    ax.plot(r.t, ell, "C0", lw=1, label="cable model")
+    ax.set(xlabel="t [s]", ylabel="free length [m]")
+    ax.legend(fontsize=8)
+    bx.plot(r.t, r.tension(tether, 0.0), "C1")
+    bx.set(xlabel="t [s]", ylabel="tension below the reel [N]")
+    fig.suptitle(f"Braked reel: l(1 s) = {ell[-1]:.5f} m (closed system {exact[-1]:.5f} m)",
+                 fontsize=10)
+    _save(fig, "reel_brake")
+
+
+def draw_reel_spin_rate():
+    out = _load_demo("reel_spin_rate").main()
+    r = out["result"]
+    fig, (ax, bx) = _figure(ncols=2, width=7.5, height=3.0)
+    ax.plot(r.t, out["rate"], "C0", label="hub")
+    ax.axhline(out["predicted"], color="k", lw=0.8, ls="--", label="H / I, deployed")
+    ax.set(xlabel="t [s]", ylabel="spin rate [rad/s]")
+    ax.legend(fontsize=8)
+    system = out["system"]
+    reel = system.bodies[2]
+    bx.plot(r.t, r.q[:, system.dofs(reel)[0]], "C1")
+    bx.set(xlabel="t [s]", ylabel="free length [m]")
+    fig.suptitle(f"Settled spin {out['measured']:.8f} rad/s, predicted "
+                 f"{out['predicted']:.8f} ({out['difference']:.1e}); angular momentum drift "
+                 f"{out['momentum_drift']:.1e}", fontsize=9)
+    _save(fig, "reel_spin_rate")
 
 
 DRAW = {e.name: globals()[f"draw_{e.name}"] for e in ENTRIES}

@@ -9,7 +9,8 @@ Public API (``__all__``, documented on the API page of the docs):
   in water and in a rarefied atmosphere ``MorisonDrag``, ``Buoyancy``, ``CurrentProfile``,
   ``FreeMolecularDrag`` (module ``drag``); constraints: ``System.clamp``, ``System.pin``
   (module ``constraints``); deploying and retrieving cables: ``System.deploy`` (module
-  ``deploy``);
+  ``deploy``), from a ``Reel`` with a torque law ``Brake``, ``Motor``, ``Servo`` (module
+  ``reel``);
 * element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
   forms ``forms``;
 * solvers: ``solve_static`` (``StaticConvergenceError``), ``solve_steady``, ``modes``,
@@ -52,6 +53,7 @@ from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from .element import ElementLineCableHermite
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
+from .reel import Brake, Motor, Reel, Servo
 from .result import Result
 from .rigid import RigidBody
 from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anchor
@@ -66,6 +68,7 @@ from .study import sweep  # parameter studies on Dask distributed
 from .system import System
 
 __all__ = [
+    "Brake",
     "Buoyancy",
     "Cable",
     "CableLaw",
@@ -76,6 +79,7 @@ __all__ = [
     "Gravity",
     "LineLoad",
     "MorisonDrag",
+    "Motor",
     "Observer",
     "PointLoad",
     "PointMass",
@@ -83,11 +87,13 @@ __all__ = [
     "Term",
     "ElementLineCableHermite",
     "Node",
+    "Reel",
     "Result",
     "RigidBody",
     "RodChain",
     "RodChainDivergence",
     "RodChainResult",
+    "Servo",
     "SimulationError",
     "Section",
     "SolarWind",

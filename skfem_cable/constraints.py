@@ -34,6 +34,8 @@ array([0., 0., 0., 0., 0.])
 import numpy as np
 
 from .cable import Node
+from .kernels.rigid import constraint_kernel
+from .rigid import BodyPoint
 
 #: Step of the time differences of driven joints, relative to ``max(1, |t|)`` seconds.
 TIME_STEP = 1e-3
@@ -242,8 +244,8 @@ class SlopeDirection:
 
 
 def clamp(node, direction=None, position=None, velocity=None, acceleration=None):
-    """Clamp ``node``: its position and the *direction* of its slope are fixed, or follow
-    prescribed motions.
+    """Clamp ``node``: its position and the *direction* of its slope are fixed, follow
+    prescribed motions, or are carried by a rigid body.
 
     Fixing the slope's direction (two equations ``n_k . r_x = 0`` with ``n_k`` orthogonal to
     ``direction``) rather than the whole slope vector leaves the axial stretch at the root
@@ -254,17 +256,26 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
     node : Node
     direction : array_like (3,) or callable, optional
         Slope direction (default: the node's initial slope), or ``direction(t)`` (a driven
-        clamp, see ``SlopeDirection``).
-    position : array_like (3,) or callable, optional
-        Position (default: the node's initial position), or ``position(t)``.
+        clamp, see ``SlopeDirection``).  With a body point ``position``: a direction in the
+        body frame (default: the node's initial slope in the body's initial frame).
+    position : array_like (3,), callable or body point, optional
+        Position (default: the node's initial position), ``position(t)``, or a rigid-body
+        point (``RigidBody.point``): the clamp then moves with the body (an exit guide on a
+        hub), see ``BodySlope``.
     velocity, acceleration : callable, optional
-        Exact derivatives of a driven ``position``.
+        Exact derivatives of a driven ``position`` (None with a body point).
 
     Returns
     -------
     list of constraints
-        One ``LinearConstraint`` of five equations (labels ``Fx, Fy, Fz, M1, M2``), or, with
-        a callable ``direction``, the position (three) and a ``SlopeDirection`` (two).
+        One ``LinearConstraint`` of five equations (labels ``Fx, Fy, Fz, M1, M2``); with a
+        callable ``direction``, the position (three) and a ``SlopeDirection`` (two); with a
+        body point, its ``pin`` (three) and a ``BodySlope`` (two).
+
+    Raises
+    ------
+    ValueError
+        A zero ``direction``, or ``velocity``/``acceleration`` given with a body point.
 
     See Also
     --------
@@ -285,6 +296,8 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
     """
     if not isinstance(node, Node):
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
+    if isinstance(position, BodyPoint):
+        return _body_clamp(node, position, direction, velocity, acceleration)
     q0 = node.body.q0[node.body.node_dofs(node.index)]
     labels = ["Fx", "Fy", "Fz"]
     p = q0[:3] if position is None else position
@@ -305,6 +318,106 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
         if place.driven else np.append(place.offset(0.0), [0.0, 0.0])
     return [LinearConstraint(lambda s: s.dofs(node), J, c, f"clamp {node!r}",
                              labels + ["M1", "M2"])]
+
+
+def _body_clamp(node, point, direction, velocity, acceleration):
+    """The clamp of ``node`` to the body point ``point``: its ``pin`` and a ``BodySlope``
+    (``clamp``)."""
+    given = [name for name, value in (("velocity", velocity), ("acceleration", acceleration))
+             if value is not None]
+    if given:
+        raise ValueError(f"a clamp to a body point moves with the body: {' and '.join(given)} "
+                         "must be None")
+    if direction is None:
+        body = point.body
+        slope = node.body.q0[node.body.node_dofs(node.index)][3:]
+        direction = body.rotation(body.q0).T @ slope
+    return [pin(node, point), BodySlope(node, point.body, direction)]
+
+
+class BodySlope:
+    """The slope of a node keeps a direction fixed in a rigid body: ``n_k(d) . r_x = 0``
+    for the two unit vectors ``n_k`` orthogonal to the body-frame ``direction``, carried by
+    the body (the slope part of a clamp to a body point, ``clamp``).
+
+    In natural coordinates a body-fixed vector is linear in the body's coordinates ``d``:
+    ``n_k(d) = (G(x + n_k0) - G(x)) d = N_k d`` for any ``x`` (``G`` is affine in ``x``), so
+    each equation is bilinear, ``C_k = r_x^T N_k d = z^T H_k z / 2`` in ``z = [r_x, d]``
+    with the constant symmetric ``H_k = [[0, N_k], [N_k^T, 0]]``: the Hessian term is
+    ``sum_k lam_k H_k`` and ``(C_q v)_q v = v^T H_k v``, and the compiled hook is the rigid
+    body's (``kernels.rigid.constraint_kernel``, with zero offsets).
+
+    Parameters
+    ----------
+    node : Node
+    body : RigidBody
+    direction : array_like (3,)
+        Slope direction in the body frame (non-zero; normalized).
+
+    Attributes
+    ----------
+    direction : ndarray (3,)
+        The unit body-frame direction.
+    N : ndarray (2, 3, 12)
+        ``N_k``: ``n_k(d) = N_k d``.
+    H : ndarray (2, 15, 15)
+        ``H_k`` in the coordinates ``[r_x, d]`` (``dofs``).
+
+    Examples
+    --------
+    >>> import numpy as np, skfem_cable as sc
+    >>> from skfem_cable.constraints import BodySlope
+    >>> hub = sc.RigidBody.cylinder(radius=1.0, height=0.5, density=100.0)
+    >>> tether = sc.Cable.straight([0, 1, 0], [0, 3, 0], 2, sc.Section.circular(1e-3, 7e10, 2700.0))
+    >>> guide = BodySlope(tether.node(0), hub, [0, 1, 0])
+    >>> guide.N @ hub.q0                    # the normals at the initial pose
+    array([[ 0.,  0., -1.],
+           [-1.,  0.,  0.]])
+    >>> guide.value(np.concatenate([tether.q0[3:6], hub.q0]))
+    array([0., 0.])
+    """
+
+    linear = False
+    n_eq = 2
+
+    def __init__(self, node, body, direction):
+        if callable(direction):
+            raise TypeError("direction of a clamp to a body point is a body-frame 3-vector, "
+                            "not a callable")
+        self.node, self.body = node, body
+        self.direction = _unit(direction, "direction")
+        origin = body.coefficients(np.zeros(3))
+        self.N = np.array([np.kron(body.coefficients(n) - origin, np.eye(3))
+                           for n in orthonormal_complement(self.direction)])
+        self.H = np.zeros((2, 15, 15))
+        self.H[:, :3, 3:] = self.N
+        self.H[:, 3:, :3] = self.N.transpose(0, 2, 1)
+        self.name = f"body slope {node!r}-{body.name}"
+        self.labels = ["M1", "M2"]
+        self._pack = (self.H, np.zeros(2))
+
+    @property
+    def kernel(self):
+        """The compiled hook (``kernels.rigid.constraint_kernel``, see ``contract``)."""
+        return constraint_kernel, self._pack
+
+    def dofs(self, system):
+        return np.concatenate([system.dofs(self.node)[3:], system.dofs(self.body)])
+
+    def value(self, qc, t=0.0):
+        return 0.5 * np.einsum("i,jik,k->j", qc, self.H, qc)
+
+    def jacobian(self, qc, t=0.0):
+        return self.H @ qc
+
+    def hessian(self, qc, lam, t=0.0):
+        return np.einsum("j,jik->ik", lam, self.H)
+
+    def velocity_term(self, qc, t=0.0):
+        return np.zeros(2)
+
+    def accel_term(self, qc, vc, t=0.0):
+        return np.einsum("i,jik,k->j", vc, self.H, vc)
 
 
 def pin(node, target=None, velocity=None, acceleration=None):

@@ -234,6 +234,27 @@ class Term:
             function(pack, index, packed)
 
 
+def combined(terms, name):
+    """One term with Python ``add`` evaluating ``terms`` (terms with ``add``) in turn,
+    each with its own part of the tangent entries (for a contributor made of several,
+    such as gravity with the weight of every deploying cable)."""
+    parts = [t for t in terms if t.has_tangent]
+    shapes = [np.broadcast(t.rows, t.cols).shape for t in parts]
+    ends = np.cumsum([int(np.prod(s)) for s in shapes])
+    spans = {id(t): (end - int(np.prod(s)), end, s) for t, s, end in zip(parts, shapes, ends)}
+
+    def add(ev, index):
+        for term in terms:
+            span = spans.get(id(term))
+            term.add(ev, None if span is None else index[span[0]:span[1]].reshape(span[2]))
+
+    rows = np.concatenate([np.broadcast_arrays(t.rows, t.cols)[0].ravel() for t in parts]) \
+        if parts else None
+    cols = np.concatenate([np.broadcast_arrays(t.rows, t.cols)[1].ravel() for t in parts]) \
+        if parts else None
+    return Term(add=add, rows=rows, cols=cols, name=name)
+
+
 def merge_terms(terms):
     """Merge terms with equal keys (keeping the first occurrence's position)."""
     groups, order = {}, []

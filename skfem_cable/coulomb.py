@@ -139,20 +139,34 @@ class SolarWindForce:
         per_cable = np.array([self.wind.force_per_length(V) for V in self.voltages(t)])
         return per_cable[self.cable_of_element]
 
+    #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
+    #: force per unit material length acts on the stretched mesh.
+    stretches = True
+
     def bind(self, system):
-        """The compiled term (``kernels.coulomb.kernel``); a time-modulated voltage
-        refreshes the per-element coefficients once per time step (``Term.prepare``)."""
+        """The compiled term (``kernels.coulomb.kernel``); a time-modulated voltage or a
+        deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
+        length) refreshes the per-element coefficients once per time step
+        (``Term.prepare``)."""
         edofs = np.ascontiguousarray(np.concatenate(
             [c.global_element_dofs(system) for c in self.cables]))
         coef = np.array(self.coefficients(0.0), dtype=float)
+        deploying = [system.deployment(c) is not None for c in self.cables]
+        for cable, deploys in zip(self.cables, deploying):
+            if deploys and system.deployment(cable).reel is not None:
+                raise ValueError(f"SolarWindForce on {cable.name!r}, deployed from a reel: "
+                                 "the solar wind supports prescribed lengths only")
 
         def prepare(t):
-            coef[:] = self.coefficients(t)
+            stretch = np.array([system.stretch(c, t) for c in self.cables])
+            coef[:] = self.coefficients(t) * stretch[self.cable_of_element]
 
+        prepare(0.0)
         pack = (edofs, self.S, self.Sx, self.w, coef, self.sun, np.zeros(3))
+        constant = self._constant is not None and not any(deploying)
         return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], name="solar wind",
-                    prepare=None if self._constant is not None else prepare)
+                    prepare=None if constant else prepare)
 
     def add_force(self, edofs, q, t, f, data=None, index=None, cK=1.0):
         """Add the generalized force on the cables with global element coordinates

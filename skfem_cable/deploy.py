@@ -39,6 +39,13 @@ length element ``lam dx``: the cable's law kernel runs on its tables rescaled at
 the anchor (a point of a body such as a hub): its kinetic energy ``1/2 m_s(t) |v_P|^2``
 adds ``m_s a_P + m_s' v_P`` at the anchor (the reel's own spin is not modelled).
 
+With a reel (``reel.Reel``) the length is a coordinate and its equation is Lagrange's for
+the whole system: the inertial terms of ``T`` in ``l`` (``_Inertia``), the wound
+material turning with the drum (``1/2 rho A (capacity - l) l'^2``) and riding with the
+anchor, ``dU/dl`` of the elastic energy on the stretched mesh (``cable._Stretched``) and
+the weight's potential (``bind_weight``).  In equilibrium the reel then balances the
+configurational force ``T lam - W`` of the material leaving it (``docs/deploy.md``).
+
 References
 ----------
 J. W. McIver, "Hamilton's principle for systems of changing mass", J. Eng. Math. 7
@@ -56,59 +63,87 @@ from .contract import Term
 
 
 class Deployment:
-    """The free length ``l(t)`` of a cable leaving a reel at its node 0 (see the module
-    docstring); ``System.deploy`` builds it.
+    """The free length ``l`` of a cable leaving a reel at its node 0 (see the module
+    docstring); ``System.deploy`` builds it.  ``l`` is prescribed, ``length(t)``, or it is
+    the coordinate of a ``reel.Reel`` (a body of the system), whose equation of motion
+    then receives the tether's part.
 
     Parameters
     ----------
     cable : Cable
         Built straight or not, with node 0 at the anchor; its reference length ``L0`` is
-        the mesh length (build it with the free length at the start, ``length(t0)``, to
-        start stress-free).
-    length : callable or float
-        ``length(t)``: the free (unstretched) length (m), > 0.
+        the mesh length (build it with the free length at the start to start
+        stress-free).
+    length : callable, float or None
+        ``length(t)``: the prescribed free (unstretched) length (m), > 0; None with
+        ``reel``.
     rate, acceleration : callable, optional
         Exact ``length'(t)`` and ``length''(t)`` (else central differences,
         ``constraints.time_derivatives``).
-    anchor : body point or None
-        The point the reel moves with, where the material not yet deployed sits (None:
-        a reel fixed in space).
+    anchor : body point, array_like (3,) or None
+        The point the reel moves with, where the material not yet deployed sits, or the
+        fixed point of a reel fixed in space (None: the origin).
     capacity : float or None
         Total length on the reel and deployed (m), >= the largest free length: the
-        material on the reel, ``rho A (capacity - l)``, moves with ``anchor``.  None:
-        the reel's content is not modelled (a reel fixed in space, or a hub whose mass
-        includes it).
+        material on the reel, ``rho A (capacity - l)``, moves with ``anchor`` and, with a
+        ``reel``, turns with the drum at the rim speed ``l'``.  None: the reel's content
+        is not modelled (a prescribed length only).
+    reel : int or None
+        The global coordinate of the reel's length (``System.dofs(reel)[0]``) when the
+        length is a reel's coordinate.
     """
 
     def __init__(self, cable, length, rate=None, acceleration=None, anchor=None,
-                 capacity=None):
+                 capacity=None, reel=None):
         self.cable = cable
-        self.length = Motion(*(_vector(f) for f in (length, rate, acceleration)),
-                             name="length", size=1)
+        self.reel = reel
+        self.length = None if reel is not None else \
+            Motion(*(_vector(f) for f in (length, rate, acceleration)), name="length", size=1)
         self.L0 = float(cable.length)
-        self.anchor = anchor
+        fixed = anchor is None or np.ndim(anchor) == 1
+        self.anchor = None if fixed else anchor
+        self.exit_point = np.zeros(3) if anchor is None else \
+            np.asarray(anchor, dtype=float) if fixed else None
         if capacity is not None and not (np.isfinite(capacity) and capacity > 0):
             raise ValueError(f"capacity must be a length > 0 (m) or None, got {capacity!r}")
+        if reel is not None and capacity is None:
+            raise ValueError(f"deployment of {cable.name!r} from a reel needs the capacity "
+                             "(the total tether length, m): the material on the drum is "
+                             "part of the system whose length is a coordinate")
         self.capacity = capacity
         self._last = (None, None)
-        self.state(0.0)
+        if reel is None:
+            self.state(0.0)
 
-    def state(self, t):
-        """``(l, l', l'')`` at ``t``; ``ValueError`` if ``l`` leaves ``(0, capacity]``."""
+    def state(self, t, q=None, v=None, a=None):
+        """``(l, l', l'')`` at time ``t`` (prescribed) or at the coordinates, velocities
+        and accelerations ``q, v, a`` (a reel's: ``v``, ``a`` None count as zero);
+        ``ValueError`` if ``l`` leaves ``(0, capacity]``."""
+        if self.reel is not None:
+            if q is None:
+                raise ValueError(f"the free length of {self.cable.name!r} is a reel's "
+                                 "coordinate: give the coordinates q")
+            i = self.reel
+            values = tuple(0.0 if x is None else float(x[i]) for x in (q, v, a))
+            return self._checked(t, values)
         if self._last[0] == t:  # every term of an evaluation asks at the same time
             return self._last[1]
-        ell, rate, acc = (float(self.length(t, k)[0]) for k in range(3))
+        values = self._checked(t, tuple(float(self.length(t, k)[0]) for k in range(3)))
+        self._last = (t, values)
+        return values
+
+    def _checked(self, t, values):
+        ell = values[0]
         if not ell > 0 or (self.capacity is not None and ell > self.capacity * (1 + 1e-12)):
             bound = "be > 0" if self.capacity is None else \
                 f"lie in (0, {self.capacity:g}] (the capacity)"
             raise ValueError(f"deployment of {self.cable.name!r}: length({t!r}) = {ell!r} m "
                              f"must {bound}")
-        self._last = (t, (ell, rate, acc))
-        return ell, rate, acc
+        return values
 
-    def stretch(self, t):
-        """Stretch of the mesh ``lam = l(t) / L0``."""
-        return self.state(t)[0] / self.L0
+    def stretch(self, t, q=None):
+        """Stretch of the mesh ``lam = l / L0`` at ``t`` (and ``q`` for a reel)."""
+        return self.state(t, q)[0] / self.L0
 
     @cached_property
     def matrices(self):
@@ -125,80 +160,196 @@ class Deployment:
                   np.einsum("eg,egA,egB->eAB", mu * w * arm**2, Sx, Sx))
         return tuple(_assemble(cable, b) for b in blocks)
 
+    def _stowed(self, system):
+        """``(mu, capacity, dofs, G^T G)`` of the material on the reel at a body anchor
+        (``dofs`` None at a reel fixed in space), or None without a ``capacity``."""
+        if self.capacity is None:
+            return None
+        mu = self.cable.section.mass_per_length
+        if self.anchor is None:
+            return mu, self.capacity, None, None
+        pdofs, G = system.position_map(self.anchor)
+        return mu, self.capacity, pdofs, G.T @ G
+
     def momentum(self, system, q, v, t):
         """The deployment's part of the generalized momentum ``dT/dv`` beyond the
-        constant mass's ``M v`` (n_dofs): ``(lam - 1) M0 v + (l'/L0) G0 q`` on the cable
-        and ``m_s v_P`` at the anchor."""
-        ell, rate, _ = self.state(t)
-        M0, G0, _ = self.matrices
+        constant mass's ``M v`` (n_dofs): ``(lam - 1) M0 v + (l'/L0) G0 q`` on the cable,
+        ``m_s v_P`` at the anchor and, with a reel, ``q'^T G0 q / L0 + l' q^T K0 q /
+        (l L0) + m_s l'`` on its length."""
+        ell, rate, _ = self.state(t, q, v)
+        M0, G0, K0 = self.matrices
         dofs = system.dofs(self.cable)
+        qc, vc = q[dofs], v[dofs]
         p = np.zeros(system.n_dofs)
-        p[dofs] = (ell / self.L0 - 1.0) * (M0 @ v[dofs]) + (rate / self.L0) * (G0 @ q[dofs])
-        if self.capacity is not None and self.anchor is not None:
-            pdofs, G = system.position_map(self.anchor)
-            m_s = self.cable.section.mass_per_length * (self.capacity - ell)
-            p[pdofs] += m_s * (G.T @ (G @ v[pdofs]))
+        p[dofs] = (ell / self.L0 - 1.0) * (M0 @ vc) + (rate / self.L0) * (G0 @ qc)
+        stowed = self._stowed(system)
+        if stowed is not None and stowed[2] is not None:
+            mu, capacity, pdofs, GG = stowed
+            p[pdofs] += mu * (capacity - ell) * (GG @ v[pdofs])
+        if self.reel is not None:
+            p[self.reel] += (vc @ (G0 @ qc)) / self.L0 + rate * (qc @ (K0 @ qc)) / (ell * self.L0)
+            if stowed is not None:
+                p[self.reel] += stowed[0] * (stowed[1] - ell) * rate
         return p
 
-    def weight(self, system, g, t):
-        """The generalized weight (n_dofs) in the field ``g`` (m/s^2) of the mass the
-        deployment adds to the constant mass at ``t``: ``(lam - 1) M0 u_g`` on the cable
-        (``u_g`` the coordinates of the uniform field ``g``) and ``m_s(t) g`` at the
-        anchor."""
-        ell = self.state(t)[0]
+    def bind(self, system):
+        """The term of the inertia beyond the constant mass (``contract``): on the
+        cable, at a body anchor, and with a reel on its length (``_Inertia``)."""
+        inertia = _Inertia(self, system)
+        return Term(add=inertia.add, rows=inertia.rows, cols=inertia.cols,
+                    name=f"deployment {self.cable.name}")
+
+    def bind_weight(self, system, g):
+        """The term of the weight in the field ``g`` (m/s^2) of the mass the deployment
+        adds to the constant mass: ``(lam - 1) M0 u_g`` on the cable (``u_g`` the
+        coordinates of the uniform field ``g``) and ``m_s g`` at a body anchor, booked as
+        external work.  With a reel the potential ``-lam u_g^T M0 q - m_s g . r_P``
+        (``r_P`` the anchor, a body point or fixed) depends on the length too: its force
+        ``u_g^T M0 q / L0 - mu g . r_P`` acts on the length (independent of the origin of
+        the potential, as the material only moves from the drum to the tether), and the
+        derivatives in the length are the tangent (symmetric)."""
         M0 = self.matrices[0]
         dofs = system.dofs(self.cable)
         u = np.zeros((self.cable.n_nodes, 6))
         u[:, :3] = g
-        f = np.zeros(system.n_dofs)
-        f[dofs] = (ell / self.L0 - 1.0) * (M0 @ u.ravel())
-        if self.capacity is not None and self.anchor is not None:
-            pdofs, G = system.position_map(self.anchor)
-            f[pdofs] += self.cable.section.mass_per_length * (self.capacity - ell) * (G.T @ g)
-        return f
-
-    def bind(self, system):
-        cable = self.cable
-        dofs = system.dofs(cable)
-        M0, G0, K0 = self.matrices
-        Mv = (M0 + G0 - G0.T).tocsr()
-        pattern = (M0 + G0 + K0).tocoo()
-        rows, cols = dofs[pattern.row], dofs[pattern.col]
-        blocks = [_on(pattern, m) for m in (M0, Mv, G0, K0)]
-        stowed = None
-        if self.capacity is not None and self.anchor is not None:
-            pdofs, G = system.position_map(self.anchor)
-            GG = G.T @ G
-            stowed = (pdofs, GG)
-            r2, c2 = np.meshgrid(pdofs, pdofs, indexing="ij")
-            rows, cols = np.concatenate([rows, r2.ravel()]), np.concatenate([cols, c2.ravel()])
-        mu = cable.section.mass_per_length
-        L0 = self.L0
+        on_cable = M0 @ u.ravel()
+        stowed = self._stowed(system)
+        at_anchor = stowed is not None and stowed[2] is not None
+        if at_anchor:
+            mu, capacity, pdofs, _ = stowed
+            Gg = system.position_map(self.anchor)[1].T @ g
+        reel = self.reel
+        rows = cols = None
+        if reel is not None:
+            line = np.concatenate([dofs] + ([pdofs] if at_anchor else []))
+            slope = np.concatenate([on_cable / self.L0] + ([-mu * Gg] if at_anchor else []))
+            rows = np.concatenate([line, np.full(line.size, reel)])
+            cols = np.concatenate([np.full(line.size, reel), line])
+            fixed = 0.0 if at_anchor else -self.cable.section.mass_per_length * (
+                g @ self.exit_point)
 
         def add(ev, index):
-            if not ev.dynamic:
-                return
-            ell, rate, acc = self.state(ev.t)
-            lam, nu, kappa = ell / L0, rate / L0, rate * rate / (ell * L0)
-            q, v, a = ev.q[dofs], ev.v[dofs], ev.a[dofs]
-            force = (lam - 1.0) * (M0 @ a) + nu * (Mv @ v) + (acc / L0) * (G0 @ q) \
-                - kappa * (K0 @ q)
-            ev.f_ext[dofs] -= force
-            da = [(lam - 1.0) * blocks[0]]
-            dv = [nu * blocks[1]]
-            dq = [(acc / L0) * blocks[2] - kappa * blocks[3]]
-            if stowed is not None:
-                pdofs, GG = stowed
-                m_s, dm_s = mu * (self.capacity - ell), -mu * rate
-                ev.f_ext[pdofs] -= GG @ (m_s * ev.a[pdofs] + dm_s * ev.v[pdofs])
-                da.append(m_s * GG.ravel())
-                dv.append(dm_s * GG.ravel())
-                dq.append(np.zeros(GG.size))
-            if ev.want_tangent:
-                ev.add_tangent(index, np.concatenate(dq), np.concatenate(dv),
-                               da=np.concatenate(da))
+            ell = self.state(ev.t, ev.q)[0]
+            ev.f_ext[dofs] += (ell / self.L0 - 1.0) * on_cable
+            if at_anchor:
+                ev.f_ext[pdofs] += mu * (capacity - ell) * Gg
+            if reel is not None:
+                ev.f_ext[reel] += slope @ ev.q[line] + fixed
+                ev.add_tangent(index, np.concatenate([slope, slope]), sign=-1.0)
 
-        return Term(add=add, rows=rows, cols=cols, name=f"deployment {cable.name}")
+        return Term(add=add, rows=rows, cols=cols,
+                    name=f"weight of {self.cable.name}'s deployment")
+
+
+class _Inertia:
+    """The deployment's inertial force beyond the constant mass and its tangent blocks:
+    the rows and columns of the term and ``add``.
+
+    On the cable (Lagrange's equations of ``T``, module docstring):
+    ``F_q = (lam - 1) M0 a + (l'/L0) Mv v + (l''/L0) G0 q - l'^2/(l L0) K0 q`` with
+    ``Mv = M0 + G0 - G0^T``.  At a body anchor, the material on the reel:
+    ``G^T G (m_s a_P + m_s' v_P)``.  With a reel, the equation of its length gets
+    ``F_l = (a^T G0 q + v^T G0 v)/L0 + l'' k/(l L0) + 2 l' q^T K0 v/(l L0)
+    - l'^2 k/(2 l^2 L0) - v^T M0 v/(2 L0)`` (``k = q^T K0 q``), the wound material's
+    ``m_s l'' - mu l'^2 / 2 + mu |v_P|^2 / 2``, and ``F_q`` its derivatives in
+    ``(l, l', l'')``."""
+
+    def __init__(self, deployment, system):
+        self.d = deployment
+        self.dofs = system.dofs(deployment.cable)
+        M0, G0, K0 = deployment.matrices
+        self.M0, self.G0, self.K0 = M0, G0, K0
+        self.Mv = (M0 + G0 - G0.T).tocsr()
+        self.Gs = (G0 + G0.T).tocsr()
+        pattern = (M0 + G0 + K0).tocoo()
+        self.blocks = [_on(pattern, m) for m in (M0, self.Mv, G0, K0)]
+        rows, cols = [self.dofs[pattern.row]], [self.dofs[pattern.col]]
+        self.stowed = deployment._stowed(system)
+        anchor = self.stowed is not None and self.stowed[2] is not None
+        if anchor:
+            pdofs = self.stowed[2]
+            r2, c2 = np.meshgrid(pdofs, pdofs, indexing="ij")
+            rows.append(r2.ravel())
+            cols.append(c2.ravel())
+        self.reel = deployment.reel
+        if self.reel is not None:  # column and row of the length, and its diagonal
+            line = np.concatenate([self.dofs] + ([pdofs] if anchor else []))
+            ell = np.full(line.size + 1, self.reel)
+            rows += [np.append(line, self.reel), ell]
+            cols += [ell, np.append(line, self.reel)]
+        self.rows, self.cols = np.concatenate(rows), np.concatenate(cols)
+
+    def add(self, ev, index):
+        if not ev.dynamic:
+            return
+        d = self.d
+        L0 = d.L0
+        ell, rate, acc = d.state(ev.t, ev.q, ev.v, ev.a)
+        lam, nu, kappa = ell / L0, rate / L0, rate * rate / (ell * L0)
+        q, v, a = ev.q[self.dofs], ev.v[self.dofs], ev.a[self.dofs]
+        M0, G0, K0, Mv = self.M0, self.G0, self.K0, self.Mv
+        ev.f_ext[self.dofs] -= (lam - 1.0) * (M0 @ a) + nu * (Mv @ v) + (acc / L0) * (G0 @ q) \
+            - kappa * (K0 @ q)
+        b = self.blocks
+        da = [(lam - 1.0) * b[0]]
+        dv = [nu * b[1]]
+        dq = [(acc / L0) * b[2] - kappa * b[3]]
+        if self.stowed is not None and self.stowed[2] is not None:
+            mu, capacity, pdofs, GG = self.stowed
+            m_s = mu * (capacity - ell)
+            ev.f_ext[pdofs] -= GG @ (m_s * ev.a[pdofs] - mu * rate * ev.v[pdofs])
+            da.append(m_s * GG.ravel())
+            dv.append(-mu * rate * GG.ravel())
+            dq.append(np.zeros(GG.size))
+        if self.reel is not None:
+            self._length(ev, (ell, rate, acc), (q, v, a), dq, dv, da)
+        if ev.want_tangent:
+            ev.add_tangent(index, np.concatenate(dq), np.concatenate(dv),
+                           da=np.concatenate(da))
+
+    def _length(self, ev, lengths, cable, dq, dv, da):
+        """The reel's equation and the coupling blocks (appended to ``dq, dv, da`` in the
+        order of the rows: the column of the length, then its row)."""
+        ell, rate, acc = lengths
+        q, v, a = cable
+        L0 = self.d.L0
+        M0, G0, K0 = self.M0, self.G0, self.K0
+        G0q, K0q, K0v, M0v = G0 @ q, K0 @ q, K0 @ v, M0 @ v
+        k, qKv = q @ K0q, q @ K0v
+        lL = ell * L0
+        force = (a @ G0q + v @ (G0 @ v)) / L0 + acc * k / lL + 2 * rate * qKv / lL \
+            - 0.5 * rate**2 * k / (ell * lL) - 0.5 * (v @ M0v) / L0
+        # the column: derivatives of F_q (and of the anchor's force) in l, l', l''
+        col_q = [(M0 @ a) / L0 + rate**2 / (ell * lL) * K0q]
+        col_v = [(self.Mv @ v) / L0 - 2 * rate / lL * K0q]
+        col_a = [G0q / L0]
+        # the row: derivatives of F_l in q, v, a
+        row_q = [(G0.T @ a) / L0 + 2 * acc / lL * K0q + 2 * rate / lL * K0v
+                 - rate**2 / (ell * lL) * K0q]
+        row_v = [(self.Gs @ v) / L0 + 2 * rate / lL * K0q - M0v / L0]
+        row_a = [G0q / L0]
+        diag_q = -acc * k / (ell * lL) - 2 * rate * qKv / (ell * lL) + rate**2 * k / (ell**2 * lL)
+        diag_v = 2 * qKv / lL - rate * k / (ell * lL)
+        diag_a = k / lL
+        if self.stowed is not None:
+            mu, capacity, pdofs, GG = self.stowed
+            force += mu * (capacity - ell) * acc - 0.5 * mu * rate**2
+            diag_q -= mu * acc
+            diag_v -= mu * rate
+            diag_a += mu * (capacity - ell)
+            if pdofs is not None:
+                vP, aP = ev.v[pdofs], ev.a[pdofs]
+                force += 0.5 * mu * (vP @ (GG @ vP))
+                col_q.append(-mu * (GG @ aP))
+                col_v.append(-mu * (GG @ vP))
+                col_a.append(np.zeros(pdofs.size))
+                row_q.append(np.zeros(pdofs.size))
+                row_v.append(mu * (GG @ vP))
+                row_a.append(np.zeros(pdofs.size))
+        ev.f_ext[self.reel] -= force
+        dq += col_q + [[0.0]] + row_q + [[diag_q]]
+        dv += col_v + [[0.0]] + row_v + [[diag_v]]
+        da += col_a + [[0.0]] + row_a + [[diag_a]]
 
 
 def constant_rate(start, rate):

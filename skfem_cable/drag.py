@@ -174,6 +174,11 @@ class QuadraticDrag:
         self.cable, self.flow = cable, flow
         self.coef = np.array([*coefficients, float(deformed_length)])
 
+    @property
+    def cables(self):
+        """The cables the load acts along (a deploying one is refused, ``System.layout``)."""
+        return [self.cable]
+
     def line_force(self, slope, relative_velocity):
         """Force per unit length (N/m) at one point with slope ``r_x`` (3,) in a flow of
         velocity ``relative_velocity`` (3,) relative to the cable (the kernel's model,

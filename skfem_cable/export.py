@@ -168,7 +168,7 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
         dofs = system.dofs(body)
         if body in cables:
             f = sample_cable(body, q[dofs], v[dofs], points_per_element,
-                             system.stretch(body, t))
+                             system.stretch(body, t, q))
             n = len(f["arc_length"])
             lines = np.column_stack([np.arange(n - 1), np.arange(1, n)])
             out.add(f.pop("position"), "line", lines, PART_CABLE, body_id,

@@ -125,11 +125,15 @@ class Layout:
 
     #: A body joined by constraints to at least this many other bodies is a hub.
     HUB_PARTNERS = 3
+    #: Coordinates coupled to more than this many unknowns (a reel's length, coupled to
+    #: every coordinate of its cable) are ordered last too.
+    DENSE_ROW = 64
 
     def _border(self, system):
         """Unknowns of the hubs (bodies joined to ``HUB_PARTNERS`` or more others, such
         as the E-sail's hub): their coordinates and the multipliers of the constraints on
-        them alone.  Ordered last by the linear solver, they keep the band narrow
+        them alone; and coordinates with more than ``DENSE_ROW`` entries in their row.
+        Ordered last by the linear solver, they keep the band narrow
         (``linalg.PatternSolver``)."""
         owner = np.empty(system.n_dofs, dtype=np.int64)
         for b, body in enumerate(system.bodies):
@@ -143,7 +147,9 @@ class Layout:
         parts = [system.dofs(system.bodies[b]) for b in sorted(hubs)]
         parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
                   if d.size and set(owner[d].tolist()) <= hubs]
-        return np.concatenate(parts).astype(np.int64) if parts else np.zeros(0, np.int64)
+        counts = np.diff(self.indptr)[:system.n_dofs]
+        parts.append(np.flatnonzero(counts > self.DENSE_ROW))
+        return np.unique(np.concatenate(parts)).astype(np.int64)
 
     @staticmethod
     def _with_loads_mass(M, loads):
@@ -241,8 +247,8 @@ class Layout:
         """Coordinate scales for convergence tests: system size for positions, 1 for
         slopes."""
         is_position = np.concatenate([b.position_mask for b in system.bodies])
-        q0 = system.q0
-        extent = np.ptp(q0[is_position].reshape(-1, 3), axis=0).max() if is_position.any() else 1
+        points = system.q0[system.vectors[system.vector_is_position]]
+        extent = np.ptp(points, axis=0).max() if points.size else 1
         self.length_scale = float(max(extent, 1e-300))
         self.coordinate_scale = np.where(is_position, self.length_scale, 1.0)
 

@@ -20,10 +20,11 @@ them (or a user's contributor):
 ['LineLoad', 'Gravity']
 """
 
-import numpy as np
-import scipy.sparse as sp
+from dataclasses import replace
 
-from .contract import Term
+import numpy as np
+
+from .contract import Term, combined
 
 
 def vector3(v, name):
@@ -146,6 +147,11 @@ class UniformLineLoad:
         self.cable = cable
         self.value = vector3(force_per_length, "force_per_length")
 
+    @property
+    def cables(self):
+        """The cables the load acts along (a deploying one is refused, ``System.layout``)."""
+        return [self.cable]
+
     def bind(self, system):
         return Term(force=(system.dofs(self.cable), self.cable.line_load(self.value)),
                     name=f"{self.label} {self.cable.name}")
@@ -184,15 +190,10 @@ class Gravity:
     def bind(self, system):
         u = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=self.g)
         force = (np.arange(system.n_dofs), system.mass_matrix() @ u)
-        deployments = list(system.deployments.values())
-        if not deployments:
+        weights = [d.bind_weight(system, self.g) for d in system.deployments.values()]
+        if not weights:
             return Term(force=force, name="gravity")
-
-        def add(ev, index):  # the weight of the mass deploying cables gain or lose
-            for deployment in deployments:
-                ev.f_ext += deployment.weight(system, self.g, ev.t)
-
-        return Term(force=force, add=add, name="gravity")
+        return replace(combined(weights, "gravity"), force=force)
 
 
 class PointMass:
@@ -276,6 +277,11 @@ class LineLoad:
         if not 0 < fd_step < 1:
             raise ValueError(f"fd_step must lie in (0, 1), got {fd_step!r}")
         self.cable, self.fn, self.dq, self.dv, self.fd_step = cable, force, dq, dv, fd_step
+
+    @property
+    def cables(self):
+        """The cables the load acts along (a deploying one is refused, ``System.layout``)."""
+        return [self.cable]
 
     def evaluate(self, x, v, t):
         """``force(x, v, t)`` with its shape checked."""
@@ -380,7 +386,11 @@ class Centrifugal:
         self.center = vector3(center, "center")
 
     def bind(self, system):
-        C = spin_matrix(system.mass_matrix(), self.omega, 2).tocoo()
+        if system.deployments:
+            raise ValueError("Centrifugal: the system has deploying cables, whose mass "
+                             "changes with their length; build the cables at their free "
+                             "length for a steady spinning state")
+        C = spin_matrix(system, system.mass_matrix(), self.omega, 2).tocoo()
         matrix = C.tocsr()
         values = C.data
         u_c = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=self.center)
@@ -393,9 +403,9 @@ class Centrifugal:
                     name="centrifugal")
 
 
-def spin_matrix(M, omega, power):
+def spin_matrix(system, M, omega, power):
     """``M (I (x) W^power)`` with ``W = [omega]_x`` acting on every 3-vector of coordinates
-    (``power = 1``: half the gyroscopic matrix; ``2``: minus the centrifugal stiffness)."""
+    of ``system`` (``System.rotation_operator``; ``power = 1``: half the gyroscopic matrix;
+    ``2``: minus the centrifugal stiffness)."""
     W = np.linalg.matrix_power(np.cross(omega, np.eye(3)).T, power)
-    n = M.shape[0]
-    return (M @ sp.kron(sp.identity(n // 3), W)).tocsr()
+    return (M @ system.rotation_operator(W)).tocsr()

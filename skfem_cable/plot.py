@@ -89,11 +89,6 @@ def gravity_vector(system):
     return sum((load.g for load in system.loads if isinstance(load, Gravity)), np.zeros(3))
 
 
-def _position_blocks(system):
-    """Mask of the 3-vector blocks of the coordinates that are positions (not slopes)."""
-    return np.concatenate([b.position_mask for b in system.bodies]).reshape(-1, 3)[:, 0]
-
-
 def spin_axis(system, q, v, share=0.5):
     """Unit vector along the angular momentum about the centroid of the positions when
     the motion is a spin, else None.
@@ -104,10 +99,10 @@ def spin_axis(system, q, v, share=0.5):
     """
     if v is None:
         return None
-    pos = _position_blocks(system)
-    blocks = np.asarray(q, dtype=float).reshape(-1, 3)
+    pos = system.vector_is_position
+    blocks = np.asarray(q, dtype=float)[system.vectors]
     rel = np.where(pos[:, None], blocks - blocks[pos].mean(axis=0), blocks)
-    momenta = np.cross(rel, (system.layout.mass @ np.asarray(v, dtype=float)).reshape(-1, 3))
+    momenta = np.cross(rel, (system.layout.mass @ np.asarray(v, dtype=float))[system.vectors])
     total = momenta.sum(axis=0)
     size = np.linalg.norm(total)
     if size == 0 or size < share * np.linalg.norm(momenta, axis=1).sum():
@@ -136,7 +131,7 @@ def scene_camera(system, q, v=None, view=None, sun=None, points=None):
     """
     q = np.atleast_2d(q)
     if points is None:
-        points = q.reshape(len(q), -1, 3)[:, _position_blocks(system)]
+        points = q[:, system.vectors[system.vector_is_position]]
     g = gravity_vector(system)
     axis = spin_axis(system, q[0], None if v is None else np.atleast_2d(v)[0])
     return view_camera(view, points, gravity=g if np.any(g) else None, spin=axis, sun=sun)

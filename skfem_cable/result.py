@@ -125,12 +125,12 @@ class Result:
         """Axial forces (N) ``(nt,) + s.shape`` at reference arc lengths ``s``
         (``Cable.tension``)."""
         return cable.tension(self.q[:, self.system.dofs(cable)], s,
-                             self.system.stretch(cable, self.t))
+                             self.system.stretch(cable, self.t, self.q))
 
     def curvature(self, cable, s):
         """Curvatures (1/m) ``(nt,) + s.shape`` at reference arc lengths ``s``."""
         return cable.curvature(self.q[:, self.system.dofs(cable)], s,
-                               self.system.stretch(cable, self.t))
+                               self.system.stretch(cable, self.t, self.q))
 
     @property
     def multipliers(self):

@@ -94,7 +94,7 @@ def cable_outputs(system, q, t=0.0):
         tension = state.tension(cable, s)
         out[cable.name] = {"tip_position": state.position(cable, cable.length),
                            "root_tension": tension[0], "max_tension": tension.max(),
-                           "length": cable.length * system.stretch(cable, t),
+                           "length": cable.length * system.stretch(cable, t, q),
                            "elements": cable.n_elements}
     return out
 

@@ -87,15 +87,15 @@ class State:
 
     def strain(self, cable, s):
         """Green axial strain at arc lengths ``s`` (``Cable.strain``)."""
-        return cable.strain(self._q(cable), s, self.system.stretch(cable, self.t))
+        return cable.strain(self._q(cable), s, self.system.stretch(cable, self.t, self.q))
 
     def tension(self, cable, s):
         """Axial force (N) at arc lengths ``s`` (``Cable.tension``)."""
-        return cable.tension(self._q(cable), s, self.system.stretch(cable, self.t))
+        return cable.tension(self._q(cable), s, self.system.stretch(cable, self.t, self.q))
 
     def curvature(self, cable, s):
         """Curvature (1/m) at arc lengths ``s`` (``Cable.curvature``)."""
-        return cable.curvature(self._q(cable), s, self.system.stretch(cable, self.t))
+        return cable.curvature(self._q(cable), s, self.system.stretch(cable, self.t, self.q))
 
     @property
     def multipliers(self):

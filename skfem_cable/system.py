@@ -58,6 +58,11 @@ class System:
         First global coordinate of each body, by ``id(body)``.
     q0 : ndarray (n_dofs,)
         The bodies' initial coordinates, stacked.
+    vectors : int ndarray (nb, 3)
+        The global coordinates of every 3-vector in space (positions, slopes, a rigid
+        body's base points); scalar coordinates (a reel's length) are in none.
+    vector_is_position : bool ndarray (nb,)
+        Which of ``vectors`` are positions (the others are directions).
 
     Notes
     -----
@@ -95,6 +100,7 @@ class System:
             n += body.n_dofs
         self.n_dofs = n
         self.constraints = [c for body in self.bodies for c in body.internal_constraints()]
+        self.vectors, self.vector_is_position = _vector_blocks(self.bodies)
         self.loads = []
         self.point_masses = []
         self.deployments = {}
@@ -123,26 +129,54 @@ class System:
         return self._changed()
 
     def clamp(self, node, direction=None, position=None, velocity=None, acceleration=None):
-        """Clamp a node: position and slope direction fixed, or driven (callables of time,
-        see ``constraints.clamp``). Returns the system.
+        """Clamp a node: position and slope direction fixed, driven (callables of time), or
+        carried by a rigid body (see ``constraints.clamp``). Returns the system.
 
         Five equations: the position (three) and the direction of the slope (two); the
-        axial stretch at the clamp stays free.
+        axial stretch at the clamp stays free.  With a body point ``position`` the node is
+        pinned to it and its slope keeps a direction fixed in the body
+        (``constraints.BodySlope``): a tether leaving a spinning hub through an exit guide.
 
         Parameters
         ----------
         node : Node
             ``cable.node(i)``.
-        direction, position : array_like (3,) or callable, optional
-            Slope direction and position (default: the node's initial ones), or callables
-            ``f(t)`` of a driven clamp.
+        direction : array_like (3,) or callable, optional
+            Slope direction (default: the node's initial one), or a callable ``f(t)`` of a
+            driven clamp.  With a body point ``position``: a direction in the body frame
+            (default: the node's initial slope in the body's initial frame).
+        position : array_like (3,), callable or body point, optional
+            Position (default: the node's initial one), a callable ``f(t)`` of a driven
+            clamp, or a rigid-body point (``RigidBody.point``).
         velocity, acceleration : callable, optional
-            Exact time derivatives of a driven ``position``.
+            Exact time derivatives of a driven ``position`` (None with a body point).
 
         Returns
         -------
         System
             ``self``.
+
+        Raises
+        ------
+        ValueError
+            A zero ``direction``, or ``velocity``/``acceleration`` with a body point.
+
+        Examples
+        --------
+        A tether clamped radially to the rim of a hub (axis along the body x axis): a pin
+        to the rim point and the two slope equations of the exit guide.
+
+        >>> import numpy as np, skfem_cable as sc
+        >>> hub = sc.RigidBody.cylinder(radius=1.0, height=0.5, density=100.0)
+        >>> tether = sc.Cable.straight([0, 1, 0], [0, 3, 0], 4,
+        ...                            sc.Section.circular(1e-3, 7e10, 2700.0), name="tether")
+        >>> system = sc.System([hub, tether]).clamp(tether.node(0), position=hub.point([0, 1, 0]))
+        >>> [c.name for c in system.constraints[1:]]
+        ['pin Node(tether, 0)-hub.point([0. 1. 0.])', 'body slope Node(tether, 0)-hub']
+        >>> system.constraints[-1].direction
+        array([0., 1., 0.])
+        >>> float(np.abs(system.constraint_values(system.q0)).max())
+        0.0
         """
         for c in cons.clamp(node, direction, position, velocity, acceleration):
             self.add_constraint(c)
@@ -183,10 +217,11 @@ class System:
         return self.add_constraint(cons.pin(node, target, velocity, acceleration))
 
     def deploy(self, cable, anchor=None, length=None, rate=None, acceleration=None,
-               direction=None, capacity=None):
+               direction=None, capacity=None, reel=None):
         """Deploy (or retrieve) ``cable`` through a reel at ``anchor``: its node 0 is
-        pinned there and its free length follows ``length(t)`` (see ``deploy``: the mesh
-        stretches with the length, the nodes keep their identity). Returns the system.
+        pinned there and its free length follows ``length(t)``, or is the coordinate of a
+        ``reel`` with inertia and a torque law (see ``deploy``: the mesh stretches with
+        the length, the nodes keep their identity). Returns the system.
 
         Parameters
         ----------
@@ -197,14 +232,21 @@ class System:
             The reel's exit point: fixed in space (None: node 0's initial position), or a
             point of a rigid body (``RigidBody.point``), e.g. a hub.
         length : callable or float
-            Free (unstretched) length ``length(t)`` (m), > 0.
+            Free (unstretched) length ``length(t)`` (m), > 0; None with ``reel``.
         rate, acceleration : callable, optional
             Its exact first and second derivatives (else central differences).
         direction : array_like (3,), optional
-            Exit direction of a reel fixed in space: the slope at node 0 is clamped to it.
+            Exit direction (an exit guide): the slope at node 0 is clamped to it, fixed
+            in space for a fixed reel, in the body frame for a body ``anchor`` (it turns
+            with a hub, ``constraints.BodySlope``).
         capacity : float, optional
             Total tether length (reel and free, m): the material still on the reel moves
-            with a body ``anchor`` (its mass, ``rho A (capacity - length)``, changes).
+            with a body ``anchor`` (its mass, ``rho A (capacity - length)``, changes) and,
+            with a ``reel``, turns with its drum.
+        reel : Reel, optional
+            A body of the system (``sc.Reel``) whose coordinate is the free length: the
+            length then follows from the reel's inertia and torque law, the tension at the
+            exit and the tether's inertia (instead of ``length``).
 
         Returns
         -------
@@ -228,18 +270,20 @@ class System:
 
         if id(cable) in self.deployments:
             raise ValueError(f"cable {cable.name!r} is already deployed")
-        if length is None:
-            raise TypeError("deploy needs length: a callable length(t) or a number (m)")
-        fixed = anchor is None or np.ndim(anchor) == 1
+        if (length is None) == (reel is None):
+            raise TypeError("deploy needs length (a callable length(t) or a number, m) or "
+                            "reel (a Reel body of the system), not both")
+        if reel is not None and not np.isclose(reel.q0[0], cable.length, rtol=1e-12):
+            raise ValueError(f"reel {reel.name!r} starts at the free length "
+                             f"{float(reel.q0[0])!r} m: it must be the length of "
+                             f"{cable.name!r} as built, {cable.length!r} m")
         if direction is not None:
-            if not fixed:
-                raise ValueError("direction applies to a reel fixed in space, not to a "
-                                 "body point")
             self.clamp(cable.node(0), direction=direction, position=anchor)
         else:
             self.pin(cable.node(0), anchor)
-        deployment = Deployment(cable, length, rate, acceleration, None if fixed else anchor,
-                                capacity)
+        exit_point = cable.q0[:3] if anchor is None else anchor
+        deployment = Deployment(cable, length, rate, acceleration, exit_point, capacity,
+                                None if reel is None else int(self.dofs(reel)[0]))
         self.deployments[id(cable)] = deployment
         return self.add_load(deployment)
 
@@ -247,16 +291,18 @@ class System:
         """The ``Deployment`` of ``body`` (``deploy``), or None."""
         return self.deployments.get(id(body))
 
-    def stretch(self, cable, t):
-        """The mesh stretch of ``cable`` at times ``t`` (scalar or array): the free length
-        over the length as built for a deploying cable (``deploy``), else 1."""
+    def stretch(self, cable, t, q=None):
+        """The mesh stretch of ``cable`` at times ``t`` (scalar or array) and coordinates
+        ``q`` (``(n_dofs,)`` or one row per time; needed for a reel's length): the free
+        length over the length as built for a deploying cable (``deploy``), else 1."""
         deployment = self.deployment(cable)
         if deployment is None:
             return np.ones(np.shape(t)) if np.ndim(t) else 1.0
         if np.ndim(t):
-            return np.array([deployment.stretch(float(ti)) for ti in np.ravel(t)]).reshape(
-                np.shape(t))
-        return deployment.stretch(float(t))
+            rows = [None] * np.size(t) if q is None else np.reshape(q, (np.size(t), -1))
+            return np.array([deployment.stretch(float(ti), qi)
+                             for ti, qi in zip(np.ravel(t), rows)]).reshape(np.shape(t))
+        return deployment.stretch(float(t), q)
 
     def add_load(self, load):
         """Add a contributor with ``bind(system) -> Term`` (loads, point masses, gravity,
@@ -319,8 +365,22 @@ class System:
         """The fixed sparsity pattern of the KKT matrix (``layout.Layout``), built on first
         use and again after the system changes."""
         if self._layout is None:
+            self._check_deploying_loads()
             self._layout = Layout(self)
         return self._layout
+
+    def _check_deploying_loads(self):
+        """Refuse a load along a deploying cable (a load naming it in ``cables``) unless
+        the load integrates over the material the reel pays out (``stretches = True``):
+        it would act on the length as built, not on the free length."""
+        for load in self.loads:
+            for cable in getattr(load, "cables", ()):
+                if self.deployment(cable) is not None and not getattr(load, "stretches", False):
+                    raise ValueError(
+                        f"{type(load).__name__} acts along {cable.name!r}, which deploys "
+                        "(System.deploy): this load integrates over the cable as built, not "
+                        "over its free length, and is not supported on a deploying cable "
+                        "(gravity and SolarWindForce are; see docs/deploy.md)")
 
     @property
     def f_const(self):
@@ -362,13 +422,32 @@ class System:
 
     def rigid_motion_velocity(self, q, omega, center=(0, 0, 0), velocity=(0, 0, 0)):
         """Velocities of a rigid motion of the whole system: ``velocity + omega x (r - center)``
-        for position coordinates and ``omega x r_x`` for slopes (Eqs. 81-82)."""
+        for position coordinates, ``omega x r_x`` for slopes and other vectors (Eqs. 81-82)
+        and zero for scalar coordinates (a reel's length)."""
         omega = _vector3(omega, "omega")
-        blocks = np.asarray(q, dtype=float).reshape(-1, 3)
-        is_position = np.concatenate([b.position_mask for b in self.bodies]).reshape(-1, 3)[:, 0]
-        rel = np.where(is_position[:, None], blocks - _vector3(center, "center"), blocks)
-        v = np.cross(omega, rel) + np.where(is_position[:, None], _vector3(velocity, "velocity"), 0)
-        return v.ravel()
+        pos = self.vector_is_position[:, None]
+        blocks = np.asarray(q, dtype=float)[self.vectors]
+        rel = np.where(pos, blocks - _vector3(center, "center"), blocks)
+        v = np.zeros(self.n_dofs)
+        v[self.vectors] = np.cross(omega, rel) + np.where(pos, _vector3(velocity, "velocity"), 0)
+        return v
+
+    def rotation_operator(self, W):
+        """The sparse matrix (n_dofs, n_dofs) applying the 3 x 3 matrix ``W`` to every
+        3-vector of coordinates (``vectors``) and zero to scalar ones."""
+        rows = np.repeat(self.vectors, 3, axis=1).ravel()
+        cols = np.tile(self.vectors, (1, 3)).ravel()
+        values = np.tile(np.asarray(W, dtype=float).ravel(), len(self.vectors))
+        return sp.csr_matrix((values, (rows, cols)), shape=(self.n_dofs, self.n_dofs))
+
+    def rotate(self, q, R, center=(0, 0, 0)):
+        """Coordinates turned rigidly by the rotation matrix ``R`` about ``center``:
+        positions ``c + R (r - c)``, slopes and other vectors ``R x``, scalars unchanged."""
+        out = np.array(q, dtype=float)
+        blocks = out[self.vectors]
+        c = np.where(self.vector_is_position[:, None], _vector3(center, "center"), 0.0)
+        out[self.vectors] = (blocks - c) @ np.asarray(R, dtype=float).T + c
+        return out
 
     def momentum(self, q, v, t=0.0):
         """Generalized momentum ``dT/dv`` (n_dofs): ``M v`` plus the part of deploying
@@ -389,19 +468,19 @@ class System:
     def linear_momentum(self, q, v, t=0.0):
         """Linear momentum (kg m/s): the sum of the momentum over the position blocks of
         the coordinates (positions are linear in the coordinates, slopes carry none)."""
-        is_position = np.concatenate([b.position_mask for b in self.bodies])
-        return self.momentum(q, v, t)[is_position].reshape(-1, 3).sum(axis=0)
+        p = self.momentum(q, v, t)[self.vectors]
+        return p[self.vector_is_position].sum(axis=0)
 
     def angular_momentum(self, q, v, center=(0, 0, 0), t=0.0):
         """Angular momentum about ``center``: ``sum_A e_A x p_A`` over the 3-vector blocks
         ``e_A`` of the coordinates (positions relative to ``center``) and of the momentum
         ``p = momentum(q, v, t)`` (``sum_AB M_AB e_A x e_B_dot`` for constant masses;
         exact for ANCF cables, natural coordinates and point masses, whose positions are
-        linear in the coordinates)."""
-        is_position = np.concatenate([b.position_mask for b in self.bodies]).reshape(-1, 3)[:, 0]
-        blocks = np.asarray(q, dtype=float).reshape(-1, 3)
-        rel = np.where(is_position[:, None], blocks - np.asarray(center, dtype=float), blocks)
-        p = self.momentum(q, v, t).reshape(-1, 3)
+        linear in the coordinates; scalar coordinates such as a reel's carry none)."""
+        blocks = np.asarray(q, dtype=float)[self.vectors]
+        rel = np.where(self.vector_is_position[:, None], blocks - np.asarray(center, dtype=float),
+                       blocks)
+        p = self.momentum(q, v, t)[self.vectors]
         return np.cross(rel, p).sum(axis=0)
 
     # --- evaluation -------------------------------------------------------------------------
@@ -470,3 +549,17 @@ class System:
             info["force_ref"] = max(np.linalg.norm(ev.f), np.linalg.norm(f_ext),
                                     np.linalg.norm(f_con))
         return r, info
+
+
+def _vector_blocks(bodies):
+    """The global coordinates of the 3-vectors in space, int (nb, 3), and whether each is a
+    position (else a slope or another direction): from the bodies' ``vector_mask``
+    (optional in the body contract; all True by default) and ``position_mask``."""
+    vector = np.concatenate([getattr(b, "vector_mask", np.ones(b.n_dofs, dtype=bool))
+                             for b in bodies])
+    position = np.concatenate([b.position_mask for b in bodies])
+    index = np.flatnonzero(vector)
+    if index.size % 3:
+        raise ValueError("the bodies' vector coordinates (vector_mask) must come in 3-vectors")
+    blocks = index.reshape(-1, 3)
+    return blocks, position[blocks[:, 0]]

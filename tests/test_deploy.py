@@ -190,10 +190,16 @@ def test_bad_deployments_are_refused():
     system = sc.System([tether]).deploy(tether, length=1.0)
     with pytest.raises(ValueError, match="already deployed"):
         system.deploy(tether, length=1.0)
-    hub = sc.RigidBody.cylinder(radius=0.5, height=0.3, density=1000.0)
-    with pytest.raises(ValueError, match="direction applies to a reel fixed in space"):
-        sc.System([hub, tether]).deploy(tether, hub.point([0, 0, 0]), length=1.0,
-                                        direction=[1, 0, 0])
+    with pytest.raises(ValueError, match="UniformLineLoad acts along 'cable', which deploys"):
+        _ = system.add_line_load(tether, [0, 1, 0]).layout
+    reel = sc.Reel(1.0, radius=0.1)
+    with pytest.raises(TypeError, match="needs length .* or reel .*, not both"):
+        sc.System([tether, reel]).deploy(tether, length=1.0, reel=reel, capacity=5.0)
+    with pytest.raises(ValueError, match="from a reel needs the capacity"):
+        sc.System([tether, reel]).deploy(tether, reel=reel)
+    with pytest.raises(ValueError, match="starts at the free length 2.0 m: it must be"):
+        long = sc.Reel(2.0, 0.1)
+        sc.System([tether, long]).deploy(tether, reel=long, capacity=5.0)
 
 
 def test_lowering_a_hanging_tether_balances_momentum():

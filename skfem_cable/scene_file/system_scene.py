@@ -13,7 +13,7 @@ from ..state import State
 from ..system import System
 from .bodies import Bodies, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
-from .deploy import read_deploy
+from .deploy import read_deploy, read_reel
 from .loads import read_loads, read_point_mass
 from .schema import text
 from .solver import read_analysis, read_initial, read_output, read_solver
@@ -48,11 +48,13 @@ def build(root, elements=None):
         read_rigid_body(t, bodies)
     if not bodies.bodies:
         root.fail("cables", "or rigid_bodies must define at least one body")
+    deploys = root.tables("deploy")
+    reels = [read_reel(t, bodies) for t in deploys]     # bodies too
     system = System(list(bodies.bodies.values()))
     for t in root.tables("constraints"):
         read_constraint(t, bodies, system)
-    for t in root.tables("deploy"):
-        read_deploy(t, bodies, system)
+    for t, reel in zip(deploys, reels):
+        read_deploy(t, bodies, system, reel)
     for t in root.tables("point_masses"):
         read_point_mass(t, bodies, system)
     read_loads(root.table("loads"), bodies, system, analysis)

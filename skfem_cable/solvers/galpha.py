@@ -124,10 +124,12 @@ class GeneralizedAlpha:
         self.total_mass = float(unit @ (lay.mass @ unit))
         # the scaled residual: dynamic rows divided by the diagonal of the iteration matrix
         # (a Jacobi estimate of the correction, in units of the coordinates; refreshed at
-        # every factorization, the mass diagonal before the first) and constraint rows in
+        # every factorization, the mass diagonal before the first, the mean mass where a
+        # coordinate's inertia is all in terms, as a reel's may be) and constraint rows in
         # units of the coordinates, both divided by the coordinate scale
         self.diag_index = lay.diagonal_index[: self.n]
-        self.res_weight = 1.0 / (lay.mass_diagonal * self.xscale)
+        mass = np.where(lay.mass_diagonal > 0, lay.mass_diagonal, self.mbar)
+        self.res_weight = 1.0 / (mass * self.xscale)
         self.con_weight = 1.0 / (self.mbar * self.L_ref)
         self.h_factored = None
         self.h_next = None  # the step the driver chose next (adaptive steps)
@@ -199,6 +201,9 @@ class GeneralizedAlpha:
         self.abar = self.a.copy()
         self.a_prev = self.h_prev = None
         self.lam = self.mbar * sol[n:]
+        # the books open with the forces of the consistent state: the constraint forces
+        # of its multipliers and the inertia terms at its accelerations
+        _, info = system.evaluate(q, v, t, self.lam, scale=self.mbar, a=self.a)
         self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
         self.iterations = 0
         self.guard.reset(self.t, self.energies())

@@ -85,7 +85,8 @@ def _gyroscopic_modes(system, kkt, k, spin):
                          f"({n} coordinates; at most about 2000)")
     K = kkt.toarray()
     M = system.layout.mass.scipy.toarray()
-    G = 2.0 * spin_matrix(system.layout.mass.scipy, np.asarray(spin, dtype=float), 1).toarray()
+    spin = np.asarray(spin, dtype=float)
+    G = 2.0 * spin_matrix(system, system.layout.mass.scipy, spin, 1).toarray()
     m = N - n
     Z = np.zeros
     A = np.block([[Z((n, n)), np.eye(n), Z((n, m))],

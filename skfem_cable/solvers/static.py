@@ -242,8 +242,8 @@ class _Newton:
         self.q0 = (system.q0 if initial is None else initial.q).copy()
         self.lam0 = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
         self.scale = constraint_scale(system, self.q0, self.lam0)
-        pos = system.q0.reshape(-1, 3)
-        self.L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300)
+        pos = system.q0[system.vectors[system.vector_is_position]]
+        self.L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300) if pos.size else 1.0
         self.violation = system.constraint_values(self.q0)
         self.closing = bool(np.max(np.abs(self.violation), initial=0.0) > tol * self.L_ref)
 

@@ -62,7 +62,7 @@ class RigidRotation:
     def __init__(self, system, omega, center):
         self.system, self.omega, self.center = system, omega, center
         W = np.cross(omega, np.eye(3)).T
-        self.operator = sp.kron(sp.identity(system.n_dofs // 3), W, format="csr")
+        self.operator = system.rotation_operator(W)
 
     def velocity(self, q):
         return self.system.rigid_motion_velocity(q, self.omega, self.center)
@@ -124,8 +124,7 @@ def rotated(system, q, axis, angle, center):
     """The coordinates of the system turned rigidly by ``angle`` about the axis through
     ``center``: positions ``c + R (r - c)``, slopes and other vectors ``R x``."""
     Rm = Rotation.from_rotvec(angle * axis).as_matrix()
-    u_c = system.rigid_motion_velocity(q, (0, 0, 0), velocity=center)  # positions c
-    return ((q - u_c).reshape(-1, 3) @ Rm.T).ravel() + u_c, Rm
+    return system.rotate(q, Rm, center), Rm
 
 
 def check_equivariance(frame, motion, q, axis, center, angle=1.0):
@@ -139,7 +138,7 @@ def check_equivariance(frame, motion, q, axis, center, angle=1.0):
     r0, info = frame.evaluate(q, motion.velocity(q), 0.0, lam, reference_force=True)
     q1, Rm = rotated(frame, q, axis, angle, center)
     r1, _ = frame.evaluate(q1, motion.velocity(q1), angle / np.linalg.norm(motion.omega), lam)
-    turned = (r0[:n].reshape(-1, 3) @ Rm.T).ravel()
+    turned = frame.rotate(r0[:n], Rm)
     mismatch = np.linalg.norm(r1[:n] - turned) / max(info["force_ref"], 1e-300)
     if mismatch > EQUIVARIANCE_TOL:
         raise ValueError(
