@@ -197,6 +197,16 @@ ENTRIES = (
           "tests/test_deploy.py::test_hub_deployment_demo_conserves_angular_momentum",
           "Spin rate of the hub and rotation rate of the fan of tethers while they are "
           "deployed from 10 m to 50 m (the animation is on the deployment page)."),
+    Entry("esail_deployment.py",
+          "the sail's spin over the last turn after deploying four tethers from 300 m to "
+          "500 m under the solar wind, against `H0 / I` of the deployed sail (with the "
+          "final `H`: 1e-4)",
+          "relative 1e-3",
+          "tests/test_esail_deployment.py::"
+          "test_spin_after_deployment_is_the_angular_momentum_over_the_deployed_inertia",
+          "Spin rates of the hub and the remote units against `H0 / I(l)`, and the thrust "
+          "against straight tethers, while four tethers deploy from 300 m to 1 km (the "
+          "animation is on the deployment page)."),
     Entry("reel_brake.toml",
           "free length after 1 s of a tether unwinding under gravity from a braked reel, "
           "against the closed system's equation of the drum, its content and the hanging "
@@ -797,6 +807,12 @@ def draw_hub_deployment():
                  f"{out['momentum_drift']:.1e}", fontsize=10)
     ax.legend(fontsize=8)
     _save(fig, "hub_deployment")
+
+
+def draw_esail_deployment():
+    demo = _load_demo("esail_deployment")
+    demo.figure(demo.main(), _path("esail_deployment"))
+    _written("esail_deployment")
 
 
 def draw_reel_brake():

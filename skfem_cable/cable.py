@@ -530,6 +530,12 @@ class Cable:
             if piece.vanishes:
                 continue
             damped = piece.damped and piece.dissipates(values)
+            if deployment is not None and damped:
+                raise ValueError(
+                    f"cable {self.name!r} deploys and its law dissipates (e.g. the "
+                    "section's gamma_axial, gamma_bending > 0): on the stretching mesh its "
+                    "damping would take the mesh's stretching l'/l for a strain rate, not "
+                    "the material's; use an undamped law for a deploying cable")
             if deployment is not None:  # the term's own tables, rescaled in time
                 tables = tuple(np.array(t) for t in tables)
             passes.append((piece.compiled(), tables, values, damped))

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 from demo_modules import load_demo
+from lagrange import cubic_path, lagrange_force
 
 import skfem_cable as sc
 from skfem_cable.contract import Evaluation
@@ -78,25 +79,13 @@ def test_inertial_force_is_lagrange_of_the_kinetic_energy():
         acceleration=lambda t: 0.6 - 0.9 * np.sin(3 * t))
     deployment = system.deployment(tether)
     rng = np.random.default_rng(1)
-    c0, c1, c2, c3 = (rng.normal(size=tether.n_dofs) for _ in range(4))
-
-    def path(t, order=0):
-        return [c0 + c1 * t + c2 * t**2 + c3 * t**3, c1 + 2 * c2 * t + 3 * c3 * t**2,
-                2 * c2 + 6 * c3 * t][order]
+    path = cubic_path([rng.normal(size=tether.n_dofs) for _ in range(4)])
 
     def kinetic(q, qd, t):
         return _kinetic_energy(tether, deployment, q, qd, t)
 
-    def gradient(f, z):  # exact for the quadratics T is in q and in v
-        eye = np.eye(z.size)
-        return np.array([(f(z + eye[i]) - f(z - eye[i])) / 2 for i in range(z.size)])
-
-    def momentum(t):
-        return gradient(lambda qd: kinetic(path(t), qd, t), path(t, 1))
-
-    t, dt = 0.7, 1e-4
-    lagrange = (momentum(t + dt) - momentum(t - dt)) / (2 * dt) \
-        - gradient(lambda q: kinetic(q, path(t, 1), t), path(t))
+    t = 0.7
+    lagrange = lagrange_force(kinetic, path, t)    # unit steps: T is quadratic in q and v
     term = deployment.bind(system)
     ev = Evaluation(system, t, path(t), path(t, 1), np.zeros(system.n_constraints),
                     a=path(t, 2))
@@ -192,6 +181,10 @@ def test_bad_deployments_are_refused():
         system.deploy(tether, length=1.0)
     with pytest.raises(ValueError, match="UniformLineLoad acts along 'cable', which deploys"):
         _ = system.add_line_load(tether, [0, 1, 0]).layout
+    damped = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(
+        1e-3, 1e9, 1000.0, gamma_axial=0.1), name="damped")
+    with pytest.raises(ValueError, match="'damped' deploys and its law dissipates"):
+        _ = sc.System([damped]).deploy(damped, length=1.0).layout
     reel = sc.Reel(1.0, radius=0.1)
     with pytest.raises(TypeError, match="needs length .* or reel .*, not both"):
         sc.System([tether, reel]).deploy(tether, length=1.0, reel=reel, capacity=5.0)
