@@ -216,7 +216,7 @@ ENTRIES = (
           "curve; started stress-free, the tension rings at the axial frequency (about "
           "80 Hz) around the weight less the force accelerating the hanging part."),
     Entry("reel_spin_rate.py",
-          "settled spin rate after two reels on a spinning hub paid out 10 m -> 40 m of "
+          "settled spin rate after two reels on a spinning hub paid out 10 m -> 30 m of "
           "tether, against the rate at which the deployed, stretched configuration carries "
           "the run's angular momentum",
           "relative 1e-6",
@@ -822,7 +822,7 @@ def draw_reel_brake():
     from skfem_cable import scene_file
 
     spec = scene_file.load(DEMOS / "reel_brake.toml")
-    r = sc.simulate(spec.system, initial=spec.initial, **spec.solver)
+    r = sc.simulate(spec.system, initial=spec.initial, **{**spec.solver, "every": 1})
     tether, reel = spec.system.bodies
     ell = r.q[:, spec.system.dofs(reel)[0]]
     mu, J, R, C, m, c, g = tether.section.mass_per_length, 0.02, 0.1, 30.0, 0.5, 0.3, 9.81
