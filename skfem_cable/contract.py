@@ -33,6 +33,9 @@ the constant mass it declared, evaluated at the accelerations ``ev.a``; its tang
 carries ``ev.cM`` times the derivative in ``a`` (``add_tangent(..., da=...)``).  Such a
 term has a Python ``add`` (the integrator then takes its Python step).
 
+A term evaluated outside its domain raises ``OutOfDomain`` (a Newton iterate may leave
+it where the converged state would not).
+
 Terms with equal, non-None ``key`` are merged with ``merge`` into one term before the
 pattern is built, so that many bodies of one kind are evaluated by one compiled call.
 
@@ -68,6 +71,13 @@ AXIAL, BENDING = 0, 1
 #: tangent entries": empty arrays of the right types.
 NO_DATA = np.zeros(0)
 NO_INDEX = np.zeros(0, dtype=np.int64)
+
+
+class OutOfDomain(ValueError):
+    """Raised by a term evaluated at coordinates outside the domain where it is defined
+    (a reel's free length outside ``(0, capacity]``).  The time integrator rejects the
+    step and retries it smaller; if it happens at the smallest step, the run stops with
+    this message."""
 
 
 @njit(cache=True)

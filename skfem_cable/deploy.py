@@ -59,7 +59,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .constraints import Motion
-from .contract import Term
+from .contract import OutOfDomain, Term
 
 
 class Deployment:
@@ -133,12 +133,14 @@ class Deployment:
         return values
 
     def _checked(self, t, values):
+        """``values`` if the length lies in ``(0, capacity]``, else ``OutOfDomain`` (a
+        ``ValueError``) naming the cable and the bound."""
         ell = values[0]
         if not ell > 0 or (self.capacity is not None and ell > self.capacity * (1 + 1e-12)):
             bound = "be > 0" if self.capacity is None else \
                 f"lie in (0, {self.capacity:g}] (the capacity)"
-            raise ValueError(f"deployment of {self.cable.name!r}: length({t!r}) = {ell!r} m "
-                             f"must {bound}")
+            raise OutOfDomain(f"deployment of {self.cable.name!r}: length({t!r}) = {ell!r} m "
+                              f"must {bound}")
         return values
 
     def stretch(self, t, q=None):

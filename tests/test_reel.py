@@ -263,3 +263,21 @@ def test_scene_file_with_a_braked_reel(tmp_path):
     both = text.replace("capacity = 30.0", "capacity = 30.0\nlength = 5.0")
     with pytest.raises(scene_file.SceneFileError, match="length and reel both"):
         scene_file.loads_text(both, "both.toml")
+
+
+def test_a_reel_wound_in_completely_stops_the_run_with_its_length():
+    """A motor winds a tether in until nothing is left: a Newton iterate outside
+    ``(0, capacity]`` makes the step retry smaller (``contract.OutOfDomain``) and, when
+    even the smallest step cannot stay inside, the run stops with the length named and
+    the steps computed so far kept."""
+    tether = sc.Cable.straight([0, 0, 0], [2.0, 0, 0], 4, SOFT)
+    reel = sc.Reel(2.0, radius=0.1, inertia=0.01, drive=sc.Motor(-0.5))
+    system = sc.System([tether, reel]).deploy(tether, reel=reel, capacity=5.0)
+    system.add_point_mass(tether.node(-1), 0.1)
+    with pytest.raises(sc.SimulationError, match=r"step failed.*deployment of 'cable': "
+                                                 r"length\(.*\) = .* must lie in \(0, 5\]"
+                       ) as failure:
+        sc.simulate(system, t_end=5.0, dt=0.01, max_halvings=4)
+    kept = failure.value.result
+    ell = kept.q[:, system.dofs(reel)[0]]
+    assert len(kept) > 10 and 0 < ell[-1] < 0.5 and np.all(np.diff(ell) < 0)

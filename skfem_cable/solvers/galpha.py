@@ -19,6 +19,7 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 
 import numpy as np
 
+from ..contract import OutOfDomain
 from ..kernels import step as codes
 from ..kernels.books import step_books
 from ..linalg import PatternSolver, SingularMatrixError
@@ -351,7 +352,10 @@ class GeneralizedAlpha:
         need = fresh or self.h_factored is None or abs(self.h_factored - h) > 1e-9 * h
         if self.compiled is not None:
             return self._compiled_step(h, need)
-        return self._python_step(h, need)
+        try:
+            return self._python_step(h, need)
+        except OutOfDomain as exc:  # an iterate left a term's domain: retry smaller
+            return False, f"t={self.t + h:.6g}, h={h:.3g}: {exc}"
 
     def _compiled_step(self, h, need):
         """The Newton iteration of ``_python_step`` in one compiled call."""
