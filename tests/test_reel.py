@@ -220,6 +220,8 @@ def test_bad_reels_are_refused():
     with pytest.raises(ValueError, match="stiffness must be finite and > 0"):
         sc.Servo(lambda t: 1.0, 0.0, 1.0)
     system, hub, tether, reel = hub_system()
+    with pytest.raises(ValueError, match="modes: the system has deploying cables"):
+        sc.modes(system)
     with pytest.raises(ValueError, match="Centrifugal: the system has deploying cables"):
         _ = system.add_centrifugal([1.0, 0, 0]).layout
 

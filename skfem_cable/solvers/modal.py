@@ -33,6 +33,11 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
     shapes : ndarray (k, n_dofs)
         Mass-normalised mode shapes.
     """
+    if system.deployments:
+        raise ValueError("modes: the system has deploying cables, whose mass and stiffness "
+                         "depend on the free length (and a reel's length has inertia the "
+                         "constant mass matrix does not hold); build the cables at their "
+                         "free length, without deploy, for their modes")
     lay = system.layout
     n = system.n_dofs
     if int(k) != k or not 1 <= k <= n - system.n_constraints:
