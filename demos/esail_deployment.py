@@ -60,6 +60,7 @@ pictures).
 from dataclasses import replace
 
 import numpy as np
+from scipy.optimize import root_scalar
 
 import skfem_cable as sc
 from skfem_cable.deploy import smooth_profile
@@ -116,13 +117,8 @@ def predicted_rate(H, length, n_tethers, capacity, hub_inertia, guess, force=F_W
         coning = coning_estimate(length, w, force)
         return spin_inertia(length, w, n_tethers, capacity, hub_inertia, coning) * w - H
 
-    rates = [guess, guess * (1 + 1e-4)]
-    values = [excess(w) for w in rates]
-    while abs(rates[-1] - rates[-2]) > 1e-13 * abs(rates[-1]):
-        rates.append(rates[-1] - values[-1] * (rates[-1] - rates[-2])
-                     / (values[-1] - values[-2]))
-        values.append(excess(rates[-1]))
-    return rates[-1]
+    return root_scalar(excess, x0=guess, x1=guess * (1 + 1e-4), method="secant", xtol=1e-300,
+                       rtol=1e-13).root
 
 
 def build(l0=300.0, l1=1000.0, duration=2000.0, n_elements=6, n_tethers=4,

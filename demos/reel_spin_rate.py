@@ -25,6 +25,7 @@ drift of ``H`` over the run, and the run.
 """
 
 import numpy as np
+from scipy.optimize import root_scalar
 
 import skfem_cable as sc
 from skfem_cable.analytic import green_stretch, rotating_string
@@ -86,21 +87,16 @@ def steady_start(system, tethers, length):
 
 def predicted_rate(hub, length, H, guess):
     """The spin rate at which the hub, the reels' content and two tethers of free
-    ``length`` in their steady state have the angular momentum ``H`` (secant iterations,
-    to 1e-14 relative)."""
+    ``length`` in their steady state have the angular momentum ``H`` (secant iterations of
+    ``scipy.optimize.root_scalar``, to 1e-14 relative)."""
     fixed = hub.inertia[0, 0] + 2 * SECTION.mass_per_length * (CAPACITY - length) \
         * HUB_RADIUS**2
 
     def excess(w):
         return (fixed + 2 * tether_inertia(length, w)[0]) * w - H
 
-    rates = [guess, guess * (1 + 1e-4)]
-    values = [excess(w) for w in rates]
-    while abs(rates[-1] - rates[-2]) > 1e-14 * abs(rates[-1]):
-        rates.append(rates[-1] - values[-1] * (rates[-1] - rates[-2])
-                     / (values[-1] - values[-2]))
-        values.append(excess(rates[-1]))
-    return rates[-1]
+    return root_scalar(excess, x0=guess, x1=guess * (1 + 1e-4), method="secant", xtol=1e-300,
+                       rtol=1e-14).root
 
 
 def whole_periods(t, rate, start):

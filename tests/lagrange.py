@@ -3,6 +3,8 @@ energy evaluated independently (``test_deploy``, ``test_reel``)."""
 
 import numpy as np
 
+from skfem_cable.contract import Evaluation
+
 
 def cubic_path(c):
     """``path(t, order)``: the coordinates ``c0 + c1 t + c2 t^2 + c3 t^3`` and their first
@@ -20,6 +22,15 @@ def gradient(f, z, h):
     """Central differences of ``f`` at ``z`` with the step ``h`` (exact for quadratics)."""
     eye = np.eye(z.size)
     return np.array([(f(z + h * eye[i]) - f(z - h * eye[i])) / (2 * h) for i in range(z.size)])
+
+
+def inertial_force(system, term, mass, path, t):
+    """The inertial force of a body whose inertia beyond its constant ``mass`` is the
+    ``term``'s (``contract``: ``-(F_in - M a)`` in ``f_ext``), along ``path`` at ``t``."""
+    ev = Evaluation(system, t, path(t), path(t, 1), np.zeros(system.n_constraints),
+                    a=path(t, 2))
+    term.evaluate(ev, None)
+    return mass @ path(t, 2) - ev.f_ext
 
 
 def lagrange_force(kinetic, path, t, h=1.0, dt=1e-4):
