@@ -34,7 +34,7 @@ array([0., 0., 0., 0., 0.])
 import numpy as np
 
 from .cable import Node
-from .kernels.rigid import constraint_kernel
+from .quadratic import QuadraticConstraints
 from .rigid import BodyPoint
 
 #: Step of the time differences of driven joints, relative to ``max(1, |t|)`` seconds.
@@ -335,7 +335,7 @@ def _body_clamp(node, point, direction, velocity, acceleration):
     return [pin(node, point), BodySlope(node, point.body, direction)]
 
 
-class BodySlope:
+class BodySlope(QuadraticConstraints):
     """The slope of a node keeps a direction fixed in a rigid body: ``n_k(d) . r_x = 0``
     for the two unit vectors ``n_k`` orthogonal to the body-frame ``direction``, carried by
     the body (the slope part of a clamp to a body point, ``clamp``).
@@ -345,7 +345,7 @@ class BodySlope:
     each equation is bilinear, ``C_k = r_x^T N_k d = z^T H_k z / 2`` in ``z = [r_x, d]``
     with the constant symmetric ``H_k = [[0, N_k], [N_k^T, 0]]``: the Hessian term is
     ``sum_k lam_k H_k`` and ``(C_q v)_q v = v^T H_k v``, and the compiled hook is the rigid
-    body's (``kernels.rigid.constraint_kernel``, with zero offsets).
+    body's (``quadratic.QuadraticConstraints`` with zero offsets).
 
     Parameters
     ----------
@@ -377,9 +377,6 @@ class BodySlope:
     array([0., 0.])
     """
 
-    linear = False
-    n_eq = 2
-
     def __init__(self, node, body, direction):
         if callable(direction):
             raise TypeError("direction of a clamp to a body point is a body-frame 3-vector, "
@@ -392,32 +389,12 @@ class BodySlope:
         self.H = np.zeros((2, 15, 15))
         self.H[:, :3, 3:] = self.N
         self.H[:, 3:, :3] = self.N.transpose(0, 2, 1)
+        self.c = np.zeros(2)
         self.name = f"body slope {node!r}-{body.name}"
         self.labels = ["M1", "M2"]
-        self._pack = (self.H, np.zeros(2))
-
-    @property
-    def kernel(self):
-        """The compiled hook (``kernels.rigid.constraint_kernel``, see ``contract``)."""
-        return constraint_kernel, self._pack
 
     def dofs(self, system):
         return np.concatenate([system.dofs(self.node)[3:], system.dofs(self.body)])
-
-    def value(self, qc, t=0.0):
-        return 0.5 * np.einsum("i,jik,k->j", qc, self.H, qc)
-
-    def jacobian(self, qc, t=0.0):
-        return self.H @ qc
-
-    def hessian(self, qc, lam, t=0.0):
-        return np.einsum("j,jik->ik", lam, self.H)
-
-    def velocity_term(self, qc, t=0.0):
-        return np.zeros(2)
-
-    def accel_term(self, qc, vc, t=0.0):
-        return np.einsum("i,jik,k->j", vc, self.H, vc)
 
 
 def pin(node, target=None, velocity=None, acceleration=None):

@@ -17,7 +17,7 @@ Examples
 import numpy as np
 import scipy.sparse as sp
 
-from .kernels.rigid import constraint_kernel
+from .quadratic import QuadraticConstraints
 from .section import check_positive
 
 #: Pairs of edge vectors ``(a, b)`` of the six internal constraints ``r_a . r_b = const``
@@ -230,14 +230,12 @@ class RigidBody:
         return None
 
 
-class RigidConstraints:
+class RigidConstraints(QuadraticConstraints):
     """The six internal constraints of Eq. 45, each divided by a reference length so that
     its residual is in metres: ``C_j = (r_a . r_b - r_a0 . r_b0) / s_j`` with
     ``s_j = sqrt(|r_a0| |r_b0|)``.  Quadratic: constant Hessians ``H_j`` give the
-    ``d(C_q^T lambda)/dq`` term (Eqs. 47-49) and the ``(C_q v)_q v`` term of Eq. 2."""
-
-    linear = False
-    n_eq = 6
+    ``d(C_q^T lambda)/dq`` term (Eqs. 47-49) and the ``(C_q v)_q v`` term of Eq. 2
+    (``quadratic.QuadraticConstraints``)."""
 
     def __init__(self, body):
         self.body = body
@@ -252,25 +250,5 @@ class RigidConstraints:
             self.H[j] = (EDGES[a].T @ EDGES[b] + EDGES[b].T @ EDGES[a]) / s
             self.c[j] = 0.5 * d0 @ self.H[j] @ d0
 
-    @property
-    def kernel(self):
-        """The compiled hook (``kernels.rigid.constraint_kernel``, see ``contract``)."""
-        return constraint_kernel, (self.H, self.c)
-
     def dofs(self, system):
         return system.dofs(self.body)
-
-    def value(self, qc, t=0.0):
-        return 0.5 * np.einsum("i,jik,k->j", qc, self.H, qc) - self.c
-
-    def jacobian(self, qc, t=0.0):
-        return self.H @ qc
-
-    def hessian(self, qc, lam, t=0.0):
-        return np.einsum("j,jik->ik", lam, self.H)
-
-    def velocity_term(self, qc, t=0.0):
-        return np.zeros(6)
-
-    def accel_term(self, qc, vc, t=0.0):
-        return np.einsum("i,jik,k->j", vc, self.H, vc)
