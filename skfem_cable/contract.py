@@ -249,20 +249,19 @@ def combined(terms, name):
     each with its own part of the tangent entries (for a contributor made of several,
     such as gravity with the weight of every deploying cable)."""
     parts = [t for t in terms if t.has_tangent]
-    shapes = [np.broadcast(t.rows, t.cols).shape for t in parts]
-    ends = np.cumsum([int(np.prod(s)) for s in shapes])
-    spans = {id(t): (end - int(np.prod(s)), end, s) for t, s, end in zip(parts, shapes, ends)}
+    entries = [np.broadcast_arrays(t.rows, t.cols) for t in parts]
+    ends = np.cumsum([r.size for r, _ in entries])
+    spans = {id(t): (end - r.size, end, r.shape) for t, (r, _), end in zip(parts, entries, ends)}
 
     def add(ev, index):
         for term in terms:
             span = spans.get(id(term))
             term.add(ev, None if span is None else index[span[0]:span[1]].reshape(span[2]))
 
-    rows = np.concatenate([np.broadcast_arrays(t.rows, t.cols)[0].ravel() for t in parts]) \
-        if parts else None
-    cols = np.concatenate([np.broadcast_arrays(t.rows, t.cols)[1].ravel() for t in parts]) \
-        if parts else None
-    return Term(add=add, rows=rows, cols=cols, name=name)
+    if not parts:
+        return Term(add=add, name=name)
+    return Term(add=add, rows=np.concatenate([r.ravel() for r, _ in entries]),
+                cols=np.concatenate([c.ravel() for _, c in entries]), name=name)
 
 
 def merge_terms(terms):

@@ -158,8 +158,10 @@ class SolarWindForce:
                                  "the solar wind supports prescribed lengths only")
 
         def prepare(t):
-            stretch = np.array([system.stretch(c, t) for c in self.cables])
-            coef[:] = self.coefficients(t) * stretch[self.cable_of_element]
+            coef[:] = self.coefficients(t)
+            if any(deploying):
+                stretch = np.array([system.stretch(c, t) for c in self.cables])
+                coef[:] *= stretch[self.cable_of_element]
 
         prepare(0.0)
         pack = (edofs, self.S, self.Sx, self.w, coef, self.sun, np.zeros(3))

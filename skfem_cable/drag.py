@@ -35,7 +35,7 @@ import numpy as np
 
 from .contract import Term
 from .kernels import drag as kernel
-from .loads import UniformLineLoad, vector3
+from .loads import AlongCable, UniformLineLoad, vector3
 from .section import check_positive
 
 
@@ -151,7 +151,7 @@ class Flow:
         arrays[5][0] = 1.0 if self.profile is None else self.profile.factor(t)
 
 
-class QuadraticDrag:
+class QuadraticDrag(AlongCable):
     """Drag ``lam (k_n |u_n| u_n + k_t |s| s t + k_x |u_n| s t)`` per unit length of one
     cable, with ``u`` the flow velocity relative to the cable, ``t`` its tangent,
     ``s = u . t`` and ``u_n = u - s t`` (the model of ``kernels.drag``); the common base
@@ -173,11 +173,6 @@ class QuadraticDrag:
             raise TypeError(f"deformed_length must be True or False, got {deformed_length!r}")
         self.cable, self.flow = cable, flow
         self.coef = np.array([*coefficients, float(deformed_length)])
-
-    @property
-    def cables(self):
-        """The cables the load acts along (a deploying one is refused, ``System.layout``)."""
-        return [self.cable]
 
     def line_force(self, slope, relative_velocity):
         """Force per unit length (N/m) at one point with slope ``r_x`` (3,) in a flow of

@@ -130,7 +130,17 @@ class PointMoment:
                     name=f"moment {self.node!r}")
 
 
-class UniformLineLoad:
+class AlongCable:
+    """Base of the loads that act along one cable, ``self.cable``: it names it in
+    ``cables`` (the contract of loads along cables, ``System.layout`` refuses a deploying
+    one unless the load ``stretches``)."""
+
+    @property
+    def cables(self):
+        return [self.cable]
+
+
+class UniformLineLoad(AlongCable):
     """Uniform distributed load (N per metre of reference length, fixed in space) along a
     cable: the consistent generalized force ``int S^T f dx`` (scikit-fem assembly).
 
@@ -146,11 +156,6 @@ class UniformLineLoad:
     def __init__(self, cable, force_per_length):
         self.cable = cable
         self.value = vector3(force_per_length, "force_per_length")
-
-    @property
-    def cables(self):
-        """The cables the load acts along (a deploying one is refused, ``System.layout``)."""
-        return [self.cable]
 
     def bind(self, system):
         return Term(force=(system.dofs(self.cable), self.cable.line_load(self.value)),
@@ -228,7 +233,7 @@ class PointMass:
                     name=f"point mass {self.point!r}")
 
 
-class LineLoad:
+class LineLoad(AlongCable):
     """Distributed force ``force(x, v, t)`` (N per metre of reference length) along a cable,
     depending on the position ``x``, the velocity ``v`` and the time ``t``.
 
@@ -277,11 +282,6 @@ class LineLoad:
         if not 0 < fd_step < 1:
             raise ValueError(f"fd_step must lie in (0, 1), got {fd_step!r}")
         self.cable, self.fn, self.dq, self.dv, self.fd_step = cable, force, dq, dv, fd_step
-
-    @property
-    def cables(self):
-        """The cables the load acts along (a deploying one is refused, ``System.layout``)."""
-        return [self.cable]
 
     def evaluate(self, x, v, t):
         """``force(x, v, t)`` with its shape checked."""
