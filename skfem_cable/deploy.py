@@ -188,10 +188,9 @@ class Deployment:
         if stowed is not None and stowed[2] is not None:
             mu, capacity, pdofs, GG = stowed
             p[pdofs] += mu * (capacity - ell) * (GG @ v[pdofs])
-        if self.reel is not None:
-            p[self.reel] += (vc @ (G0 @ qc)) / self.L0 + rate * (qc @ (K0 @ qc)) / (ell * self.L0)
-            if stowed is not None:
-                p[self.reel] += stowed[0] * (stowed[1] - ell) * rate
+        if self.reel is not None:     # a reel always has its content (capacity)
+            p[self.reel] += (vc @ (G0 @ qc)) / self.L0 \
+                + rate * (qc @ (K0 @ qc)) / (ell * self.L0) + stowed[0] * (stowed[1] - ell) * rate
         return p
 
     def bind(self, system):
@@ -333,21 +332,20 @@ class _Inertia:
         diag_q = -acc * k / (ell * lL) - 2 * rate * qKv / (ell * lL) + rate**2 * k / (ell**2 * lL)
         diag_v = 2 * qKv / lL - rate * k / (ell * lL)
         diag_a = k / lL
-        if self.stowed is not None:
-            mu, capacity, pdofs, GG = self.stowed
-            force += mu * (capacity - ell) * acc - 0.5 * mu * rate**2
-            diag_q -= mu * acc
-            diag_v -= mu * rate
-            diag_a += mu * (capacity - ell)
-            if pdofs is not None:
-                vP, aP = ev.v[pdofs], ev.a[pdofs]
-                force += 0.5 * mu * (vP @ (GG @ vP))
-                col_q.append(-mu * (GG @ aP))
-                col_v.append(-mu * (GG @ vP))
-                col_a.append(np.zeros(pdofs.size))
-                row_q.append(np.zeros(pdofs.size))
-                row_v.append(mu * (GG @ vP))
-                row_a.append(np.zeros(pdofs.size))
+        mu, capacity, pdofs, GG = self.stowed     # a reel always has its content
+        force += mu * (capacity - ell) * acc - 0.5 * mu * rate**2
+        diag_q -= mu * acc
+        diag_v -= mu * rate
+        diag_a += mu * (capacity - ell)
+        if pdofs is not None:
+            vP, aP = ev.v[pdofs], ev.a[pdofs]
+            force += 0.5 * mu * (vP @ (GG @ vP))
+            col_q.append(-mu * (GG @ aP))
+            col_v.append(-mu * (GG @ vP))
+            col_a.append(np.zeros(pdofs.size))
+            row_q.append(np.zeros(pdofs.size))
+            row_v.append(mu * (GG @ vP))
+            row_a.append(np.zeros(pdofs.size))
         ev.f_ext[self.reel] -= force
         dq += col_q + [[0.0]] + row_q + [[diag_q]]
         dv += col_v + [[0.0]] + row_v + [[diag_v]]
