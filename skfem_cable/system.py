@@ -523,7 +523,8 @@ class System:
         r : ndarray (n_dofs + n_constraints,)
         info : dict
             ``energy`` (axial, bending), ``power`` (dissipated, axial and bending),
-            ``f_damping`` (damping force), ``f_nc`` (non-constant external force, whose
+            ``f`` (internal force: elastic and damping), ``f_damping`` (its damping part),
+            ``f_nc`` (non-constant external force, whose
             work is booked as external work), ``f_con`` (``C_q^T lambda``: minus the
             constraint forces, which work only where constraints are driven) and, with
             ``reference_force``, ``force_ref`` (largest norm of the internal, external and
@@ -543,7 +544,7 @@ class System:
         r = np.empty(n + lay.n_c)
         lay.constraints(q, t, lam, f_con, r[n:], scale, data, cK)
         r[:n] = ev.f - f_ext + f_con
-        info = {"energy": ev.energy, "power": ev.power, "f_damping": ev.f_damping,
+        info = {"energy": ev.energy, "power": ev.power, "f": ev.f, "f_damping": ev.f_damping,
                 "f_nc": load_factor * ev.f_ext, "f_con": f_con}
         if reference_force:
             info["force_ref"] = max(np.linalg.norm(ev.f), np.linalg.norm(f_ext),

@@ -42,3 +42,19 @@ def step_books(dq, before, after, mass, f_const, q, v):
         kinetic += v[i] * mv
         potential -= f_const[i] * q[i]
     return 0.5 * dissipated, 0.5 * external, 0.5 * kinetic, potential
+
+
+@njit(cache=True)
+def correct_elastic(f, fd, dq, energy):
+    """Carry the elastic energy ``energy`` (axial, bending) of an evaluation over a Newton
+    correction ``dq`` taken after it, to first order: ``dE = (f - f_damping) . dq`` (the
+    elastic force is the energy's gradient), shared between axial and bending in proportion
+    to their magnitudes.  A step that converges on a correction (``kernels.step``) then
+    books the energy of the state it accepts to ``O(dq^2)``, not ``O(dq)``."""
+    de = 0.0
+    for i in range(dq.size):
+        de += (f[i] - fd[i]) * dq[i]
+    total = abs(energy[0]) + abs(energy[1])
+    share = abs(energy[0]) / total if total > 0.0 else 1.0
+    energy[0] += share * de
+    energy[1] += (1.0 - share) * de

@@ -11,12 +11,52 @@ guard and the step control in Python, once per step.
 
 import numpy as np
 
+from .books import correct_elastic, step_books
+
 #: Return codes of ``newton``.
 CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
 
+#: Smallest error factor ``eta`` of a step's first correction, whose contraction is not
+#: measured yet: the first correction ends the iteration only if it is below ten times the
+#: tolerance, whatever the last step's contraction (after a fresh tangent Newton contracts
+#: quadratically, and its tiny ``eta`` would pass first corrections of thousands of times
+#: the tolerance in later steps, which may contract slowly).
+ETA_FIRST = 0.1
+
 
 def newton(terms, model, lu, state, out, prm):
+    """One step: ``_iterate`` and, once converged, ``_finish`` (the arguments and results
+    of ``_iterate``)."""
+    result = _iterate(terms, model, lu, state, out, prm)
+    if result[0] == CONVERGED:
+        _finish(model, state, out, prm)
+    return result
+
+
+def _finish(model, state, out, prm):
+    """The converged step's pseudo-acceleration ``abar1`` (``GeneralizedAlpha._next_abar``)
+    and the sums of its energy books (``kernels.books.step_books``) into ``books``."""
+    q, a, abar, before = state[0], state[2], state[3], (state[6], state[7], state[8])
+    q1, v1, a1, after = out[0], out[1], out[2], (out[9], out[8], out[10])
+    abar1, books, dq = out[22], out[23], out[24]
+    am, af = prm[2], prm[3]
+    for i in range(q.size):
+        abar1[i] = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
+        dq[i] = q1[i] - q[i]
+    books[0], books[1], books[2], books[3] = step_books(
+        dq, before, after, (model[0], model[1], model[2]), model[4], q1, v1)
+
+
+def _iterate(terms, model, lu, state, out, prm):
     """Predict and iterate one step to convergence (paper Eqs. 12-15).
+
+    Converged: after a correction ``dx_k`` whose error estimate ``eta_k |dx_k|`` is below
+    the tolerance, with ``eta_k = theta_k / (1 - theta_k)`` and the contraction ``theta_k =
+    |dx_k| / |dx_(k-1)|`` (for the first correction the last step's ``eta``, relaxed to
+    ``eta^0.8``, and at least ``ETA_FIRST``; Hairer & Wanner, *Solving Ordinary
+    Differential Equations II*, Sect. IV.8), so the iterate is taken
+    without evaluating the residual there; or when the scaled residual and the last
+    correction are below the tolerance, or at their round-off floor after an exact tangent.
 
     Parameters
     ----------
@@ -32,17 +72,22 @@ def newton(terms, model, lu, state, out, prm):
     lu : tuple
         The bordered band LU of ``linalg.PatternSolver`` (``kernels.bordered``; its
         storage: a factor made there is used here and the reverse).
-    state : tuple ``(q, v, a, abar, lam, a_pred)``
-        The state at ``t_n`` and the predicted acceleration at ``t_n+1`` (read only).
+    state : tuple ``(q, v, a, abar, lam, a_prev, f_damping, f_nc, f_con)``
+        The state at ``t_n``, the acceleration of the step before and the forces of the
+        energy books at ``t_n`` (read only).
     out : tuple
         ``(q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power,
-        res_weight, history, fq, fv, flam, dx, rhs, s, cs)``: the new state, the residual, the
-        matrix values, force accumulators, the scaled-residual weights (refreshed at every
-        factorization), the residual history, the state at the last factorization and
-        scratch.
+        res_weight, history, fq, fv, flam, dx, rhs, s, cs, abar1, books, dq)``: the new
+        state, the residual, the matrix values, force accumulators, the scaled-residual
+        weights (refreshed at every factorization), the residual history, the state at the
+        last factorization, scratch, and (``_finish``) the new pseudo-acceleration and the
+        books' sums ``(dissipated, external work, kinetic, potential)`` of the step.
     prm : float ndarray
         ``[t1, h, alpha_m, alpha_f, gamma, beta, beta', gamma', mbar, tol, con_weight,
-        max_iter, need, full, tol_local, error_constant]`` (``tol_local = 0``: off).
+        max_iter, need, full, tol_local, error_constant, eta, c]`` (``tol_local = 0``:
+        off; ``c``: the predictor's extrapolation, ``GeneralizedAlpha.extrapolation``);
+        ``eta``, the contraction estimate of the last step (``GeneralizedAlpha.newton_rate``),
+        is replaced by this step's on convergence.
 
     Returns
     -------
@@ -51,25 +96,27 @@ def newton(terms, model, lu, state, out, prm):
         iteration count; the factorizations and Newton corrections made; the unknown
         of a zero pivot (-1 otherwise).
     """
-    q, v, a, abar, lam, a_pred = state
+    q, v, a, abar, lam, a_prev = state[:6]
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
-     history, fq, fv, flam, dx, rhs, s, cs) = out
+     history, fq, fv, flam, dx, rhs, s, cs) = out[:22]
     xscale, inv_xscale = model[6], model[7]
     t1, h, am, af, gm, bt = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
     bp, gp, mbar, tol_floor, con_weight = prm[6], prm[7], prm[8], prm[9], prm[10]
     tol_local, error_constant = prm[14], prm[15]
+    eta = max(max(prm[16], 1e-16) ** 0.8, ETA_FIRST)  # the last step's, relaxed (Hairer)
     max_iter, need, full = int(prm[11]), prm[12] != 0.0, prm[13] != 0.0
     n = q.size
-    # predictor: the acceleration a_pred (GeneralizedAlpha.predicted_acceleration)
+    c = prm[17]
+    # predictor: GeneralizedAlpha.predicted_acceleration
     for i in range(n):
-        a1[i] = a_pred[i]
+        a1[i] = a[i] + c * (a[i] - a_prev[i]) if c != 0.0 else a[i]
         abar1 = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
         q1[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * abar[i] + bt * abar1)
         v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)
     lam1[:] = lam
     s[0], s[1], s[2], s[3] = t1, 1.0 / bp, gp / bp, 1.0
     cs[0], cs[1], cs[2] = t1, 1.0 / bp, mbar
-    dq_err = dq_before = np.inf
+    dq_err = dq_before = dx_err = np.inf
     exact = False
     factorizations = corrections = 0
     for it in range(max_iter + 1):
@@ -98,6 +145,7 @@ def newton(terms, model, lu, state, out, prm):
         if it > 0 and ((err <= tol and dq_err <= tol) or (
                 exact and err <= 1e3 * tol and dq_err <= 1e3 * tol
                 and (err >= 0.5 * history[it - 1] or dq_err >= 0.5 * dq_before))):
+            prm[16] = eta
             return CONVERGED, it, factorizations, corrections, -1
         if it > 0 and not exact and err > tol and err >= 0.5 * history[it - 1]:
             need = True  # the stale tangent no longer reduces the residual
@@ -125,11 +173,21 @@ def newton(terms, model, lu, state, out, prm):
             v1[i] += gp * dx[i]
             a1[i] += bp * dx[i]
             dq_err = max(dq_err, abs(dx[i]) * inv_xscale[i])
+        dl_err = 0.0
         for k in range(lam1.size):
             lam1[k] += (bp * mbar) * dx[n + k]
+            dl_err = max(dl_err, abs(dx[n + k]))
         if dq_err > tol and (dq_err > 0.25 * dq_before or it >= 3):
             need = True  # modified Newton contracts too slowly: refresh the tangent
         corrections += 1
+        dx_before, dx_err = dx_err, max(dq_err, dl_err * con_weight * mbar)
+        if it > 0:
+            theta = dx_err / dx_before
+            eta = theta / (1.0 - theta) if theta < 1.0 else np.inf
+        if eta * dx_err <= tol:  # the error left after this correction
+            correct_elastic(f, fd, dx[:n], energy)
+            prm[16] = eta
+            return CONVERGED, it + 1, factorizations, corrections, -1
     return NO_CONVERGENCE, max_iter, factorizations, corrections, -1
 
 

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..contract import OutOfDomain
 from ..kernels import step as codes
-from ..kernels.books import step_books
+from ..kernels.books import correct_elastic, step_books
 from ..linalg import PatternSolver, SingularMatrixError
 from .compiled import CompiledNewton, unsupported
 from .guard import EnergyGuard
@@ -48,11 +48,15 @@ class GeneralizedAlpha:
     rho_inf : float in [0, 1]
         Spectral radius at infinite frequency (1: no numerical dissipation).
     tol : float
-        Newton converges when the scaled residual (``r_q / S_ii`` with ``S`` the iteration
-        matrix, and the constraint violation, both in units of the coordinates) and the last
-        correction are below ``tol`` times the coordinate scale (system size for positions,
-        1 for slopes).  After an exact-tangent correction, residual and correction below
-        ``1e3 tol`` that stopped contracting are accepted as the round-off floor.  The
+        Newton converges when the error left after a correction ``dx_k``, estimated as
+        ``eta_k |dx_k|`` from the measured contraction ``theta_k = |dx_k| / |dx_(k-1)|``,
+        ``eta_k = theta_k / (1 - theta_k)`` (the first correction of a step: the last step's
+        ``eta`` relaxed to ``eta^0.8``, at least 0.1; ``kernels.step``), or when the scaled
+        residual (``r_q / S_ii`` with ``S`` the iteration matrix, and the constraint
+        violation, both in units of the coordinates) and the last correction are below
+        ``tol`` times the coordinate scale (system size for positions, 1 for slopes).
+        After an exact-tangent correction, residual and correction below ``1e3 tol`` that
+        stopped contracting are accepted as the round-off floor.  The
         default 1e-11 keeps the Newton error below the truncation error of slow, large
         systems (a correction ``dq`` left in place is a velocity error ``gamma' dq``).
     max_iter : int
@@ -135,6 +139,9 @@ class GeneralizedAlpha:
         self.h_factored = None
         self.h_next = None  # the step the driver chose next (adaptive steps)
         self.a_prev = self.h_prev = None  # the last step (predicted_acceleration)
+        self.newton_rate = 1.0  # Newton's contraction estimate of the last step
+        self.energy_depends_on_time = any(
+            term.energy_rate is not None for term, _ in lay.body_terms + lay.load_terms)
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
         self.compiled = self._compiled_newton(compiled)
@@ -206,7 +213,7 @@ class GeneralizedAlpha:
         # of its multipliers and the inertia terms at its accelerations
         _, info = system.evaluate(q, v, t, self.lam, scale=self.mbar, a=self.a)
         self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
-        self.iterations = 0
+        self.iterations, self.newton_rate = 0, 1.0
         self.guard.reset(self.t, self.energies())
 
     def _booked(self, info, q1, v1, t1, start=False):
@@ -219,13 +226,16 @@ class GeneralizedAlpha:
         cable's reel), ``h (P_n + P_{n+1}) / 2``, and the kinetic and potential energy
         (``kernels.books``); ``start`` opens the books at ``q1``."""
         fd, fnc, fcon = info["f_damping"], info["f_nc"], info["f_con"]
-        lay = self.lay
-        M = lay.mass
-        before = (fd, fnc, fcon) if start else (self.fd, self.fnc, self.fcon)
-        dq = np.zeros_like(q1) if start else q1 - self.q
-        dissipated, external, kinetic, potential = step_books(
-            dq, before, (fd, fnc, fcon), (M.indptr, M.indices, M.data), lay.f_const, q1, v1)
-        rate = self.system.energy_rate(q1, t1)
+        if "sums" in info:  # computed by the compiled step
+            dissipated, external, kinetic, potential = info["sums"]
+        else:
+            M = self.lay.mass
+            before = (fd, fnc, fcon) if start else (self.fd, self.fnc, self.fcon)
+            dq = np.zeros_like(q1) if start else q1 - self.q
+            dissipated, external, kinetic, potential = step_books(
+                dq, before, (fd, fnc, fcon), (M.indptr, M.indices, M.data),
+                self.lay.f_const, q1, v1)
+        rate = self.system.energy_rate(q1, t1) if self.energy_depends_on_time else 0.0
         if not start:
             dissipated += self.dissipated
             external += self.external_work + 0.5 * (t1 - self.t) * (self.energy_rate + rate)
@@ -249,6 +259,7 @@ class GeneralizedAlpha:
         and the instability guard's references."""
         snap = {k: np.copy(getattr(self, k)) for k in self.STATE}
         snap.update(self.guard.snapshot())
+        snap["newton_rate"] = np.float64(self.newton_rate)
         if self.h_next is not None:
             snap["h_next"] = np.float64(self.h_next)
         if self.a_prev is not None:
@@ -268,6 +279,7 @@ class GeneralizedAlpha:
         self.kinetic, self.potential = start["kinetic"], start["potential"]
         self.energy_rate = start["energy_rate"]
         self.h_next = float(snap["h_next"]) if "h_next" in snap else None
+        self.newton_rate = float(snap["newton_rate"]) if "newton_rate" in snap else 1.0
         self.a_prev = np.array(snap["a_prev"]) if "a_prev" in snap else None
         self.h_prev = float(snap["h_prev"]) if "a_prev" in snap else None
         self.h_factored = None
@@ -336,9 +348,15 @@ class GeneralizedAlpha:
         ``a = 0``, about one iteration more per step on smooth motions): on a coarse,
         under-resolved step the extrapolation overshoots (the spinning tether at
         ``dt = 0.5 s``: 294 rejected steps instead of none)."""
+        c = self.extrapolation(h)
+        return self.a.copy() if c == 0.0 else self.a + c * (self.a - self.a_prev)
+
+    def extrapolation(self, h):
+        """The factor ``c`` of ``predicted_acceleration = a_n + c (a_n - a_(n-1))``: ``h /
+        h_(n-1)``, or 0 for the constant acceleration."""
         if self.a_prev is None or self.iterations > self.SMOOTH_ITERATIONS:
-            return self.a.copy()
-        return self.a + (h / self.h_prev) * (self.a - self.a_prev)
+            return 0.0
+        return h / self.h_prev
 
     def _next_abar(self, a1):
         """The pseudo-acceleration at the end of a step ending with acceleration ``a1``:
@@ -376,9 +394,11 @@ class GeneralizedAlpha:
             return False, self._diagnose(t1, h, list(arrays["history"][:it + 1]),
                                          arrays["r"], what)
         info = {"f_damping": arrays["fd"].copy(), "f_nc": arrays["f_ext"].copy(),
-                "f_con": arrays["f_con"].copy(), "energy": arrays["energy"]}
+                "f_con": arrays["f_con"].copy(), "energy": arrays["energy"],
+                "abar": arrays["abar1"].copy(), "sums": tuple(arrays["books"])}
         return self._accept(t1, h, arrays["q1"].copy(), arrays["v1"].copy(),
-                            arrays["a1"].copy(), arrays["lam1"].copy(), info, it)
+                            arrays["a1"].copy(), arrays["lam1"].copy(), info, it,
+                            self.compiled.prm[16])
 
     def _python_step(self, h, need):
         system, lay, n = self.system, self.lay, self.n
@@ -391,7 +411,8 @@ class GeneralizedAlpha:
         v1 = self.v + h * ((1.0 - gm) * self.abar + gm * abar1)
         lam1 = self.lam.copy()
         history = []
-        dq_err = dq_before = np.inf
+        dq_err = dq_before = dx_err = np.inf
+        eta = max(max(self.newton_rate, 1e-16) ** 0.8, codes.ETA_FIRST)
         exact = False
         for it in range(self.max_iter + 1):
             data = self.base.copy() if need else None
@@ -440,11 +461,24 @@ class GeneralizedAlpha:
             if dq_err > tol and (dq_err > 0.25 * dq_before or it >= 3):
                 need = True  # modified Newton contracts too slowly: refresh the tangent
             self.stats["newton"] += 1
-        return self._accept(t1, h, q1, v1, a1, lam1, info, it)
+            dx_before = dx_err
+            dx_err = max(dq_err, np.max(np.abs(dx[n:]), initial=0.0) * self.con_weight
+                         * self.mbar)
+            if it > 0:
+                theta = dx_err / dx_before
+                eta = theta / (1.0 - theta) if theta < 1.0 else np.inf
+            if eta * dx_err <= tol:  # the error left after this correction is below tol
+                correct_elastic(info["f"], info["f_damping"], dq, info["energy"])
+                it += 1
+                break
+        info["abar"] = self._next_abar(a1)
+        return self._accept(t1, h, q1, v1, a1, lam1, info, it, eta)
 
-    def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations):
-        """Book the energies of a converged step, apply the instability guard and, if it
-        passes, make the step's end the current state."""
+    def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations, rate):
+        """Book the energies of a converged step (with the evaluation ``info`` of its
+        last residual, and its pseudo-acceleration ``info["abar"]``), apply the
+        instability guard and, if it passes, make the step's end the current state;
+        ``rate`` is its Newton contraction estimate (``newton_rate``)."""
         if self.rtol is not None:
             scale = self.atol_q + self.rtol * np.maximum(np.abs(self.q), np.abs(q1))
             self.error_ratio = float(np.max(np.abs(self.local_error(h, q1, a1)) / scale))
@@ -458,12 +492,12 @@ class GeneralizedAlpha:
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
         self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
-        self.abar = self._next_abar(a1)
+        self.abar = info["abar"]
         self.a_prev, self.h_prev = self.a, h
         self.a = a1
-        self.iterations = iterations
+        self.iterations, self.newton_rate = iterations, rate
         self.__dict__.update(books)
-        self.guard.accept(t1, energies)
+        self.guard.accept(t1)
         self.stats["steps"] += 1
         return True, "converged"
 

@@ -22,14 +22,11 @@ import numpy as np
 #: Energy content below which nothing is judged, relative to ``m (L / h)^2``.
 FLOOR = 1e-12
 
-#: Energy terms of the balance, with their sign.
-BALANCE = {"kinetic": 1.0, "axial": 1.0, "bending": 1.0, "potential": 1.0,
-           "dissipated": 1.0, "external_work": -1.0}
-
-
 def balance(energies):
     """``kinetic + elastic + potential + dissipated - external work`` (J)."""
-    return sum(sign * float(energies[k]) for k, sign in BALANCE.items())
+    e = energies
+    return (float(e["kinetic"]) + float(e["axial"]) + float(e["bending"])
+            + float(e["potential"]) + float(e["dissipated"]) - float(e["external_work"]))
 
 
 def content(energies, potential0):
@@ -57,6 +54,7 @@ class EnergyGuard:
             raise ValueError(f"energy_tol must be a number > 0 or None, got {tol!r}")
         self.tol = tol
         self.history = deque(maxlen=keep)
+        self.candidate = None  # (balance, content) of the last checked state
 
     def reset(self, t, energies):
         """Start from an accepted initial state."""
@@ -73,26 +71,25 @@ class EnergyGuard:
         if not self.floor:
             self.floor = FLOOR * mass * (length / h) ** 2
 
-    def growth(self, energies):
-        """``(growth, scale)`` of a candidate state: the rise of the balance above its
-        lowest value, and the energy content it is measured against."""
-        scale = max(self.largest, content(energies, self.potential0), self.floor, 1e-300)
-        return balance(energies) - self.lowest, scale
-
     def check(self, energies):
-        """None if the candidate is acceptable, else a short reason."""
+        """None if the candidate is acceptable, else a short reason: the rise of its
+        balance above the lowest so far against the energy content (the largest seen, the
+        candidate's included)."""
+        self.candidate = balance(energies), content(energies, self.potential0)
         if self.tol is None:
             return None
-        grown, scale = self.growth(energies)
+        grown = self.candidate[0] - self.lowest
+        scale = max(self.largest, self.candidate[1], self.floor, 1e-300)
         if not np.isfinite(grown) or grown > self.tol * scale:
             return (f"energy balance grew by {grown:.4g} J ({grown / scale:.3g} of the "
                     f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
         return None
 
-    def accept(self, t, energies):
-        b = balance(energies)
+    def accept(self, t):
+        """Take the candidate of the last ``check`` as the new state."""
+        b, c = self.candidate
         self.lowest = min(self.lowest, b)
-        self.largest = max(self.largest, content(energies, self.potential0))
+        self.largest = max(self.largest, c)
         self.history.append((t, b))
 
     def describe_history(self):

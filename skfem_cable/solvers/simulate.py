@@ -270,7 +270,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
             if not ok:
                 integ.stats["rejected"] += 1
                 last = False
-                h = h_try * (0.5 if ratio is None or not np.isfinite(ratio)
+                # halved unless the local error was too large (Newton or the guard failed)
+                h = h_try * (0.5 if ratio is None or not ratio > 1.0
                              else max(0.2, 0.9 * ratio ** (-1 / 3)))
                 if h < h_min:
                     raise SimulationError(f"step failed below the smallest step size "
