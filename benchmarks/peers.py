@@ -43,8 +43,10 @@ catenary
 
 Notes
 -----
-* Newton tolerances.  Ours stops when the scaled residual and the last correction are
-  below ``tol`` times the coordinate scale (the system size for positions).  Exudyn's
+* Newton tolerances.  Ours stops when the error left after a correction (estimated from
+  the measured contraction, ``kernels.step``), or the scaled residual and the last
+  correction, are below ``tol`` times the coordinate scale (the system size for
+  positions).  Exudyn's
   default measures the L2 norm of the force residual (relative 1e-8 to the step's first
   residual, absolute 1e-10); the "matched" rows use its ``residualMode = 1`` (the L2 norm
   of the Newton increment, in metres) with both tolerances at our ``tol`` times the system
@@ -326,7 +328,7 @@ def pendulum(quick=False, repeats=3):
     notes = [f"16 elements, h = {p['dt']:g} s, rho_inf = {p['rho_inf']}, t = 0..1 s; "
              f"reference: ours, 32 elements, dt = {ref_dt:g} s ({ref_wall:.0f} s), tip "
              f"({ref[0]:.8f}, {ref[1]:.8f})",
-             f"Newton: ours stops at scaled residual and correction < tol x 1.2 m; Exudyn "
+             f"Newton: ours stops at estimated error left < tol x 1.2 m; Exudyn "
              f"matched: L2 norm of the increment < {p['tol'] * 1.2:.2g} m (residualMode 1); "
              "Exudyn default: force residual < 1e-8 of the first (abs 1e-10), adaptive step",
              "ms/step: per nominal step of 1e-3 s; ratio = ours/peer ms per step"]

@@ -184,7 +184,7 @@ def _iterate(terms, model, lu, state, out, prm):
         if it > 0:
             theta = dx_err / dx_before
             eta = theta / (1.0 - theta) if theta < 1.0 else np.inf
-        if eta * dx_err <= tol:  # the error left after this correction
+        if eta * dx_err <= tol_floor:  # the error left after this correction
             correct_elastic(f, fd, dx[:n], energy)
             prm[16] = eta
             return CONVERGED, it + 1, factorizations, corrections, -1

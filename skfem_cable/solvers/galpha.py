@@ -78,8 +78,9 @@ class GeneralizedAlpha:
         With a value (e.g. 1e-2), Newton also stops once the scaled residual and the last
         correction are below ``tol_local`` times the step's estimated local error
         (``local_error`` at the current iterate, in units of the coordinate scale): more
-        iterations cannot make the step's positions more accurate (the flexible pendulum:
-        a third fewer iterations, the same tip error).  The energy books then close only
+        iterations cannot make the step's positions more accurate (the flexible pendulum,
+        16 elements at ``tol = 1e-10``: 3505 corrections instead of 3838, the same tip
+        error).  The energy books then close only
         to about that share of the local error instead of round-off, which the instability
         guard may see as growth on long undamped runs; None (default): ``tol`` alone.
     rtol, atol : float or None
@@ -467,7 +468,7 @@ class GeneralizedAlpha:
             if it > 0:
                 theta = dx_err / dx_before
                 eta = theta / (1.0 - theta) if theta < 1.0 else np.inf
-            if eta * dx_err <= tol:  # the error left after this correction is below tol
+            if eta * dx_err <= self.tol:  # the error left after this correction
                 correct_elastic(info["f"], info["f_damping"], dq, info["energy"])
                 it += 1
                 break
