@@ -8,7 +8,8 @@ gives the minimum ms per step of each and the ratio (this tree / base).  Machine
 read the ratio, not the absolute times.
 
 Run ``python benchmarks/commit_compare.py --base 0e078c5`` (``--quick``: one repeat of a
-tenth of the steps unless ``--repeats`` or ``--steps-scale`` say otherwise).
+tenth of the steps unless ``--repeats`` or ``--steps-scale`` say otherwise; ``--cases
+pendulum``: one case).
 """
 
 import argparse
@@ -91,10 +92,12 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=None, help="default 5")
     parser.add_argument("--steps-scale", type=float, default=None,
                         help="multiply the number of timed steps (default 1)")
+    parser.add_argument("--cases", nargs="+", choices=sorted(CASES), default=list(CASES),
+                        help="the cases to time (default: all)")
     args = parser.parse_args(argv)
     repeats = args.repeats or (1 if args.quick else 5)
     scale = args.steps_scale or (0.1 if args.quick else 1.0)
-    cases = {k: max(2, int(v * scale)) for k, v in CASES.items()}
+    cases = {k: max(2, int(CASES[k] * scale)) for k in args.cases}
     rows = compare(args.base, repeats, cases)
     print(f"{'case':>10} {'ms/step here':>13} {'ms/step base':>13} {'ratio':>7} "
           f"{'Newton/step':>12}")
