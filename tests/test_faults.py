@@ -188,8 +188,10 @@ def test_signal_stores_every_saved_step_and_resume_continues(tmp_path, signum, s
     m = manifest(out)
     assert m["status"] == "interrupted" and not temporaries(out)
     series = [t for t, _ in export.read_pvd(out / "series.pvd")]
-    # every saved step (the series may lag by the step the signal interrupted)
-    assert 25 < len(series) <= m["saved"] <= len(series) + 1
+    # every saved step (the series may lag by the step the signal interrupted: the .vtu
+    # the test waits for is written before the .pvd lists it, and the signal may come
+    # between the two)
+    assert 25 <= len(series) <= m["saved"] <= len(series) + 1
     stored = sc.Result.load(out, classics.pendulum(n_elements=4).system)
     assert list(stored.t[: len(series)]) == series
     # continue with the printed command line, a little further than the signal
