@@ -9,7 +9,9 @@ package with its test and docs extras when ``pyproject.toml`` changed since the 
 install, and runs the task inside it.  ``demo`` and ``test`` first run
 ``scripts/install_system_deps.sh`` (the EGL/Mesa libraries off-screen rendering needs; it
 installs them when run as root on Debian/Ubuntu and is a no-op otherwise).  Only Python 3
-(with ``venv``) and network access to PyPI are required.
+(with ``venv``) and network access to PyPI are required.  ``test`` runs the suite on
+every core (pytest-xdist), the tests of one file on one worker, so that a file's module
+fixtures (the E-sail baseline run) are computed once.
 """
 
 import hashlib
@@ -26,7 +28,7 @@ SYSTEM_DEPS = ROOT / "scripts" / "install_system_deps.sh"
 
 TASKS = {
     "demo": [["demos/esail_baseline.py"]],
-    "test": [["-m", "pytest", "-q"]],
+    "test": [["-m", "pytest", "-q", "-n", "auto", "--dist", "loadfile"]],
     "docs": [["-m", "mkdocs", "build", "--strict", "--quiet"]],
     "bench": [["-u", "-m", "skfem_cable.cli", "bench"]],
     "lint": [["-m", "ruff", "check", "."]],

@@ -43,10 +43,15 @@ def test_kernel_cost_is_linear():
     assert all(np.isfinite(list(figures["growth_exponents"].values())))
 
 
-def test_rodchain_solve_is_linear():
-    """The O(n) mass solve of the rod chain grows linearly from 10^4 to 10^5 rods."""
-    figures = load(BENCH / "rodchain_speed.py").solve_table([10_000, 30_000, 100_000])
-    assert 0.8 <= figures["growth_exponent"] <= 1.3
+def test_rodchain_solve_table():
+    """The O(n) mass solve of the rod chain agrees with the sparse LU at 10^4 to 10^5 rods
+    (the benchmark asserts it) and with the dense LU at 300 rods to 1e-10, the dense LU's own
+    error ``n^2 eps`` (3.9e-12 measured).  The growth exponent (about 1) is the benchmark's
+    to print: the suite runs on every core, and a timed bound would measure the other
+    workers."""
+    figures = load(BENCH / "rodchain_speed.py").solve_table([300, 10_000, 100_000])
+    assert figures["rows"][0]["diff_to_lu"] < 1e-10
+    assert np.isfinite(figures["growth_exponent"])
 
 
 def test_compiled_step_is_faster_than_python():
