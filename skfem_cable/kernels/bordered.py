@@ -15,8 +15,9 @@ With ``k = 0`` it is the banded LU alone.  All storage is made once (``linalg``)
 work)``: LAPACK addresses; the band (``kernels.lapack`` layout) and its pivots; ``E``
 and ``F`` column-major, as ``(k, nb)`` and ``(nb, k)`` arrays whose rows are the blocks'
 columns (the products of a solve run along them); ``W`` like ``E``; ``S`` column-major
-``(k, k)`` and its pivots; for every CSR value of the matrix its block (0: band, 1: E,
-2: F, 3: D) and flat position there; the ordering; the half-width; int32 scratch (8) and
+``(k, k)`` and its pivots; for every CSR value of the matrix its block (int8; 0: band,
+1: E, 2: F, 3: D) and flat position there (int32: the factor's scatter reads them at every
+factorization); the ordering; the half-width; int32 scratch (8) and
 float scratch (n).
 """
 
@@ -126,17 +127,21 @@ def storage(addresses, rows, cols, perm, nb, band):
     ``band``."""
     n = perm.size
     k = n - nb
+    ldab = 3 * band + 1
+    if max(nb * ldab, n * k) >= 2**31:
+        raise ValueError(f"a band of {nb} unknowns and half-width {band} with {k} border "
+                         "unknowns exceeds 2^31 stored entries")
     iperm = np.empty_like(perm)
     iperm[perm] = np.arange(n)
     pr, pc = iperm[rows], iperm[cols]
-    ldab = 3 * band + 1
-    in_r, in_c = pr < nb, pc < nb
-    target = np.where(in_r & in_c, 0, np.where(in_r, 1, np.where(in_c, 2, 3))).astype(np.int64)
-    position = np.select(
-        [target == 0, target == 1, target == 2],
-        [pc * ldab + 2 * band + pr - pc, (pc - nb) * nb + pr, pc * k + (pr - nb)],
-        (pc - nb) * k + (pr - nb)).astype(np.int64)
+    out_r, out_c = pr >= nb, pc >= nb
+    target = (out_c + 2 * out_r).astype(np.int8)  # 0: band, 1: E, 2: F, 3: D
+    position = pc * ldab + 2 * band + pr - pc
+    position[out_c] = ((pc - nb) * nb + pr)[out_c]
+    position[out_r] = (pc * k + (pr - nb))[out_r]
+    both = out_r & out_c
+    position[both] = ((pc - nb) * k + (pr - nb))[both]
     return (addresses, np.zeros((nb, ldab)), np.zeros(nb, dtype=np.int32),
             np.zeros((k, nb)), np.zeros((nb, k)), np.zeros((k, nb)), np.zeros((k, k)),
-            np.zeros(k, dtype=np.int32), target, position, perm.astype(np.int64), int(band),
-            np.zeros(8, dtype=np.int32), np.zeros(n))
+            np.zeros(k, dtype=np.int32), target, position.astype(np.int32),
+            perm.astype(np.int64), int(band), np.zeros(8, dtype=np.int32), np.zeros(n))
