@@ -26,7 +26,7 @@ import skfem_cable as sc
 from skfem_cable.bench import arguments
 from skfem_cable.scenes import classics
 
-SETTINGS = {"full": {"sizes": (10, 30, 100, 300, 1000, 3000, 10000), "steps": 20, "repeats": 3},
+SETTINGS = {"full": {"sizes": (10, 30, 100, 300, 1000, 3000, 10000), "steps": 400, "repeats": 3},
             "quick": {"sizes": (10, 100, 1000, 3000), "steps": 10, "repeats": 1}}
 
 
