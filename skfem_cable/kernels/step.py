@@ -24,6 +24,29 @@ CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
 ETA_FIRST = 0.1
 
 
+def pseudo_acceleration(a1, a, abar, am, af):
+    """``abar_(n+1)`` of ``(1 - alpha_m) abar_(n+1) + alpha_m abar_n = (1 - alpha_f) a_(n+1)
+    + alpha_f a_n`` (scalars or arrays; ``GeneralizedAlpha`` uses it on arrays)."""
+    return ((1.0 - af) * a1 + af * a - am * abar) / (1.0 - am)
+
+
+def first_error_factor(rate):
+    """The error factor ``eta`` of a step's first correction: the last step's ``rate``
+    relaxed to ``rate^0.8`` and at least ``ETA_FIRST`` (Hairer & Wanner)."""
+    return max(max(rate, 1e-16) ** 0.8, ETA_FIRST)
+
+
+def error_factor(eta, dx_err, dx_before, it):
+    """``eta = theta / (1 - theta)`` of the contraction ``theta = |dx_k| / |dx_(k-1)|``
+    after the correction of iteration ``it`` (infinite if it does not contract); the
+    given ``eta`` after the first correction (``it == 0``), whose contraction is not
+    measured."""
+    if it == 0:
+        return eta
+    theta = dx_err / dx_before
+    return theta / (1.0 - theta) if theta < 1.0 else np.inf
+
+
 def newton(terms, model, lu, state, out, prm):
     """One step: ``_iterate`` and, once converged, ``_finish`` (the arguments and results
     of ``_iterate``)."""
@@ -41,7 +64,7 @@ def _finish(model, state, out, prm):
     abar1, books, dq = out[22], out[23], out[24]
     am, af = prm[2], prm[3]
     for i in range(q.size):
-        abar1[i] = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
+        abar1[i] = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         dq[i] = q1[i] - q[i]
     books[0], books[1], books[2], books[3] = step_books(
         dq, before, after, (model[0], model[1], model[2]), model[4], q1, v1)
@@ -103,14 +126,14 @@ def _iterate(terms, model, lu, state, out, prm):
     t1, h, am, af, gm, bt = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
     bp, gp, mbar, tol_floor, con_weight = prm[6], prm[7], prm[8], prm[9], prm[10]
     tol_local, error_constant = prm[14], prm[15]
-    eta = max(max(prm[16], 1e-16) ** 0.8, ETA_FIRST)  # the last step's, relaxed (Hairer)
+    eta = first_error_factor(prm[16])
     max_iter, need, full = int(prm[11]), prm[12] != 0.0, prm[13] != 0.0
     n = q.size
     c = prm[17]
     # predictor: GeneralizedAlpha.predicted_acceleration
     for i in range(n):
         a1[i] = a[i] + c * (a[i] - a_prev[i]) if c != 0.0 else a[i]
-        abar1 = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
+        abar1 = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         q1[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * abar[i] + bt * abar1)
         v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)
     lam1[:] = lam
@@ -139,7 +162,7 @@ def _iterate(terms, model, lu, state, out, prm):
         if tol_local > 0.0:  # GeneralizedAlpha.local_error at the iterate
             e = 0.0
             for i in range(n):
-                abar1 = ((1.0 - af) * a1[i] + af * a[i] - am * abar[i]) / (1.0 - am)
+                abar1 = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
                 e = max(e, abs(error_constant * h * h * (abar1 - abar[i])) * inv_xscale[i])
             tol = max(tol, tol_local * e)
         if it > 0 and ((err <= tol and dq_err <= tol) or (
@@ -177,13 +200,12 @@ def _iterate(terms, model, lu, state, out, prm):
         for k in range(lam1.size):
             lam1[k] += (bp * mbar) * dx[n + k]
             dl_err = max(dl_err, abs(dx[n + k]))
-        if dq_err > tol and (dq_err > 0.25 * dq_before or it >= 3):
-            need = True  # modified Newton contracts too slowly: refresh the tangent
         corrections += 1
         dx_before, dx_err = dx_err, max(dq_err, dl_err * con_weight * mbar)
-        if it > 0:
-            theta = dx_err / dx_before
-            eta = theta / (1.0 - theta) if theta < 1.0 else np.inf
+        eta = error_factor(eta, dx_err, dx_before, it)
+        if dq_err > tol and (dq_err > 0.25 * dq_before
+                             or (it >= 3 and eta * eta * dx_err > tol_floor)):
+            need = True  # modified Newton contracts too slowly: refresh the tangent
         if eta * dx_err <= tol_floor:  # the error left after this correction
             correct_elastic(f, fd, dx[:n], energy)
             prm[16] = eta

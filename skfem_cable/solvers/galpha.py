@@ -63,8 +63,11 @@ class GeneralizedAlpha:
         Newton iterations per step.
     newton : {"modified", "full"}
         ``"modified"`` (default) reuses the factorization across iterations and steps while
-        Newton contracts by at least ``1/4`` per iteration and refactors otherwise (and
-        retries a failed step with a fresh tangent); ``"full"`` refactors every iteration.
+        Newton contracts by at least ``1/4`` per iteration and, from the fourth correction
+        of a step on, while the next correction is predicted to end the iteration
+        (``eta^2 |dx| <= tol``: a factorization costs several corrections); it refactors
+        otherwise (and retries a failed step with a fresh tangent); ``"full"`` refactors
+        every iteration.
         Modified Newton pays when the tangent changes slowly (the E-sail: 7 factorizations
         in 2000 steps, 5x faster); for a fast-rotating stiff cable it needs about twice the
         iterations of full Newton for the same wall time.
@@ -362,8 +365,7 @@ class GeneralizedAlpha:
     def _next_abar(self, a1):
         """The pseudo-acceleration at the end of a step ending with acceleration ``a1``:
         ``(1 - alpha_m) abar_(n+1) = (1 - alpha_f) a_(n+1) + alpha_f a_n - alpha_m abar_n``."""
-        am, af = self.alpha_m, self.alpha_f
-        return ((1.0 - af) * a1 + af * self.a - am * self.abar) / (1.0 - am)
+        return codes.pseudo_acceleration(a1, self.a, self.abar, self.alpha_m, self.alpha_f)
 
     def _try_step(self, h, fresh):
         # the factored matrix fits while the step is the same up to round-off (the macro
@@ -413,7 +415,7 @@ class GeneralizedAlpha:
         lam1 = self.lam.copy()
         history = []
         dq_err = dq_before = dx_err = np.inf
-        eta = max(max(self.newton_rate, 1e-16) ** 0.8, codes.ETA_FIRST)
+        eta = codes.first_error_factor(self.newton_rate)
         exact = False
         for it in range(self.max_iter + 1):
             data = self.base.copy() if need else None
@@ -459,15 +461,14 @@ class GeneralizedAlpha:
             a1 += bp * dq
             lam1 += (bp * self.mbar) * dx[n:]
             dq_before, dq_err = dq_err, np.max(np.abs(dq) * self.inv_xscale)
-            if dq_err > tol and (dq_err > 0.25 * dq_before or it >= 3):
-                need = True  # modified Newton contracts too slowly: refresh the tangent
             self.stats["newton"] += 1
             dx_before = dx_err
             dx_err = max(dq_err, np.max(np.abs(dx[n:]), initial=0.0) * self.con_weight
                          * self.mbar)
-            if it > 0:
-                theta = dx_err / dx_before
-                eta = theta / (1.0 - theta) if theta < 1.0 else np.inf
+            eta = codes.error_factor(eta, dx_err, dx_before, it)
+            if dq_err > tol and (dq_err > 0.25 * dq_before
+                                 or (it >= 3 and eta * eta * dx_err > self.tol)):
+                need = True  # modified Newton contracts too slowly: refresh the tangent
             if eta * dx_err <= self.tol:  # the error left after this correction
                 correct_elastic(info["f"], info["f_damping"], dq, info["energy"])
                 it += 1
