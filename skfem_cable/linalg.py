@@ -87,8 +87,8 @@ class PatternSolver:
         then the border; ``nb`` band unknowns of half-width ``band``."""
         rest = np.setdiff1d(np.arange(self.n), border) if border.size else np.arange(self.n)
         sub = self.pattern[rest][:, rest] if border.size else self.pattern
-        perm = np.concatenate([rest[reverse_cuthill_mckee(sub, symmetric_mode=True)],
-                               border]).astype(np.int64)
+        order = reverse_cuthill_mckee(sub, symmetric_mode=True) if rest.size else rest
+        perm = np.concatenate([rest[order], border]).astype(np.int64)
         iperm = np.empty_like(perm)
         iperm[perm] = np.arange(self.n)
         pr, pc = iperm[self._rows], iperm[self.pattern.indices]

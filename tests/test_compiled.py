@@ -171,6 +171,19 @@ def test_bordered_lu_solves_an_arrowhead():
     assert info.value.index == 31
 
 
+def test_border_of_every_unknown_is_a_dense_solve():
+    """A border that holds every unknown (a system of one hub): no band is left, and the
+    Schur complement is the whole matrix (reverse Cuthill-McKee failed on the empty
+    rest)."""
+    A = np.array([[4.0, 1.0, 0.0], [1.0, 4.0, 1.0], [0.0, 1.0, 4.0]])
+    pattern = sp.csr_matrix(A)
+    solver = PatternSolver(pattern.indptr, pattern.indices, "banded", border=[0, 1, 2])
+    assert (solver.border, solver.band) == (3, 0)
+    solver.factor(pattern.data)
+    b = np.array([1.0, -2.0, 0.5])
+    assert np.abs(solver.solve(b) - np.linalg.solve(A, b)).max() < 1e-14
+
+
 def test_rigid_constraint_kernel_matches_its_definition():
     """The compiled hook of the rigid body's constraints writes ``scale C``, adds
     ``C_q^T lam`` and the scaled Jacobians and ``cK`` Hessian term, as ``value``,
