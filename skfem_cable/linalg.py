@@ -85,8 +85,11 @@ class PatternSolver:
     def _ordering(self, border):
         """``(perm, nb, band)``: reverse Cuthill-McKee of the unknowns outside ``border``,
         then the border; ``nb`` band unknowns of half-width ``band``."""
-        rest = np.setdiff1d(np.arange(self.n), border) if border.size else np.arange(self.n)
-        sub = self.pattern[rest][:, rest] if border.size else self.pattern
+        if border.size:
+            rest = np.setdiff1d(np.arange(self.n), border)
+            sub = self.pattern[rest][:, rest]
+        else:
+            rest, sub = np.arange(self.n), self.pattern
         order = reverse_cuthill_mckee(sub, symmetric_mode=True) if rest.size else rest
         perm = np.concatenate([rest[order], border]).astype(np.int64)
         iperm = np.empty_like(perm)
