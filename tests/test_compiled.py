@@ -13,6 +13,7 @@ from skfem_cable.kernels.bordered import band_substitute
 from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
 from skfem_cable.linalg import PatternSolver, SingularMatrixError
 from skfem_cable.scenes import classics, esail
+from skfem_cable.solvers.compiled import _kernel_source_id
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 
@@ -252,3 +253,43 @@ def test_newton_ends_on_a_correction_whose_error_estimate_is_below_tol():
     assert runs[0].stats["newton"] < 1.2 * runs[0].stats["steps"]
     size = scene.system.layout.length_scale
     assert np.abs(runs[0].q[-1] - runs[1].q[-1]).max() < 1e-12 * size
+
+
+HELPERS = '''from numba import njit
+
+
+@njit
+def inner(x):
+    return 2.5 * x
+
+
+@njit
+def scale(x):
+    return inner(x) + 1.0
+'''
+
+KERNEL = '''from numba import njit
+
+import digest_helpers as helpers
+from digest_helpers import inner
+
+
+@njit
+def kernel(pack, index, ev):
+    ev[3][0] += helpers.scale(1.0) + inner(2.0)
+'''
+
+
+def test_generated_module_digest_covers_the_kernels_compiled_callees(tmp_path, monkeypatch):
+    """A user kernel's compiled helpers, named directly or through their module, and
+    theirs in turn, are part of the generated step module's digest: numba's cache of that
+    module would not notice a changed helper."""
+    (tmp_path / "digest_helpers.py").write_text(HELPERS)
+    (tmp_path / "digest_kernel.py").write_text(KERNEL)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import digest_kernel
+
+    text = _kernel_source_id(digest_kernel.kernel)
+    for part in ("def kernel", "def scale", "def inner", "2.5 * x"):
+        assert part in text, part
+    assert text.count("def inner") == 1
