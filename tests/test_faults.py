@@ -639,12 +639,12 @@ elements = 2
 
 def test_heavy_numerical_dissipation_is_reported(capsys):
     """The guard stops growth, not numerical dissipation: a run that lost about half its
-    energy to a coarse step says so on stderr (47.9 and 48 % measured: the run halves most
-    of its steps, and where Newton refreshes its tangent moves the figure)."""
+    energy to a coarse step says so on stderr (47.9 and 48.0 % measured: the run halves
+    most of its steps, and where Newton refreshes its tangent moves the figure a little)."""
     rc = cli.main(["run", "spinning-tether", "--dt", "0.5", "--t-end", "2", "--no-plots"])
     assert rc == 0
     drift = re.search(r"the energy balance drifted by ([\d.]+) %", capsys.readouterr().err)
-    assert drift and 40 <= float(drift.group(1)) <= 60
+    assert drift and 46 <= float(drift.group(1)) <= 50
 
 
 def test_singular_matrix_names_the_unknown_with_either_solver():
