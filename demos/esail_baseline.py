@@ -12,7 +12,10 @@ km/s, 7.3 protons/cm^3, radial from the Sun at 1 AU) pushes each tether with
 54 mN in all.  The sail axis is tilted by the sailing angle ``alpha`` from the Sun line,
 so the thrust turns by about ``alpha / 2``, the tethers cone at the spin frequency and lag
 in their plane at the first bending frequency.  Generalized-alpha (rho_inf = 0.25,
-dt = 0.1 s) integrates three spin periods (4712 s, 47,124 steps).
+dt = 0.1 s) integrates three spin periods (4712 s, 47,124 steps).  The tethers are in the
+paper's formulation (``formulation="paper"``, every term on the 5-point Gauss rule), as the
+paper computed them; the library's default formulation changes the thrust, coning and
+frequencies by less than their discretisation error (``docs/locking.md``).
 
 Run ``python demos/esail_baseline.py [--alpha DEG] [--periods P] [--out DIR]``: the run
 directory holds the ParaView series (``series.pvd``), the results (chunks), the paper's
@@ -31,7 +34,7 @@ def main(alpha=10.0, periods=3.0, elements=5, out="runs/esail", plots=True, prog
     """Run the baseline sail into ``out`` (replacing an earlier run there); returns the
     summary (dict) of the run."""
     cfg = esail.BaselineConfig()
-    options = RunOptions(out=out, alpha=alpha, elements=elements,
+    options = RunOptions(out=out, alpha=alpha, elements=elements, formulation="paper",
                          t_end=periods * cfg.spin_period, progress=progress, plots=plots,
                          overwrite=True)
     return catalog.run_scene("esail", options)

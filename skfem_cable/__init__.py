@@ -51,6 +51,7 @@ from .contract import Evaluation, Observer, Term
 from .coulomb import SolarWind, SolarWindForce
 from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from .element import ElementLineCableHermite
+from .formulation import FORMULATIONS
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
 from .reel import Brake, Motor, Reel, Servo
@@ -86,6 +87,7 @@ __all__ = [
     "PointMoment",
     "Term",
     "ElementLineCableHermite",
+    "FORMULATIONS",
     "Node",
     "Reel",
     "Result",

@@ -19,17 +19,9 @@ from skfem.quadrature import get_quadrature
 
 from .contract import NO_DATA, NO_INDEX, Term
 from .element import ElementLineCableHermite, hermite
+from .formulation import DEFAULT, FORMULATIONS
 from .laws import BUILTIN, SLOPE_FLOOR, CableLaw
 from .section import Section
-
-#: Rule of the axial part of the law on a locking-free cable: 3-point Gauss-Lobatto
-#: (Simpson: the nodes and the midpoint), reference coordinates and weights.
-LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
-
-#: Gauss rule of the bending part of the law on a locking-free cable (order 5: 3 points,
-#: exact for the linearised bending stiffness; as accurate as 5 points on the elastica and
-#: a third cheaper).
-BENDING_INTORDER = 5
 
 
 def cable_term(edofs, passes, key, name):
@@ -42,19 +34,20 @@ def cable_term(edofs, passes, key, name):
     ----------
     edofs : int ndarray (ne, 12)
         Global coordinates of each element.
-    passes : sequence of ``(module, tables, values, damped)``
-        One kernel call each: the generated module of a law (or of a part of it,
-        ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)`` (shape-function
-        derivatives and Gauss weights of its own rule, element lengths), its parameter
-        values and whether its dissipation is active.  A locking-free cable has two: the
-        axial part with the reduced rule and the bending part with the full one.
+    passes : sequence of ``(function, tables, values, damped)``
+        One kernel call each: a compiled hook of the generated module of a law (or of a
+        part of it, ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)``
+        (shape-function derivatives and weights of its own rule, element lengths), its
+        parameter values and whether its dissipation is active.  The formulation
+        (``formulation``) decides the passes: the paper's has one, the locking-free ones
+        two (the axial and the bending part).
     key : hashable
     name : str
     """
     edofs = np.ascontiguousarray(edofs, dtype=np.int64)
-    kernels = tuple((module.kernel, (edofs, *(np.ascontiguousarray(t) for t in tables),
-                                     np.array(values, dtype=float), bool(damped)))
-                    for module, tables, values, damped in passes)
+    kernels = tuple((function, (edofs, *(np.ascontiguousarray(t) for t in tables),
+                                np.array(values, dtype=float), bool(damped)))
+                    for function, tables, values, damped in passes)
     return Term(kernels=kernels, rows=edofs[:, :, None], cols=edofs[:, None, :], key=key,
                 merge=merge_cable_terms, name=name)
 
@@ -257,22 +250,23 @@ class Cable:
         Kelvin-Voigt damping, Eqs. 23-26 and 36-38) or ``"truss"`` (the same without
         bending, the paper's comparison model).  Parameters come from ``section`` by name.
     intorder : int
-        Order of the Gauss rule of the elastic forces (of the paper's formulation; see
-        ``locking_free``) and of ``basis``; the default 9 (5 points) integrates the Green
-        axial energy exactly.  The mass matrix and the line
-        loads are always integrated exactly.
+        Order of the Gauss rule of the elastic forces of the ``"paper"`` formulation, of
+        ``basis`` and of the line loads' tables; the default 9 (5 points) integrates the
+        Green axial energy exactly.  The mass matrix and the constant line loads are
+        always integrated exactly.
     name : str
         Label used in diagnostics and outputs.
-    locking_free : bool
-        True: the axial part of the law (its terms without ``r_xx``) is integrated with
-        the 3-point Gauss-Lobatto rule (nodes and midpoint, ``LOBATTO``), the bending part
-        with the 3-point Gauss rule (``BENDING_INTORDER``).  The axial strain of the C1
-        cubic field is continuous and quadratic per element: ``2 n + 1`` independent
-        values for ``n`` elements, sampled at exactly ``2 n + 1`` points, which removes
-        membrane locking without a spurious mode; strain and tension are recovered from
-        those points (``tension``).  Taut cables converge at fourth instead of sixth
-        order (``docs/locking.md``).  False (default): the paper's formulation, every term
-        with ``intorder``.
+    formulation : str
+        How the law is integrated and its tension recovered (``formulation``,
+        ``docs/locking.md``): ``"assumed-strain"`` (default: the axial part at the
+        assumed strain interpolated from the strain's nodal values and element means,
+        no membrane locking and the paper's accuracy on taut cables), ``"paper"`` (the
+        paper's formulation, every term on the Gauss rule ``intorder``: locks in bending,
+        with tension stripes of tens of times the load) or ``"lobatto"`` (the axial part
+        on the nodes and midpoints: locking-free, fourth order on taut cables).
+    locking_free : bool, optional
+        The earlier switch, kept as it was: False is ``formulation="paper"``, True is
+        ``"lobatto"``.
 
     Attributes
     ----------
@@ -304,8 +298,8 @@ class Cable:
         Local coordinates of each element.
     intorder : int
         Order of the Gauss rule of the elastic forces.
-    locking_free : bool
-        Whether the axial part of the law uses the reduced rule (see above).
+    formulation : str
+        The formulation's name (see above).
     S, Sx, Sxx : ndarray (n_elements, n_points, 4)
         Hermite shape functions and their first and second arc-length derivatives at the
         Gauss points of ``intorder``, used by kernels and loads (``LineLoad``,
@@ -336,12 +330,12 @@ class Cable:
     >>> r, r_x, r_xx = cable.interpolate(cable.q0, 0.3)
     >>> r.tolist(), r_x.tolist()
     ([0.3, 0.0, 0.0], [1.0, 0.0, 0.0])
-    >>> float(cable.tension(cable.q0, 0.6))   # stress-free
+    >>> round(float(cable.tension(cable.q0, 0.6)), 6)   # stress-free
     0.0
     """
 
     def __init__(self, mesh, section, positions, slopes, law="cable", intorder=9, name="cable",
-                 locking_free=False):
+                 formulation=None, locking_free=None):
         if not isinstance(mesh, MeshLine):
             raise TypeError(f"mesh must be a skfem.MeshLine, got {type(mesh).__name__}")
         if not isinstance(section, Section):
@@ -356,6 +350,9 @@ class Cable:
                             f"got {type(law).__name__}")
         law.parameter_values(section)  # every parameter has a value
         law.symbolic  # noqa: B018 (the law is well formed: errors now, not at the first step)
+        formulation = _formulation(formulation, locking_free)
+        if formulation == "assumed-strain":
+            law.check_strain()
         x = mesh.p[0]
         if np.any(np.diff(x) <= 0) or np.any(mesh.t[1] != mesh.t[0] + 1):
             raise ValueError("mesh nodes must be sorted along the arc length "
@@ -379,23 +376,26 @@ class Cable:
         self.element_dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
         self.h = np.diff(x)
         self.intorder = int(intorder)
-        self.S, self.Sx, self.Sxx, self.weights = self._tables(
-            *get_quadrature(mesh.refdom, intorder))
-        if not isinstance(locking_free, bool):
-            raise TypeError(f"locking_free must be True or False, got {locking_free!r}")
-        self.locking_free = locking_free
-        self.axial_tables = (*self._tables(LOBATTO[0][None, :], LOBATTO[1])[1:], self.h)
-        self.bending_tables = (*self._tables(
-            *get_quadrature(mesh.refdom, BENDING_INTORDER))[1:], self.h)
+        X, W = get_quadrature(mesh.refdom, intorder)
+        self.S = self._hermite(X[0])[0]
+        self.Sx, self.Sxx, self.weights, _ = self.tables_at(X[0], W)
+        self.formulation = formulation
         self._mass = None
 
-    def _tables(self, X, W):
-        """Hermite functions and their x-derivatives (ne, nq, 4) at the reference points
-        ``X`` (1, nq) of a rule with weights ``W`` (nq,), and the weights times the element
-        lengths (ne, nq)."""
-        tables = hermite(X[0][None, :], self.h[:, None])
-        return (*(np.ascontiguousarray(np.moveaxis(t, 0, -1)) for t in tables),
-                np.ascontiguousarray(W[None, :] * self.h[:, None]))
+    def _hermite(self, xi):
+        """Hermite functions and their x-derivatives (ne, nq, 4) at the reference
+        coordinates ``xi`` (nq,) of every element."""
+        return tuple(np.ascontiguousarray(np.moveaxis(t, 0, -1))
+                     for t in hermite(np.asarray(xi, float)[None, :], self.h[:, None]))
+
+    def tables_at(self, xi, weights):
+        """The kernel tables ``(Sx, Sxx, w, h)`` of a rule with reference coordinates
+        ``xi`` (nq,) and weights ``weights`` (nq,) on [0, 1]: the Hermite functions' first
+        and second x-derivatives (ne, nq, 4), the weights times the element lengths
+        (ne, nq) and the element lengths (ne,)."""
+        _, Sx, Sxx = self._hermite(xi)
+        return Sx, Sxx, np.ascontiguousarray(np.asarray(weights)[None, :] * self.h[:, None]), \
+            self.h
 
     @classmethod
     def straight(cls, start, end, n_elements, section, law="cable", **kwargs):
@@ -513,20 +513,13 @@ class Cable:
 
     def bind(self, system):
         """The term of the cable's elastic and damping forces (see ``contract``): the
-        law's compiled kernel (``cable_term``), shared by all cables with the same law,
-        parameter values and quadrature.  A locking-free cable integrates the law's axial
-        part with the Gauss-Lobatto rule ``LOBATTO`` and its bending part with the 3-point
-        Gauss rule ``BENDING_INTORDER`` (two kernel calls)."""
-        law = self.law
-        values = law.parameter_values(self.section)
-        full = (self.Sx, self.Sxx, self.weights, self.h)
-        if self.locking_free:
-            pieces = [(law.part(0), self.axial_tables), (law.part(1), self.bending_tables)]
-        else:
-            pieces = [(law, full)]
+        law's compiled kernels (``cable_term``), one per pass of the cable's formulation
+        (``formulation``), shared by all cables with the same law, parameter values,
+        formulation and quadrature."""
+        values = self.law.parameter_values(self.section)
         deployment = system.deployment(self)
         passes, key = [], []
-        for piece, tables in pieces:
+        for piece, hook, tables in FORMULATIONS[self.formulation].passes(self):
             if piece.vanishes:
                 continue
             damped = piece.damped and piece.dissipates(values)
@@ -538,8 +531,8 @@ class Cable:
                     "the material's; use an undamped law for a deploying cable")
             if deployment is not None:  # the term's own tables, rescaled in time
                 tables = tuple(np.array(t) for t in tables)
-            passes.append((piece.compiled(), tables, values, damped))
-            key.append((piece.key, damped, tables[0].shape[1]))
+            passes.append((getattr(piece.compiled(), hook), tables, values, damped))
+            key.append((piece.key, hook, damped, tables[0].shape[1]))
         term = cable_term(self.global_element_dofs(system), passes,
                           ("ancf-cable", values, *key), self.name)
         if deployment is None:
@@ -587,61 +580,60 @@ class Cable:
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * (np.ndim(e) + 1))
         return r, a / lam, b / lam**2
 
-    def _recovered(self, value, q, s):
-        """``value(q, e, xi)`` at arc lengths ``s``.  On a locking-free cable it is sampled
-        where the axial strain is defined (``LOBATTO``: the nodes, averaged over the two
-        elements that meet there, and the midpoints) and interpolated quadratically in
-        between; else evaluated at ``s``."""
-        e, xi = self.locate(s)
-        if not self.locking_free:
-            return value(q, e, xi)
-        ne = self.n_elements
-        elements = np.arange(ne)
-        left = value(q, elements, np.zeros(ne))   # start node of each element
-        right = value(q, elements, np.ones(ne))   # end node of each element
-        middle = value(q, elements, np.full(ne, 0.5))
-        nodes = np.concatenate([left[..., :1], 0.5 * (left[..., 1:] + right[..., :-1]),
-                                right[..., -1:]], axis=-1)
-        return (2 * (xi - 0.5) * (xi - 1) * nodes[..., e] - 4 * xi * (xi - 1) * middle[..., e]
-                + 2 * xi * (xi - 0.5) * nodes[..., e + 1])
+    def slopes_at(self, q, xi, stretch=1.0):
+        """``r_s`` at the reference coordinates ``xi`` (nx,) of every element: (...,
+        n_elements, nx, 3) for coordinates ``q`` (..., n_dofs) (``_fields``)."""
+        Sx = self._hermite(xi)[1]
+        q = np.asarray(q)
+        qe = q[..., self.element_dofs].reshape(q.shape[:-1] + (self.n_elements, 4, 3))
+        lam = np.reshape(stretch, np.shape(stretch) + (1, 1, 1))
+        return np.einsum("eXA,...eAi->...eXi", Sx, qe) / lam
+
+    def green(self, q, e, xi, stretch=1.0):
+        """Green strain ``(|r_x|^2 - 1)/2`` of the cubic field in elements ``e`` at
+        reference coordinates ``xi`` (``_fields``)."""
+        a = self._fields(q, e, xi, stretch)[1]
+        return 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
 
     def strain(self, q, s, stretch=1.0):
-        """Green axial strain ``eps = (|r_x|^2 - 1)/2`` (Eq. 24), recovered from the axial
-        sampling points on a locking-free cable (see ``tension``); ``stretch``: the
-        mesh stretch of a deploying cable (``_fields``)."""
-        def green(q, e, xi):
-            a = self._fields(q, e, xi, stretch)[1]
-            return 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
-
-        return self._recovered(green, q, s)
+        """Green axial strain ``eps = (|r_x|^2 - 1)/2`` (Eq. 24) at arc lengths ``s``, as
+        the cable's formulation defines it (``formulation``): the assumed strain by
+        default, recovered from the Lobatto points on a ``"lobatto"`` cable, the raw strain
+        of the cubic field on a ``"paper"`` cable.  ``stretch``: the mesh stretch of a
+        deploying cable (``_fields``)."""
+        return FORMULATIONS[self.formulation].strain(self, q, s, stretch)
 
     def tension(self, q, s, stretch=1.0):
-        """Axial force in the section (N): ``N = t . W_a + t' . W_b`` with ``t = r_x/|r_x|``.
+        """Axial force in the section (N) at arc lengths ``s``, the elastic part (at rest).
 
-        This is the axial component ``t . (W_a - (W_b)')`` of the section force of the law
-        ``W(a, b)``, exact when ``W`` depends on ``b`` only through its part normal to ``a``
-        (the curvature), as every law of the gallery does.  For the built-in law it is
-        ``EA eps |r_x| - EI kappa^2 / |r_x|``: the Green-strain force (``dW/d|r_x|``; the
-        second Piola-Kirchhoff force ``EA eps`` differs by the factor ``|r_x|``) and the
-        axial part of the bending section force (zero for a truss and negligible for
-        taut tethers).  The elastic part only (at rest).
+        The axial force of a law ``W(a, b)`` is ``N = t . W_a + t' . W_b`` with ``t =
+        r_x/|r_x|`` (``section_force``), the axial component of its section force.  For
+        the built-in law it is ``EA eps |r_x| - EI kappa^2 / |r_x|``: the Green-strain
+        force (``dW/d|r_x|``; the second Piola-Kirchhoff force ``EA eps`` differs by the
+        factor ``|r_x|``) and the axial part of the bending section force (zero for a
+        truss and negligible for taut tethers).
 
-        On a locking-free cable the force is evaluated where the axial strain is defined,
-        at the nodes (averaged over the two elements that meet there) and midpoints of the
-        elements, and interpolated quadratically in between: a continuous field, accurate
-        to the discretisation (an elastica of 16 elements matches the exact
-        ``P sin(theta)`` to 0.7 % of ``P`` at ``k = 10``, root included).  Between those points
-        the raw strain of the cubic field is not constrained and is not shown.
-        ``stretch``: the mesh stretch of a deploying cable (``_fields``).
+        The axial part comes from the strain the formulation integrates (``formulation``):
+        by default the assumed strain, a continuous field accurate to the discretisation
+        (an elastica of 16 elements matches the exact ``P sin(theta)`` to better than 1 %
+        of ``P``, root included); on a ``"lobatto"`` cable the values at the nodes and
+        midpoints, interpolated; on a ``"paper"`` cable the raw strain of the cubic field,
+        which membrane locking makes useless in bending (stripes of tens of times the
+        load).  ``stretch``: the mesh stretch of a deploying cable (``_fields``).
         """
-        return self._recovered(lambda q, e, xi: self._tension(q, e, xi, stretch), q, s)
+        return FORMULATIONS[self.formulation].tension(self, q, s, stretch)
 
-    def _tension(self, q, e, xi, stretch=1.0):
+    def section_force(self, q, e, xi, stretch=1.0, law=None):
+        """``N = t . W_a + t' . W_b`` of ``law`` (default the cable's) evaluated on the
+        cubic field in elements ``e`` at reference coordinates ``xi``: the axial component
+        ``t . (W_a - (W_b)')`` of the law's section force, exact when ``W`` depends on
+        ``b`` only through its part normal to ``a`` (the curvature), as every law of the
+        gallery does."""
         _, a, b = self._fields(q, e, xi, stretch)
         x = np.moveaxis(np.concatenate([a, b], axis=-1), -1, 0)
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(self.h[e] * lam, x.shape[1:])
-        G = self.densities(x, np.zeros_like(x), h)["G"]
+        G = self.densities(x, np.zeros_like(x), h, law)["G"]
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         lam = np.sqrt(p)[..., None]
         t = a / lam
@@ -649,13 +641,13 @@ class Cable:
         return (np.einsum("...i,i...->...", t, G[:3])
                 + np.einsum("...i,i...->...", t_x, G[3:]))
 
-    def densities(self, x, xd, h):
-        """The law's densities at points ``x = (a, b)``, ``xd`` (6, ...) of elements of
-        length ``h`` (...) (its generated ``numpy_point``): energy ``ea``/``eb`` and power
-        ``pa``/``pb`` (axial, bending), ``G = W_x + D_xd`` and ``Gd = D_xd`` (6, ...),
-        ``H = W_xx + D_xd,x`` and ``Hc = D_xd,xd`` (6, 6, ...)."""
-        out = self.law.compiled().numpy_point(x, xd, self.law.parameter_values(self.section),
-                                              h)
+    def densities(self, x, xd, h, law=None):
+        """The densities of ``law`` (default the cable's) at points ``x = (a, b)``, ``xd``
+        (6, ...) of elements of length ``h`` (...) (its generated ``numpy_point``): energy
+        ``ea``/``eb`` and power ``pa``/``pb`` (axial, bending), ``G = W_x + D_xd`` and
+        ``Gd = D_xd`` (6, ...), ``H = W_xx + D_xd,x`` and ``Hc = D_xd,xd`` (6, 6, ...)."""
+        law = self.law if law is None else law
+        out = law.compiled().numpy_point(x, xd, law.parameter_values(self.section), h)
         out["G"] = np.stack([out.pop(f"G_{i}") for i in range(6)])
         out["Gd"] = np.stack([out.pop(f"Gd_{i}") for i in range(6)])
         for k in ("H", "Hc"):
@@ -668,6 +660,24 @@ class Cable:
         _, a, b = self._fields(q, *self.locate(s), stretch)
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         return np.sqrt(_kappa2(a, b, p))
+
+
+def _formulation(formulation, locking_free):
+    """The formulation's name from ``Cable``'s ``formulation`` and ``locking_free``."""
+    if locking_free is not None:
+        if not isinstance(locking_free, bool):
+            raise TypeError(f"locking_free must be True or False, got {locking_free!r}")
+        named = "lobatto" if locking_free else "paper"
+        if formulation is not None and formulation != named:
+            raise ValueError(f"locking_free={locking_free} means formulation={named!r}, "
+                             f"which contradicts formulation={formulation!r}: give one")
+        return named
+    if formulation is None:
+        return DEFAULT
+    if formulation not in FORMULATIONS:
+        raise ValueError(f"formulation must be one of {tuple(FORMULATIONS)}, "
+                         f"got {formulation!r}")
+    return formulation
 
 
 def _kappa2(a, b, p):

@@ -11,6 +11,7 @@ import textwrap
 from contextlib import contextmanager
 from pathlib import Path
 
+from .formulation import DEFAULT, FORMULATIONS
 from .solvers.simulate import SimulationError
 from .solvers.static import StaticConvergenceError
 
@@ -73,14 +74,11 @@ def build_parser():
                      help="time step in s (hanging-chain: output spacing; default: the scene's)")
     run.add_argument("--elements", type=_positive_int, metavar="N",
                      help="elements per cable (hanging-chain: number of rods)")
-    formulation = run.add_mutually_exclusive_group()
-    formulation.add_argument("--locking-free", dest="locking_free", action="store_true",
-                             default=None, help="cables sample the axial strain at nodes "
-                             "and midpoints: no membrane locking (default of cantilever)")
-    formulation.add_argument("--paper-formulation", dest="locking_free",
-                             action="store_false", default=None,
-                             help="cables in the paper's formulation (default of the other "
-                             "cable scenes)")
+    run.add_argument("--formulation", choices=tuple(FORMULATIONS), metavar="NAME",
+                     help="formulation of the cables of a built-in scene: "
+                     f"{', '.join(FORMULATIONS)} (default {DEFAULT}: locking-free with the "
+                     "paper's accuracy on taut cables; paper: the paper's own, whose "
+                     "tension locks in bending; docs/locking.md)")
     run.add_argument("--alpha", type=float, metavar="DEG",
                      help="sailing angle in degrees (esail only)")
     run.add_argument("--out", type=Path, metavar="DIR", help="run directory to write")
@@ -167,7 +165,7 @@ def cmd_run(args):
     from .scenes.catalog import run_scene
 
     options = RunOptions(out=args.out, t_end=args.t_end, dt=args.dt, elements=args.elements,
-                         locking_free=args.locking_free, alpha=args.alpha, every=args.every,
+                         formulation=args.formulation, alpha=args.alpha, every=args.every,
                          progress=False if args.no_progress else None,
                          plots=not args.no_plots, animate=args.animate,
                          overwrite=args.overwrite, resume=args.resume)

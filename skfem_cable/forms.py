@@ -1,5 +1,7 @@
-"""scikit-fem forms of a cable's element law: the same physics as the compiled kernel,
-assembled by ``skfem.asm`` on ``cable.basis``.
+"""scikit-fem forms of a cable's element law: the same physics as the compiled kernel of a
+cable in the paper's formulation (``formulation="paper"``: every term on the Gauss rule of
+``cable.basis``), assembled by ``skfem.asm``.  The locking-free formulations integrate the
+law's axial part on a rule of its own, which a form cannot express; they are refused.
 
 With ``a = r_x``, ``b = r_xx`` interpolated from the state at the quadrature points and
 ``x = (a, b)``, the law's generated numpy code gives ``G = W_x + D_xd``, ``H = W_xx +
@@ -12,7 +14,7 @@ D_xd,x`` and ``Hc = D_xd,xd`` (``laws.codegen``), and
 
 >>> import numpy as np, skfem, skfem_cable as sc
 >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, sc.Section(E=1e9, A=1e-4, I=1e-10,
-...                           rho=1e3))
+...                           rho=1e3), formulation="paper")
 >>> q = cable.q0 * 1.01
 >>> L, a = sc.forms.internal(cable)
 >>> f = skfem.asm(L, cable.basis, **sc.forms.state(cable, q))
@@ -50,11 +52,13 @@ def _six(field):
 def _densities(cable):
     """``point(w)``: the law's densities at the quadrature points of the fields ``w``,
     evaluated once per assembly (the forms call it once per pair of basis functions)."""
-    if cable.locking_free:
+    if cable.formulation != "paper":
         raise NotImplementedError(
-            f"cable {cable.name!r} is locking-free: its axial part is integrated on its own "
-            "rule (nodes and midpoints), which one form on cable.basis cannot express; "
-            "build it with locking_free=False for the forms")
+            f"cable {cable.name!r} has the {cable.formulation!r} formulation: its axial part "
+            "is integrated on a rule of its own (and the assumed strain couples the points "
+            "of an element), which a form on cable.basis cannot express; the forms give "
+            "the law of a cable built with formulation='paper' (the same law, every term "
+            "on the Gauss rule of cable.basis)")
     memo = [None, None]
 
     def point(w):

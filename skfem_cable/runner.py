@@ -38,6 +38,7 @@ from .io.jsonable import jsonable
 from .io.store import STORE, remove_store, run_info, store_files
 from .solvers.simulate import simulate
 from .state import State
+from .tension_guard import tension_warnings
 
 SUMMARY = "summary.json"
 
@@ -51,7 +52,7 @@ class RunOptions:
     t_end: float | None = None
     dt: float | None = None
     elements: int | None = None
-    locking_free: bool | None = None
+    formulation: str | None = None
     alpha: float | None = None
     every: int | None = None
     progress: bool | None = None
@@ -136,12 +137,12 @@ def warn(message):
     print(f"skfem-cable: {message}", file=sys.stderr)
 
 
-def complete_summary(summary, result, outputs=None):
+def complete_summary(summary, result, outputs=None, warnings=()):
     """Add a scene's own key numbers ``outputs(result)`` to ``summary["outputs"]`` and the
-    run's warnings (``run_warnings``), printing each."""
+    run's warnings (``run_warnings`` and ``warnings``), printing each."""
     if outputs is not None:
         summary["outputs"].update(outputs(result))
-    summary["warnings"] = run_warnings(summary)
+    summary["warnings"] = run_warnings(summary) + list(warnings)
     for warning in summary["warnings"]:
         warn(warning)
 
@@ -395,7 +396,8 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
                           "factorizations": stats["factorizations"],
                           "rejected_steps": stats["rejected"], "solver": stats["solver"]},
                "outputs": run_outputs(result)}
-    complete_summary(summary, result, outputs)
+    complete_summary(summary, result, outputs,
+                     tension_warnings(result.system, result.q, result.t))
     if out is not None:
         summary["store"] = store_summary(out)
         files = {"store": STORE, "manifest": "manifest.json",
@@ -484,7 +486,10 @@ def run_static(name, system, steps, options, parameters=None, outputs=None, titl
     """
     final = steps[-1][1]
     summary = {"scene": name, "parameters": parameters or {},
-               "outputs": {**(outputs or {}), "cables": cable_outputs(system, final.q)}}
+               "outputs": {**(outputs or {}), "cables": cable_outputs(system, final.q)},
+               "warnings": tension_warnings(system, final.q)}
+    for warning in summary["warnings"]:
+        warn(warning)
     prepare_run_dir(options, can_resume=False)
     if options.out is None:
         return summary

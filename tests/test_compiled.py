@@ -36,12 +36,16 @@ def _driven_pendulum():
     return classics.Scene(system, cable, None)
 
 
-def _locking_free_pendulum():
-    return classics.pendulum(n_elements=6, locking_free=True)
+def _lobatto_pendulum():
+    return classics.pendulum(n_elements=6, formulation="lobatto")
+
+
+def _paper_pendulum():
+    return classics.pendulum(n_elements=6, formulation="paper")
 
 
 SCENES = {"damped": _damped_pendulum, "driven": _driven_pendulum,
-          "locking-free": _locking_free_pendulum}
+          "lobatto": _lobatto_pendulum, "paper": _paper_pendulum}
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))

@@ -1,5 +1,6 @@
-"""Elastic energy, force and tangent of the cable: numba vs numpy, analytic vs finite
-differences, and finite values in degenerate states."""
+"""Elastic energy, force and tangent of the cable: numba vs numpy (the paper's equations),
+the assumed-strain energy from its definition, analytic vs finite differences in every
+formulation, and finite values in degenerate states."""
 
 import ancf_reference
 import numpy as np
@@ -10,8 +11,9 @@ from skfem_cable import Cable, Section, System
 SEC = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0)
 
 
-def make_cable(kind, n=5):
-    return Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], n, SEC, law=kind)
+def make_cable(kind, n=5, formulation=None):
+    return Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], n, SEC, law=kind,
+                          formulation=formulation)
 
 
 def states(cable):
@@ -54,7 +56,8 @@ def numpy_eval(cable, q):
 
 @pytest.mark.parametrize("kind", ["cable", "truss"])
 def test_numba_and_numpy_paths_agree(kind):
-    cable = make_cable(kind)
+    """The paper's formulation against the paper's equations written out in numpy."""
+    cable = make_cable(kind, formulation="paper")
     for name, q in states(cable).items():
         U1, f1, K1 = numba_eval(cable, q)
         U2, f2, K2 = numpy_eval(cable, q)
@@ -63,9 +66,43 @@ def test_numba_and_numpy_paths_agree(kind):
         assert np.allclose(K1, K2, rtol=0, atol=1e-12 * np.abs(K2).max()), name
 
 
+def test_assumed_strain_energy_is_its_definition():
+    """The default formulation's axial energy and dissipated power from their definition:
+    the assumed strain is the quadratic with the raw strain's nodal values ``e0, e1`` and
+    element mean ``M`` (8-point Gauss), ``M + a1 P1 + a2 P2`` in shifted Legendre
+    polynomials (``a1 = (e1 - e0)/2``, ``a2 = (e0 + e1)/2 - M``), whose square integrates
+    to ``M^2 + a1^2/3 + a2^2/5``; the energy is ``EA/2`` times that, the power of the
+    Kelvin-Voigt damping ``gamma EA`` times the same of the strain rate."""
+    sec = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0, gamma_axial=0.3, gamma_bending=0.7)
+    truss = Cable.straight([0, 0, 0], [2, 0, 0], 5, sec, law="truss")
+    ne = truss.n_elements
+    gx, gw = np.polynomial.legendre.leggauss(8)
+    rng = np.random.default_rng(11)
+
+    def square_integral(q, v):
+        """``int eps_bar^2 dx`` and ``int eps_bar_dot^2 dx`` over the cable."""
+        xi = np.concatenate([[0.0, 1.0], 0.5 + 0.5 * gx])
+        a, ad = (truss._fields(z, np.arange(ne)[:, None], xi[None, :])[1] for z in (q, v))
+        out = []
+        for raw in (0.5 * ((a * a).sum(-1) - 1), (a * ad).sum(-1)):
+            e0, e1, M = raw[:, 0], raw[:, 1], raw[:, 2:] @ gw / 2
+            a1, a2 = (e1 - e0) / 2, (e0 + e1) / 2 - M
+            out.append(truss.h @ (M**2 + a1**2 / 3 + a2**2 / 5))
+        return out
+
+    for name, q in states(truss).items():
+        v = rng.standard_normal(truss.n_dofs)
+        energy, power = square_integral(q, v)
+        _, info = System([truss]).evaluate(q, v, 0.0, np.zeros(0))
+        assert info["energy"][0] == pytest.approx(sec.EA * energy / 2, rel=1e-12), name
+        assert info["power"][0] == pytest.approx(sec.gamma_axial * sec.EA * power,
+                                                 rel=1e-12), name
+
+
+@pytest.mark.parametrize("formulation", ["assumed-strain", "paper", "lobatto"])
 @pytest.mark.parametrize("kind", ["cable", "truss"])
-def test_force_and_tangent_match_finite_differences(kind):
-    cable = make_cable(kind)
+def test_force_and_tangent_match_finite_differences(kind, formulation):
+    cable = make_cable(kind, formulation=formulation)
     for name, q in states(cable).items():
         U, f, K = numba_eval(cable, q)
         h = 1e-6
@@ -79,10 +116,11 @@ def test_force_and_tangent_match_finite_differences(kind):
         assert np.abs(fd_K - K).max() <= 1e-6 * np.abs(K).max(), name
 
 
-def test_bending_force_and_tangent_alone_match_finite_differences():
+@pytest.mark.parametrize("formulation", ["assumed-strain", "paper"])
+def test_bending_force_and_tangent_alone_match_finite_differences(formulation):
     """The bending part is many orders smaller than the axial part: check it separately."""
-    cable = make_cable("cable")
-    truss = make_cable("truss")
+    cable = make_cable("cable", formulation=formulation)
+    truss = make_cable("truss", formulation=formulation)
     for name, q in states(cable).items():
         def bending(q):
             U1, f1, K1 = numba_eval(cable, q)
@@ -93,7 +131,7 @@ def test_bending_force_and_tangent_alone_match_finite_differences():
         E = np.eye(cable.n_dofs)
         fd_f = np.array([(bending(q + h * e)[0] - bending(q - h * e)[0]) / (2 * h) for e in E])
         fd_K = np.array([(bending(q + h * e)[1] - bending(q - h * e)[1]) / (2 * h) for e in E]).T
-        if name == "straight":
+        if name in ("straight", "compressed"):  # straight: no bending
             assert U == 0 and np.abs(f).max() < 1e-20
             assert np.all(np.isfinite(K)) and np.abs(K).max() > 0
             continue
@@ -151,11 +189,13 @@ def damped_eval(cable, q, v):
             info["f_damping"])
 
 
+@pytest.mark.parametrize("formulation", ["assumed-strain", "paper", "lobatto"])
 @pytest.mark.parametrize("kind", ["cable", "truss"])
-def test_damping_force_and_tangents_match_finite_differences(kind):
+def test_damping_force_and_tangents_match_finite_differences(kind, formulation):
     """For the cable, curved states only: at zero curvature the curvature rate is
     regularised over ``delta = 1e-6/h`` and varies faster than any usable FD step."""
-    cable = Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 4, DAMPED, law=kind)
+    cable = Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 4, DAMPED, law=kind,
+                           formulation=formulation)
     rng = np.random.default_rng(7)
     for name, q in states(cable).items():
         if kind == "cable" and name not in ("curved", "random"):
@@ -177,7 +217,7 @@ def test_damping_force_and_tangents_match_finite_differences(kind):
 
 
 def test_damping_numba_matches_numpy_reference():
-    cable = Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 4, DAMPED)
+    cable = Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 4, DAMPED, formulation="paper")
     rng = np.random.default_rng(3)
     for name, q in states(cable).items():
         v = rng.standard_normal(cable.n_dofs)

@@ -37,8 +37,8 @@ def deformed(cable, seed, size=0.05):
     return q, rng.standard_normal(cable.n_dofs)
 
 
-def make(law, n):
-    return sc.Cable.straight([0, 0, 0], [2, 0, 0], n, DAMPED, law=law)
+def make(law, n, formulation=None):
+    return sc.Cable.straight([0, 0, 0], [2, 0, 0], n, DAMPED, law=law, formulation=formulation)
 
 
 def relative(a, b):
@@ -49,9 +49,9 @@ def relative(a, b):
 @pytest.mark.parametrize("n", [1, 16, 1000])
 @pytest.mark.parametrize("name", LAWS)
 def test_forms_equal_kernel(name, n):
-    """skfem.asm of the law's forms = the compiled kernel (force, df/dq, df/dv) to 1e-12,
-    damping included."""
-    cable = make(LAWS[name], n)
+    """skfem.asm of the law's forms = the compiled kernel of the paper's formulation (force,
+    df/dq, df/dv) to 1e-12, damping included."""
+    cable = make(LAWS[name], n, "paper")
     q, v = deformed(cable, n)
     w = sc.forms.state(cable, q, v)
     L, a = sc.forms.internal(cable)
@@ -72,11 +72,24 @@ def energy(cable, q):
     return info["energy"].sum()
 
 
+@pytest.mark.parametrize("formulation", sc.FORMULATIONS)
+def test_forms_refuse_the_locking_free_formulations(formulation):
+    """The forms express one rule on cable.basis: the other formulations are refused with
+    the formulation named and the one that works."""
+    cable = make("cable", 2, formulation)
+    if formulation == "paper":
+        sc.forms.internal(cable)
+        return
+    with pytest.raises(NotImplementedError, match=f"'{formulation}'.*formulation='paper'"):
+        sc.forms.internal(cable)
+
+
+@pytest.mark.parametrize("formulation", sc.FORMULATIONS)
 @pytest.mark.parametrize("name", LAWS)
-def test_generated_tangents_match_finite_differences(name):
-    """f = dU/dq, K = df/dq and C = df/dv of the generated kernel against central
-    differences (relative 1e-6)."""
-    cable = make(LAWS[name], 3)
+def test_generated_tangents_match_finite_differences(name, formulation):
+    """Every law in every formulation: f = dU/dq, K = df/dq and C = df/dv of the generated
+    kernels against central differences (relative 1e-6)."""
+    cable = make(LAWS[name], 3, formulation)
     q, v = deformed(cable, 7)
     f_static, K_static = cable.assemble(q)
     f, K = cable.assemble(q, v)
@@ -97,9 +110,10 @@ def test_generated_tangents_match_finite_differences(name):
 
 
 def test_builtin_tension_is_the_explicit_formula():
-    """Cable.tension of the generated law: EA eps |r_x| - EI kappa^2 / |r_x| (the previous
-    hand-written formula) on a curved, stretched state."""
-    cable = make("cable", 8)
+    """Cable.tension of the generated law where it is asked (the paper's formulation): EA
+    eps |r_x| - EI kappa^2 / |r_x| (the previous hand-written formula) on a curved,
+    stretched state."""
+    cable = make("cable", 8, "paper")
     q, _ = deformed(cable, 3, size=0.3)
     s = np.linspace(0, cable.length, 23)
     _, a, b = cable.interpolate(q, s)

@@ -54,17 +54,19 @@ def test_elastica_16_elements(k):
 
 
 def test_elastica_converges_with_refinement():
-    """Cubic Hermite elements: the tip error falls by at least 2^2 per halving (observed
-    about 2^3 to 2^4; membrane locking of the stiff axial term spoils the ideal 2^4 on
-    coarse meshes)."""
+    """Cubic Hermite elements without membrane locking (the default formulation): the tip
+    converges at fourth order to the converged model (128 elements; measured 3.90, 3.98,
+    4.00), which is the exact inextensible elastica to its extensibility ``k EI / EA``
+    (the paper's formulation locks: orders 2.3 to 3.6, docs/locking.md)."""
     u_ref, w_ref = elastica_tip_load(5.0)
+    converged = np.array(tip_load_cantilever(5.0, 128)[:2])
     errors = []
     for n in (4, 8, 16, 32):
         u, w, _ = tip_load_cantilever(5.0, n)
-        errors.append(np.hypot(u - u_ref, w - w_ref))
+        errors.append(np.linalg.norm([u, w] - converged))
     rates = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
-    assert np.all(rates > 2.0), rates
-    assert errors[-1] < 1e-4
+    assert np.all(rates > 3.7), rates
+    assert np.hypot(*(converged - [u_ref, w_ref])) < 1e-6
 
 
 def test_pure_moment_rolls_cantilever_into_semicircle():
@@ -156,6 +158,6 @@ def test_slack_truss_failure_says_why_and_what_to_do():
         sc.solve_static(system, max_bisections=2, relax=False)
     text = str(info.value)
     for part in ("cable 'wire' has no bending stiffness (law 'truss')",
-                 "compressed or slack (strain 0", "start from a stretched state",
+                 "compressed or slack (strain ", "start from a stretched state",
                  "law 'cable'"):
         assert part in text, part

@@ -323,7 +323,7 @@ def catenary_reference(case, law="green"):
     return H, VA, VB, sag
 
 
-def catenary_system(case, n_elements, kind="truss", R=None):
+def catenary_system(case, n_elements, kind="truss", R=None, formulation=None):
     """FE model of a catenary case in the frame rotated by ``R`` (default: identity).
 
     The start is stress-free and independent of the answer: the inextensible catenary of
@@ -338,6 +338,8 @@ def catenary_system(case, n_elements, kind="truss", R=None):
     kind : {"truss", "cable"}
     R : ndarray (3, 3), optional
         Rotation of the frame.
+    formulation : str, optional
+        The cable's formulation (default: the library's).
 
     Returns
     -------
@@ -361,7 +363,7 @@ def catenary_system(case, n_elements, kind="truss", R=None):
     zero = np.zeros_like(s)
     positions = np.column_stack([xz[:, 0], zero, xz[:, 1]]) @ R.T
     slopes = np.column_stack([txz[:, 0], zero, txz[:, 1]]) @ R.T
-    cable = sc.Cable(MeshLine(s), sec, positions, slopes, law=kind)
+    cable = sc.Cable(MeshLine(s), sec, positions, slopes, law=kind, formulation=formulation)
     system = sc.System([cable])
     system.pin(cable.node(0), R @ [0.0, 0.0, 0.0])
     system.pin(cable.node(-1), R @ [span, 0.0, height])
@@ -369,7 +371,7 @@ def catenary_system(case, n_elements, kind="truss", R=None):
     return cable, system
 
 
-def catenary_errors(case, n_elements, kind="truss"):
+def catenary_errors(case, n_elements, kind="truss", formulation=None):
     """Relative errors of the FE catenary against ``catenary_reference``.
 
     Parameters
@@ -389,7 +391,7 @@ def catenary_errors(case, n_elements, kind="truss"):
     span, height, L0, sec = CATENARIES[case]
     w = sec.mass_per_length * G
     H, VA, VB, sag = catenary_reference(case)
-    cable, system = catenary_system(case, n_elements, kind)
+    cable, system = catenary_system(case, n_elements, kind, formulation=formulation)
     state = sc.solve_static(system, load_steps=2)
     lam_a, lam_b = (state.multipliers[c.name] for c in system.constraints)
     support_a, support_b = -lam_a, -lam_b
@@ -615,23 +617,37 @@ def test_elastic_catenary_8_elements(case, kind):
     assert np.all(freqs > 0), freqs
 
 
-def test_elastic_catenary_converges():
+#: Support force ``H`` and midspan sag of the rope with 16 elements (relative errors), and the
+#: least order of the positions from 4 to 16 elements, per formulation: the paper's
+#: formulation integrates the curved, unevenly stretched truss exactly (H 6.8e-10, sag
+#: 1.8e-7, positions 3.8 and 3.8); the assumed strain keeps the element means of the strain
+#: but not their first moments, which costs the positions an order (H 1.6e-7, sag 2.0e-6,
+#: positions 2.9 and 3.0; docs/locking.md).
+CATENARY_BOUNDS = {"paper": (1e-8, 1e-6, 3.5), "assumed-strain": (3e-7, 3e-6, 2.8)}
+
+
+@pytest.mark.parametrize("formulation", sorted(CATENARY_BOUNDS))
+def test_elastic_catenary_converges(formulation):
     """The support forces converge at fourth order or better (5.3 and 5.7 measured for the
-    rope from 4 to 16 elements)."""
+    rope from 4 to 16 elements with the paper's formulation, 3.8 and 3.9 with the assumed
+    strain), the positions as ``CATENARY_BOUNDS`` says."""
+    H_bound, sag_bound, position_order = CATENARY_BOUNDS[formulation]
     ns = (4, 8, 16)
-    errors = [catenary_errors("rope", n) for n in ns]
+    errors = [catenary_errors("rope", n, formulation=formulation) for n in ns]
     for key in ("H", "V"):
         rates = observed_rates(ns, [e[key] for e in errors])
         assert np.all(rates > 3.5), (key, rates)
-    assert errors[-1]["H"] < 1e-8 and errors[-1]["sag"] < 1e-6
+    assert np.all(observed_rates(ns, [e["position"] for e in errors]) > position_order)
+    assert errors[-1]["H"] < H_bound and errors[-1]["sag"] < sag_bound
 
 
 def test_catenary_tension_is_the_true_force():
     """``State.tension`` is the force carried by the section (``EA eps |r_x|``): it matches
-    ``sqrt(H^2 + V(s)^2)`` of the exact solution.  The soft rope (2.7 % strain) is used:
-    the tension of the stiff steel rod is a small difference of slopes (see the docs)."""
+    ``sqrt(H^2 + V(s)^2)`` of the exact solution to 1e-5 with 16 elements (measured 2.0e-6
+    with the default formulation's recovered tension, 6.4e-5 with the paper's raw strain).
+    The soft rope (2.7 % strain) is used, where the Green law differs from Hooke's."""
     err = catenary_errors("rope", 16)
-    assert err["tension"] < 1e-4, err["tension"]
+    assert err["tension"] < 1e-5, err["tension"]
     H_hooke = catenary_reference("rope", law="hooke")[0]
     lam_a = err["state"].multipliers[err["system"].constraints[0].name]
     assert abs(lam_a[0] / H_hooke - 1) > 100 * err["H"]  # the Green law is what is tested

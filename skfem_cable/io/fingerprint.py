@@ -156,7 +156,7 @@ def describe_system(system):
         section = getattr(body, "section", None)
         if section is not None:
             entry["section"] = d(section, 1)
-        for attr in ("intorder", "locking_free", "mass", "center_of_mass", "inertia",
+        for attr in ("intorder", "formulation", "mass", "center_of_mass", "inertia",
                      "radius", "drive"):
             if hasattr(body, attr) and not callable(getattr(body, attr)):
                 entry[attr] = d(getattr(body, attr), 1)

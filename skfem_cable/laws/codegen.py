@@ -12,7 +12,13 @@ The generated module holds, for the law's expressions (``CableLaw.symbolic``):
   ``Hc = D_xd,xd``;
 * ``force_tangent``, the element loop of ``kernels.cable`` compiled around them, and
   ``kernel``, its hook of the evaluation contract (``contract.Term.kernels``);
-* ``numpy_point(x, xd, prm, h)``, the same quantities vectorised over points (numpy).
+* ``numpy_point(x, xd, prm, h)``, the same quantities vectorised over points (numpy);
+* for the axial part in the Green strain (``CableLaw.strain``): ``strain_point(e, prm, h)
+  -> (W, s, k)`` (energy, stress ``s = W'`` and ``k = W''``), ``strain_point_d(e, ed, prm,
+  h) -> (W, P, s, k, c, sd)`` with ``s = W' + D_ed``, ``k = ds/de``, ``c = ds/ded``, the
+  damping stress ``sd = D_ed`` and the power ``P = D_ed ed``, the element loop of
+  ``kernels.assumed_strain`` around them (``strain_force_tangent``, ``strain_kernel``) and
+  ``numpy_strain(e, prm, h)`` (``W`` and ``s``, vectorised).
 
 Each is common-subexpression eliminated (``sympy.cse``).  The modules live in the
 ``laws`` folder of the cache of ``kernels.generated``; a module's name carries a digest of
@@ -27,12 +33,12 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
+from ..kernels import assumed_strain, generated
 from ..kernels import cable as template
-from ..kernels import generated
 from .symbolic import SLOPE_FLOOR
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "5"
+GENERATOR = "6"
 
 
 class _ScalarPrinter(PythonCodePrinter):
@@ -93,12 +99,31 @@ def derivatives(sym, damped):
     return {k: _smooth(v) for k, v in out.items()}
 
 
-def _body(outputs, sym, printer, indent, rates):
-    """Lines computing ``outputs`` (target -> expr) after unpacking the inputs."""
-    used = set().union(*(e.free_symbols for e in outputs.values()))
+def strain_derivatives(strain, damped):
+    """Named output expressions of the strain point functions: ``W``, ``s``, ``k`` (and,
+    if ``damped``, with the dissipation: ``P``, ``c``, ``sd``)."""
+    e, ed = strain.e, strain.ed
+    s = sp.diff(strain.W, e)
+    out = {"W": strain.W, "s": s, "k": sp.diff(s, e)}
+    if damped:
+        sd = sp.diff(strain.D, ed)
+        out.update(P=sd * ed, s=s + sd, k=sp.diff(s + sd, e), c=sp.diff(sd, ed), sd=sd)
+    return {k: _smooth(v) for k, v in out.items()}
+
+
+def _unpack(sym, used, rates):
+    """Lines unpacking the inputs of a point function (6 fields ``x``, ``xd``) that the
+    expressions use."""
     lines = [f"{s} = x[{i}]" for i, s in enumerate(sym.x) if s in used]
     if rates:
         lines += [f"{s} = xd[{i}]" for i, s in enumerate(sym.xd) if s in used]
+    return lines
+
+
+def _body(outputs, sym, printer, indent, rates, unpack=_unpack):
+    """Lines computing ``outputs`` (target -> expr) after unpacking the inputs."""
+    used = set().union(*(e.free_symbols for e in outputs.values()))
+    lines = unpack(sym, used, rates)
     lines += [f"{k} = prm[{i}]" for i, (k, s) in enumerate(sym.params.items()) if s in used]
     targets = list(outputs)
     # equal entries (a symmetric Hessian) are computed once
@@ -120,9 +145,10 @@ def _body(outputs, sym, printer, indent, rates):
     return [indent + line for line in lines]
 
 
-def _scalar_function(name, args, outputs, returns, sym, rates):
+def _scalar_function(name, args, outputs, returns, sym, rates, unpack=_unpack):
     lines = ["@njit(cache=True)", f"def {name}({', '.join(args)}):"]
-    lines += _body(outputs, sym, _ScalarPrinter({"standard": "python3"}), "    ", rates)
+    lines += _body(outputs, sym, _ScalarPrinter({"standard": "python3"}), "    ", rates,
+                   unpack)
     lines.append(f"    return {', '.join(returns)}")
     return "\n".join(lines)
 
@@ -145,6 +171,34 @@ def _numpy_function(outputs, sym):
     return "\n".join(lines)
 
 
+def _unpack_strain(strain, used, rates):
+    """Lines naming the strain point functions' inputs ``e``, ``ed`` as the symbols."""
+    lines = [f"{strain.e} = e"] if strain.e in used else []
+    if rates and strain.ed in used:
+        lines.append(f"{strain.ed} = ed")
+    return lines
+
+
+def _strain_functions(strain):
+    """The strain point functions and ``numpy_strain`` of the axial part ``strain``."""
+    elastic = strain_derivatives(strain, damped=False)
+    lines = ["def numpy_strain(e, prm, h):",
+             '    """Axial energy W and stress s = dW/de at Green strains e (numpy)."""']
+    lines += _body({t: elastic[t] for t in ("W", "s")}, strain,
+                   _VectorPrinter({"standard": "python3"}), "    ", False, _unpack_strain)
+    lines += ["    shape = numpy.shape(e)",
+              "    return {'W': numpy.broadcast_to(W, shape) * 1.0,",
+              "            's': numpy.broadcast_to(s, shape) * 1.0}"]
+    return [
+        _scalar_function("strain_point", ("e", "prm", "h"), elastic, ("W", "s", "k"),
+                         strain, False, _unpack_strain),
+        _scalar_function("strain_point_d", ("e", "ed", "prm", "h"),
+                         strain_derivatives(strain, damped=True),
+                         ("W", "P", "s", "k", "c", "sd"), strain, True, _unpack_strain),
+        "\n".join(lines),
+    ]
+
+
 def source(law):
     """The text of the generated module of ``law``."""
     sym = law.symbolic
@@ -156,12 +210,15 @@ def source(law):
         **{f"Hc[{i}, {j}]": sp.Integer(0) for i in range(6) for j in range(6)}}
     loop = inspect.getsource(template.force_tangent)
     hook = inspect.getsource(template.kernel)
+    strain_loop = inspect.getsource(assumed_strain.strain_force_tangent)
+    strain_hook = inspect.getsource(assumed_strain.strain_kernel)
     parts = [
         f'"""Generated by skfem_cable.laws.codegen for the law {law.name!r} '
         f'(parameters {", ".join(law.parameters) or "none"}).  Do not edit: regenerated '
         'when the law or the generator changes."""',
         "import math  # noqa: F401\n\nimport numpy  # noqa: F401\nimport numpy as np\n"
-        "from numba import njit",
+        "from numba import njit\n\n"
+        "from skfem_cable.kernels.assumed_strain import MAP  # noqa: F401",
         f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}",
         f"PARAMETERS = {law.parameters!r}",
         _scalar_function("point_g", ("x", "prm", "h", "G"), _select(undamped, ("ea", "eb", "G")),
@@ -177,6 +234,9 @@ def source(law):
         "@njit(cache=True)\n" + loop,
         "@njit(cache=True)\n" + hook,
         _numpy_function(d, sym),
+        *_strain_functions(law.strain),
+        "@njit(cache=True)\n" + strain_loop,
+        "@njit(cache=True)\n" + strain_hook,
     ]
     return "\n\n\n".join(parts) + "\n"
 
@@ -185,7 +245,8 @@ def module_name(law):
     """Module name of ``law``: its name and a digest of its expressions, the template and
     the generator."""
     digest = generated.digest(law.key, GENERATOR, inspect.getsource(template.force_tangent),
-                              inspect.getsource(template.kernel), repr(law.parameters),
+                              inspect.getsource(template.kernel),
+                              inspect.getsource(assumed_strain), repr(law.parameters),
                               sp.__version__)
     safe = re.sub(r"\W", "_", law.name)[:40]
     return f"skfem_cable_law_{safe}_{digest}"

@@ -10,7 +10,9 @@ them once with symbols gives two expressions; everything else is derived:
   (``sympy``), printed as a compiled kernel (``laws.codegen``) and as vectorised numpy for
   the scikit-fem forms (``forms``);
 * the split of the energy (and of the dissipated power ``D_xd . xd``) into an axial part,
-  the terms of ``W`` (``D``) that do not involve ``b``, and a bending part, the others.
+  the terms of ``W`` (``D``) that do not involve ``b``, and a bending part, the others;
+* the axial part written in the Green strain ``e = (|a|^2 - 1)/2`` and its rate
+  ``ed = a . ad`` (``CableLaw.strain``), which the assumed-strain cable interpolates.
 
 Parameters are looked up by name: the law's own values (``with_parameters`` or the
 function's defaults) first, then the attributes of the cable's ``Section`` (``EA``,
@@ -25,10 +27,15 @@ from dataclasses import dataclass, replace
 import numpy as np
 import sympy as sp
 
-from .symbolic import power
+from .symbolic import SLOPE_FLOOR, floored, power
 
 #: Parameter names the framework supplies per element instead of the section.
 ELEMENT_PARAMETERS = ("h",)
+
+
+#: Green strain and its rate as symbols of ``CableLaw.strain`` (named apart from any
+#: parameter a law may declare).
+STRAIN_SYMBOLS = ("eps_", "epsdot_")
 
 
 @dataclass(frozen=True)
@@ -43,6 +50,20 @@ class Symbolic:
     h: sp.Symbol
     W: tuple
     D: tuple
+
+
+@dataclass(frozen=True)
+class Strain:
+    """The axial part of a law in the Green strain: symbols ``e`` and ``ed`` (its rate),
+    ``params`` and ``h`` as in ``Symbolic``; the energy density ``W(e)`` and the
+    dissipation density ``D(e, ed)`` per unit reference length."""
+
+    e: sp.Symbol
+    ed: sp.Symbol
+    params: dict
+    h: sp.Symbol
+    W: sp.Expr
+    D: sp.Expr
 
 
 def _signature(fn, fields, what):
@@ -67,6 +88,14 @@ def _powers(expr, fields):
     return expr.replace(
         lambda e: e.is_Pow and bool(e.exp.free_symbols) and not e.exp.free_symbols & fields,
         lambda e: power(e.base, e.exp))
+
+
+def _number(expr, point):
+    """The value of ``expr`` at ``point`` (symbol -> number), its ``floored`` and
+    ``power`` evaluated as what they stand for."""
+    plain = expr.replace(floored, lambda p: sp.Max(p, SLOPE_FLOOR)).replace(
+        power, lambda base, exponent: base**exponent)
+    return float(plain.subs(point))
 
 
 def _split(expr, b_symbols):
@@ -114,6 +143,7 @@ class CableLaw:
         self._key = None
         self._dissipates = {}
         self._parts = {}
+        self._strain = None
 
     def __repr__(self):
         return f"CableLaw({self.name!r})"
@@ -140,6 +170,7 @@ class CableLaw:
             part.name = f"{self.name}-{('axial', 'bending')[which]}"
             part._symbolic = replace(s, W=tuple(W), D=tuple(D))
             part._compiled, part._key, part._dissipates, part._parts = None, None, {}, {}
+            part._strain = None
             self._parts[which] = part
         return self._parts[which]
 
@@ -185,6 +216,57 @@ class CableLaw:
             raise TypeError(f"law {self.name!r}: the {what} must be a scalar expression, "
                             f"got {type(expr).__name__}")
         return expr
+
+    @property
+    def strain(self):
+        """The axial part of the law (its terms without ``b``) as a function of the Green
+        strain ``e = (|a|^2 - 1)/2`` and its rate ``ed = a . ad`` (a ``Strain``), found by
+        putting ``a = (sqrt(1 + 2 e), 0, 0)`` and ``ad = (ed / sqrt(1 + 2 e), 0, 0)``.
+
+        That is the same law when the axial part depends on ``a`` and ``ad`` only through
+        the stretch ``|a|`` and its rate, as the law of an isotropic section must (a
+        rotated cable stores the same energy, and a rigid rotation dissipates nothing);
+        ``check_strain`` verifies it.  The assumed-strain cable evaluates this form."""
+        if self._strain is None:
+            s = self.symbolic
+            e, ed = sp.symbols(STRAIN_SYMBOLS, real=True)
+            stretch = sp.sqrt(1 + 2 * e)
+            subs = {**dict(zip(s.x[:3], (stretch, 0, 0))),
+                    **dict(zip(s.xd[:3], (ed / stretch, 0, 0)))}
+            self._strain = Strain(e, ed, s.params, s.h, s.W[0].subs(subs), s.D[0].subs(subs))
+        return self._strain
+
+    def check_strain(self, points=3, rtol=1e-9):
+        """Verify that the axial part equals its ``strain`` form: at ``points`` random
+        stretches, directions and rates of ``a`` (fixed seed), with random parameter
+        values in [0.5, 2].
+
+        Raises
+        ------
+        ValueError
+            The axial part depends on the direction of ``a`` (or of its rate): it names
+            the formulations that do not need the strain form.
+        """
+        s, strain = self.symbolic, self.strain
+        rng = np.random.default_rng(7)
+        for _ in range(points):
+            a = rng.standard_normal(3)
+            a *= (1.0 + 0.2 * rng.random()) / np.linalg.norm(a)
+            ad = rng.standard_normal(3)
+            values = {p: 0.5 + 1.5 * rng.random() for p in (*s.params.values(), s.h)}
+            point = {**dict(zip(s.x[:3], a)), **dict(zip(s.xd[:3], ad)), **values,
+                     strain.e: (a @ a - 1) / 2, strain.ed: a @ ad}
+            for label, part, form in (("energy", s.W[0], strain.W),
+                                      ("dissipation", s.D[0], strain.D)):
+                got, want = _number(form, point), _number(part, point)
+                if not abs(got - want) <= rtol * (abs(want) + abs(got)) + 1e-300:
+                    raise ValueError(
+                        f"law {self.name!r}: the axial part of its {label} density (the "
+                        "terms without r_xx) is not a function of the stretch |r_x| and "
+                        "its rate alone (it changes when r_x turns); the assumed-strain "
+                        "formulation needs one: write it with green_strain(a), norm(a) "
+                        "and dot(a, ad), or build the cable with formulation='paper' or "
+                        "'lobatto'")
 
     @property
     def bending(self):

@@ -90,7 +90,7 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
     summary : dict
     result : RodChainResult
     """
-    options.reject(name, "alpha", "every", "locking_free")
+    options.reject(name, "alpha", "every", "formulation")
     if options.resume:
         raise ValueError(f"scene {name!r} is a rod-chain run, which has no checkpoint and "
                          "cannot be resumed: run it again with --overwrite")

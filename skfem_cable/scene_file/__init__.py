@@ -72,7 +72,7 @@ def load(path, elements=None):
 
 def run(path, options):
     """Run a scene file into the run directory ``options.out``; returns the summary."""
-    options.reject(Path(path).name, "alpha", "locking_free")
+    options.reject(Path(path).name, "alpha", "formulation")
     spec = load(path, options.elements)
     kind = chain_scene if isinstance(spec, ChainSceneSpec) else system_scene
     return kind.run(path, spec, options)

@@ -5,9 +5,10 @@ point masses and loads use.  ``Bodies`` holds what was defined so far, by name."
 import numpy as np
 
 from ..cable import Cable
+from ..formulation import DEFAULT, FORMULATIONS
 from ..rigid import RigidBody
 from ..section import Section
-from .schema import boolean, choice, count, integer, non_negative, positive, rotation, text, vector3
+from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
 
 
 class Bodies:
@@ -99,10 +100,10 @@ def read_cable(t, bodies):
     if n is None:
         t.fail("elements", "is required")
     kind = t.get("kind", choice("cable", "truss"), "cable")
-    locking_free = t.get("locking_free", boolean, False)
+    formulation = t.get("formulation", choice(*FORMULATIONS), DEFAULT)
     t.finish()
     cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
-                           law=kind, name=name, locking_free=locking_free)
+                           law=kind, name=name, formulation=formulation)
     bodies.add(t, cable)
 
 

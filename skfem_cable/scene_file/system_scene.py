@@ -67,7 +67,7 @@ def build(root, elements=None):
 def run(path, spec, options):
     """Run the ``SceneSpec`` read from ``path`` into the run directory ``options.out``;
     returns the summary."""
-    options.reject(Path(path).name, "alpha", "locking_free")
+    options.reject(Path(path).name, "alpha", "formulation")
     name = Path(path).stem
     parameters = {"file": str(path), "title": spec.title}
     if spec.analysis == "dynamic":

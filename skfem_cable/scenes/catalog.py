@@ -102,32 +102,31 @@ def elastica_row(cable, k, state):
 def cantilever(options):
     """Static elastica: tip loads ``k = P L^2 / EI = 1, 2, 5, 10``, each solved from the
     straight cable (20 load steps) and compared with the exact elastica; the
-    VTU series uses ``k`` as its time value, so ParaView steps through the loads.  The
-    cable is locking-free unless ``--paper-formulation``: bending-dominated, it would
-    otherwise report tension stripes tens of times the load."""
+    VTU series uses ``k`` as its time value, so ParaView steps through the loads
+    (``--formulation paper`` shows the tension stripes of membrane locking)."""
     options.reject("cantilever", "t_end", "dt", "every", "alpha")
     n = options.value("elements", 16)
     section = classics.ELASTICA_SECTION
     rows, steps = [], []
     for k in (1.0, 2.0, 5.0, 10.0):
-        scene = classics.cantilever(n, k, locking_free=options.value("locking_free", True))
+        scene = classics.cantilever(n, k, formulation=options.formulation)
         state = solve_static(scene.system, load_steps=20)
         rows.append(elastica_row(scene.cable, k, state))
         steps.append((k, state))
     parameters = {"elements": n, "EA L^2/EI": section.EA / section.EI,
-                  "locking_free": scene.cable.locking_free}
+                  "formulation": scene.cable.formulation}
     return run_static("cantilever", scene.system, steps, options, parameters,
                       {"elastica": rows}, title="cantilever, k = P L^2/EI = 10")
 
 
-def cantilever_point(elements=16, k=5.0, locking_free=False, load_steps=20):
+def cantilever_point(elements=16, k=5.0, formulation=None, load_steps=20):
     """One point of the cantilever convergence study (``benchmarks/
     cantilever_convergence.py``) as a sweep's scene: ``elements`` elements, tip load
     ``k = P L^2 / EI``, solved in ``load_steps`` steps; run it with
     ``run_cantilever_point``."""
-    scene = classics.cantilever(elements, k, locking_free=locking_free)
+    scene = classics.cantilever(elements, k, formulation=formulation)
     return RunScene("cantilever", scene.system, scene.initial, {"load_steps": load_steps},
-                    {"elements": elements, "k": k, "locking_free": locking_free})
+                    {"elements": elements, "k": k, "formulation": scene.cable.formulation})
 
 
 def run_cantilever_point(scene, options):
@@ -140,30 +139,29 @@ def run_cantilever_point(scene, options):
                       row, title=f"cantilever, k = {k:g}")
 
 
-def pendulum_scene(elements=16, locking_free=False, t_end=1.0, dt=1e-3, every=10):
+def pendulum_scene(elements=16, formulation=None, t_end=1.0, dt=1e-3, every=10):
     """The ``pendulum`` scene (``classics.pendulum``) with ``elements`` cable elements,
     run to ``t_end`` with step ``dt``, every ``every``-th step saved."""
-    scene = classics.pendulum(n_elements=elements, locking_free=locking_free)
+    scene = classics.pendulum(n_elements=elements, formulation=formulation)
     return RunScene("pendulum", scene.system, scene.initial,
                     {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
                     {"elements": scene.cable.n_elements, "length": scene.cable.length,
-                     "locking_free": scene.cable.locking_free})
+                     "formulation": scene.cable.formulation})
 
 
 def pendulum(options):
     """Flexible pendulum released horizontally (``classics.pendulum``)."""
     options.reject("pendulum", "alpha")
-    return pendulum_scene(options.value("elements", 16),
-                          options.value("locking_free", False)).run(options)
+    return pendulum_scene(options.value("elements", 16), options.formulation).run(options)
 
 
-def spinning_tether_scene(elements=10, locking_free=False, spin=2.0, tip_mass=0.5, t_end=5.0,
+def spinning_tether_scene(elements=10, formulation=None, spin=2.0, tip_mass=0.5, t_end=5.0,
                           dt=5e-3, every=4):
     """Tether with a tip mass spinning about z (``classics.spinning_tether``); its
     outputs compare the mean root tension with the rigid rotating cable
     ``m W^2 L + rho A W^2 L^2 / 2``."""
     scene = classics.spinning_tether(n_elements=elements, spin=spin, tip_mass=tip_mass,
-                                     locking_free=locking_free)
+                                     formulation=formulation)
     cable = scene.cable
     L, mu = cable.length, cable.section.mass_per_length
     rigid = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
@@ -176,17 +174,17 @@ def spinning_tether_scene(elements=10, locking_free=False, spin=2.0, tip_mass=0.
     return RunScene("spinning-tether", scene.system, scene.initial,
                     {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
                     {"elements": cable.n_elements, "spin": spin, "tip_mass": tip_mass,
-                     "locking_free": cable.locking_free}, outputs)
+                     "formulation": cable.formulation}, outputs)
 
 
 def spinning_tether(options):
     """``spinning_tether_scene`` (2 rad/s, 0.5 kg tip mass) run by ``skfem-cable run``."""
     options.reject("spinning-tether", "alpha")
     return spinning_tether_scene(options.value("elements", 10),
-                                 options.value("locking_free", False)).run(options)
+                                 options.formulation).run(options)
 
 
-def esail_scene(alpha=10.0, voltage=20e3, elements=5, locking_free=False, t_end=None, dt=0.1,
+def esail_scene(alpha=10.0, voltage=20e3, elements=5, formulation=None, t_end=None, dt=0.1,
                 every=50):
     """The baseline E-sail (``esail.build``, 12 tethers of ``elements`` cable elements) at
     sailing angle ``alpha`` (deg) and tether voltage ``voltage`` (V), run to ``t_end``
@@ -197,11 +195,11 @@ def esail_scene(alpha=10.0, voltage=20e3, elements=5, locking_free=False, t_end=
     from . import esail
 
     cfg = esail.BaselineConfig(voltage=voltage)
-    scene = esail.build(cfg, alpha, elements, locking_free=locking_free)
+    scene = esail.build(cfg, alpha, elements, formulation=formulation)
     settings = {"t_end": 3 * cfg.spin_period if t_end is None else t_end, "dt": dt,
                 "every": every, "rho_inf": 0.25, "series_every": 12}
     parameters = {"alpha_deg": alpha, "voltage": voltage, "elements_per_tether": elements,
-                  "tethers": cfg.n_tethers, "locking_free": scene.tethers[0].locking_free}
+                  "tethers": cfg.n_tethers, "formulation": scene.tethers[0].formulation}
     return RunScene("esail", scene.system, scene.initial, settings, parameters,
                     lambda result: esail_numbers(scene, result))
 

@@ -125,10 +125,10 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     return np.interp(s, grid, r), np.interp(s, grid, lam)
 
 
-def build(config, alpha_deg, n_elements, kind="cable", locking_free=False):
+def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
     """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
-    ``n_elements`` elements per tether of ``kind`` ("cable" or "truss"), locking-free or
-    in the paper's formulation (``Cable``'s ``locking_free``).
+    ``n_elements`` elements per tether of ``kind`` ("cable" or "truss") in the
+    ``formulation`` of ``Cable`` (None: the default; ``"paper"`` is the paper's own).
 
     The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
@@ -160,7 +160,7 @@ def build(config, alpha_deg, n_elements, kind="cable", locking_free=False):
         e = C_I_B @ radial_B[i]
         cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
                                      sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
-                      law=kind, name=f"tether{i + 1}", locking_free=locking_free)
+                      law=kind, name=f"tether{i + 1}", formulation=formulation)
         tethers.append(cable)
     system = System([hub, *tethers])
     for cable, x in zip(tethers, anchors):
@@ -309,10 +309,11 @@ def rigid_coning(config, out, tether=0):
     return sol.y[0]
 
 
-def spinning_tether(config, n_elements=5):
+def spinning_tether(config, n_elements=5, formulation=None):
     """One tether of the sail in the frame rotating with the nominal spin about x: pinned
     at the hub rim (to ground), its remote unit at the tip, centrifugal loads, starting
-    from the analytic steady stretch (the system of Table 2's frequencies)."""
+    from the analytic steady stretch (the system of Table 2's frequencies);
+    ``formulation``: see ``Cable``."""
     from skfem import MeshLine
 
     sec, L = config.section, config.tether_length
@@ -320,7 +321,8 @@ def spinning_tether(config, n_elements=5):
     r, lam = rotating_cable_stretch(s, config.hub_radius, L, sec.EA, sec.mass_per_length,
                                     config.remote_mass, config.spin_rate)
     e = np.array([0.0, 1.0, 0.0])
-    cable = Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e, name="tether1")
+    cable = Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e, name="tether1",
+                  formulation=formulation)
     system = System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1),
                                                                config.remote_mass)
     system.add_centrifugal([config.spin_rate, 0.0, 0.0])
@@ -471,7 +473,7 @@ def run(options):
     cfg = BaselineConfig()
     alpha = options.value("alpha", 10.0)
     scene = build(cfg, alpha, options.value("elements", 5),
-                  locking_free=options.value("locking_free", False))
+                  formulation=options.formulation)
 
     def key_numbers(result):
         out = outputs(scene, result)
@@ -496,6 +498,6 @@ def run(options):
                 "series_every": 12}
     parameters = {"alpha_deg": alpha, "elements_per_tether": scene.tethers[0].n_elements,
                   "tethers": cfg.n_tethers, "kind": "cable",
-                  "locking_free": scene.tethers[0].locking_free}
+                  "formulation": scene.tethers[0].formulation}
     return run_dynamic("esail", scene.system, scene.initial, options, defaults, parameters,
                        key_numbers)[0]

@@ -186,28 +186,38 @@ def equilibrium(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line
 
 
 def _least_strains(system, q, samples=8):
-    """``(cable, s, strain)`` at the least strain of each cable without bending stiffness
-    (the truss law) in the state ``q``, sampled ``samples`` times per element."""
+    """``(cable, s, strain)`` at the least strain of each cable in the state ``q``, sampled
+    ``samples`` times per element."""
     for cable in system.cables():
-        if cable.bending:
-            continue
         s = np.linspace(0.0, cable.length, samples * cable.n_elements + 1)
         strain = cable.strain(q[system.dofs(cable)], s)
         k = int(np.argmin(strain))
         yield cable, s[k], strain[k]
 
 
+def crumpling_strain(cable):
+    """The compression (a negative strain) beyond which an equilibrium of ``cable`` on a
+    path that started slack is spurious: the Euler strain ``pi^2 I / (A h^2)`` of a pinned
+    strut as long as its longest element (zero without bending stiffness).  Beyond it even
+    one element buckles, and the cable has crumpled between its nodes or folded over on
+    itself, a state the discrete law cannot tell from a compressed one."""
+    if not cable.bending:
+        return 0.0
+    section = cable.section
+    return -np.pi**2 * section.I / (section.A * float(cable.h.max()) ** 2)
+
+
 def _admissible(system, q, tol, history):
-    """False (noted in ``history``) when a cable without bending stiffness is compressed in
-    the state ``q`` (strain below ``-sqrt(tol)``).  Checked on the equilibria reached by
-    relaxation or while a constraint violation is closed, paths that start slack: there
-    such an equilibrium is spurious (the cable crumples between the quadrature points, or
-    stands as an arch) and the step is refused, to be bisected.  (A truss built compressed
-    and solved by Newton's method keeps its unstable straight equilibrium, which ``modes``
-    reports.)"""
+    """False (noted in ``history``) when a cable is compressed beyond its
+    ``crumpling_strain`` (less ``sqrt(tol)``) in the state ``q``.  Checked on the
+    equilibria reached by relaxation or while a constraint violation is closed, paths that
+    start slack: there such an equilibrium is spurious (the cable crumples between its
+    nodes, folds over, or, without bending, stands as an arch) and the step is refused, to
+    be bisected.  (A cable built compressed and solved by Newton's method keeps its
+    unstable straight equilibrium, which ``modes`` reports.)"""
     for cable, s, strain in _least_strains(system, q):
-        if strain < -np.sqrt(tol):
-            history.append(f"cable {cable.name!r} without bending compressed (strain "
+        if strain < crumpling_strain(cable) - np.sqrt(tol):
+            history.append(f"cable {cable.name!r} compressed beyond crumpling (strain "
                            f"{strain:.3g} at s = {s:.4g} m): refused")
             return False
     return True
@@ -219,7 +229,7 @@ def _without_bending(system, q):
     ``q`` (its tangent then has no stiffness across the cable), with what to do."""
     reasons = []
     for cable, s, strain in _least_strains(system, q):
-        if strain <= 0.0:
+        if not cable.bending and strain <= 0.0:
             reasons.append(
                 f"cable {cable.name!r} has no bending stiffness (law {cable.law.name!r}) and "
                 f"is compressed or slack (strain {strain:.3g} at s = {s:.4g} m): "
@@ -340,13 +350,18 @@ class _Newton:
     #: A relaxation step is refused when it multiplies the merit by more than this.
     RELAX_GROWTH = 2.0
 
+    #: A relaxation whose mass shift has grown to this many times its start takes steps
+    #: too small to move: it stops (the load step is then bisected).
+    RELAX_STALL = 1e12
+
     def relax(self, qk, lamk, factor):
         """Pseudo-transient continuation from ``(qk, lamk)`` (Kelley & Keyes, SIAM J.
         Numer. Anal. 35, 1998): steps ``(K + c M) dx = -r`` (constraints kept in the KKT
         system) with a mass shift ``c`` (1/s^2) that follows the residual (switched
         evolution relaxation, ``c <- c (m_k / m_{k-1})^2`` for the merit ``m``, the factor
         kept in [0.01, 100]); a step that multiplies the merit by more than
-        ``RELAX_GROWTH`` is refused and the shift multiplied by 10.  With a large shift it
+        ``RELAX_GROWTH`` is refused and the shift multiplied by 10, up to ``RELAX_STALL``
+        times its start, where the relaxation stops.  With a large shift it
         is an implicit, strongly damped pseudo-dynamics (dynamic relaxation): the mass
         term keeps the tangent of a slack or compressed cable regular; as the residual
         vanishes the shift does too (below ``1e-12`` of its start it is zero) and the last
@@ -370,6 +385,9 @@ class _Newton:
                 # close enough for Newton's method (and its round-off floor test)
                 ok, more, qk, lamk, tail = self.solve(qk, lamk, factor)
                 return ok, it + more, qk, lamk, history + tail
+            if c > self.RELAX_STALL * c0:
+                history.append("relaxation stalled")
+                return False, it, qk, lamk, history
             try:
                 self.solver.factor(data + c * lay.mass_data)
             except SingularMatrixError:
