@@ -164,7 +164,7 @@ ENTRIES = (
     Entry("slack_catenary.py",
           "largest position error of the catenary found from the straight 12 m start, "
           "against the elastic catenary, 16 elements",
-          "< 1e-5 of the span", "tests/test_slack_statics.py::test_demo_slack_catenary",
+          "< 2e-5 of the span", "tests/test_slack_statics.py::test_demo_slack_catenary",
           "The cable hung between points 10 m apart, and the convergence of its errors."),
     Entry("spinning_hub_steady.toml",
           "tether tension against the rotating string anchored at the hub rim, and the tip "

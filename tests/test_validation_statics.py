@@ -76,8 +76,9 @@ def transverse_pairs(freqs, fraction, count, pair_rtol=1e-9):
     return first
 
 
-def beam_modes(n_elements, supports, k=None, section=STEEL, length=1.0):
-    """Modes of a straight, stress-free beam along x.
+def beam_modes(n_elements, supports, k=None, section=STEEL, length=1.0, formulation=None):
+    """Modes of a straight, stress-free beam along x (in ``formulation``, default the
+    library's).
 
     Parameters
     ----------
@@ -95,7 +96,8 @@ def beam_modes(n_elements, supports, k=None, section=STEEL, length=1.0):
     fraction : ndarray
         Axial fraction of each mode.
     """
-    cable = sc.Cable.straight([0, 0, 0], [length, 0, 0], n_elements, section)
+    cable = sc.Cable.straight([0, 0, 0], [length, 0, 0], n_elements, section,
+                              formulation=formulation)
     system = sc.System([cable])
     if supports == "clamped-free":
         system.clamp(cable.node(0))

@@ -185,40 +185,65 @@ def equilibrium(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line
     return converged_state
 
 
-def _least_strains(system, q, samples=8):
-    """``(cable, s, strain)`` at the least strain of each cable in the state ``q``, sampled
+def _least_strain(cable, q, samples=8):
+    """``(s, strain)`` at the least strain of ``cable`` at its coordinates ``q``, sampled
     ``samples`` times per element."""
-    for cable in system.cables():
-        s = np.linspace(0.0, cable.length, samples * cable.n_elements + 1)
-        strain = cable.strain(q[system.dofs(cable)], s)
-        k = int(np.argmin(strain))
-        yield cable, s[k], strain[k]
+    s = np.linspace(0.0, cable.length, samples * cable.n_elements + 1)
+    strain = cable.strain(q, s)
+    k = int(np.argmin(strain))
+    return s[k], strain[k]
+
+
+def _least_element_strain(cable, q):
+    """``(s, strain)``: the least element mean of the Green strain of the cubic field of
+    ``cable`` at its coordinates ``q`` (3-point Gauss, exact), at the element's middle:
+    independent of the formulation, and of membrane locking, which stripes the strain
+    within the elements."""
+    xi, w = np.polynomial.legendre.leggauss(3)
+    e = np.repeat(np.arange(cable.n_elements), 3)
+    means = (cable.green(q, e, np.tile(0.5 + 0.5 * xi, cable.n_elements)).reshape(-1, 3)
+             @ w) / 2
+    k = int(np.argmin(means))
+    return float(cable.mesh.p[0, k] + cable.h[k] / 2), float(means[k])
+
+
+#: Compression of an element (strain) that a cable never carries without buckling: the
+#: elastic limit of structural metals, far beyond the discretisation error of the strain
+#: of a coarse element.
+CRUMPLED = 1e-3
 
 
 def crumpling_strain(cable):
-    """The compression (a negative strain) beyond which an equilibrium of ``cable`` on a
-    path that started slack is spurious: the Euler strain ``pi^2 I / (A h^2)`` of a pinned
-    strut as long as its longest element (zero without bending stiffness).  Beyond it even
-    one element buckles, and the cable has crumpled between its nodes or folded over on
-    itself, a state the discrete law cannot tell from a compressed one."""
-    if not cable.bending:
-        return 0.0
+    """The compression (a negative strain) of an element of ``cable`` beyond which an
+    equilibrium on a path that started slack is spurious: ``CRUMPLED``, or the Euler
+    strain ``pi^2 I / (A h^2)`` of a pinned strut as long as the longest element if that
+    is larger.  Beyond both the element would buckle, which the discrete cable cannot: it
+    stands compressed and straight, or folds over at a node."""
     section = cable.section
-    return -np.pi**2 * section.I / (section.A * float(cable.h.max()) ** 2)
+    return -max(CRUMPLED, np.pi**2 * section.I / (section.A * float(cable.h.max()) ** 2))
 
 
 def _admissible(system, q, tol, history):
-    """False (noted in ``history``) when a cable is compressed beyond its
-    ``crumpling_strain`` (less ``sqrt(tol)``) in the state ``q``.  Checked on the
-    equilibria reached by relaxation or while a constraint violation is closed, paths that
-    start slack: there such an equilibrium is spurious (the cable crumples between its
-    nodes, folds over, or, without bending, stands as an arch) and the step is refused, to
-    be bisected.  (A cable built compressed and solved by Newton's method keeps its
-    unstable straight equilibrium, which ``modes`` reports.)"""
-    for cable, s, strain in _least_strains(system, q):
-        if strain < crumpling_strain(cable) - np.sqrt(tol):
-            history.append(f"cable {cable.name!r} compressed beyond crumpling (strain "
-                           f"{strain:.3g} at s = {s:.4g} m): refused")
+    """False (noted in ``history``) when a cable is compressed in the state ``q``: a cable
+    without bending stiffness anywhere (strain below ``-sqrt(tol)``: it stands as an arch
+    or crumples between the quadrature points), a cable with bending stiffness in the
+    mean over an element beyond its ``crumpling_strain`` (less ``sqrt(tol)``).  Checked on
+    the equilibria reached by relaxation or while a constraint violation is closed, paths
+    that start slack: there such an equilibrium is spurious and the step is refused, to be
+    bisected.  (A cable built compressed and solved by Newton's method keeps its unstable
+    straight equilibrium, which ``modes`` reports.)"""
+    for cable in system.cables():
+        qc = q[system.dofs(cable)]
+        if cable.bending:
+            s, strain = _least_element_strain(cable, qc)
+            limit = crumpling_strain(cable) - np.sqrt(tol)
+        else:
+            s, strain = _least_strain(cable, qc)
+            limit = -np.sqrt(tol)
+        if strain < limit:
+            history.append(f"cable {cable.name!r} compressed on a path that started slack "
+                           f"(strain {strain:.3g} at s = {s:.4g} m, below {limit:.3g}): "
+                           "refused")
             return False
     return True
 
@@ -228,8 +253,11 @@ def _without_bending(system, q):
     one sentence per such cable that is compressed or slack somewhere in the state
     ``q`` (its tangent then has no stiffness across the cable), with what to do."""
     reasons = []
-    for cable, s, strain in _least_strains(system, q):
-        if not cable.bending and strain <= 0.0:
+    for cable in system.cables():
+        if cable.bending:
+            continue
+        s, strain = _least_strain(cable, q[system.dofs(cable)])
+        if strain <= 0.0:
             reasons.append(
                 f"cable {cable.name!r} has no bending stiffness (law {cable.law.name!r}) and "
                 f"is compressed or slack (strain {strain:.3g} at s = {s:.4g} m): "
