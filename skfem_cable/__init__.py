@@ -66,7 +66,7 @@ from .solvers.static import StaticConvergenceError, solve_static
 from .solvers.steady import solve_steady
 from .state import State
 from .study import sweep  # parameter studies on Dask distributed
-from .system import System
+from .system import System, SystemChanged
 
 __all__ = [
     "Brake",
@@ -103,6 +103,7 @@ __all__ = [
     "State",
     "StaticConvergenceError",
     "System",
+    "SystemChanged",
     "cable_law",
     "circular_anchor",
     "esail",

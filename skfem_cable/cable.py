@@ -492,11 +492,13 @@ class Cable:
 
     # --- constant matrices and loads (scikit-fem assembly, done once) --------------------
     def mass_matrix(self):
-        """Constant mass matrix ``rho A int S^T S dx`` (Eq. 22), assembled once."""
-        if self._mass is None:
+        """Constant mass matrix ``rho A int S^T S dx`` (Eq. 22), assembled once per
+        ``section`` (again when it is replaced)."""
+        if self._mass is None or self._mass[0] is not self.section:
             mu = self.section.mass_per_length
-            self._mass = asm(BilinearForm(lambda u, v, w: mu * dot(u, v)), self._exact).tocsr()
-        return self._mass
+            self._mass = (self.section, asm(BilinearForm(lambda u, v, w: mu * dot(u, v)),
+                                            self._exact).tocsr())
+        return self._mass[1]
 
     def line_load(self, force_per_length):
         """Consistent generalized force ``int S^T f dx`` of a uniform line load (N/m)."""

@@ -40,6 +40,13 @@ def _positive_int(text):
     return value
 
 
+def _directory(text):
+    if not text.strip():
+        raise argparse.ArgumentTypeError("is empty (an unset variable?): give a directory "
+                                         "('.' for the current one)")
+    return Path(text)
+
+
 def _wrap(text):
     return textwrap.fill(text, width=79)
 
@@ -81,7 +88,7 @@ def build_parser():
                      "tension locks in bending; docs/locking.md)")
     run.add_argument("--alpha", type=float, metavar="DEG",
                      help="sailing angle in degrees (esail only)")
-    run.add_argument("--out", type=Path, metavar="DIR", help="run directory to write")
+    run.add_argument("--out", type=_directory, metavar="DIR", help="run directory to write")
     run.add_argument("--every", type=_positive_int, metavar="K",
                      help="save every K-th step (default: the scene's)")
     run.add_argument("--no-progress", action="store_true",
@@ -117,7 +124,7 @@ def build_parser():
                        "(repeat for more dimensions), e.g. alpha=0,10,20")
     sweep.add_argument("--t-end", type=_positive_float, metavar="T",
                        help="end time in s of every run (default: the scene's)")
-    sweep.add_argument("--out", type=Path, metavar="DIR", required=True,
+    sweep.add_argument("--out", type=_directory, metavar="DIR", required=True,
                        help="study directory to write")
     where = sweep.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS",
@@ -153,9 +160,9 @@ def build_parser():
     bench.add_argument("--quick", action="store_true",
                        help="small sizes and few repeats (passed to every script); without "
                        "NAMEs the quick set, under a minute")
-    bench.add_argument("--out", type=Path, metavar="DIR",
+    bench.add_argument("--out", type=_directory, metavar="DIR",
                        help="also save each benchmark's output as DIR/NAME.txt")
-    bench.add_argument("--json", type=Path, metavar="DIR", default=None,
+    bench.add_argument("--json", type=_directory, metavar="DIR", default=None,
                        help="folder of the JSON records (default: benchmarks/results)")
     return parser
 
@@ -197,10 +204,29 @@ def _interrupted(args, err):
         lines.append("continue the run with: "
                      + shlex.join(["skfem-cable", *argv, "--resume"]))
     elif args.out is not None:
-        lines[0] += f"; nothing was stored in {args.out} yet"
-        lines.append("run it again with --overwrite")
+        frames = _frames(args.out)
+        if frames:
+            lines[0] += (f"; {args.out} holds {len(frames)} ParaView frames (series.pvd) up "
+                         f"to t = {frames[-1][0]:.6g} s but no run store: this run cannot be "
+                         "continued")
+            lines.append("run it again into another --out (or with --overwrite, which "
+                         "replaces these frames)")
+        else:
+            lines[0] += f"; nothing was stored in {args.out} yet"
+            lines.append("run it again with --overwrite")
     print("\n".join(lines), file=sys.stderr)
     return exit_status(signum)
+
+
+def _frames(out):
+    """The ``(time, file)`` entries of the ParaView series in ``out`` (none if it has no
+    readable ``series.pvd``)."""
+    from .export import read_pvd
+
+    try:
+        return read_pvd(Path(out) / "series.pvd")
+    except (OSError, SyntaxError):  # no file, or not XML (ElementTree's ParseError)
+        return []
 
 
 def cmd_sweep(args):
@@ -215,13 +241,35 @@ def cmd_sweep(args):
         grid[name] = values
     build = builder(args.scene)
     fixed = {} if args.t_end is None else {"t_end": args.t_end}
-    with _client(args.scheduler) as client:
-        ds = sweep(build, grid, client=client, store=args.out, fixed=fixed,
-                   workers=args.workers, progress=False if args.no_progress else None,
-                   plots=args.plots, overwrite=args.overwrite)
+    try:
+        with _client(args.scheduler) as client:
+            ds = sweep(build, grid, client=client, store=args.out, fixed=fixed,
+                       workers=args.workers, progress=False if args.no_progress else None,
+                       plots=args.plots, overwrite=args.overwrite)
+    except KeyboardInterrupt as err:
+        return _sweep_interrupted(args, err)
     print(format_study(ds))
     print(f"study: {args.out / 'study.zarr'}")
     return 0 if (ds.status == "complete").all() else 1
+
+
+def _sweep_interrupted(args, err):
+    """Ctrl-C (or SIGTERM, SIGHUP) ended ``skfem-cable sweep``: say what the study holds
+    and how to continue; the exit status is the shell's for that signal."""
+    from .io.signals import exit_status, interrupt_signal, signal_name
+    from .study.dataset import STUDY
+
+    signum = interrupt_signal(err)
+    line = f"skfem-cable sweep: interrupted by {signal_name(signum)}"
+    study = getattr(err, "study", None)
+    if study is not None:
+        done = int((study.status == "complete").sum())
+        line += (f"; {args.out / STUDY} holds the {done} of {study.status.size} runs "
+                 "finished, the others keep their last commit")
+    argv = [a for a in args.argv if a != "--overwrite"]
+    print(f"{line}\ncontinue the study with: {shlex.join(['skfem-cable', *argv])}",
+          file=sys.stderr)
+    return exit_status(signum)
 
 
 @contextmanager
@@ -277,9 +325,10 @@ def main(argv=None):
     args.argv = argv
     try:
         return COMMANDS[args.command](args)
-    except (ValueError, FileNotFoundError, ImportError, SimulationError,
+    except (ValueError, OSError, ImportError, SimulationError,
             StaticConvergenceError) as err:
-        print(f"skfem-cable {args.command}: error: {err}", file=sys.stderr)
+        notes = "".join(f"\n  {note}" for note in getattr(err, "__notes__", ()))
+        print(f"skfem-cable {args.command}: error: {err}{notes}", file=sys.stderr)
         return 2
 
 

@@ -14,7 +14,9 @@ A constraint acts on a few global coordinates ``q[dofs]`` and provides (the cont
   accelerations.
 
 Driven joints take callables of time.  Their time derivatives are given by the user
-(``velocity``, ``acceleration``) or computed by ``time_derivatives``.
+(``velocity``, ``acceleration``) or computed by ``time_derivatives``.  A linear constraint
+whose equations repeat those of another (a node pinned or clamped twice) is refused when
+added (``check_independent``).
 
 Examples
 --------
@@ -419,6 +421,11 @@ def pin(node, target=None, velocity=None, acceleration=None):
         Three equations, labels ``Fx, Fy, Fz``: ``-lambda`` is the force of the joint on
         the node.
 
+    Raises
+    ------
+    ValueError
+        ``target`` is ``node`` itself (its equations would vanish), or not a finite point.
+
     Examples
     --------
     >>> import skfem_cable as sc
@@ -430,6 +437,11 @@ def pin(node, target=None, velocity=None, acceleration=None):
     """
     if not isinstance(node, Node):
         raise TypeError(f"pin expects a Node (cable.node(i)), got {type(node).__name__}")
+    if isinstance(target, Node) and target.body is node.body and target.index == node.index:
+        raise ValueError(f"pin {node!r}: target is the node itself; it must be another node "
+                         "(of this or another cable), a rigid-body point, a ground point "
+                         "(3-vector), a callable of time or None (the ground at the node's "
+                         "initial position)")
     labels = ["Fx", "Fy", "Fz"]
     if target is None or callable(target) or not hasattr(target, "body"):
         if target is None:
@@ -449,3 +461,65 @@ def pin(node, target=None, velocity=None, acceleration=None):
         return np.concatenate([s.position_map(node)[0], s.position_map(target)[0]])
 
     return LinearConstraint(dofs, J, np.zeros(3), f"pin {node!r}-{target!r}", labels)
+
+
+def check_independent(system, constraint):
+    """Refuse a linear ``constraint`` (constant Jacobian) whose equations are dependent,
+    or dependent on those of a linear constraint of ``system`` on shared coordinates: a
+    node pinned to itself, the same node pinned or clamped twice.  Either makes the
+    system's matrix singular at every state (its factorization could only name an
+    unknown).  Exact for linear constraints; nonlinear ones are not checked.
+
+    Raises
+    ------
+    ValueError
+        Naming the constraint and the one it repeats.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> sc.System([cable]).pin(cable.node(0)).clamp(cable.node(0))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+        ...
+    ValueError: constraint 'clamp Node(cable, 0)' repeats equations of 'pin Node(cable, 0)'...
+    """
+    if not constraint.linear:
+        return
+    q0 = system.q0
+    dofs, J = _distinct_jacobian(system, constraint, q0)
+    rank = np.linalg.matrix_rank(J)
+    if rank < constraint.n_eq:
+        raise ValueError(f"constraint {constraint.name!r} is degenerate: its {constraint.n_eq} "
+                         f"equations have rank {rank} on its coordinates; a constraint's "
+                         "equations must be independent")
+    for other in system.constraints:
+        if not other.linear:
+            continue
+        other_dofs, other_J = _distinct_jacobian(system, other, q0)
+        if np.intersect1d(dofs, other_dofs).size and _dependent(dofs, J, other_dofs, other_J):
+            raise ValueError(
+                f"constraint {constraint.name!r} repeats equations of {other.name!r}, added "
+                "before: the same node pinned or clamped twice makes the system's matrix "
+                "singular; constrain each coordinate once (a clamp already pins its node)")
+
+
+def _distinct_jacobian(system, constraint, q0):
+    """The distinct global coordinates of a linear constraint and its Jacobian on them
+    (the columns of a repeated coordinate summed)."""
+    d = np.asarray(constraint.dofs(system), dtype=np.int64)
+    dofs, where = np.unique(d, return_inverse=True)
+    J = np.zeros((constraint.n_eq, dofs.size))
+    np.add.at(J.T, where, np.asarray(constraint.jacobian(q0[d], 0.0), dtype=float).T)
+    return dofs, J
+
+
+def _dependent(dofs, J, other_dofs, other_J):
+    """True if the rows of ``J`` (on ``dofs``) and of ``other_J`` together have a smaller
+    rank than ``other_J``'s plus the rows of ``J``."""
+    union = np.union1d(dofs, other_dofs)
+    stacked = np.zeros((len(J) + len(other_J), union.size))
+    stacked[:len(J), np.searchsorted(union, dofs)] = J
+    stacked[len(J):, np.searchsorted(union, other_dofs)] = other_J
+    rank = np.linalg.matrix_rank
+    return rank(stacked) < rank(other_J) + len(J)

@@ -115,10 +115,7 @@ class SolarWindForce:
         self.S = np.ascontiguousarray(np.concatenate([c.S for c in self.cables]))
         self.Sx = np.ascontiguousarray(np.concatenate([c.Sx for c in self.cables]))
         self.w = np.ascontiguousarray(np.concatenate([c.weights for c in self.cables]))
-        self._constant = None
         self.voltages(0.0)  # a bad voltage callable fails now, not mid-run
-        if not any(callable(v) for v in self.voltage):
-            self._constant = self.coefficients(0.0)
 
     def voltages(self, t):
         """Tether voltages (V) at time ``t``; a voltage callable returning a negative or
@@ -134,8 +131,6 @@ class SolarWindForce:
 
     def coefficients(self, t):
         """Force per unit length on a perpendicular tether, per element (N/m)."""
-        if self._constant is not None:
-            return self._constant
         per_cable = np.array([self.wind.force_per_length(V) for V in self.voltages(t)])
         return per_cable[self.cable_of_element]
 
@@ -165,7 +160,7 @@ class SolarWindForce:
 
         prepare(0.0)
         pack = (edofs, self.S, self.Sx, self.w, coef, self.sun, np.zeros(3))
-        constant = self._constant is not None and not any(deploying)
+        constant = not any(callable(v) for v in self.voltage) and not any(deploying)
         return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], name="solar wind",
                     prepare=None if constant else prepare)

@@ -53,8 +53,6 @@ J. W. McIver, "Hamilton's principle for systems of changing mass", J. Eng. Math.
 medium", Multibody Syst. Dyn. 26 (2011) 91-106 (ALE-ANCF).
 """
 
-from functools import cached_property
-
 import numpy as np
 import scipy.sparse as sp
 
@@ -93,6 +91,9 @@ class Deployment:
         length is a reel's coordinate.
     """
 
+    #: Memos of the last time asked and of the matrices (not in the fingerprint).
+    caches = ("_last", "_matrices")
+
     def __init__(self, cable, length, rate=None, acceleration=None, anchor=None,
                  capacity=None, reel=None):
         self.cable = cable
@@ -112,6 +113,7 @@ class Deployment:
                              "part of the system whose length is a coordinate")
         self.capacity = capacity
         self._last = (None, None)
+        self._matrices = None
         if reel is None:
             self.state(0.0)
 
@@ -147,10 +149,16 @@ class Deployment:
         """Stretch of the mesh ``lam = l / L0`` at ``t`` (and ``q`` for a reel)."""
         return self.state(t, q)[0] / self.L0
 
-    @cached_property
+    @property
     def matrices(self):
         """``(M0, G0, K0)`` of the cable's coordinates (sparse), by its Gauss rule (exact
-        for these polynomial integrands)."""
+        for these polynomial integrands); assembled once per section of the cable."""
+        if self._matrices is None or self._matrices[0] is not self.cable.section:
+            self._matrices = (self.cable.section, self._assemble_matrices())
+        return self._matrices[1]
+
+    def _assemble_matrices(self):
+        """``(M0, G0, K0)`` of the cable with its section now (``matrices``)."""
         cable = self.cable
         mu = cable.section.mass_per_length
         x = _gauss_points(cable)

@@ -22,12 +22,13 @@ A time series is one ``.vtu`` per saved step and a ``.pvd`` collection listing t
 their times, which ParaView (and ``pyvista.get_reader``) opens as an animation.
 """
 
-import os
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import meshio
 import numpy as np
+
+from .io.atomic import replacing
 
 #: Values of the cell data ``part``.
 PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
@@ -187,13 +188,8 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
 
 
 def _write_atomic(path, mesh):
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
+    with replacing(path) as tmp:  # a full disk or an interrupt leaves no temporary file
         meshio.write(tmp, mesh, file_format="vtu")
-        os.replace(tmp, path)
-    finally:  # a full disk or an interrupt leaves no temporary file behind
-        tmp.unlink(missing_ok=True)
 
 
 def write_vtu(path, system, state, points_per_element=8, resolution=32):
@@ -214,13 +210,8 @@ def write_pvd(path, entries):
         ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part="0",
                       file=str(file))
     ET.indent(root)
-    path = Path(path)
-    tmp = path.with_name(path.name + ".tmp")
-    try:
+    with replacing(path) as tmp:
         ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
 
 
 def read_pvd(path):

@@ -1,11 +1,13 @@
 """The fixed KKT sparsity pattern of a system, the positions of every term's tangent entries
 in its CSR values, and the constant parts (mass, linear constraint Jacobians, constant
-loads), all computed once when the system's layout is first needed."""
+loads), all computed once when the system's layout is first needed, with the description
+of the system they were computed for."""
 
 import numpy as np
 import scipy.sparse as sp
 
 from .contract import NO_DATA, NO_INDEX, merge_terms
+from .io.fingerprint import describe_system
 from .linalg import FastCSR
 
 
@@ -65,6 +67,9 @@ class Layout:
         Coordinates and multiplier rows of each constraint.
     border
         Unknowns of the hubs, ordered last by the linear solver (``_border``).
+    description : dict
+        ``io.fingerprint.describe_system`` of the system once bound: a later one that
+        differs means the system was edited (``System.current_layout``).
     """
 
     def __init__(self, system):
@@ -100,6 +105,7 @@ class Layout:
         self._linear_constraints(system)
         self.f_const = self._constant_force(system, loads)
         self._scales(system)
+        self.description = describe_system(system)
 
     @staticmethod
     def _block(pattern, term):

@@ -214,15 +214,18 @@ class RigidBody:
 
     def mass_matrix(self):
         """``M = int rho G^T G dV = (A Phi A^T) (x) I_3`` with the body's zeroth, first and
-        second mass moments ``Phi`` (exact for any mass distribution)."""
-        if self._mass is None:
+        second mass moments ``Phi`` (exact for any mass distribution); computed again when
+        ``mass``, ``center_of_mass``, ``inertia`` or ``base_points`` changed."""
+        key = (float(self.mass), *(np.asarray(x, dtype=float).tobytes() for x in (
+            self.center_of_mass, self.inertia, self.base_points)))
+        if self._mass is None or self._mass[0] != key:
             m, c = self.mass, self.center_of_mass
             second = (0.5 * np.trace(self.inertia) * np.eye(3) - self.inertia
                       + m * np.outer(c, c))
             Phi = np.block([[np.array([[m]]), m * c[None, :]], [m * c[:, None], second]])
             A = self.affine_map()
-            self._mass = sp.csr_matrix(np.kron(A @ Phi @ A.T, np.eye(3)))
-        return self._mass
+            self._mass = (key, sp.csr_matrix(np.kron(A @ Phi @ A.T, np.eye(3))))
+        return self._mass[1]
 
     def bind(self, system):
         """No internal forces: a rigid body's coordinates are held by its

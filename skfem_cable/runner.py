@@ -17,13 +17,17 @@ A run directory holds
 
 A directory that holds another run is not written into: ``RunOptions.overwrite`` removes
 that run's files first (only files this package writes), ``RunOptions.resume`` continues
-it (``prepare_run_dir``).
+it, and only as the run it holds (``run_directory``).  A run holds the lock of its
+directory (``io.lock``) from the first check to its last file: a second process writing
+the same directory is refused.
 """
 
 import json
+import os
 import shutil
 import sys
 import time
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from fnmatch import fnmatch
 from pathlib import Path
@@ -31,11 +35,13 @@ from pathlib import Path
 import numpy as np
 
 from . import export, plot
-from .io import RunExists, StoreError, StoreMismatch, run_observers
+from .io import RunExists, StoreError, StoreMismatch, lock, run_observers
 from .io import resume as resume_run
 from .io.atomic import is_temporary, write_atomic
+from .io.fingerprint import system_fingerprint
 from .io.jsonable import jsonable
-from .io.store import STORE, remove_store, run_info, store_files
+from .io.manifest import read_manifest
+from .io.store import STORE, check_fingerprint, remove_store, run_info, store_files
 from .solvers.simulate import simulate
 from .state import State
 from .tension_guard import tension_warnings
@@ -190,6 +196,7 @@ def run_figures(out, result, animate=False):
 DESCRIPTIONS = {
     SUMMARY: "this summary: scene, parameters, solver statistics, key outputs, files",
     "manifest.json": "the run's manifest: status, saved steps, settings and fingerprints",
+    lock.LOCK: "the lock a run holds while it writes this directory (io.lock)",
     "results.zarr": "the results store (xarray.open_zarr): every saved step's fields",
     "checkpoint_*.npz": "integrator checkpoint: a resumed run continues bit for bit",
     "series.pvd": "ParaView collection of the VTU frames (open this one in ParaView)",
@@ -210,10 +217,10 @@ DESCRIPTIONS = {
     "plots/esail_coning.gif": "side view of the sail's coning, Sun direction drawn (--animate)",
 }
 
-#: Files this package writes into a run directory besides the store (``--overwrite``
-#: removes these and nothing else): exact names and patterns relative to the directory.
+#: Files this package writes into a run directory besides the store and the lock
+#: (``--overwrite`` removes these and nothing else): names and patterns relative to it.
 RUN_FILES = tuple(k for k in DESCRIPTIONS if k not in ("manifest.json", "results.zarr",
-                                                       "checkpoint_*.npz")) + (
+                                                       "checkpoint_*.npz", lock.LOCK)) + (
     "plots/esail_*.png", "plots/esail_*.gif")
 
 
@@ -223,9 +230,9 @@ def described_files(out):
     such."""
     out = Path(out)
     listed = {}
-    for path in run_files(out):
+    for path in [*run_files(out), out / lock.LOCK]:
         name = path.relative_to(out).as_posix()
-        if is_temporary(path) or name.endswith(".tmp"):
+        if is_temporary(path) or name.endswith(".tmp") or not path.exists():
             continue
         pattern = next((k for k in DESCRIPTIONS if fnmatch(name, k)), None)
         if pattern == "vtu/series_*.vtu":
@@ -287,7 +294,8 @@ def _describe(out):
 def check_run_dir(out, overwrite=False, resume=False):
     """Raise unless a run may be written into ``out`` as asked: ``RunExists`` when it
     holds another run and neither ``overwrite`` nor ``resume`` is given, ``StoreError``
-    when ``resume`` finds nothing to continue.  Changes nothing."""
+    when ``resume`` finds nothing to continue (``StoreCorrupt`` naming a damaged
+    manifest) or when ``out`` cannot be written.  Changes nothing."""
     if overwrite and resume:
         raise ValueError("--overwrite and --resume exclude each other")
     if out is None:
@@ -297,31 +305,57 @@ def check_run_dir(out, overwrite=False, resume=False):
     out = Path(out)
     if out.exists() and not out.is_dir():
         raise ValueError(f"--out {out} is a file, not a directory")
+    _check_writable(out, resume or overwrite)
     present = run_files(out)
     if resume:
-        if run_info(out) is None:
+        if read_manifest(out) is None:
             what = "a run of the old format that cannot be continued" if any(
                 p.name == "checkpoint.npz" for p in present) else "no run store to continue"
             raise StoreError(f"{out} holds {what} (no manifest.json): run the scene "
-                             "without --resume" + (" and with --overwrite" if present else ""))
+                             "without --resume" + (", into another --out to keep its files"
+                                                   if present else ""))
         return
     if present and not overwrite:
         raise RunExists(f"{out} already holds a run ({_describe(out)}): choose another "
                         "--out, replace it with --overwrite, or continue it with --resume")
 
 
-def prepare_run_dir(options, can_resume=True):
-    """Check the run directory ``options.out`` (``check_run_dir``) and, with
-    ``options.overwrite``, remove the run it holds; creates the directory."""
+def _check_writable(out, existing):
+    """Raise ``StoreError`` unless ``out``, or the folder it would be created in, may be
+    written by this user; ``existing``: the run in ``out`` is continued or replaced."""
+    folder = next(p for p in (out, *out.parents) if p.exists())
+    if not folder.is_dir():
+        raise ValueError(f"--out {out}: {folder} is a file, not a directory")
+    if os.access(folder, os.W_OK | os.X_OK):
+        return
+    if folder != out:
+        raise StoreError(f"--out {out} cannot be created: {folder} is read-only for this "
+                         "user; choose another --out, or make it writable")
+    raise StoreError(f"--out {out} is read-only for this user: "
+                     + ("its run cannot be continued or replaced there; make it writable, "
+                        "or copy it and continue the copy" if existing else
+                        "choose another --out, or make it writable"))
+
+
+@contextmanager
+def run_directory(options, can_resume=True):
+    """Hold the run directory ``options.out`` for a run (``io.lock``; yields it as a
+    ``Path``, or None without one): created if missing, checked (``check_run_dir``)
+    once the lock is held, and with ``options.overwrite`` emptied of the run it held.
+    The lock is held until the block ends: no other process writes the directory
+    meanwhile."""
     if options.resume and not can_resume:
         raise ValueError("--resume continues time integrations only; this scene has none")
-    check_run_dir(options.out, options.overwrite, options.resume)
+    check_run_dir(options.out, options.overwrite, options.resume)  # before creating it
     if options.out is None:
+        yield None
         return
     out = Path(options.out)
-    if options.overwrite:
-        remove_run(out)
-    out.mkdir(parents=True, exist_ok=True)
+    with lock.hold(out):
+        check_run_dir(out, options.overwrite, options.resume)  # nobody changes it now
+        if options.overwrite:
+            remove_run(out)
+        yield out
 
 
 def _check_settings(out, manifest, solver):
@@ -335,6 +369,29 @@ def _check_settings(out, manifest, solver):
                             + ", ".join(f"{k}: stored {stored[k]!r}, given {solver[k]!r}"
                                         for k in differ)
                             + "): continue it with the settings it was started with")
+
+
+#: Scene parameters a continued run may change: where the scene file is.
+MOVABLE = ("file",)
+
+
+def _check_scene(out, manifest, system, parameters):
+    """Before a continued run: the scene must be the stored one, its parameters (those
+    the manifest records, but ``MOVABLE``; a store of an earlier version may record
+    fewer) and its system (``check_fingerprint``); else ``StoreMismatch`` naming what
+    differs."""
+    stored = (manifest.get("attrs") or {}).get("parameters") or {}
+    given = json.loads(json.dumps(jsonable(parameters or {})))
+    differ = [k for k in sorted(stored) if k not in MOVABLE and stored[k] != given.get(k)]
+    if not differ:
+        check_fingerprint(out, manifest, system)
+        return
+    listed = "; ".join(f"{k}: stored {stored[k]!r}, given {given.get(k)!r}" for k in differ)
+    same = (manifest.get("fingerprint") or {}).get("system") == system_fingerprint(system)
+    raise StoreMismatch(f"{out} was " + ("run with other scene parameters" if same else
+                                         "written by another system: its parameters differ")
+                        + f" ({listed}): continue it with the scene and options it was "
+                        "started with")
 
 
 def run_dynamic(name, system, initial, options, defaults, parameters=None, outputs=None,
@@ -365,22 +422,38 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     Returns
     -------
     summary : dict
+        ``wall_time`` is the integration's over all the sessions of a continued run
+        (``session_wall_time``: this one's), ``total_wall_time`` adds the rest (the
+        store's setup, the summary, the figures).
     result : Result
+
+    The run directory is held (``run_directory``) from its first check to the summary.
+    ``options.resume`` continues the stored run only as it was started: the same scene
+    parameters (``_check_scene``), system, solver settings (``_check_settings``) and a
+    ``t_end`` not before its last stored step (``io.store.check_t_end``).
     """
-    wall0 = time.perf_counter()
     settings = dict(defaults)
     for key in ("t_end", "dt", "every"):
         settings[key] = options.value(key, defaults[key])
+    with run_directory(options) as out:
+        return _run_dynamic(out, name, system, initial, options, settings, parameters,
+                            outputs, points_per_element)
+
+
+def _run_dynamic(out, name, system, initial, options, settings, parameters, outputs,
+                 points_per_element):
+    """``run_dynamic`` once the run directory ``out`` is held."""
+    wall0 = time.perf_counter()
     solver = dict(settings)
     storage = {"series_every": solver.pop("series_every", 1), "chunk": solver.pop("chunk", 200),
                "fields": solver.pop("fields", None)}
     settings.pop("fields", None)
-    prepare_run_dir(options)
-    out = None if options.out is None else Path(options.out)
-    resume = None
+    resume, before = None, 0.0  # wall time of the earlier sessions of a continued run
     if options.resume:
-        resume = resume_run(out, system)
+        _check_scene(out, read_manifest(out), system, parameters)
+        resume = resume_run(out)
         _check_settings(out, resume.manifest, solver)
+        before = resume.manifest.get("wall_time", 0.0)
     observers = run_observers(out, options.progress, points_per_element=points_per_element,
                               restart=options.resume, overwrite=options.overwrite,
                               attrs={"scene": name, "parameters": parameters or {}},
@@ -389,7 +462,8 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     stats = result.stats
     summary = {"scene": name,
                "parameters": {**(parameters or {}), **settings},
-               "wall_time": stats["wall_time"],
+               "wall_time": before + stats["wall_time"],
+               "session_wall_time": stats["wall_time"],
                "steps": stats["steps"], "saved_steps": len(result),
                "newton": {"iterations": stats["newton"],
                           "per_step": stats["newton"] / max(stats["steps"], 1),
@@ -406,7 +480,7 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
             files["plots"] = [p.relative_to(out).as_posix()
                               for p in run_figures(out, result, options.animate)]
         summary["files"] = files
-        summary["total_wall_time"] = time.perf_counter() - wall0
+        summary["total_wall_time"] = before + time.perf_counter() - wall0
         write_summary(out, summary)
     return summary, result
 
@@ -490,18 +564,18 @@ def run_static(name, system, steps, options, parameters=None, outputs=None, titl
                "warnings": tension_warnings(system, final.q)}
     for warning in summary["warnings"]:
         warn(warning)
-    prepare_run_dir(options, can_resume=False)
-    if options.out is None:
-        return summary
-    writer = export.SeriesWriter(options.out, system, points_per_element)
-    for value, state in steps:
-        writer.write(value, state.q)
-    files = {"series": writer.pvd.name}
-    if options.plots:
-        path = snapshot(options.out, system, final, title=title)
-        files["plots"] = [] if path is None else [path.relative_to(options.out).as_posix()]
-    summary["files"] = files
-    write_summary(options.out, summary)
+    with run_directory(options, can_resume=False) as out:
+        if out is None:
+            return summary
+        writer = export.SeriesWriter(out, system, points_per_element)
+        for value, state in steps:
+            writer.write(value, state.q)
+        files = {"series": writer.pvd.name}
+        if options.plots:
+            path = snapshot(out, system, final, title=title)
+            files["plots"] = [] if path is None else [path.relative_to(out).as_posix()]
+        summary["files"] = files
+        write_summary(out, summary)
     return summary
 
 

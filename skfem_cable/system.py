@@ -26,9 +26,15 @@ import scipy.sparse as sp
 from . import constraints as cons
 from .cable import Node
 from .contract import Evaluation
+from .io.fingerprint import describe_system, differences
 from .layout import Layout
 from .loads import Centrifugal, Gravity, PointLoad, PointMass, PointMoment, UniformLineLoad
 from .loads import vector3 as _vector3
+
+
+class SystemChanged(RuntimeError):
+    """The system changed while a solver ran (an observer edited a load, a section, ...):
+    the message names what changed."""
 
 
 class System:
@@ -67,8 +73,10 @@ class System:
     Notes
     -----
     The building methods (``clamp``, ``pin``, ``add_*``) return the system, so that they
-    chain.  Build the system before solving it: the first solve fixes its sparsity pattern
-    (``layout``), which a later change rebuilds.
+    chain.  The first solve fixes its sparsity pattern and constant parts (``layout``);
+    every solver starts from the system as it is then (``current_layout``): a load, section
+    or constraint edited between two solves is solved as edited.  A change while a solver
+    runs (in an observer) cannot take effect and is refused (``SystemChanged``).
 
     Examples
     --------
@@ -124,7 +132,16 @@ class System:
         return self
 
     def add_constraint(self, constraint):
-        """Add a constraint (see ``constraints``). Returns the system."""
+        """Add a constraint (see ``constraints``). Returns the system.
+
+        Raises
+        ------
+        ValueError
+            A linear constraint whose equations are dependent, or dependent on those of a
+            constraint already added (a node pinned or clamped twice: the system's matrix
+            would be singular); see ``constraints.check_independent``.
+        """
+        cons.check_independent(self, constraint)
         self.constraints.append(constraint)
         return self._changed()
 
@@ -362,12 +379,39 @@ class System:
 
     @property
     def layout(self):
-        """The fixed sparsity pattern of the KKT matrix (``layout.Layout``), built on first
-        use and again after the system changes."""
+        """The fixed sparsity pattern of the KKT matrix and the constant parts
+        (``layout.Layout``), built on first use and again after ``add_*``, ``clamp`` or
+        ``pin``; a solver takes ``current_layout``."""
         if self._layout is None:
             self._check_deploying_loads()
             self._layout = Layout(self)
         return self._layout
+
+    def current_layout(self):
+        """The layout of the system as it is now: ``layout``, built again when the
+        system's description (``io.fingerprint.describe_system``: bodies, sections, laws,
+        masses, constraints, loads and their parameters) differs from the one at its
+        build (``Layout.description``), as after ``load.g = ...`` or ``cable.section =
+        ...``.  Every solver calls it once at its start, so that what it solves is what a
+        run store fingerprints."""
+        if self._layout is not None and describe_system(self) != self._layout.description:
+            self._layout = None
+        return self.layout
+
+    def check_unchanged(self, layout, during):
+        """Raise ``SystemChanged`` if the system is no longer the one ``layout`` (a
+        solver's, from ``current_layout``) was built for, naming what changed ``during``
+        the solve (e.g. "during the run"): an edit in an observer, which the running
+        solver cannot take."""
+        changed = differences(layout.description, describe_system(self))
+        if changed:
+            raise SystemChanged(
+                f"the system changed {during}: {'; '.join(changed)}.  The solver had built "
+                "its equations (constant forces, mass, constraints, load terms) at the "
+                "start, so the steps after the change hold the old system or a mix of the "
+                "old and the new one: edit the system between runs, not during one (a load "
+                "that changes in time takes a callable of time; or stop the run and start "
+                "another from its last state, initial=)")
 
     def _check_deploying_loads(self):
         """Refuse a load along a deploying cable (a load naming it in ``cables``) unless

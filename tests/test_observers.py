@@ -186,7 +186,7 @@ def test_simulate_module_does_no_io():
         elif isinstance(node, ast.ImportFrom):
             module = "." * node.level + (node.module or "")
             imported.setdefault(module, set()).update(a.name for a in node.names)
-    assert set(imported) <= {"contextlib", "time", "numpy", "..contract", "..result",
+    assert set(imported) <= {"contextlib", "numbers", "time", "numpy", "..contract", "..result",
                              ".galpha"}, imported
     assert imported[".galpha"] <= {"GeneralizedAlpha", "galpha_parameters"}
     assert imported["..result"] <= {"FIELDS", "SETTINGS", "Result", "settings_array",

@@ -6,22 +6,24 @@ progress reports (``docs/observers.md``, ``docs/output.md``).
   ``resume(path)`` continues an interrupted run, ``load_result(path, system)`` (=
   ``Result.load``) and ``open_dataset(path)`` read one back;
 * ``fingerprint(system, settings)``: what a store must match to be read or continued
-  (``fingerprint``); ``signals``: ``SIGTERM`` ends a run like Ctrl-C;
+  (``fingerprint``); ``signals``: ``SIGTERM`` ends a run like Ctrl-C; ``lock``: one
+  writer per run directory (``RunLocked`` refuses the second);
 * ``SeriesObserver``: the ParaView series ``series.pvd`` + ``vtu/`` (``series``);
 * ``ProgressBar``: a progress bar with ETA on stderr (``progress``);
 * ``run_observers``: the standard list for a run directory.
 """
 
 from .fingerprint import fingerprint
+from .lock import RunLocked
 from .manifest import RunExists, StoreCorrupt, StoreError, StoreMismatch
 from .progress import Progress, ProgressBar
 from .series import SeriesObserver
 from .signals import Terminated
 from .store import DEFAULT_FIELDS, Resume, RunStore, load_result, open_dataset, read_run, resume
 
-__all__ = ["DEFAULT_FIELDS", "Progress", "ProgressBar", "Resume", "RunExists", "RunStore",
-           "SeriesObserver", "StoreCorrupt", "StoreError", "StoreMismatch", "Terminated",
-           "fingerprint", "load_result", "open_dataset", "read_run", "resume",
+__all__ = ["DEFAULT_FIELDS", "Progress", "ProgressBar", "Resume", "RunExists", "RunLocked",
+           "RunStore", "SeriesObserver", "StoreCorrupt", "StoreError", "StoreMismatch",
+           "Terminated", "fingerprint", "load_result", "open_dataset", "read_run", "resume",
            "run_observers"]
 
 

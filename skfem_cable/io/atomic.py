@@ -3,7 +3,8 @@ folder, flushed to the disk (``fsync``) and renamed over its final name, so that
 sees either the old or the new content, never a part of it, whatever stops the writer
 (``SIGKILL``, a full disk, a power cut after the rename).
 
-``write_atomic`` writes one file; ``AtomicStore`` is the Zarr ``LocalStore`` whose every
+``replacing`` gives the temporary file to write and renames it; ``write_atomic`` writes
+one file of bytes with it; ``AtomicStore`` is the Zarr ``LocalStore`` whose every
 object (chunk or metadata) is written by ``write_atomic``; ``remove_temporaries`` removes
 what a killed writer left behind.  All bytes pass through ``_write``: the tests make it
 raise ``OSError(ENOSPC)`` to play a full disk.
@@ -11,6 +12,7 @@ raise ``OSError(ENOSPC)`` to play a full disk.
 
 import os
 import uuid
+from contextlib import contextmanager
 from pathlib import Path
 
 #: Part of the name of every temporary file (``NAME.tmp-<random>``).
@@ -39,21 +41,25 @@ def _fsync_dir(path):
         os.close(fd)
 
 
-def write_atomic(path, data, exclusive=False):
-    """Write ``data`` (bytes-like) into ``path`` atomically and durably: a temporary file
-    in the same folder, ``fsync``, rename, ``fsync`` of the folder.  Whatever interrupts
-    it (an exception, ``KeyboardInterrupt``), the temporary file is removed and ``path``
-    keeps its old content.  ``exclusive``: leave an existing ``path`` alone."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    if exclusive and path.exists():
-        return
+def _create_temporary(path):
+    """Create an empty file ``NAME.tmp-<random>`` beside ``path``, a name no other writer
+    uses (48 random bits, and ``O_EXCL``: this call created it), with the permissions
+    ``open`` gives a new file; returns its path."""
     tmp = path.with_name(f"{path.name}{TMP_MARK}{uuid.uuid4().hex[:12]}")
+    os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+    return tmp
+
+
+@contextmanager
+def replacing(path):
+    """A temporary file beside ``path``, unique (``_create_temporary``), to write inside
+    the block; renamed over ``path`` when the block succeeds.  Whatever interrupts the
+    block (an exception, ``KeyboardInterrupt``), the temporary file is removed and
+    ``path`` keeps its old content."""
+    path = Path(path)
+    tmp = _create_temporary(path)
     try:
-        with open(tmp, "wb") as f:
-            _write(f, data)
-            f.flush()
-            os.fsync(f.fileno())
+        yield tmp
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -61,6 +67,20 @@ def write_atomic(path, data, exclusive=False):
         except OSError:
             pass
         raise
+
+
+def write_atomic(path, data, exclusive=False):
+    """Write ``data`` (bytes-like) into ``path`` atomically and durably: a temporary file
+    in the same folder (``replacing``), ``fsync``, rename, ``fsync`` of the folder.
+    ``exclusive``: leave an existing ``path`` alone."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if exclusive and path.exists():
+        return
+    with replacing(path) as tmp, open(tmp, "wb") as f:
+        _write(f, data)
+        f.flush()
+        os.fsync(f.fileno())
     _fsync_dir(path.parent)
 
 

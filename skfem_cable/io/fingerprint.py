@@ -15,7 +15,12 @@ that a run directory is continued or read back only with the system that wrote i
 Parameters are described recursively (numbers exactly, arrays by their bytes, bodies by
 their index in the system, nodes by body and index); a function by its qualified name and
 its byte code.  Values a function captures in a closure or reads from globals are not
-seen: change them and the fingerprint stays the same.
+seen: change them and the fingerprint stays the same.  The attributes an object names in
+its ``caches`` (a tuple of names: values derived from the others, memos of the last
+evaluation) are not described: the fingerprint does not depend on what was evaluated.
+
+``describe_system`` is also what a ``System`` compares to notice that it was edited since
+its layout was built (``System.current_layout``); ``differences`` names what changed.
 
 The hash is SHA-256 of a canonical JSON text: the same in every process and on every
 machine with the same code.
@@ -36,6 +41,14 @@ FREE_SETTINGS = ("t_end", "n_steps")
 MAX_DEPTH = 6
 
 _ADDRESS = re.compile(r" at 0x[0-9a-fA-F]+")
+
+#: The lists of a system's description whose entries ``differences`` names one by one.
+_ENTRIES = ("bodies", "constraints", "loads", "point_masses")
+
+#: Keys of described values that ``differences`` leaves out of a path: the wrappers of
+#: objects, arrays, numbers and functions.
+_WRAPPERS = {"attrs", "parameters", "class", "dtype", "shape", "sha256", "array", "float",
+             "complex", "function", "code", "consts", "names", "varnames", "defaults"}
 
 
 def _digest(data):
@@ -134,15 +147,17 @@ def _attributes(obj):
     """The public and private data attributes of ``obj`` (``__dict__`` and ``__slots__``),
     or its representation when it has none (without memory addresses)."""
     if dataclasses.is_dataclass(obj):
-        return {f.name: getattr(obj, f.name, None) for f in dataclasses.fields(obj)}
-    attrs = dict(getattr(obj, "__dict__", {}))
-    for cls in type(obj).__mro__:
-        for name in getattr(cls, "__slots__", ()):
-            if isinstance(name, str) and hasattr(obj, name) and name not in attrs:
-                attrs[name] = getattr(obj, name)
+        attrs = {f.name: getattr(obj, f.name, None) for f in dataclasses.fields(obj)}
+    else:
+        attrs = dict(getattr(obj, "__dict__", {}))
+        for cls in type(obj).__mro__:
+            for name in getattr(cls, "__slots__", ()):
+                if isinstance(name, str) and hasattr(obj, name) and name not in attrs:
+                    attrs[name] = getattr(obj, name)
     if not attrs:
         return _ADDRESS.sub("", repr(obj))
-    return attrs
+    caches = set(getattr(obj, "caches", ()))
+    return {k: v for k, v in attrs.items() if k not in caches}
 
 
 def describe_system(system):
@@ -183,6 +198,53 @@ def describe_system(system):
             "mass_matrix": {"data": _array(M.data), "indices": _array(M.indices),
                             "indptr": _array(M.indptr)},
             "constraints": constraints, "loads": loads, "point_masses": masses}
+
+
+def differences(before, after):
+    """What differs between two descriptions of a system (``describe_system``), one
+    readable line per changed entry: ``loads[0] (Gravity): g``, ``bodies[0] (cable):
+    section.rho``, ``mass_matrix``, ``constraints: 2 now, 1 before``.
+
+    Examples
+    --------
+    >>> from skfem_cable.scenes import classics
+    >>> system = classics.pendulum(n_elements=2).system
+    >>> before = describe_system(system)
+    >>> system.loads[0].g = 2 * system.loads[0].g
+    >>> differences(before, describe_system(system))
+    ['loads[0] (Gravity): g']
+    """
+    out = []
+    for key in sorted(set(before) | set(after)):
+        old, new = before.get(key), after.get(key)
+        if old == new:
+            continue
+        if key in _ENTRIES and len(old) == len(new):
+            out += [f"{key}[{k}] ({_label(b)}): {', '.join(dict.fromkeys(_paths(a, b)))}"
+                    for k, (a, b) in enumerate(zip(old, new)) if a != b]
+        elif key in _ENTRIES:
+            out.append(f"{key}: {len(new)} now, {len(old)} before")
+        else:
+            out.append(key)
+    return out
+
+
+def _label(entry):
+    """The name of a described body or constraint, else the class of a load or mass."""
+    return entry.get("name") or entry["class"].rsplit(".", 1)[-1]
+
+
+def _paths(old, new, path=()):
+    """The dotted paths of the parts that differ between two described values."""
+    if old == new:
+        return []
+    if isinstance(old, dict) and isinstance(new, dict):
+        return [p for k in sorted(set(old) | set(new))
+                for p in _paths(old.get(k), new.get(k), path if k in _WRAPPERS else path + (k,))]
+    if isinstance(old, list) and isinstance(new, list) and len(old) == len(new):
+        return [p for i, (a, b) in enumerate(zip(old, new))
+                for p in _paths(a, b, path + (f"[{i}]",))]
+    return [".".join(path).replace(".[", "[") or "another class"]
 
 
 def _settings(settings):

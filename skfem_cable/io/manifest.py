@@ -50,28 +50,61 @@ def manifest_path(run_dir):
     return Path(run_dir) / MANIFEST
 
 
+#: What a reader of the store needs from the manifest: key -> (check, what is accepted).
+REQUIRED = {
+    "saved": (lambda v: _integer(v) and v >= 0, "an integer >= 0"),
+    "chunk": (lambda v: _integer(v) and v >= 1, "an integer >= 1"),
+    "variables": (lambda v: isinstance(v, list) and bool(v)
+                  and all(isinstance(x, str) for x in v), "a list of variable names"),
+    "fingerprint": (lambda v: isinstance(v, dict), "a table of fingerprints"),
+    "checkpoint": (lambda v: v is None or (isinstance(v, dict) and all(
+        k in v for k in ("file", "index", "t", "sha256"))),
+        "null or a table with file, index, t, sha256"),
+}
+
+#: What is left of a run whose manifest cannot be used.
+_KEPT = "the steps in results.zarr still open with xarray.open_zarr"
+
+#: The end of every message about a damaged manifest: what is left and what to do.
+_RESTORE = ("it is written atomically, so it was damaged after the run: restore it from a "
+            f"backup; {_KEPT}")
+
+
+def _integer(v):
+    return isinstance(v, int) and not isinstance(v, bool)
+
+
 def read_manifest(run_dir):
     """The manifest of ``run_dir`` (a dict), or None when there is none; ``StoreCorrupt``
-    when it cannot be read."""
+    naming the damage when it cannot be read or lacks a key of ``REQUIRED``."""
     path = manifest_path(run_dir)
     try:
         text = path.read_text()
     except FileNotFoundError:
         return None
-    except (OSError, UnicodeDecodeError) as err:
-        raise StoreCorrupt(f"{path} cannot be read ({err}): the run directory cannot be "
-                           "used; remove it or restore it from a backup", path) from err
+    except OSError as err:
+        raise StoreCorrupt(f"{path} cannot be read ({err}); {_KEPT}", path) from err
+    except UnicodeDecodeError as err:
+        raise StoreCorrupt(f"{path} is corrupt: not text ({err}); {_RESTORE}", path) from err
     try:
         manifest = json.loads(text)
     except json.JSONDecodeError as err:
-        raise StoreCorrupt(f"{path} is corrupt ({err}); it is written atomically, so it "
-                           "was damaged after the run: restore it from a backup or run "
-                           "again (--overwrite)", path) from err
+        damage = ("empty" if not text.strip() else
+                  f"truncated (its {len(text)} characters end inside the JSON)"
+                  if not text.rstrip().endswith("}") else "not valid JSON")
+        raise StoreCorrupt(f"{path} is corrupt: {damage} ({err}); {_RESTORE}", path) from err
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise StoreCorrupt(f"{path} is not the manifest of a skfem_cable run store", path)
     if manifest.get("version", 0) > VERSION:
         raise StoreError(f"{path} has store version {manifest['version']}; this "
                          f"skfem_cable reads version {VERSION}: update skfem_cable")
+    for key, (check, accepted) in REQUIRED.items():
+        if key not in manifest:
+            raise StoreCorrupt(f"{path} is corrupt: it has no {key!r} ({accepted}); "
+                               f"{_RESTORE}", path)
+        if not check(manifest[key]):
+            raise StoreCorrupt(f"{path} is corrupt: {key!r} is {manifest[key]!r}, not "
+                               f"{accepted}; {_RESTORE}", path)
     return manifest
 
 

@@ -2,8 +2,8 @@
 
 from pathlib import Path
 
+from .. import export  # a module: export imports io.atomic, which imports this package
 from ..contract import Observer
-from ..export import SeriesWriter
 
 
 class SeriesObserver(Observer):
@@ -48,7 +48,7 @@ class SeriesObserver(Observer):
         append = self.append or run.resumed
         if not append:
             self.pvd.unlink(missing_ok=True)  # a series left by an earlier run
-        self.writer = SeriesWriter(self.dir, system, self.points_per_element, append=append)
+        self.writer = export.SeriesWriter(self.dir, system, self.points_per_element, append=append)
         self.last = None
 
     def saved(self, run, step):

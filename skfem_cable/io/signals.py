@@ -7,6 +7,9 @@ signal cuts a store's write in half.
   writes the steps saved so far and a checkpoint before the program ends.
 * ``deferred()``: around a store's write, ``SIGINT``, ``SIGTERM`` and ``SIGHUP`` are held
   and delivered when the write is complete.
+* ``ignored(SIGINT)``: around the start of helper processes (a study's Dask workers),
+  which inherit the ignored signal, so that Ctrl-C in a terminal (sent to every process
+  of its group) reaches this process only, which stops them.
 
 Both act in the main thread only (Python delivers signals there); elsewhere they do
 nothing.
@@ -127,6 +130,22 @@ def deferred(deliver=True):
             signal.signal(s, signal.SIG_DFL if handler is None else handler)
     if caught and deliver:
         _deliver(caught[0], previous[caught[0]])
+
+
+@contextmanager
+def ignored(*signums):
+    """Ignore ``signums`` inside the block (main thread; elsewhere nothing changes).  A
+    process started meanwhile keeps ignoring them (an ignored signal stays ignored
+    across ``exec``, and Python then installs no ``KeyboardInterrupt`` handler)."""
+    if not _main_thread():
+        yield
+        return
+    previous = {s: signal.signal(s, signal.SIG_IGN) for s in signums}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, signal.SIG_DFL if handler is None else handler)
 
 
 def _deliver(signum, handler):

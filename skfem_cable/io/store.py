@@ -41,6 +41,7 @@ import json
 import shutil
 import time
 import warnings
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -48,7 +49,7 @@ import numpy as np
 
 from ..contract import Observer
 from ..result import ENERGIES, FIELDS, Result, settings_array, step_record
-from . import signals
+from . import lock, signals
 from .atomic import atomic_store, is_temporary, remove_temporaries, write_atomic
 from .fingerprint import outline, settings_fingerprint, system_fingerprint
 from .jsonable import jsonable
@@ -284,7 +285,9 @@ class RunStore(Observer):
     At the end of the run, whatever ended it (an error, Ctrl-C, ``SIGTERM``), the pending
     steps and a checkpoint are committed.  While the run goes, ``SIGTERM`` and ``SIGHUP``
     raise ``io.signals.Terminated`` (a ``KeyboardInterrupt``) in the main thread, and
-    signals wait for a commit to complete.
+    signals wait for a commit to complete.  From ``start`` to ``finish`` the store holds
+    the lock of its run directory (``io.lock``): a second writer is refused
+    (``RunLocked``).  The manifest's ``wall_time`` adds up the sessions of the run.
 
     Parameters
     ----------
@@ -309,8 +312,9 @@ class RunStore(Observer):
         Turn ``SIGTERM``/``SIGHUP`` into ``Terminated`` while the run goes.
 
     A resumed run (``simulate(resume=...)``) continues the store of ``path`` only when its
-    fingerprint (``io.fingerprint``: system and solver settings) matches and the run was
-    resumed from its last commit; otherwise ``StoreMismatch``/``StoreError``.
+    fingerprint (``io.fingerprint``: system and solver settings) matches, the run was
+    resumed from its last commit, that commit's last step is the checkpoint's and
+    ``t_end`` does not end before it; otherwise ``StoreMismatch``/``StoreError``.
 
     Examples
     --------
@@ -335,6 +339,8 @@ class RunStore(Observer):
         self.manifest = None
         self._arrays = None
         self._graceful = False
+        self._lock = ExitStack()
+        self._clock = (0.0, 0.0)  # (perf_counter at start, wall time of earlier sessions)
 
     @property
     def root(self):
@@ -344,8 +350,10 @@ class RunStore(Observer):
     # --- the observer ------------------------------------------------------------------
     def start(self, run):
         self.pending, self._arrays = [], None
+        self._clock = (time.perf_counter(), 0.0)
         self._graceful = self.handle_signals and signals.install_graceful()
         try:
+            self._lock.enter_context(lock.hold(self.path))
             with signals.deferred():
                 self._open(run)
         except BaseException as err:
@@ -413,6 +421,7 @@ class RunStore(Observer):
         previous = (self.manifest.get("checkpoint") or {}).get("file")
         manifest = dict(self.manifest, saved=stop, commits=self.manifest["commits"] + 1,
                         last={"index": index, "t": t}, status="running", message=None,
+                        wall_time=self._wall_time(),
                         checkpoint={"file": name, "index": index, "t": t, "bytes": len(data),
                                     "sha256": hashlib.sha256(data).hexdigest()})
         if start == 0:
@@ -433,7 +442,13 @@ class RunStore(Observer):
         else:
             status, message = "failed", f"{type(error).__name__}: {error}"
         self.manifest = write_manifest(self.path, dict(self.manifest, status=status,
-                                                       message=message))
+                                                       message=message,
+                                                       wall_time=self._wall_time()))
+
+    def _wall_time(self):
+        """Wall time of the run so far (s): this session's and the earlier ones'."""
+        started, before = self._clock
+        return before + time.perf_counter() - started
 
     def _on_failure(self, run, error, exc):
         """``finish`` could not commit (a full disk): say where the steps are."""
@@ -463,6 +478,7 @@ class RunStore(Observer):
         return Result(run.system, records, dict(run.stats))
 
     def _release(self):
+        self._lock.close()
         if self._graceful:
             signals.uninstall_graceful()
             self._graceful = False
@@ -484,6 +500,8 @@ class RunStore(Observer):
                     f"{self.path} holds a run whose last commit is at t = {last.get('t')} s, "
                     f"but the run was resumed at t = {run.integrator.t} s: resume it from "
                     f"that directory (resume({str(self.path)!r}))")
+            check_last_commit(self.path, manifest)
+            check_t_end(self.path, manifest, run.settings["t_end"])
             stored = tuple(name for name in manifest["variables"])
             self.variables = {k: v for k, v in _variables(run.system, FIELDS).items()
                               if k in stored}
@@ -493,6 +511,7 @@ class RunStore(Observer):
             self._arrays = _sync(_open_arrays(self.root, list(self.variables),
                                               manifest["saved"]))
             self.committed = manifest["saved"]
+            self._clock = (self._clock[0], manifest.get("wall_time", 0.0))
             self.manifest = write_manifest(self.path, dict(manifest, settings=settings,
                                                            status="running", message=None))
             return
@@ -510,7 +529,7 @@ class RunStore(Observer):
                     "fields": list(self.fields), "variables": list(self.variables),
                     "store": STORE, "chunk": self.chunk, "saved": 0, "first": None,
                     "last": None, "checkpoint": None, "status": "running", "message": None,
-                    "attrs": jsonable(self.attrs), "commits": 0,
+                    "attrs": jsonable(self.attrs), "commits": 0, "wall_time": 0.0,
                     "created": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         self.manifest = write_manifest(self.path, manifest)
         attrs = {"title": "skfem_cable run", **jsonable(self.attrs),
@@ -606,6 +625,57 @@ def check_fingerprint(path, manifest, system, settings=None):
                             "continue it with the settings it was started with")
 
 
+def check_t_end(path, manifest, t_end):
+    """Raise ``StoreError`` when the store of ``path`` (its ``manifest``) holds steps after
+    ``t_end``: a resumed run only continues, it cannot end before its stored data."""
+    last = manifest.get("last") or {}
+    if last.get("t") is not None and t_end < last["t"]:
+        raise StoreError(f"{path} holds the run up to t = {last['t']:.6g} s "
+                         f"({manifest['saved']} saved steps); a continuation cannot end "
+                         f"before that (t_end = {t_end:.6g} s): give --t-end {last['t']:.6g} "
+                         "or later, or read the steps up to the time wanted from the store "
+                         "(Result.load, xarray.open_zarr)")
+
+
+def check_last_commit(path, manifest):
+    """Raise ``StoreCorrupt`` unless the last of the ``saved`` steps the manifest of
+    ``path`` commits is the step of its checkpoint, in the arrays themselves: the
+    continuation appends after that step, so any other would leave a gap or a repeat in
+    the data (a manifest edited or damaged after the run)."""
+    ck, n = manifest.get("checkpoint"), manifest["saved"]
+    if ck is None:
+        return
+    path = Path(path)
+    file = path / MANIFEST
+    try:
+        arrays = _sync(_read_last(path / STORE, n))
+    except Exception as err:
+        raise StoreCorrupt(f"{path / STORE} cannot be read at the last committed step "
+                           f"({type(err).__name__}: {err})", path / STORE) from err
+    if arrays != (ck["index"], ck["t"]):
+        step, t = arrays
+        raise StoreCorrupt(
+            f"{file} commits {n} saved steps, the last at step {step} (t = {t:.6g} s), but "
+            f"its checkpoint {ck['file']} is at step {ck['index']} (t = {ck['t']:.6g} s): "
+            "continuing would leave a gap or a repeat in the data.  The manifest was edited "
+            "or damaged after the run: restore it (its 'saved' and 'last' must describe the "
+            "store); the steps themselves still load", file)
+
+
+async def _read_last(root, n):
+    """``(step, time)`` of the ``n``-th step of the store ``root``."""
+    import zarr.api.asynchronous as za
+
+    group = await za.open_group(store=atomic_store(root, read_only=True), mode="r",
+                                use_consolidated=False)
+    arrays = await _gather([group.getitem("step"), group.getitem("time")])
+    held = min(a.shape[0] for a in arrays)
+    if not 1 <= n <= held:
+        raise ValueError(f"the arrays hold {held} steps, the manifest commits {n}")
+    step, t = await _gather([a.getitem(n - 1) for a in arrays])
+    return int(step), float(t)
+
+
 # --- reading ------------------------------------------------------------------------------
 @dataclass
 class Resume:
@@ -684,11 +754,36 @@ def _undecodable_chunk(root, name, chunk, n):
 
 
 def _open_dataset(root):
+    """The store ``root`` as a lazy ``xarray.Dataset``.  Without its consolidated metadata
+    (``zarr.json`` lost its list of the arrays) it is read from the arrays' own metadata,
+    and the consolidated metadata is written again (``repair_metadata``)."""
     import xarray as xr
 
     with warnings.catch_warnings():
         warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata")
-        return xr.open_zarr(root, consolidated=True, chunks=None)
+        try:
+            return xr.open_zarr(root, consolidated=True, chunks=None)
+        except Exception:
+            ds = xr.open_zarr(root, consolidated=False, chunks=None)
+    repair_metadata(root)
+    return ds
+
+
+def repair_metadata(root):
+    """Write the consolidated metadata of the store ``root`` again, from its arrays
+    (with a ``RuntimeWarning``), unless a run holds its directory (that run writes it at
+    its next commit) or it cannot be written (a read-only directory: readers fall back
+    on the arrays' metadata)."""
+    import zarr.api.asynchronous as za
+
+    try:
+        with lock.hold(Path(root).parent):
+            _sync(za.consolidate_metadata(atomic_store(root)))
+    except (StoreError, OSError):
+        return
+    warnings.warn(f"{root}/zarr.json had lost its consolidated metadata (the list of the "
+                  "arrays that xarray.open_zarr reads first); the arrays were read without "
+                  "it and it was written again", RuntimeWarning, stacklevel=3)
 
 
 def open_dataset(path):
@@ -704,12 +799,20 @@ def open_dataset(path):
     try:
         ds = _open_dataset(path / STORE)
     except Exception as err:
-        raise StoreCorrupt(f"{path / STORE} cannot be opened ({type(err).__name__}: {err}): "
-                           "the store is damaged; run again (--overwrite)",
-                           path / STORE) from err
+        raise _unopenable(path / STORE, err) from err
     ds = ds.isel(time=slice(0, n))
     ds.attrs["manifest"] = manifest
     return ds
+
+
+def _unopenable(root, err):
+    """The ``StoreCorrupt`` of a store ``root`` that does not open, even from its arrays'
+    own metadata."""
+    return StoreCorrupt(f"{root} cannot be opened, neither from its consolidated metadata "
+                        f"nor from its arrays' ({type(err).__name__}: {err}): its metadata "
+                        "(zarr.json files) is damaged; restore it from a backup (arrays "
+                        "whose zarr.json is intact still open with zarr.open_array), or "
+                        "run again (--overwrite) to replace the run", root)
 
 
 def _manifest_or_raise(path):
@@ -733,8 +836,7 @@ def _read_records(path, system, manifest):
     try:
         ds = _open_dataset(root)
     except Exception as err:
-        raise StoreCorrupt(f"{root} cannot be opened ({type(err).__name__}: {err}): the "
-                           "store is damaged; run again (--overwrite)", root) from err
+        raise _unopenable(root, err) from err
     records = {}
     for name in FIELDS:
         if name not in stored:
@@ -855,6 +957,7 @@ def resume(path, system=None):
     if system is not None:
         check_fingerprint(path, manifest, system)
     checkpoint = read_checkpoint(path, manifest)
+    check_last_commit(path, manifest)
     shape = system if system is not None else _ShapeOnly(manifest)
     records = _read_records(path, shape, manifest)
     return Resume(checkpoint, records, path, manifest)

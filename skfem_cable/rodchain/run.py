@@ -2,14 +2,14 @@
 runs (``runner.run_dynamic``): the VTU series ``series.pvd`` + ``vtu/`` (written during
 the run by ``ChainSeriesObserver``), ``summary.json`` (parameters, wall time, steps, key
 outputs, energy budget) and ``plots/`` (``plots.run_figures``).  A rod-chain run has no
-run store and cannot be resumed."""
-
-from pathlib import Path
+run store and cannot be resumed; ``SIGTERM`` and ``SIGHUP`` end it like Ctrl-C (its
+frames so far stay listed in ``series.pvd``)."""
 
 import numpy as np
 
+from ..io import signals
 from ..io.progress import ProgressBar
-from ..runner import complete_summary, prepare_run_dir, warn, write_summary
+from ..runner import complete_summary, run_directory, warn, write_summary
 from .export import ChainSeriesObserver
 from .integrate import rk4_step
 from .plots import run_figures
@@ -93,41 +93,41 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
     options.reject(name, "alpha", "every", "formulation")
     if options.resume:
         raise ValueError(f"scene {name!r} is a rod-chain run, which has no checkpoint and "
-                         "cannot be resumed: run it again with --overwrite")
+                         "cannot be resumed: run it again into another --out, or with "
+                         "--overwrite (which replaces its frames)")
     t_end = options.value("t_end", defaults["t_end"])
     dt = options.value("dt", defaults["dt"])
     method = defaults.get("method", "rk4")
     step, every = time_grid(chain, t_end, dt, method, defaults.get("step"))
     series_every = defaults.get("series_every", 1)
-    prepare_run_dir(options, can_resume=False)
-    out = None if options.out is None else Path(options.out)
-    watch = []
-    if out is not None:
-        watch.append(ChainSeriesObserver(out, every=series_every))
-    if options.progress is not False:
-        watch.append(ProgressBar(options.progress))
-    solver = {k: defaults[k] for k in SOLVER_KEYS if k in defaults}
-    result = chain.simulate(*initial, t_end, step, output_every=every, **solver,
-                            **(loads or {}), observers=[*watch, *observers])
-    stats = result.stats
-    summary = {"scene": name,
-               "parameters": {**(parameters or {}), "t_end": t_end, "dt": dt,
-                              "method": method, "series_every": series_every},
-               "wall_time": stats["wall_time"], "saved_steps": len(result),
-               "integration": {"method": method, "step": step, "steps": stats["steps"],
-                               "nfev": stats["nfev"], "stable_dt": chain.stable_dt(),
-                               "stopped": stats["stopped"]},
-               "outputs": chain_outputs(result)}
-    complete_summary(summary, result, outputs)
-    if out is not None:
-        files = {"series": "series.pvd"}
-        if options.plots:
-            paths, skipped = run_figures(out, result)
-            if skipped:
-                warn(f"skipping the 3-D snapshot: {skipped}")
-            files["plots"] = [p.relative_to(out).as_posix() for p in paths]
-        if options.animate:
-            warn("no animation of rod-chain runs (the VTU series animates in ParaView)")
-        summary["files"] = files
-        write_summary(out, summary)
+    with run_directory(options, can_resume=False) as out, signals.graceful():
+        watch = []
+        if out is not None:
+            watch.append(ChainSeriesObserver(out, every=series_every))
+        if options.progress is not False:
+            watch.append(ProgressBar(options.progress))
+        solver = {k: defaults[k] for k in SOLVER_KEYS if k in defaults}
+        result = chain.simulate(*initial, t_end, step, output_every=every, **solver,
+                                **(loads or {}), observers=[*watch, *observers])
+        stats = result.stats
+        summary = {"scene": name,
+                   "parameters": {**(parameters or {}), "t_end": t_end, "dt": dt,
+                                  "method": method, "series_every": series_every},
+                   "wall_time": stats["wall_time"], "saved_steps": len(result),
+                   "integration": {"method": method, "step": step, "steps": stats["steps"],
+                                   "nfev": stats["nfev"], "stable_dt": chain.stable_dt(),
+                                   "stopped": stats["stopped"]},
+                   "outputs": chain_outputs(result)}
+        complete_summary(summary, result, outputs)
+        if out is not None:
+            files = {"series": "series.pvd"}
+            if options.plots:
+                paths, skipped = run_figures(out, result)
+                if skipped:
+                    warn(f"skipping the 3-D snapshot: {skipped}")
+                files["plots"] = [p.relative_to(out).as_posix() for p in paths]
+            if options.animate:
+                warn("no animation of rod-chain runs (the VTU series animates in ParaView)")
+            summary["files"] = files
+            write_summary(out, summary)
     return summary, result

@@ -57,6 +57,10 @@ def loads_text(content, source="<string>", elements=None):
         data = tomllib.loads(content)
     except tomllib.TOMLDecodeError as err:
         raise SceneFileError(f"{source}: not valid TOML: {err}") from None
+    except RecursionError:
+        raise SceneFileError(f"{source}: not a scene file: its arrays or tables are nested "
+                             "deeper than the TOML reader goes (a scene nests a few "
+                             "levels)") from None
     root = Table(data, "", source)
     kind = chain_scene if "rod_chain" in data else system_scene
     return kind.build(root, elements)
@@ -67,7 +71,14 @@ def load(path, elements=None):
     path = Path(path)
     if not path.is_file():
         raise SceneFileError(f"{path}: no such scene file")
-    return loads_text(path.read_text(), str(path), elements)
+    data = path.read_bytes()
+    try:
+        content = data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise SceneFileError(f"{path}: not a UTF-8 text file (byte {data[err.start]:#04x} "
+                             f"at offset {err.start}): a TOML scene file is UTF-8 text; "
+                             "convert it (e.g. iconv -f latin1 -t utf-8)") from None
+    return loads_text(content, str(path), elements)
 
 
 def run(path, options):

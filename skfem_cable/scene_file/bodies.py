@@ -72,9 +72,13 @@ def read_section(t):
               "gamma_axial": t.get("gamma_axial", non_negative, 0.0),
               "gamma_bending": t.get("gamma_bending", non_negative, 0.0)}
     t.finish()
-    if radius is not None:
+    if radius is None:
+        return Section(A=A, I=I, **common)
+    try:
         return Section.circular(radius=radius, **common)
-    return Section(A=A, I=I, **common)
+    except ValueError as err:  # pi r^2 or pi r^4 / 4 out of floating-point range
+        t.fail("radius", f"is out of range ({err}: A = pi r^2, I = pi r^4 / 4 in floating "
+               "point)", radius)
 
 
 def read_sections(t, bodies):

@@ -59,6 +59,14 @@ def vector3(v):
     return np.array([number(x) for x in v])
 
 
+def direction3(v):
+    """A vector that gives a direction: three numbers, not all zero."""
+    x = vector3(v)
+    if not np.linalg.norm(x) > 0:
+        raise ValueError("must be a non-zero list of 3 numbers")
+    return x
+
+
 def matrix3(v):
     if not isinstance(v, list) or len(v) != 3:
         raise ValueError("must be a 3 x 3 list of lists of numbers")

@@ -23,7 +23,8 @@ from .solver import read_analysis, read_initial, read_output, read_solver
 class SceneSpec:
     """A scene read from a file: ``analysis`` is ``"dynamic"`` (``solver`` holds the
     ``simulate`` keywords), ``"static"`` (``solve_static`` keywords) or ``"steady"``
-    (``solve_steady`` keywords)."""
+    (``solve_steady`` keywords); ``motion`` is the ``[initial]`` table as written (a
+    parameter of the run: a continued run must start from the same)."""
 
     title: str
     system: System
@@ -31,6 +32,7 @@ class SceneSpec:
     analysis: str
     solver: dict
     points_per_element: int
+    motion: dict
 
 
 def build(root, elements=None):
@@ -58,10 +60,11 @@ def build(root, elements=None):
     for t in root.tables("point_masses"):
         read_point_mass(t, bodies, system)
     read_loads(root.table("loads"), bodies, system, analysis)
-    initial = read_initial(root.table("initial"), system, analysis)
+    motion = root.table("initial")
+    initial = read_initial(motion, system, analysis)
     ppe = read_output(root.table("output"))
     root.finish()
-    return SceneSpec(title, system, initial, analysis, settings, ppe)
+    return SceneSpec(title, system, initial, analysis, settings, ppe, motion.data)
 
 
 def run(path, spec, options):
@@ -69,7 +72,7 @@ def run(path, spec, options):
     returns the summary."""
     options.reject(Path(path).name, "alpha", "formulation")
     name = Path(path).stem
-    parameters = {"file": str(path), "title": spec.title}
+    parameters = {"file": str(path), "title": spec.title, "initial": spec.motion}
     if spec.analysis == "dynamic":
         return run_dynamic(name, spec.system, spec.initial, options, spec.solver, parameters,
                            points_per_element=spec.points_per_element)[0]

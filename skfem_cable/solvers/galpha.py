@@ -118,7 +118,7 @@ class GeneralizedAlpha:
         if tol_local is not None and not (np.isfinite(tol_local) and 0 < tol_local < 1):
             raise ValueError(f"tol_local must lie in (0, 1) or be None, got {tol_local!r}")
         self.tol_local = tol_local
-        lay = system.layout
+        lay = system.current_layout()
         self.lay = lay
         self.n = system.n_dofs
         self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)

@@ -38,7 +38,7 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
                          "depend on the free length (and a reel's length has inertia the "
                          "constant mass matrix does not hold); build the cables at their "
                          "free length, without deploy, for their modes")
-    lay = system.layout
+    lay = system.current_layout()
     n = system.n_dofs
     if int(k) != k or not 1 <= k <= n - system.n_constraints:
         raise ValueError(f"k must be an integer in [1, {n - system.n_constraints}], got {k!r}")

@@ -17,6 +17,7 @@ Examples
 """
 
 import contextlib
+import numbers
 import time
 
 import numpy as np
@@ -179,16 +180,23 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     ------
     SimulationError
         A step failed at the smallest step size; its ``result`` holds the saved steps.
+    system.SystemChanged
+        The system changed during the run (an observer edited a load, a section, a
+        constraint): the run takes the system as it is at its start
+        (``System.current_layout``) and cannot take an edit midway; the message names
+        what changed, the ``result`` holds the saved steps.
     """
     for name, value in (("t_end", t_end), ("dt", dt), ("t_start", t_start)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise TypeError(f"{name} must be a number (s), got {value!r}")
         if not np.isfinite(value):
             raise ValueError(f"{name} must be finite, got {value!r}")
     if not dt > 0:
         raise ValueError(f"dt must be > 0, got {dt!r}")
     if not t_end > t_start:
         raise ValueError(f"t_end must be > t_start = {t_start}, got {t_end!r}")
-    if int(every) != every or every < 1:
-        raise ValueError(f"every must be a positive integer, got {every!r}")
+    if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
+        raise ValueError(f"every must be an integer >= 1, got {every!r}")
     _check_steps(t_start, t_end, dt, max_halvings)
     observers = list(observers or ())
     for obs in observers:
@@ -294,6 +302,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
             started.append(obs)
         stop = save(0) if start_index == 0 else None
         stop = (adaptive_steps if adaptive else fixed_steps)(start_index, stop)
+        system.check_unchanged(integ.lay, "during the run")  # an observer's edit: refused
         run.stop_reason = stop
     except BaseException as err:
         # whatever stopped the run, the steps computed so far travel with the error

@@ -274,7 +274,7 @@ class _Newton:
     def __init__(self, system, initial, tol, max_iter, line_search, method, motion=None):
         self.system, self.tol, self.max_iter = system, tol, max_iter
         self.line_search, self.motion = line_search, motion
-        lay = system.layout
+        lay = system.current_layout()
         self.lay, self.n = lay, system.n_dofs
         self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
         self.q0 = (system.q0 if initial is None else initial.q).copy()

@@ -218,6 +218,7 @@ def solve_steady(system, omega, center=(0.0, 0.0, 0.0), initial=None, load_steps
     if any(isinstance(load, Centrifugal) for load in system.loads):
         raise ValueError("system already has a Centrifugal load: solve_steady adds its own "
                          "(remove add_centrifugal, or use solve_static)")
+    system.current_layout()  # the system as it is now (gauge_constraints uses it)
     q0 = system.q0 if initial is None else np.asarray(initial.q, dtype=float)
     gauges, mass = gauge_constraints(system, q0, omega, center)
     frame = copy.copy(system)

@@ -1,16 +1,22 @@
 """Parameter studies on Dask distributed: ``sweep`` runs every point of a grid as one task
 (``client.map`` of ``task.run_point``), each into its own run directory of the study, on a
 given cluster or a ``LocalCluster`` it starts, and gathers the small records the tasks
-return into the study's dataset (``dataset``)."""
+return into the study's dataset (``dataset``).  Ctrl-C stops a study cleanly: the dataset
+of the points finished so far is written, the others are ``interrupted`` (their run
+directories keep their last commit, and the same call continues them), and the workers of
+a ``LocalCluster``, which leave Ctrl-C to this process, are stopped quietly."""
 
+import logging
 import os
+import signal
 import time
 import uuid
-from contextlib import contextmanager
+from contextlib import contextmanager, nullcontext, suppress
 from pathlib import Path
 
 import numpy as np
 
+from ..io import signals
 from ..io.jsonable import jsonable
 from ..io.progress import Progress
 from . import grid as grids
@@ -58,6 +64,13 @@ def sweep(build, grid, run=None, client=None, store="runs/study", fixed=None,
     xarray.Dataset
         The study (also written to ``store/study.zarr``).
 
+    Raises
+    ------
+    KeyboardInterrupt
+        Ctrl-C (or ``SIGTERM`` in a run of this process): ``store/study.zarr`` holds the
+        points finished before it, the others with the status ``interrupted``; the
+        exception's ``study`` is that dataset.
+
     Examples
     --------
     >>> from skfem_cable.scenes.catalog import pendulum_scene
@@ -76,15 +89,23 @@ def sweep(build, grid, run=None, client=None, store="runs/study", fixed=None,
                          f"its own), got {workers!r}")
     store = Path(store).resolve()
     names = [grids.run_name(build, {**p, **fixed}) for _, p in pts]
+
+    def study(records):
+        ds = dataset(dims, coords, [i for i, _ in pts], records,
+                     [f"{RUNS}/{n}" for n in names])
+        ds.attrs.update(build=grids.build_name(build), fixed=jsonable(fixed),
+                        directory=str(store), created=time.strftime("%Y-%m-%dT%H:%M:%S%z"))
+        write_study(ds, store / STUDY)
+        return ds
+
     with _cluster(client, workers, len(pts)) as c:
-        records = _gather(c, build, run, [{**fixed, **p} for _, p in pts],
-                          [store / RUNS / n for n in names], overwrite, plots, progress)
-    ds = dataset(dims, coords, [i for i, _ in pts], records,
-                 [f"{RUNS}/{n}" for n in names])
-    ds.attrs.update(build=grids.build_name(build), fixed=jsonable(fixed), directory=str(store),
-                    created=time.strftime("%Y-%m-%dT%H:%M:%S%z"))
-    write_study(ds, store / STUDY)
-    return ds
+        try:
+            records = _gather(c, build, run, [{**fixed, **p} for _, p in pts],
+                              [store / RUNS / n for n in names], overwrite, plots, progress)
+        except KeyboardInterrupt as err:
+            err.study = study(err.records)
+            raise
+    return study(records)
 
 
 @contextmanager
@@ -96,9 +117,39 @@ def _cluster(client, workers, n_tasks):
     from dask.distributed import Client, LocalCluster
 
     n = workers or max(1, min(n_tasks, os.cpu_count() or 1))
-    with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                      dashboard_address=None) as cluster, Client(cluster) as c:
+    with signals.ignored(signal.SIGINT):  # the workers inherit it: Ctrl-C is this process's
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None)
+    c = Client(cluster)
+    interrupted = False
+    try:
         yield c
+    except KeyboardInterrupt:
+        interrupted = True  # busy workers are stopped: what they log about it is expected
+        with suppress(Exception):
+            c.run(_silence, "distributed")
+        raise
+    finally:
+        with _silenced("distributed") if interrupted else nullcontext():
+            c.close()
+            cluster.close()
+
+
+def _silence(name):
+    """Silence the logger ``name`` (and its children) of this process."""
+    logging.getLogger(name).setLevel(logging.CRITICAL + 1)
+
+
+@contextmanager
+def _silenced(name):
+    """The logger ``name`` (and its children) quiet inside the block."""
+    logger = logging.getLogger(name)
+    level = logger.level
+    _silence(name)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def _gather(client, build, run, params, dirs, overwrite, plots, progress):
@@ -114,18 +165,29 @@ def _gather(client, build, run, params, dirs, overwrite, plots, progress):
     records = [None] * len(futures)
     bar = Progress(0, len(futures), progress, label="runs")
     failed = 0
-    for done, future in enumerate(as_completed(futures), 1):
-        try:
-            record = future.result()
-        except Exception as err:  # the task itself records failures: this is the cluster
-            record = {"status": "failed", "error": f"{type(err).__name__}: {err}",
-                      "reused": False, "numbers": {}, "t_last": np.nan,
-                      "task_wall_time": np.nan}
-        records[index[future.key]] = record
-        failed += record["status"] != "complete"
-        bar.update(done, f"{failed} failed" if failed else "")
-        future.release()
-    bar.close()
+    try:
+        for done, future in enumerate(as_completed(futures), 1):
+            try:
+                record = future.result()
+            except Exception as err:  # the task itself records failures: this is the cluster
+                record = _record("failed", f"{type(err).__name__}: {err}")
+            records[index[future.key]] = record
+            failed += record["status"] != "complete"
+            bar.update(done, f"{failed} failed" if failed else "")
+            future.release()
+    except KeyboardInterrupt as err:
+        err.records = [r or _record("interrupted", "the study was interrupted before this "
+                                    "run finished; run the study again to continue it")
+                       for r in records]
+        raise
+    finally:
+        bar.close()
     return records
+
+
+def _record(status, error):
+    """The record of a point whose task returned none."""
+    return {"status": status, "error": error, "reused": False, "numbers": {},
+            "t_last": np.nan, "task_wall_time": np.nan}
 
 

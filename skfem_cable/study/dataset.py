@@ -8,7 +8,7 @@ A study directory holds
   ``t_last`` (time of its last stored step), ``task_wall_time`` and ``run_dir``;
 * ``runs/NAME/``: each point's run directory (``runner``: the run store, the ParaView
   series, ``summary.json``), named by ``grid.run_name``; ``open_run`` opens its store
-  lazily; ``runs/NAME.lock``: the lock of its task.
+  lazily.
 """
 
 import shutil

@@ -9,20 +9,22 @@ the system (``io.fingerprint``), the solver settings and ``t_end``.  A directory
 store and a checkpoint but no such summary (a worker was killed, the study interrupted, or
 ``t_end`` grew) is continued from the checkpoint bit for bit (``RunOptions.resume``); a
 store written by another system or other settings is an error naming ``overwrite``.  A
-lock file beside the run directory keeps two attempts at the same point (Dask may start a
-task again when it believes a worker lost) from writing it at once.
+``summary.json`` that cannot be read (truncated) is no record: the run is continued from
+its store, which writes the summary again.  The task holds the lock of the run directory
+(``io.lock``, waiting for it), so that two attempts at the same point (Dask may start a
+task again when it believes a worker lost) never write it at once.
 """
 
 import json
 import time
-from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
 
+from ..io import lock
 from ..io.fingerprint import settings_fingerprint, system_fingerprint
 from ..io.jsonable import jsonable
-from ..io.manifest import StoreMismatch
+from ..io.manifest import StoreMismatch, read_manifest
 from ..io.store import run_info
 from ..runner import SUMMARY, RunOptions, run_files, write_summary
 
@@ -63,30 +65,16 @@ def _flatten(tree, prefix, flat):
             flat[name] = array.astype(float).tolist() if array.ndim else float(array)
 
 
-@contextmanager
-def exclusive(path):
-    """Hold an exclusive lock on the file ``path`` (``fcntl.flock``: released by the
-    kernel when the holder dies); waits while another process holds it."""
-    import fcntl
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "a") as f:
-        fcntl.flock(f, fcntl.LOCK_EX)
-        try:
-            yield
-        finally:
-            fcntl.flock(f, fcntl.LOCK_UN)
-
-
 def _finished(run_dir, params, fp):
     """The summary of ``run_dir`` if it holds the finished run of ``params`` with the
-    fingerprint ``fp``; None if it holds no finished run of them or one with another
-    ``t_end``; ``StoreMismatch`` if the scene changed since."""
+    fingerprint ``fp``; None if it holds no finished run of them, one with another
+    ``t_end`` or a summary that cannot be read; ``StoreMismatch`` if the scene changed
+    since."""
     path = run_dir / SUMMARY
-    if not path.is_file():
+    try:
+        summary = json.loads(path.read_text())
+    except (OSError, ValueError):  # none, or truncated: the store tells what is done
         return None
-    summary = json.loads(path.read_text())
     record = summary.get("sweep") or {}
     stored = record.get("fingerprint") or {}
     if record.get("parameters") != jsonable(params):
@@ -103,10 +91,11 @@ def _finished(run_dir, params, fp):
 
 def _how(run_dir, overwrite):
     """``RunOptions`` keywords to write ``run_dir``: continue the store it holds (with a
-    checkpoint), replace what it holds otherwise, or start afresh."""
+    checkpoint), replace what it holds otherwise, or start afresh; ``StoreCorrupt`` for a
+    damaged manifest (the point fails, naming it, and its steps are kept)."""
     if overwrite or not run_files(run_dir):
         return {"overwrite": overwrite}
-    manifest = run_info(run_dir)
+    manifest = read_manifest(run_dir)  # a damaged one is an error, its data are kept
     if manifest is not None and manifest.get("checkpoint"):
         return {"resume": True}
     return {"overwrite": True}  # a start that committed nothing: no data to keep
@@ -142,7 +131,7 @@ def run_point(build, params, run_dir, run=None, overwrite=False, plots=False):
     wall0 = time.perf_counter()
     run_dir = Path(run_dir)
     record = {"status": "complete", "error": "", "reused": False, "numbers": {}}
-    with exclusive(run_dir.with_name(run_dir.name + ".lock")):
+    with lock.hold(run_dir, wait=True):
         try:
             scene = build(**params)
             fp = fingerprint(scene)
