@@ -98,7 +98,6 @@ def plot(cable, state, rows, path):
     b.loglog(rows[:, 0], rows[:, 2], "s-", label="tension")
     b.loglog(rows[:, 0], rows[:, 1][0] * (rows[:, 0] / rows[0, 0]) ** -3, "k:",
              label="slope -3")
-    b.axhline(1e-8, color="0.6", lw=0.8)
     b.set_xticks(rows[:, 0], [str(int(n)) for n in rows[:, 0]])
     b.minorticks_off()
     b.set_xlabel("elements")

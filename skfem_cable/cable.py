@@ -521,7 +521,7 @@ class Cable:
         values = self.law.parameter_values(self.section)
         deployment = system.deployment(self)
         passes, key = [], []
-        for piece, hook, tables in FORMULATIONS[self.formulation].passes(self):
+        for piece, kind, tables in FORMULATIONS[self.formulation].passes(self):
             if piece.vanishes:
                 continue
             damped = piece.damped and piece.dissipates(values)
@@ -533,8 +533,8 @@ class Cable:
                     "the material's; use an undamped law for a deploying cable")
             if deployment is not None:  # the term's own tables, rescaled in time
                 tables = tuple(np.array(t) for t in tables)
-            passes.append((getattr(piece.compiled(), hook), tables, values, damped))
-            key.append((piece.key, hook, damped, tables[0].shape[1]))
+            passes.append((piece.compiled(kind).kernel, tables, values, damped))
+            key.append((piece.key, kind, damped, tables[0].shape[1]))
         term = cable_term(self.global_element_dofs(system), passes,
                           ("ancf-cable", values, *key), self.name)
         if deployment is None:

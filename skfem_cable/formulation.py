@@ -21,8 +21,9 @@ them (``docs/locking.md`` measures the three).
     where the others reach sixth.
 
 A formulation is a small object with three hooks: ``passes(cable)`` (the compiled kernel
-calls of its elastic forces) and ``strain``/``tension(cable, q, s, stretch)`` (the
-recovered fields at arc lengths ``s``).
+calls of its elastic forces: a law or a part of it, the kind of its generated module,
+``laws.codegen.TEMPLATES``, and the tables of its rule) and ``strain``/``tension(cable, q,
+s, stretch)`` (the recovered fields at arc lengths ``s``).
 """
 
 import numpy as np
@@ -34,16 +35,16 @@ from .kernels import assumed_strain
 #: (Simpson: the nodes and the midpoint), reference coordinates and weights.
 LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
 
-#: Gauss rule of the bending part of the law on a locking-free cable (order 5: 3 points,
-#: exact for the linearised bending stiffness; as accurate as 5 points on the elastica and
-#: a third cheaper).
+#: Gauss rule of the bending part of the law of the locking-free formulations (order 5: 3
+#: points, exact for the linearised bending stiffness; as accurate as 5 points on the
+#: elastica and a third cheaper).
 BENDING_INTORDER = 5
 
 
 def _bending_pass(cable):
     """The bending part of the law on the 3-point Gauss rule."""
     X, W = get_quadrature(cable.mesh.refdom, BENDING_INTORDER)
-    return cable.law.part(1), "kernel", cable.tables_at(X[0], W)
+    return cable.law.part(1), "gauss", cable.tables_at(X[0], W)
 
 
 class Paper:
@@ -52,7 +53,7 @@ class Paper:
     name = "paper"
 
     def passes(self, cable):
-        return [(cable.law, "kernel", (cable.Sx, cable.Sxx, cable.weights, cable.h))]
+        return [(cable.law, "gauss", (cable.Sx, cable.Sxx, cable.weights, cable.h))]
 
     def strain(self, cable, q, s, stretch=1.0):
         return cable.green(q, *cable.locate(s), stretch)
@@ -83,7 +84,7 @@ class Lobatto:
     name = "lobatto"
 
     def passes(self, cable):
-        return [(cable.law.part(0), "kernel", cable.tables_at(*LOBATTO)),
+        return [(cable.law.part(0), "gauss", cable.tables_at(*LOBATTO)),
                 _bending_pass(cable)]
 
     def strain(self, cable, q, s, stretch=1.0):
@@ -116,10 +117,11 @@ class AssumedStrain:
     POINTS = (0.0, 0.5, 1.0)
 
     def passes(self, cable):
+        """One pass: the axial part at the assumed strain and the bending part on the
+        3-point Gauss rule (``kernels.assumed_strain``)."""
         Sx = cable.tables_at(assumed_strain.SAMPLES, np.zeros(5))[0]
-        w = cable.tables_at(assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)[2]
-        return [(cable.law.part(0), "strain_kernel", (Sx, Sx[:, :0], w, cable.h)),
-                _bending_pass(cable)]
+        _, Sxx, w, h = cable.tables_at(assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)
+        return [(cable.law, "assumed-strain", (Sx, Sxx, w, h))]
 
     def strain(self, cable, q, s, stretch=1.0):
         return self.recovered(cable, *self.assumed(cable, q, stretch), s)
@@ -147,11 +149,11 @@ class AssumedStrain:
         """``W'(eps) sqrt(1 + 2 eps)``: the axial force ``t . W_a = W'(eps) |a|`` of the
         axial energy ``W(eps)`` of the law (``CableLaw.strain``) at the strains ``eps`` of
         elements ``e``."""
-        piece = cable.law.part(0)
+        law = cable.law
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(cable.h[e] * lam, np.shape(eps))
-        sigma = piece.compiled().numpy_strain(eps, piece.parameter_values(cable.section),
-                                              h)["s"]
+        sigma = law.compiled("assumed-strain").numpy_strain(
+            eps, law.parameter_values(cable.section), h)["s"]
         return sigma * np.sqrt(np.maximum(1 + 2 * eps, 0.0))
 
     @staticmethod

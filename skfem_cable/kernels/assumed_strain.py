@@ -1,4 +1,6 @@
-"""Template of the compiled kernel of the assumed-strain axial part of a cable's law.
+"""Template of the compiled kernel of the assumed-strain cable (``formulation``): the axial
+part of the law at the assumed strain and its bending part on the 3-point Gauss rule, in one
+pass over the elements.
 
 The Green strain ``eps = (|r_x|^2 - 1)/2`` of the C1 cubic field is continuous across the
 nodes; in a bent element it is a quartic.  The assumed strain ``eps_bar`` replaces it by
@@ -34,10 +36,12 @@ with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T ad_j``
 ``K = sum_g w_g [(cK k_g + cC c_g) beta_g beta_g^T + cK c_g beta_g gamma_g^T]
 + cK sum_j n_j (S_x,j^T S_x,j) (x) I3``,  ``n_j = sum_g w_g sigma_g MAP[g, j]``.
 
-``strain_force_tangent`` and ``strain_kernel`` are compiled in each law's generated module
-(``laws.codegen``) next to the law's ``strain_point`` functions, as ``kernels.cable``'s
-template is.  The tables are those of ``kernels.cable`` with ``Sx`` at the five sampling
-points and no ``Sxx`` (the axial part has no ``r_xx``).
+The bending part (the law's terms with ``r_xx``) is integrated as ``kernels.cable`` does,
+at the Gauss points (the samples 2 to 4).  ``force_tangent`` and ``kernel`` are compiled
+in the assumed-strain module of each law (``laws.codegen``, kind ``"assumed-strain"``) next
+to the law's ``strain_point`` functions and the ``point_*`` functions of its bending part,
+as ``kernels.cable``'s template is in the law's Gauss module.  The tables are those of
+``kernels.cable`` with ``Sx`` at the five sampling points and ``Sxx`` at the Gauss points.
 """
 
 import numpy as np
@@ -69,19 +73,22 @@ def assumed_map(xi):
 MAP = assumed_map(GAUSS_XI)
 
 
-def strain_force_tangent(state, elements, law, out, coef):
-    """Add the assumed-strain axial forces to ``f`` and ``cK K + cC C`` into ``data``.
+def force_tangent(state, elements, law, out, coef):
+    """Add the elastic and damping forces of the assumed-strain cable to ``f`` and
+    ``cK K + cC C`` into ``data``: the axial part at the assumed strain and the bending
+    part on the 3-point Gauss rule, in one pass over the elements.
 
     Parameters
     ----------
     state : tuple ``(q, v)``
     elements : tuple ``(edofs, Sx, Sxx, w, h)``
         Global DOF of each element coordinate, int (ne, 12); the slope table at the five
-        ``SAMPLES`` (ne, 5, 4); an unused ``Sxx`` (ne, 0, 4); the Gauss weights times
-        the element lengths (ne, 3); element lengths (ne,).
+        ``SAMPLES`` (ne, 5, 4) (the nodes, then the Gauss points); the second-derivative
+        table at the Gauss points (ne, 3, 4); the Gauss weights times the element lengths
+        (ne, 3); element lengths (ne,).
     law, out, coef
-        As in ``kernels.cable.force_tangent`` (only the axial energy and power are
-        written).
+        As in ``kernels.cable.force_tangent``: the axial part's energy and power go to
+        ``energy[0]``, ``power[0]``, the bending part's to ``energy[1]``, ``power[1]``.
     """
     q, v = state
     edofs, Sx, Sxx, w, h = elements
@@ -90,7 +97,8 @@ def strain_force_tangent(state, elements, law, out, coef):
     cK, cC = coef
     ne = w.shape[0]
     want_matrix = scatter.shape[0] == ne
-    damped = DAMPED and damped  # noqa: F821 (constant of the generated module)
+    damped = DAMPED and damped  # noqa: F821 (constants of the generated module)
+    bending = BENDING  # noqa: F821
     qe = np.empty((4, 3))
     ve = np.zeros((4, 3))
     a = np.empty((5, 3))
@@ -98,15 +106,21 @@ def strain_force_tangent(state, elements, law, out, coef):
     raw = np.empty(5)
     rate = np.zeros(5)
     n = np.empty(5)
-    beta = np.empty((3, 12))
-    gamma = np.zeros((3, 12))
     Bj = np.empty((5, 12))
     Bdj = np.zeros((5, 12))
-    stiff = np.empty(3)
-    cross = np.zeros(3)
-    sigma_d = np.zeros(3)
+    beta = np.empty((3, 12))
+    gamma = np.zeros((3, 12))
+    sb = np.empty((3, 12))
+    x = np.empty(6)
+    xd = np.zeros(6)
+    G = np.zeros(6)
+    H = np.zeros((6, 6))
+    Gd = np.zeros(6)
+    Hc = np.zeros((6, 6))
+    T = np.empty((6, 12))
+    S6 = np.empty((2, 4))
     fe = np.empty(12)
-    fde = np.empty(12)
+    fde = np.zeros(12)
     Ke = np.empty((12, 12))
     for e in range(ne):
         for A in range(4):
@@ -114,19 +128,20 @@ def strain_force_tangent(state, elements, law, out, coef):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
                 if damped:
                     ve[A, i] = v[edofs[e, 3 * A + i]]
+        # the raw strains and their rates at the samples
         for j in range(5):
             sa = 0.0
             sr = 0.0
             for i in range(3):
-                x = 0.0
-                xd = 0.0
+                aj = 0.0
+                adj = 0.0
                 for A in range(4):
-                    x += Sx[e, j, A] * qe[A, i]
-                    xd += Sx[e, j, A] * ve[A, i]
-                a[j, i] = x
-                ad[j, i] = xd
-                sa += x * x
-                sr += x * xd
+                    aj += Sx[e, j, A] * qe[A, i]
+                    adj += Sx[e, j, A] * ve[A, i]
+                a[j, i] = aj
+                ad[j, i] = adj
+                sa += aj * aj
+                sr += aj * adj
             raw[j] = 0.5 * (sa - 1.0)
             rate[j] = sr
             for A in range(4):
@@ -134,6 +149,7 @@ def strain_force_tangent(state, elements, law, out, coef):
                     Bj[j, 3 * A + i] = Sx[e, j, A] * a[j, i]
                     if damped:
                         Bdj[j, 3 * A + i] = Sx[e, j, A] * ad[j, i]
+        # the axial part at the assumed strain of the Gauss points
         n[:] = 0.0
         fde[:] = 0.0
         for g in range(3):
@@ -143,18 +159,6 @@ def strain_force_tangent(state, elements, law, out, coef):
                 eps += MAP[g, j] * raw[j]  # noqa: F821
                 epsd += MAP[g, j] * rate[j]  # noqa: F821
             wg = w[e, g]
-            if damped:
-                W, P, sigma, k, c, sd = strain_point_d(eps, epsd, prm, h[e])  # noqa: F821
-                power[0] += wg * P
-                cross[g] = wg * cK * c
-                stiff[g] = wg * (cK * k + cC * c)
-                sigma_d[g] = wg * sd
-            else:
-                W, sigma, k = strain_point(eps, prm, h[e])  # noqa: F821
-                stiff[g] = wg * cK * k
-            energy[0] += wg * W
-            for j in range(5):
-                n[j] += wg * sigma * MAP[g, j]  # noqa: F821
             for m in range(12):
                 b = 0.0
                 bd = 0.0
@@ -165,24 +169,27 @@ def strain_force_tangent(state, elements, law, out, coef):
                 beta[g, m] = b
                 gamma[g, m] = bd
             if damped:
+                W, P, sigma, k, c, sd = strain_point_d(eps, epsd, prm, h[e])  # noqa: F821
+                power[0] += wg * P
                 for m in range(12):
-                    fde[m] += sigma_d[g] * beta[g, m]
+                    sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
+                    fde[m] += wg * sd * beta[g, m]
+            else:
+                W, sigma, k = strain_point(eps, prm, h[e])  # noqa: F821
+                for m in range(12):
+                    sb[g, m] = wg * cK * k * beta[g, m]
+            energy[0] += wg * W
+            for j in range(5):
+                n[j] += wg * sigma * MAP[g, j]  # noqa: F821
         for m in range(12):
             s = 0.0
             for j in range(5):
                 s += n[j] * Bj[j, m]
             fe[m] = s
-        for m in range(12):
-            f[edofs[e, m]] += fe[m]
-            if damped:
-                fd[edofs[e, m]] += fde[m]
         if want_matrix:
             for r in range(12):
                 for m in range(12):
-                    s = 0.0
-                    for g in range(3):
-                        s += beta[g, r] * (stiff[g] * beta[g, m] + cross[g] * gamma[g, m])
-                    Ke[r, m] = s
+                    Ke[r, m] = beta[0, r] * sb[0, m] + beta[1, r] * sb[1, m] + beta[2, r] * sb[2, m]
             for A in range(4):
                 for B in range(4):
                     s = 0.0
@@ -191,16 +198,69 @@ def strain_force_tangent(state, elements, law, out, coef):
                     s *= cK
                     for i in range(3):
                         Ke[3 * A + i, 3 * B + i] += s
+        # the bending part at the Gauss points (the samples 2..4), as kernels.cable
+        if bending:
+            for g in range(3):
+                for A in range(4):
+                    S6[0, A] = Sx[e, 2 + g, A]
+                    S6[1, A] = Sxx[e, g, A]
+                for i in range(3):
+                    bx = 0.0
+                    bxd = 0.0
+                    for A in range(4):
+                        bx += S6[1, A] * qe[A, i]
+                        bxd += S6[1, A] * ve[A, i]
+                    x[i] = a[2 + g, i]
+                    x[3 + i] = bx
+                    xd[i] = ad[2 + g, i]
+                    xd[3 + i] = bxd
+                wg = w[e, g]
+                if damped:
+                    if want_matrix:
+                        ea, eb, pa, pb = point_ghd(x, xd, prm, h[e], G, H, Gd, Hc)  # noqa: F821
+                    else:
+                        ea, eb, pa, pb = point_gd(x, xd, prm, h[e], G, Gd)  # noqa: F821
+                    power[1] += wg * pb
+                elif want_matrix:
+                    ea, eb = point_gh(x, prm, h[e], G, H)  # noqa: F821
+                else:
+                    ea, eb = point_g(x, prm, h[e], G)  # noqa: F821
+                energy[1] += wg * eb
+                for A in range(4):
+                    for i in range(3):
+                        fe[3 * A + i] += wg * (S6[0, A] * G[i] + S6[1, A] * G[3 + i])
+                        if damped:
+                            fde[3 * A + i] += wg * (S6[0, A] * Gd[i] + S6[1, A] * Gd[3 + i])
+                if want_matrix:
+                    # Ke += B^T Hw B with B = S6 (x) I3: T = Hw B, then B^T T
+                    for r in range(6):
+                        for B in range(4):
+                            for j in range(3):
+                                h0 = cK * H[r, j]
+                                h1 = cK * H[r, 3 + j]
+                                if damped:
+                                    h0 += cC * Hc[r, j]
+                                    h1 += cC * Hc[r, 3 + j]
+                                T[r, 3 * B + j] = wg * (h0 * S6[0, B] + h1 * S6[1, B])
+                    for A in range(4):
+                        for i in range(3):
+                            for m in range(12):
+                                Ke[3 * A + i, m] += S6[0, A] * T[i, m] + S6[1, A] * T[3 + i, m]
+        for m in range(12):
+            f[edofs[e, m]] += fe[m]
+            if damped:
+                fd[edofs[e, m]] += fde[m]
+        if want_matrix:
             for r in range(12):
                 for m in range(12):
                     data[scatter[e, r, m]] += Ke[r, m]
 
 
-def strain_kernel(pack, index, ev):
+def kernel(pack, index, ev):
     """The compiled hook of the evaluation contract (``contract.Term.kernels``):
-    ``strain_force_tangent`` on the packed evaluation ``ev``, as ``kernels.cable.kernel``."""
+    ``force_tangent`` on the packed evaluation ``ev``, as ``kernels.cable.kernel``."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     edofs, Sx, Sxx, w, h, prm, damped = pack
     scatter = index if data.size else index[:0]
-    strain_force_tangent((q, v), (edofs, Sx, Sxx, w, h), (prm, damped and s[3] != 0.0),
+    force_tangent((q, v), (edofs, Sx, Sxx, w, h), (prm, damped and s[3] != 0.0),
                   (f, fd, data, scatter, energy, power), (s[1], s[2]))

@@ -139,7 +139,7 @@ class CableLaw:
         self.parameters = tuple(k for k in names if k not in ELEMENT_PARAMETERS)
         self.values = {**defaults, **(values or {})}
         self._symbolic = None
-        self._compiled = None
+        self._compiled = {}
         self._key = None
         self._dissipates = {}
         self._parts = {}
@@ -169,7 +169,7 @@ class CableLaw:
             part = copy.copy(self)
             part.name = f"{self.name}-{('axial', 'bending')[which]}"
             part._symbolic = replace(s, W=tuple(W), D=tuple(D))
-            part._compiled, part._key, part._dissipates, part._parts = None, None, {}, {}
+            part._compiled, part._key, part._dissipates, part._parts = {}, None, {}, {}
             part._strain = None
             self._parts[which] = part
         return self._parts[which]
@@ -325,13 +325,13 @@ class CableLaw:
             self._dissipates[values] = any(d.subs(subs) != 0 for d in s.D)
         return self._dissipates[values]
 
-    def compiled(self):
-        """The generated module of this law (``laws.codegen``): compiled kernel
-        ``force_tangent`` and numpy ``point``; built once and cached on disk."""
-        if self._compiled is None:
+    def compiled(self, kind="gauss"):
+        """The generated module of this law of ``kind`` (``laws.codegen.TEMPLATES``): its
+        compiled ``kernel`` and numpy functions; built once and cached on disk."""
+        if kind not in self._compiled:
             from .codegen import load
-            self._compiled = load(self)
-        return self._compiled
+            self._compiled[kind] = load(self, kind)
+        return self._compiled[kind]
 
 
 def cable_law(energy=None, *, dissipation=None, name=None):
