@@ -104,7 +104,8 @@ def force_tangent(state, elements, law, out, coef):
                     if damped:
                         fde[3 * A + i] += wg * (S6[0, A] * Gd[i] + S6[1, A] * Gd[3 + i])
             if want_matrix:
-                # Ke += B^T Hw B with B = S6 (x) I3, in two products: T = Hw B, B^T T
+                # Ke += B^T Hw B with B = S6 (x) I3, in two products: T = Hw B, B^T T (the
+                # assumed-strain template, kernels.assumed_strain, adds its bending points so)
                 for a in range(3 * nu):
                     for b in range(3 * nu):
                         hab = cK * H[a, b]
