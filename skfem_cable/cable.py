@@ -39,8 +39,8 @@ def cable_term(edofs, passes, key, name):
         part of it, ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)``
         (shape-function derivatives and weights of its own rule, element lengths), its
         parameter values and whether its dissipation is active.  The formulation
-        (``formulation``) decides the passes: the paper's has one, the locking-free ones
-        two (the axial and the bending part).
+        (``formulation``) decides the passes: the paper's and the assumed strain have one,
+        the Lobatto formulation two (the axial and the bending part).
     key : hashable
     name : str
     """

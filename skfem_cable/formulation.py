@@ -27,7 +27,6 @@ s, stretch)`` (the recovered fields at arc lengths ``s``).
 """
 
 import numpy as np
-from skfem.quadrature import get_quadrature
 
 from .kernels import assumed_strain
 
@@ -35,16 +34,11 @@ from .kernels import assumed_strain
 #: (Simpson: the nodes and the midpoint), reference coordinates and weights.
 LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
 
-#: Gauss rule of the bending part of the law of the locking-free formulations (order 5: 3
-#: points, exact for the linearised bending stiffness; as accurate as 5 points on the
-#: elastica and a third cheaper).
-BENDING_INTORDER = 5
-
-
-def _bending_pass(cable):
-    """The bending part of the law on the 3-point Gauss rule."""
-    X, W = get_quadrature(cable.mesh.refdom, BENDING_INTORDER)
-    return cable.law.part(1), "gauss", cable.tables_at(X[0], W)
+#: Rule of the bending part of the law of the locking-free formulations: the 3-point Gauss
+#: rule on [0, 1] (exact for the linearised bending stiffness; as accurate as 5 points on
+#: the elastica and a third cheaper), the one ``kernels.assumed_strain`` takes the strain's
+#: means with.
+BENDING_RULE = (assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)
 
 
 class Paper:
@@ -69,6 +63,13 @@ def _element_values(value, n_elements):
     return tuple(value(e, np.full(n_elements, xi)) for xi in (0.0, 0.5, 1.0))
 
 
+def _nodal(start, end):
+    """Nodal values (..., n_nodes) from the values at the start and the end of every
+    element (..., n_elements): the two values at an interior node averaged."""
+    return np.concatenate([start[..., :1], 0.5 * (start[..., 1:] + end[..., :-1]),
+                           end[..., -1:]], axis=-1)
+
+
 def _quadratic(cable, nodes, middles, s):
     """The continuous piecewise quadratic through ``nodes`` (..., n_nodes) and ``middles``
     (..., n_elements), at arc lengths ``s``."""
@@ -85,7 +86,7 @@ class Lobatto:
 
     def passes(self, cable):
         return [(cable.law.part(0), "gauss", cable.tables_at(*LOBATTO)),
-                _bending_pass(cable)]
+                (cable.law.part(1), "gauss", cable.tables_at(*BENDING_RULE))]
 
     def strain(self, cable, q, s, stretch=1.0):
         return self._recovered(cable, lambda e, xi: cable.green(q, e, xi, stretch), s)
@@ -101,9 +102,7 @@ class Lobatto:
         interpolated quadratically in between, at arc lengths ``s``: between those points
         the raw strain of the cubic field is not constrained by the energy."""
         left, middle, right = _element_values(value, cable.n_elements)
-        nodes = np.concatenate([left[..., :1], 0.5 * (left[..., 1:] + right[..., :-1]),
-                                right[..., -1:]], axis=-1)
-        return _quadratic(cable, nodes, middle, s)
+        return _quadratic(cable, _nodal(left, right), middle, s)
 
 
 class AssumedStrain:
@@ -120,7 +119,7 @@ class AssumedStrain:
         """One pass: the axial part at the assumed strain and the bending part on the
         3-point Gauss rule (``kernels.assumed_strain``)."""
         Sx = cable.tables_at(assumed_strain.SAMPLES, np.zeros(5))[0]
-        _, Sxx, w, h = cable.tables_at(assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)
+        _, Sxx, w, h = cable.tables_at(*BENDING_RULE)
         return [(cable.law, "assumed-strain", (Sx, Sxx, w, h))]
 
     def strain(self, cable, q, s, stretch=1.0):
@@ -184,10 +183,7 @@ class AssumedStrain:
             bend = np.concatenate([bend[..., :1], 0.5 * (bend[..., 1:] + bend[..., :-1]),
                                    bend[..., -1:]], axis=-1)
             a2 = cable.h**2 * bend / 12
-        start, end = mean - a1 + a2, mean + a1 + a2
-        nodes = np.concatenate([start[..., :1], 0.5 * (end[..., :-1] + start[..., 1:]),
-                                end[..., -1:]], axis=-1)
-        return _quadratic(cable, nodes, mean - a2 / 2, s)
+        return _quadratic(cable, _nodal(mean - a1 + a2, mean + a1 + a2), mean - a2 / 2, s)
 
 
 #: The formulations by name; the first is the default.

@@ -41,7 +41,7 @@ from .io.atomic import is_temporary, write_atomic
 from .io.fingerprint import system_fingerprint
 from .io.jsonable import jsonable
 from .io.manifest import read_manifest
-from .io.store import STORE, check_fingerprint, remove_store, run_info, store_files
+from .io.store import STORE, check_fingerprint, describe_run, remove_store, run_info, store_files
 from .solvers.simulate import simulate
 from .state import State
 from .tension_guard import tension_warnings
@@ -283,12 +283,7 @@ def _describe(out):
     if manifest is None:
         names = ", ".join(p.name for p in run_files(out)[:4])
         return f"files of an earlier run: {names}"
-    scene = (manifest.get("attrs") or {}).get("scene")
-    last = manifest.get("last") or {}
-    text = f"{manifest.get('saved', 0)} saved steps"
-    if last.get("t") is not None:
-        text += f" up to t = {last['t']:.6g} s"
-    return (f"scene {scene!r}, " if scene else "") + f"{text}, {manifest.get('status')}"
+    return describe_run(manifest)
 
 
 def check_run_dir(out, overwrite=False, resume=False):

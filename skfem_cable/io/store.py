@@ -265,7 +265,8 @@ def is_legacy(run_dir):
             and ((run_dir / LEGACY_CHECKPOINT).exists() or any(run_dir.glob(LEGACY_CHUNKS))))
 
 
-def _describe_run(manifest):
+def describe_run(manifest):
+    """A run's manifest in a few words: scene, saved steps, last time, status."""
     last = manifest.get("last") or {}
     text = f"{manifest.get('saved', 0)} saved steps"
     if last.get("t") is not None:
@@ -394,7 +395,7 @@ class RunStore(Observer):
         if error is not None and not hasattr(error, "result"):
             _set_result(error, self._partial_result(run))
         if error is not None:
-            _add_note(error, f"run store {self.path}: {_describe_run(self.manifest)}")
+            _add_note(error, f"run store {self.path}: {describe_run(self.manifest)}")
 
     # --- commits -----------------------------------------------------------------------
     def flush(self):
@@ -453,7 +454,7 @@ class RunStore(Observer):
     def _on_failure(self, run, error, exc):
         """``finish`` could not commit (a full disk): say where the steps are."""
         held = len(self.pending)
-        note = (f"run store {self.path}: {_describe_run(self.manifest or {})}; the "
+        note = (f"run store {self.path}: {describe_run(self.manifest or {})}; the "
                 f"{held} saved steps after them could not be written ({exc})"
                 + ("; they are in the exception's result" if held else ""))
         target = error if error is not None else exc
@@ -518,7 +519,7 @@ class RunStore(Observer):
         if store_files(self.path):
             if not self.overwrite:
                 old = run_info(self.path)
-                what = _describe_run(old) if old else "an earlier run's files"
+                what = describe_run(old) if old else "an earlier run's files"
                 raise RunExists(f"{self.path} already holds a run ({what}): write the new "
                                 "run elsewhere, replace it (overwrite=True, --overwrite) or "
                                 "continue it (resume, --resume)")

@@ -248,8 +248,8 @@ def source(law, kind="gauss"):
         f'(parameters {", ".join(law.parameters) or "none"}), module kind {kind!r}.  Do not '
         'edit: regenerated when the law or the generator changes."""',
         "import math  # noqa: F401\n\nimport numpy  # noqa: F401\nimport numpy as np\n"
-        "from numba import njit\n\n"
-        "from skfem_cable.kernels.assumed_strain import MAP  # noqa: F401",
+        "from numba import njit"
+        + ("" if kind == "gauss" else "\n\nfrom skfem_cable.kernels.assumed_strain import MAP"),
         f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}",
         f"PARAMETERS = {law.parameters!r}",
         *points,
@@ -264,8 +264,7 @@ def module_name(law, kind="gauss"):
     """Module name of ``law`` of ``kind``: its name and a digest of its expressions, the
     template and the generator."""
     digest = generated.digest(law.key, kind, GENERATOR, inspect.getsource(TEMPLATES[kind]),
-                              inspect.getsource(assumed_strain), repr(law.parameters),
-                              sp.__version__)
+                              repr(law.parameters), sp.__version__)
     safe = re.sub(r"\W", "_", law.name)[:40]
     suffix = "" if kind == "gauss" else "_" + re.sub(r"\W", "_", kind)
     return f"skfem_cable_law_{safe}{suffix}_{digest}"
