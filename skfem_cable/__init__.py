@@ -41,6 +41,9 @@ Examples
 (102, 3)
 """
 
+from . import kernels as kernels  # first: numba caches and reports the kernels defined after
+
+# isort: split
 from . import export as export  # VTU files for ParaView
 from . import forms as forms  # scikit-fem forms of the element laws
 from . import io as io  # observers: run store, ParaView series, progress bar

@@ -9,6 +9,7 @@ Examples
 (4, 5, 30, 2.0)
 """
 
+import math
 import os
 from dataclasses import replace
 
@@ -232,6 +233,26 @@ def check_memory(n_elements):
                          " elements fit")
 
 
+def _is_count(value):
+    """Whether ``value`` is a whole number >= 1 (an int, or a float without fraction)."""
+    try:
+        return math.isfinite(value) and int(value) == value and value >= 1
+    except (TypeError, ValueError):
+        return False
+
+
+def _point(name, value):
+    """``value`` as an array of 3 finite coordinates; ``ValueError`` naming ``name``
+    otherwise."""
+    try:
+        x = np.asarray(value, float)
+    except (TypeError, ValueError):
+        x = None
+    if x is None or x.shape != (3,) or not np.isfinite(x).all():
+        raise ValueError(f"{name} must be 3 finite coordinates (m), got {value!r}")
+    return x
+
+
 class Cable:
     """Gradient-deficient ANCF cable (Eqs. 16-26): nodal positions and slopes.
 
@@ -426,14 +447,14 @@ class Cable:
         >>> tether.n_dofs, tether.q0[:6].tolist()
         (36, [0.0, 0.0, 0.0, 0.0, 1.0, 0.0])
         """
-        if int(n_elements) != n_elements or n_elements < 1:
+        if not _is_count(n_elements):
             raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
         check_memory(int(n_elements))
-        start, end = np.asarray(start, float), np.asarray(end, float)
+        start, end = _point("start", start), _point("end", end)
         axis = end - start
         length = np.linalg.norm(axis)
         if not length > 0:
-            raise ValueError("start and end must differ")
+            raise ValueError(f"start and end must differ, got {start.tolist()} for both")
         s = np.linspace(0.0, length, int(n_elements) + 1)
         t = axis / length
         positions = start + s[:, None] * t

@@ -5,6 +5,9 @@ Run ``skfem-cable --help`` or ``skfem-cable COMMAND --help``.
 """
 
 import argparse
+import inspect
+import math
+import os
 import shlex
 import sys
 import textwrap
@@ -26,15 +29,36 @@ EPILOG = """examples:
 """
 
 
+def _number(text):
+    """``text`` as a float; NaN when it is not a number (refused by the checks below)."""
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
+def _finite_float(text):
+    """``text`` as a finite number, or the ``argparse`` error that says so."""
+    value = _number(text)
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
+    return value
+
+
 def _positive_float(text):
-    value = float(text)
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    """``text`` as a finite number > 0, or the ``argparse`` error that says so."""
+    value = _number(text)
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text}")
     return value
 
 
 def _positive_int(text):
-    value = int(text)
+    """``text`` as an integer >= 1, or the ``argparse`` error that says so."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text}")
     return value
@@ -51,11 +75,77 @@ def _wrap(text):
     return textwrap.fill(text, width=79)
 
 
+def _is_negative_number(text):
+    """Whether ``text`` is a number with a minus sign (``-1e-3``, ``-.5``, ``-inf``)."""
+    if not text.startswith("-"):
+        return False
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def _glue_negative_values(argv):
+    """``argv`` with each negative number that follows an option joined to it: ``--dt
+    -1e-3`` as ``--dt=-1e-3``.  argparse takes an argument that starts with ``-`` and is
+    not of the form ``-1`` or ``-1.5`` (an exponent, ``-inf``) for an option, and then
+    reports the option's value as missing instead of checking it."""
+    out = []
+    for arg in argv:
+        previous = out[-1] if out else ""
+        if (_is_negative_number(arg) and previous.startswith("--") and previous != "--"
+                and "=" not in previous):
+            out[-1] = f"{previous}={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
+def _check_folder(option, path):
+    """Raise ``ValueError`` naming ``option`` and ``path`` unless the folder ``path``
+    exists or can be created by this user (checked before any work; changes nothing)."""
+    if path is None:
+        return
+    folder = next(p for p in (path, *path.parents) if p.exists())
+    if not folder.is_dir():
+        raise ValueError(f"{option} {path}: {folder} is a file, not a directory")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ValueError(f"{option} {path}: {folder} is read-only for this user; choose "
+                         f"another {option}, or make it writable")
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ``ArgumentParser`` whose ``epilog`` may be a function that returns it, called
+    only when the help is shown (it may import the scenes' modules)."""
+
+    def format_help(self):
+        if callable(self.epilog):
+            self.epilog = self.epilog()
+        return super().format_help()
+
+
+def _sweepable_scenes():
+    """The ``sweep --help`` epilog: each sweepable scene and the parameters (with their
+    defaults) of its build function, the names ``--param`` takes."""
+    from .scenes.catalog import SCENES
+
+    lines = ["sweepable scenes and their parameters (defaults):"]
+    for name, entry in sorted(SCENES.items()):
+        if entry.build is not None:
+            params = inspect.signature(entry.builder()).parameters.values()
+            lines.append(textwrap.fill(
+                ", ".join(p.name if p.default is p.empty else f"{p.name}={p.default!r}"
+                          for p in params), width=79,
+                initial_indent=f"  {name:<16} ", subsequent_indent=" " * 19))
+    return "\n".join(lines)
+
+
 def build_parser():
     """The argument parser (exposed for the documentation and the tests)."""
     from .scenes.catalog import SCENES
 
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="skfem-cable", description=_wrap("Simulate tethers, cables and E-sails "
         "(ANCF cables, rigid bodies, generalized-alpha dynamics) and look at the results."),
         epilog=EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -86,7 +176,7 @@ def build_parser():
                      f"{', '.join(FORMULATIONS)} (default {DEFAULT}: locking-free with the "
                      "paper's accuracy on taut cables; paper: the paper's own, whose "
                      "tension locks in bending; docs/locking.md)")
-    run.add_argument("--alpha", type=float, metavar="DEG",
+    run.add_argument("--alpha", type=_finite_float, metavar="DEG",
                      help="sailing angle in degrees (esail only)")
     run.add_argument("--out", type=_directory, metavar="DIR", help="run directory to write")
     run.add_argument("--every", type=_positive_int, metavar="K",
@@ -115,8 +205,7 @@ def build_parser():
         "directory. Running the same command again reuses finished runs and continues "
         "interrupted ones from their checkpoints; a failed run is recorded and the others "
         "complete (exit status 1 if one failed)."),
-        epilog="sweepable scenes: " + ", ".join(sorted(
-            n for n, e in SCENES.items() if e.build is not None)),
+        epilog=_sweepable_scenes,
         formatter_class=argparse.RawDescriptionHelpFormatter)
     sweep.add_argument("scene", metavar="SCENE", help="built-in scene name")
     sweep.add_argument("--param", action="append", required=True, metavar="NAME=V1,V2",
@@ -240,6 +329,7 @@ def cmd_sweep(args):
             raise ValueError(f"--param {name} is given twice")
         grid[name] = values
     build = builder(args.scene)
+    _check_folder("--out", args.out)  # before any work
     fixed = {} if args.t_end is None else {"t_end": args.t_end}
     try:
         with _client(args.scheduler) as client:
@@ -310,6 +400,8 @@ def cmd_bench(args):
             print(f"{name:<24} " + ("quick set" if reason is None else
                                     f"not in the quick set: {reason}"))
         return 0
+    _check_folder("--out", args.out)  # before any benchmark runs
+    _check_folder("--json", args.json)
     return bench.run(args.names, quick=args.quick, out=args.out,
                      json_dir=bench.RESULTS if args.json is None else args.json)
 
@@ -321,7 +413,7 @@ def main(argv=None):
     """Entry point of ``skfem-cable``; returns the exit status."""
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_glue_negative_values(argv))
     args.argv = argv
     try:
         return COMMANDS[args.command](args)

@@ -5,8 +5,8 @@ Renders show the cables as tubes coloured by tension, rigid bodies as solids and
 masses as spheres, from the same mesh as ``export.system_mesh``, with an axes triad, a
 scale bar and a colour bar whose labels carry enough digits for the range, in parallel
 projection from a camera chosen from the scene (``scene_camera``: up against gravity;
-along or across the spin axis of a spinning scene).  They need an OpenGL
-context but no display: on Linux without ``DISPLAY`` VTK is pointed at EGL (Mesa's
+along or across the spin axis of a spinning scene; face on for a planar scene).  They
+need an OpenGL context but no display: on Linux without ``DISPLAY`` VTK is pointed at EGL (Mesa's
 ``libegl1``, ``libegl-mesa0``, ``libgl1-mesa-dri``; ``scripts/install_system_deps.sh``
 installs them), and ``rendering_available`` tells whether a context can be created.
 """
@@ -134,17 +134,33 @@ def scene_camera(system, q, v=None, view=None, sun=None, points=None):
         points = q[:, system.vectors[system.vector_is_position]]
     g = gravity_vector(system)
     axis = spin_axis(system, q[0], None if v is None else np.atleast_2d(v)[0])
-    return view_camera(view, points, gravity=g if np.any(g) else None, spin=axis, sun=sun)
+    return view_camera(view, points, gravity=g if np.any(g) else None, spin=axis, sun=sun,
+                       plane=plane_normal(points))
 
 
-def view_camera(view, points, gravity=None, spin=None, sun=None):
+def plane_normal(points, rtol=1e-6):
+    """Unit normal of the plane ``points`` (..., 3) lie in, or None when they do not lie
+    in one plane or lie on a line (their thickness across it, or their width, is more,
+    or not more, than ``rtol`` times their extent)."""
+    points = np.reshape(points, (-1, 3))
+    rel = points - points.mean(axis=0)
+    if len(rel) < 3:
+        return None
+    _, sizes, axes = np.linalg.svd(rel, full_matrices=False)
+    if not sizes[0] > 0 or sizes[2] > rtol * sizes[0] or sizes[1] <= rtol * sizes[0]:
+        return None
+    return axes[2] * np.sign(axes[2][np.argmax(np.abs(axes[2]))])
+
+
+def view_camera(view, points, gravity=None, spin=None, sun=None, plane=None):
     """Camera of a named view of ``points``.
 
     Parameters
     ----------
     view : str or None
         One of ``VIEWS``.  ``None`` or ``"auto"``: ``"gravity"`` with gravity, else
-        ``"axial"`` with a spin axis, else ``"isometric"``.  ``"gravity"``: up is
+        ``"axial"`` with a spin axis, else looking along the normal ``plane`` of planar
+        points (``plane_camera``), else ``"isometric"``.  ``"gravity"``: up is
         ``-gravity``, looking horizontally across the points' main horizontal extent,
         which runs left to right.  ``"axial"``: looking down the spin axis (the spin turns
         anticlockwise on the screen), the Sun's direction (else a coordinate axis)
@@ -154,14 +170,19 @@ def view_camera(view, points, gravity=None, spin=None, sun=None):
     points : ndarray (..., 3)
     gravity, spin, sun : array_like (3,), optional
         Gravity (m/s^2), the unit spin axis and the direction towards the Sun.
+    plane : array_like (3,), optional
+        Unit normal of the plane of planar points (``plane_normal``).
 
     Returns
     -------
     Camera
+        Its ``up`` is perpendicular to its ``eye``.
     """
     view = "auto" if view is None else view
     if view not in VIEWS:
         raise ValueError(f"view must be one of {VIEWS}, got {view!r}")
+    if view == "auto" and gravity is None and spin is None and plane is not None:
+        return plane_camera(plane)
     if view == "auto":
         view = "gravity" if gravity is not None else "axial" if spin is not None else "isometric"
     if view == "gravity":
@@ -177,7 +198,16 @@ def view_camera(view, points, gravity=None, spin=None, sun=None):
             return Camera(axis, across)
         return Camera(np.cross(axis, across), axis)
     eye, up = _FIXED_VIEWS[view]
-    return Camera(_unit(eye), np.asarray(up, dtype=float))
+    return Camera(_unit(eye), _perpendicular(_unit(eye), up))
+
+
+def plane_camera(normal):
+    """Looking along the unit ``normal`` of a planar scene, with up the in-plane part of
+    ``z`` (of ``y`` when the plane is nearly horizontal: an ``xy`` scene is drawn as
+    ``"xy"`` draws it)."""
+    normal = _unit(normal)
+    hint = (0.0, 1.0, 0.0) if abs(normal[2]) > 0.9 else (0.0, 0.0, 1.0)
+    return Camera(normal, _perpendicular(normal, hint))
 
 
 #: ``(eye, up)`` of pyvista's fixed views.
@@ -246,11 +276,21 @@ def format_length(x):
     return f"{x:g} m"
 
 
+def colour_limits(values, n_labels=5):
+    """Colour range ``(lo, hi)`` of the finite ``values``, a limit that its colour-bar
+    label (``colorbar_format``) would print as zero made exactly zero, so that a
+    round-off compression does not read ``-0.00``."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    lo, hi = (values.min(), values.max()) if values.size else (0.0, 1.0)
+    if hi <= lo:
+        return lo - 0.5, lo + 0.5
+    fmt = colorbar_format(lo, hi, n_labels)
+    return tuple(0.0 if float(fmt % x) == 0 else float(x) for x in (lo, hi))
+
+
 def _colour_range(grids):
-    tension = np.concatenate([g.point_data["tension"] for g in grids])
-    tension = tension[np.isfinite(tension)]
-    lo, hi = (tension.min(), tension.max()) if tension.size else (0.0, 1.0)
-    return (lo - 0.5, lo + 0.5) if hi <= lo else (lo, hi)
+    return colour_limits(np.concatenate([g.point_data["tension"] for g in grids]))
 
 
 def _stretch(grids, camera, factor):
@@ -586,16 +626,64 @@ def _finish(fig, path):
     return fig
 
 
+#: Most curves of a panel told apart by the default colour cycle and named in a legend;
+#: more are coloured from ``CURVE_CMAP`` and named on a colour bar (``curve_colours``).
+MAX_LEGEND = 10
+
+#: Colour map of panels with more than ``MAX_LEGEND`` curves (one hue per curve, in order).
+CURVE_CMAP = "turbo"
+
+
+def curve_colours(n):
+    """Colours of ``n`` curves of a panel: the default cycle up to ``MAX_LEGEND`` curves,
+    else ``n`` samples of ``CURVE_CMAP`` (its darkest ends left out), all distinct."""
+    if n <= MAX_LEGEND:
+        return [f"C{i}" for i in range(n)]
+    from matplotlib import colormaps
+
+    return [tuple(c) for c in colormaps[CURVE_CMAP](np.linspace(0.08, 0.92, n))]
+
+
+def _curve_key(axes, labels, colours, **legend):
+    """Name the curves ``labels`` drawn in ``colours`` on the panels ``axes``: a legend
+    on the first panel (keywords ``legend``) up to ``MAX_LEGEND`` curves, else one colour
+    bar beside all the panels with a tick per curve, the first at the top."""
+    if len(labels) <= MAX_LEGEND:
+        axes[0].legend(fontsize="small", **legend)
+        return
+    from matplotlib.cm import ScalarMappable
+    from matplotlib.colors import BoundaryNorm, ListedColormap
+
+    n = len(labels)
+    mappable = ScalarMappable(BoundaryNorm(np.arange(n + 1) - 0.5, n), ListedColormap(colours))
+    bar = axes[0].figure.colorbar(mappable, ax=list(axes), ticks=np.arange(n), pad=0.01,
+                                  aspect=12 * len(axes), fraction=0.04)
+    bar.ax.set_yticklabels(labels, fontsize="x-small")
+    bar.ax.invert_yaxis()
+    for ax in axes:  # other named lines (frequency marks) keep a legend
+        others = [line for line in ax.get_lines()
+                  if line.get_label() not in labels and not line.get_label().startswith("_")]
+        if others:
+            ax.legend(handles=others, fontsize="small", **legend)
+
+
+def _plain_numbers(ax):
+    """Tick labels of ``ax``'s linear y axis as plain numbers (no ``1e-5 + 1.0008``)."""
+    if ax.get_yscale() == "linear":
+        ax.ticklabel_format(axis="y", useOffset=False)
+
+
 def histories(t, panels, path=None, title=None, xlabel="t [s]"):
     """Time histories, one panel per entry (as the E-sail paper's figures of coning and
-    lagging angles, hub rates, thrust and reactions).
+    lagging angles, hub rates, thrust and reactions), with plain tick labels (no offset).
 
     Parameters
     ----------
     t : ndarray (nt,)
     panels : dict
         ``{panel label: {curve label: ndarray (nt,)}}``, or ``{panel label: ndarray}`` for
-        a single curve; the panel label is the y-axis label.
+        a single curve; the panel label is the y-axis label.  Named curves get a legend,
+        or beyond ``MAX_LEGEND`` distinct colours named on a colour bar (``_curve_key``).
     path : path, optional
         Save the figure there (``.png``, ``.pdf``, ``.svg``).
     title : str, optional
@@ -608,12 +696,14 @@ def histories(t, panels, path=None, title=None, xlabel="t [s]"):
     for ax, (ylabel, curves) in zip(axes, panels.items()):
         if not isinstance(curves, dict):
             curves = {None: curves}
-        for label, y in curves.items():
-            ax.plot(t, np.asarray(y), label=label, lw=1.0)
+        colours = curve_colours(len(curves))
+        for (label, y), colour in zip(curves.items(), colours):
+            ax.plot(t, np.asarray(y), label=label, lw=1.0, color=colour)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
-        if any(label is not None for label in curves) and len(curves) <= 8:
-            ax.legend(fontsize="small", loc="best")  # (no room for more: unlabelled)
+        _plain_numbers(ax)
+        if any(label is not None for label in curves):
+            _curve_key([ax], list(curves), colours, loc="best")
     axes[-1].set_xlabel(xlabel)
     if title:
         fig.suptitle(title)
@@ -702,16 +792,16 @@ def psd(t, signals, path=None, title=None, markers=None, units=None, f_min=None)
         panels.setdefault(units[label], {})[label] = x
     fig, axes = _figure(len(panels), height_per_panel=3.0 if len(panels) > 1 else 3.5)
     for ax, (unit, group) in zip(axes, panels.items()):
-        for label, x in group.items():
+        for (label, x), colour in zip(group.items(), curve_colours(len(group))):
             f, p = spectrum(t, x, f_min=f_min)
-            ax.loglog(f[1:], p[1:], label=label, lw=1.0)
+            ax.loglog(f[1:], p[1:], label=label, lw=1.0, color=colour)
         ax.set_xlim(f[1], f[-1])
         ax.set_ylim(bottom=max(ax.get_ylim()[0], 1e-12 * ax.get_ylim()[1]))
         ax.set_ylabel(f"PSD [{_psd_unit(unit)}]")
         ax.grid(True, which="both", alpha=0.3)
     _frequency_marks(axes, markers or {}, (f[1], f[-1]))
-    for ax in axes:
-        ax.legend(fontsize="small", loc="lower left")
+    for ax, group in zip(axes, panels.values()):
+        _curve_key([ax], list(group), curve_colours(len(group)), loc="lower left")
     axes[-1].set_xlabel("frequency [Hz]")
     fig.supxlabel(_welch_note(t, next(iter(signals.values())), f_min), fontsize="x-small",
                   color="dimgray")
@@ -776,16 +866,15 @@ def energy_scale(E):
 def energy_figure(t, E, path=None, title="Energy"):
     """``energies`` from the times and the energy dict (``Result.energy``'s keys)."""
     fig, (terms, balance, drift) = _figure(3, width=8.5)
-    zero = [k for k in ENERGY_TERMS if not np.any(E[k] - E[k][0])]
+    constant = [k for k in ENERGY_TERMS if not np.any(E[k] - E[k][0])]
     for k in ENERGY_TERMS:
-        if k not in zero:  # works dashed, over the energies they feed
+        if k not in constant:
             change = E[k] - E[k][0]
-            terms.plot(t, change, lw=1.0, ls="--" if k in ("dissipated", "external_work") else "-",
+            terms.plot(t, change, **_energy_style(k),
                        label=f"{k.replace('_', ' ')}\n(max |Δ| {np.abs(change).max():.2g} J)")
     terms.set_ylabel("change since\nfirst step [J]")
     terms.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.01, 0.5),
-                 title=f"zero: {', '.join(zero)}".replace("_", " ") if zero else None,
-                 title_fontsize="small")
+                 title=_constant_note(constant), title_fontsize="small")
     balance.plot(t, E["balance"], color="k", lw=1.0)
     balance.set_ylabel("balance\nresidual [J]")
     scale = energy_scale(E)
@@ -798,10 +887,28 @@ def energy_figure(t, E, path=None, title="Energy"):
                     f"{scale:.4g} J", fontsize="small", loc="left")
     for ax in (terms, balance, drift):
         ax.grid(True, which="both", alpha=0.3)
+    _plain_numbers(balance)
     drift.set_xlabel("t [s]")
     if title:
         fig.suptitle(title)
     return _finish(fig, path)
+
+
+def _energy_style(term):
+    """Line style of an energy term: the works (dissipated energy, external work) wide,
+    pale and dashed under the energies they feed, which stay visible on top."""
+    colour = f"C{ENERGY_TERMS.index(term)}"
+    if term in ("dissipated", "external_work"):
+        return {"color": colour, "lw": 3.0, "ls": "--", "alpha": 0.5, "zorder": 1}
+    return {"color": colour, "lw": 1.0, "zorder": 3}
+
+
+def _constant_note(constant):
+    """Legend title naming the energy terms left out because they never change."""
+    if not constant:
+        return None
+    names = ", ".join(k.replace("_", " ") for k in constant)
+    return f"constant over the run\n(not drawn): {names}"
 
 
 def energies(result, path=None, title="Energy"):
@@ -834,15 +941,60 @@ def speed_error(rows, path=None, group="elements", cost="wall", error="error", t
     return _finish(fig, path)
 
 
-def cable_histories(result, path=None, title=None):
-    """Tip displacement and root/peak tension of every cable of a run."""
+def rigid_fit(points):
+    """Rigid motions that best carry the first row of ``points`` (nt, m, 3) onto each
+    row (least squares, Kabsch): rotations ``R`` (nt, 3, 3) and centroids ``c`` (nt, 3)
+    with ``points[k] ~ c[k] + (points[0] - c[0]) @ R[k].T``."""
+    points = np.asarray(points, dtype=float)
+    c = points.mean(axis=1)
+    rel = points - c[:, None]
+    U, _, Vt = np.linalg.svd(np.einsum("mi,tmj->tij", rel[0], rel))
+    V = np.swapaxes(Vt, -1, -2)
+    d = np.sign(np.linalg.det(V @ np.swapaxes(U, -1, -2)))
+    D = np.broadcast_to(np.eye(3), V.shape).copy()
+    D[:, 2, 2] = d
+    return V @ D @ np.swapaxes(U, -1, -2), c
+
+
+def corotated(result, x):
+    """Points ``x`` (nt, ..., 3) of a run carried back by the rigid motion fitted to all
+    its positions (``rigid_fit``) into where they would be at the first saved step: their
+    motion relative to the frame that moves (spins) with the system as a whole."""
     system = result.system
-    tips, tension = {}, {}
-    for cable in system.cables():
-        tip = result.position(cable, cable.length)
-        tips[cable.name] = np.linalg.norm(tip - tip[0], axis=-1)
-        tension[f"{cable.name} root"] = result.tension(cable, 0.0)
-        s = cable.mesh.p[0]
-        tension[f"{cable.name} max"] = result.tension(cable, s).max(axis=-1)
-    panels = {"tip displacement [m]": tips, "tension [N]": tension}
-    return histories(result.t, panels, path, title)
+    R, c = rigid_fit(result.q[:, system.vectors[system.vector_is_position]])
+    rel = np.asarray(x, dtype=float) - c.reshape((len(c),) + (1,) * (np.ndim(x) - 2) + (3,))
+    back = np.einsum("tji,t...j->t...i", R, rel)
+    return back + c[0]
+
+
+def cable_histories(result, path=None, title=None):
+    """Tip displacement, root tension and peak tension of every cable of a run, one colour
+    per cable (``curve_colours``; a colour bar names them beyond ``MAX_LEGEND``).  In a
+    spinning run (``spin_axis`` of the first saved step) the tip displacement is measured
+    in the frame spinning with the system (``corotated``), so that it shows the tethers'
+    motion rather than the rotation's chord."""
+    system = result.system
+    cables = system.cables()
+    tips = np.stack([result.position(c, c.length) for c in cables], axis=1)
+    spinning = spin_axis(system, result.q[0], result.v[0]) is not None
+    if spinning:
+        tips = corotated(result, tips)
+    panels = {"tip displacement\nin the spinning frame [m]" if spinning else
+              "tip displacement [m]": np.linalg.norm(tips - tips[0], axis=-1),
+              "root tension [N]": np.stack([result.tension(c, 0.0) for c in cables], axis=1),
+              "peak tension [N]": np.stack([result.tension(c, c.mesh.p[0]).max(axis=-1)
+                                            for c in cables], axis=1)}
+    fig, axes = _figure(len(panels))
+    colours = curve_colours(len(cables))
+    for ax, (ylabel, values) in zip(axes, panels.items()):
+        for k, (cable, colour) in enumerate(zip(cables, colours)):
+            ax.plot(result.t, values[:, k], lw=1.0, color=colour, label=cable.name)
+        ax.set_ylabel(ylabel)
+        ax.grid(True, alpha=0.3)
+        _plain_numbers(ax)
+    if len(cables) > 1:
+        _curve_key(axes, [c.name for c in cables], colours, loc="best")
+    axes[-1].set_xlabel("t [s]")
+    if title:
+        fig.suptitle(title)
+    return _finish(fig, path)

@@ -62,7 +62,8 @@ class Result:
     kinetic, axial, bending, potential, dissipated, external_work : ndarray (nt,)
         The energies (J) of ``ENERGIES``; ``energy`` combines them.
     stats : dict
-        Solver counters: ``steps``, ``newton``, ``rejected``, ``wall_time``, ...
+        Solver counters: ``steps``, ``newton``, ``rejected``, ``wall_time``,
+        ``compile_time`` and ``integration_time`` (``simulate``), ...
 
     See Also
     --------
@@ -148,6 +149,35 @@ class Result:
     def __len__(self):
         return len(self.t)
 
+    def __repr__(self):
+        """What the result holds: saved steps, time span, bodies and saved fields, e.g.
+        ``<Result: 301 saved steps, t = 0 … 3 s, bodies: hub (RigidBody), tether1 …
+        tether12 (12 × Cable, 5 elements), fields: q, v, lam, iterations, energy>``
+        (one line, three when longer)."""
+        steps = f"{len(self)} saved step{'' if len(self) == 1 else 's'}"
+        if len(self):
+            steps += f", t = {self.t[0]:.6g} … {self.t[-1]:.6g} s"
+        status = self.stats.get("status")
+        if status not in (None, "complete"):
+            steps += f" ({status})"
+        parts = [steps, "bodies: " + _describe_bodies(self.system.bodies),
+                 "fields: " + (", ".join(self._saved_fields()) or "none")]
+        line = ", ".join(parts)
+        return f"<Result: {line}>" if len(line) <= 110 else "<Result: " + ",\n ".join(parts) + ">"
+
+    def _saved_fields(self):
+        """The fields held (those a store left out are NaN, ``iterations`` -1; read at the
+        first saved step) and ``energy``."""
+        if not len(self):
+            return []
+        held = [name for name in ("q", "v", "a", "lam")
+                if getattr(self, name)[0].size and not np.isnan(getattr(self, name)[0]).all()]
+        if self.iterations[0] >= 0:
+            held.append("iterations")
+        if not np.isnan(self.kinetic[0]):
+            held.append("energy")
+        return held
+
     @classmethod
     def load(cls, path, system, check=True):
         """Read the saved steps of a run directory written by ``io.RunStore`` (its Zarr
@@ -162,3 +192,30 @@ class Result:
         from .io.store import load_result
 
         return load_result(path, system, check=check)
+
+
+def _describe_body(body):
+    """``Cable, 5 elements``: the body's class and, if it has elements, their number."""
+    elements = getattr(body, "n_elements", None)
+    kind = type(body).__name__
+    return kind if elements is None else f"{kind}, {elements} elements"
+
+
+def _describe_bodies(bodies):
+    """The bodies by name and kind, runs of three or more of one kind shortened to
+    ``first … last (count kind)``."""
+    groups = []
+    for body in bodies:
+        kind = _describe_body(body)
+        if groups and groups[-1][1] == kind:
+            groups[-1][0].append(body)
+        else:
+            groups.append(([body], kind))
+    out = []
+    for members, kind in groups:
+        names = [getattr(b, "name", None) or "?" for b in members]
+        if len(members) < 3:
+            out += [f"{name} ({kind})" for name in names]
+        else:
+            out.append(f"{names[0]} … {names[-1]} ({len(members)} × {kind})")
+    return ", ".join(out)

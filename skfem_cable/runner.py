@@ -9,9 +9,9 @@ A run directory holds
   ``simulate(..., resume=io.resume(run_dir))``;
 * the VTU series ``series.pvd`` + ``vtu/`` (written during the run by
   ``io.SeriesObserver``), which ParaView opens as an animation;
-* ``summary.json``: scene, parameters, wall time, steps, Newton statistics, key outputs,
-  every file of the run directory with a one-line description (``files.described``),
-  the store and the files written;
+* ``summary.json``: scene, parameters, wall time (and the kernels' compile time apart),
+  steps, Newton statistics, key outputs, every file of the run directory with a one-line
+  description (``files.described``), the store and the files written;
 * ``plots/``: energy and cable histories, tension spectra and a rendered snapshot
   (``plot``), and ``animation.gif`` on request.
 
@@ -166,10 +166,11 @@ def snapshot(out, system, state, name="final.png", title=None):
     return path
 
 
-def run_figures(out, result, animate=False):
+def run_figures(out, result, animate=False, title=None):
     """The standard figures of a dynamic run in ``out/plots`` (energies, cable histories,
-    root-tension spectra, final snapshot) and ``out/animation.gif`` if ``animate``.
-    Returns the paths written."""
+    root-tension spectra, final snapshot) and ``out/animation.gif`` if ``animate``; the
+    snapshot and the animation show ``title`` (a scene file's) above the time.  Returns
+    the paths written."""
     plots = Path(out) / "plots"
     plots.mkdir(parents=True, exist_ok=True)
     paths = [plots / "energies.png", plots / "cables.png"]
@@ -180,15 +181,26 @@ def run_figures(out, result, animate=False):
         paths.append(plots / "tension_psd.png")
         plot.psd(result.t, signals, paths[-1], title="root tension", units="N")
     final = snapshot(out, result.system, result.state(len(result) - 1),
-                     title=f"t = {result.t[-1]:.4g} s")
+                     title="\n".join(filter(None, [title, f"t = {result.t[-1]:.4g} s"])))
     if final is not None:
         paths.append(final)
         if animate:
             paths.append(Path(out) / "animation.gif")
-            plot.animate(result, paths[-1])
+            plot.animate(result, paths[-1], title=title)
     elif animate:
         warn("skipping the animation (no off-screen rendering)")
     return paths
+
+
+def plot_files(out, written=()):
+    """Paths (relative to the run directory ``out``, as text) of the run's figures: the
+    paths ``written`` in their order, then every other file of ``out/plots`` (a scene's
+    own figures, written by its ``outputs``), temporary files left out."""
+    out = Path(out)
+    folder = out / "plots"
+    present = sorted(p for p in folder.iterdir() if p.is_file() and not is_temporary(p)
+                     and not p.name.endswith(".tmp")) if folder.is_dir() else []
+    return list(dict.fromkeys(p.relative_to(out).as_posix() for p in [*written, *present]))
 
 
 #: Every file a run directory can hold (names and patterns relative to it), with the
@@ -205,14 +217,14 @@ DESCRIPTIONS = {
     "animation.mp4": "animation of the run (3-D renders)",
     "esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays",
     "plots/energies.png": "energy terms, balance residual and relative drift against time",
-    "plots/cables.png": "tip positions and root tensions of the cables against time",
+    "plots/cables.png": "tip displacements (spinning: in the spinning frame) and root and "
+                        "peak tensions of the cables against time",
     "plots/chain.png": "rod-chain tip, tensions and energies against time",
     "plots/tension_psd.png": "power spectral density of the root tensions",
     "plots/final.png": "3-D render of the final state",
     "plots/esail_tether.png": "tether coning, lagging and stretch against time (Fig. 6)",
     "plots/esail_hub.png": "hub rates and attitudes, sail attitude (Figs. 7-8)",
     "plots/esail_forces.png": "thrust and root reactions in the orbit frame (Fig. 9)",
-    "plots/esail_energy.png": "E-sail energy terms and balance (Fig. 10)",
     "plots/esail_psd.png": "spectra of tether and hub motions, Table 2 modes marked",
     "plots/esail_coning.gif": "side view of the sail's coning, Sun direction drawn (--animate)",
 }
@@ -408,7 +420,8 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
         the run store, default 200) and ``fields`` (the fields it stores, default
         ``io.DEFAULT_FIELDS``).
     parameters : dict, optional
-        Scene parameters to record in the summary.
+        Scene parameters to record in the summary; a ``title`` among them (a scene
+        file's) is shown on the snapshot.
     outputs : callable, optional
         ``outputs(result) -> dict`` of scene-specific key numbers, added to the summary.
     points_per_element : int
@@ -419,7 +432,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     summary : dict
         ``wall_time`` is the integration's over all the sessions of a continued run
         (``session_wall_time``: this one's), ``total_wall_time`` adds the rest (the
-        store's setup, the summary, the figures).
+        store's setup, the summary, the figures); ``compile_time`` is this session's
+        compilation of the kernels by numba (or their loading from its cache), and
+        ``integration_time`` is ``wall_time`` less this session's compilation in it.
     result : Result
 
     The run directory is held (``run_directory``) from its first check to the summary.
@@ -459,6 +474,8 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
                "parameters": {**(parameters or {}), **settings},
                "wall_time": before + stats["wall_time"],
                "session_wall_time": stats["wall_time"],
+               "compile_time": stats["compile_time"],
+               "integration_time": before + stats["integration_time"],
                "steps": stats["steps"], "saved_steps": len(result),
                "newton": {"iterations": stats["newton"],
                           "per_step": stats["newton"] / max(stats["steps"], 1),
@@ -472,8 +489,8 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
         files = {"store": STORE, "manifest": "manifest.json",
                  "checkpoint": summary["store"]["checkpoint"], "series": "series.pvd"}
         if options.plots:
-            files["plots"] = [p.relative_to(out).as_posix()
-                              for p in run_figures(out, result, options.animate)]
+            files["plots"] = plot_files(out, run_figures(out, result, options.animate,
+                                                         (parameters or {}).get("title")))
         summary["files"] = files
         summary["total_wall_time"] = before + time.perf_counter() - wall0
         write_summary(out, summary)
@@ -579,9 +596,13 @@ def format_summary(summary):
     lines = [f"scene {summary['scene']}"]
     if "newton" in summary:
         nw = summary["newton"]
-        lines.append(f"  {summary['steps']} steps in {summary['wall_time']:.2f} s, "
+        seconds = summary.get("integration_time", summary["wall_time"])
+        lines.append(f"  {summary['steps']} steps in {seconds:.2f} s, "
                      f"{nw['per_step']:.2f} Newton iterations per step, "
                      f"{nw['rejected_steps']} rejected")
+        if "compile_time" in summary:
+            lines.append(f"  compiling the kernels (or loading them from the cache): "
+                         f"{summary['compile_time']:.2f} s")
     elif "integration" in summary:
         it = summary["integration"]
         lines.append(f"  {it['steps']} {it['method']} steps of {it['step']:.3g} s in "

@@ -38,7 +38,9 @@ def test_adaptive_error_follows_the_tolerance():
         assert r.stats["h_min"] < r.stats["h_max"] and r.stats["rejected"] > 0
         rows.append((np.abs(r.q[-1] - ref.q[-1]).max(), r.stats["steps"]))
     errors, steps = zip(*rows)
-    assert errors[0] > 3 * errors[1] > 9 * errors[2]  # measured 3.8e-3, 7.7e-4, 3.4e-5
+    # measured 1.5e-3, 5.8e-4, 3.3e-5 (3.8e-3, 7.7e-4, 3.4e-5 while the integrator
+    # started from abar_0 = a_0: the loosest run's error was mostly that start's)
+    assert errors[0] > 2 * errors[1] > 20 * errors[2]
     assert errors[2] < 1e-4
     assert steps[0] < steps[1] < steps[2]
 

@@ -522,14 +522,16 @@ def test_default_fields_leave_out_the_accelerations(tmp_path):
 # ===========================================================================================
 # Numerical faults (issue 12): the instability guard and clear errors for bad numbers
 # ===========================================================================================
-def spinning(dt=0.5, t_end=1.5, **kwargs):
+def spinning(dt=0.75, t_end=2.25, **kwargs):
     scene = classics.spinning_tether(n_elements=10, spin=2.0, tip_mass=0.5)
     return sc.simulate(scene.system, t_end=t_end, dt=dt, initial=scene.initial, **kwargs)
 
 
 def test_blow_up_without_the_guard_is_what_it_prevents():
-    """The fault: the spinning tether at dt = 0.5 s gains 690x its energy and returns
-    normally when the guard is off (``energy_tol=None``)."""
+    """The fault: the spinning tether at dt = 0.75 s gains 706x its energy and returns
+    normally when the guard is off (``energy_tol=None``).  (At dt = 0.5 s it gained 690x
+    while the integrator started from ``abar_0 = a_0``; with the start fitted to the
+    step, ``GeneralizedAlpha._fit_abar``, it no longer does.)"""
     r = spinning(energy_tol=None)
     assert r.energy["total"].max() > 100 * r.energy["total"][0]
 
@@ -545,13 +547,13 @@ def test_guard_retries_smaller_and_keeps_energy_bounded():
 
 
 def test_guard_stops_with_a_diagnostic_and_the_results():
-    """With one halving allowed the guard stops at the growing step: the message names the
+    """With two halvings allowed the guard stops at the growing step: the message names the
     time, the step, the energy history and the body; the result holds the steps done."""
     with pytest.raises(sc.SimulationError) as info:
-        spinning(max_halvings=1)
+        spinning(max_halvings=2)
     msg = str(info.value)
-    for part in ("t=0.75", "h=0.25", "energy balance grew", "cable gained",
-                 "last accepted steps", "t=0:"):
+    for part in ("t=0.9375", "h=0.188", "energy balance grew", "cable gained",
+                 "last accepted steps", "t=0.75:"):
         assert part in msg, part
     assert len(info.value.result) >= 1 and info.value.result.t[0] == 0.0
 
@@ -639,12 +641,13 @@ elements = 2
 
 def test_heavy_numerical_dissipation_is_reported(capsys):
     """The guard stops growth, not numerical dissipation: a run that lost about half its
-    energy to a coarse step says so on stderr (47.9 and 48.0 % measured: the run halves
-    most of its steps, and where Newton refreshes its tangent moves the figure a little)."""
+    energy to a coarse step says so on stderr (54.6 % measured; 47.9 and 48.0 % while the
+    integrator started from ``abar_0 = a_0``: the run halves most of its steps, and where
+    Newton refreshes its tangent moves the figure a little)."""
     rc = cli.main(["run", "spinning-tether", "--dt", "0.5", "--t-end", "2", "--no-plots"])
     assert rc == 0
     drift = re.search(r"the energy balance drifted by ([\d.]+) %", capsys.readouterr().err)
-    assert drift and 46 <= float(drift.group(1)) <= 50
+    assert drift and 52 <= float(drift.group(1)) <= 57
 
 
 def test_singular_matrix_names_the_unknown_with_either_solver():

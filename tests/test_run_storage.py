@@ -81,7 +81,8 @@ def test_the_store_is_an_xarray_dataset(tmp_path):
                                               attrs={"scene": "pendulum",
                                                      "parameters": {"elements": 4}}))
     ds = xr.open_zarr(tmp_path / STORE)
-    assert dict(ds.sizes) == {"time": 11, "dof": scene.system.n_dofs, "multiplier": 3}
+    assert dict(ds.sizes) == {"time": 11, "dof": scene.system.n_dofs, "multiplier": 3,
+                              "body": 1, "node": 5, "component": 3}  # r: the positions
     assert np.array_equal(ds.time.values, res.t) and ds.time.attrs["units"] == "s"
     assert np.array_equal(ds.q.values, res.q) and ds.q.dims == ("time", "dof")
     assert np.array_equal(ds.lam.values, res.lam)

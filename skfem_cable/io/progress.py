@@ -7,6 +7,14 @@ import time
 from ..contract import Observer
 
 
+def eta(elapsed, frac):
+    """The remaining time after ``elapsed`` s for the part ``frac`` done, as shown: ``--``
+    until a rate is known (nothing done yet, or no time measured)."""
+    if not (frac > 0 and elapsed > 0):
+        return f"{'--':>7}"
+    return f"{elapsed * (1 - frac) / frac:6.1f}s"
+
+
 class Progress:
     """``Progress(t_start, t_end, enabled)``; call ``update(t)`` and ``close()``.
 
@@ -29,13 +37,18 @@ class Progress:
         if now - self.last < 0.2 and t < self.t1:
             return
         self.last, self.shown = now, t
-        frac = min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
+        frac = self.fraction(t)
         elapsed = now - self.wall0
-        eta = elapsed * (1 - frac) / frac if frac > 0 else float("nan")
         bar = "#" * int(frac * self.width)
         self.stream.write(f"\r[{bar:<{self.width}}] {100 * frac:5.1f}%  {self.label}={t:.6g}  "
-                          f"elapsed {elapsed:6.1f}s  ETA {eta:6.1f}s {note}")
+                          f"elapsed {elapsed:6.1f}s  ETA {eta(elapsed, frac)} {note}")
         self.stream.flush()
+
+    def fraction(self, t):
+        """The part of the span done at ``t``, in [0, 1] (1 for an empty span)."""
+        if not self.t1 > self.t0:
+            return 1.0
+        return min(max((t - self.t0) / (self.t1 - self.t0), 0.0), 1.0)
 
     def close(self):
         if self.enabled:

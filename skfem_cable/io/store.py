@@ -11,6 +11,21 @@ A run directory's store is three things (``docs/output.md``):
     bodies' coordinate ranges and the constraints' labels.  Chunks of ``chunk`` saved
     steps, float64, compressed (Blosc/Zstandard after a transpose that puts each
     coordinate's history together) and checksummed (CRC32C).
+
+    **Labels** (``io.labels``), so that plain xarray shows what is what: with ``q``, the
+    positions of the bodies' points ``r(time, body, node, component)`` (a cable's nodes,
+    with their reference arc length ``s(body, node)``; a rigid body's base points; NaN
+    where a body has fewer points than the most).  ``body`` and ``component`` (``x y
+    z``) are dimensions, hence indexes that ``xarray.open_zarr`` builds by itself:
+    ``ds.sel(body="tether3", component="x")`` works without this library.  Zarr keeps
+    no other index (a pandas MultiIndex cannot be stored), so ``dof`` and
+    ``multiplier`` carry non-index coordinates (``dof_body``, ``dof_node``,
+    ``dof_component``, ``dof_label``; ``constraint``, ``equation``; named apart from the
+    dimensions of ``r``), selected after ``ds.set_xindex([...])``.  The labels are
+    written once, when the store is created; a commit appends ``r`` with the other
+    arrays (Zstandard level 1: it repeats values of ``q``).  Units and long names
+    follow CF (``units``, ``long_name``, ``standard_name`` for ``time``).  Stores written
+    before the labels have none; they load and continue in their own layout.
 ``checkpoint_NNNNNNNN.npz``
     The integrator's ``snapshot()`` at the last committed step ``NNNNNNNN``: everything a
     bit-for-bit continuation needs (also what ``fields`` leaves out).
@@ -41,9 +56,11 @@ import json
 import shutil
 import time
 import warnings
+from collections.abc import Callable
 from contextlib import ExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -53,6 +70,7 @@ from . import lock, signals
 from .atomic import atomic_store, is_temporary, remove_temporaries, write_atomic
 from .fingerprint import outline, settings_fingerprint, system_fingerprint
 from .jsonable import jsonable
+from .labels import POSITION, Points, dof_labels, multiplier_labels
 from .manifest import (
     MANIFEST,
     RunExists,
@@ -79,17 +97,43 @@ LEGACY_CHUNKS = "chunk_*.npz"
 _VARIABLE = {"t": "time"}  # field -> variable name where they differ
 _FIELD = {"time": "t"}
 
+_DOF_COORDS = ("dof_body", "dof_node", "dof_component", "dof_label")
+_MULTIPLIER_COORDS = ("constraint", "equation")
+
+#: CF-style attributes of the variables and coordinates (``units`` as UDUNITS strings).
 _ATTRS = {
-    "time": {"long_name": "time", "units": "s"},
-    "step": {"long_name": "step number (0: the initial state)"},
-    "q": {"long_name": "coordinates (positions m, slopes 1, as System.describe_dof)"},
-    "v": {"long_name": "velocities (time derivatives of q)"},
-    "a": {"long_name": "accelerations (second time derivatives of q)"},
+    "time": {"standard_name": "time", "long_name": "time", "units": "s", "axis": "T"},
+    "step": {"long_name": "step number (0: the initial state)", "units": "1"},
+    "q": {"long_name": "generalized coordinates",
+          "comment": "positions in m, slopes in 1 (dof_component x y z or dx dy dz)"},
+    "v": {"long_name": "generalized velocities (time derivatives of q)",
+          "comment": "m s-1 for positions, s-1 for slopes"},
+    "a": {"long_name": "generalized accelerations (second time derivatives of q)",
+          "comment": "m s-2 for positions, s-2 for slopes"},
     "lam": {"long_name": "Lagrange multipliers (constraint reactions)"},
-    "iterations": {"long_name": "Newton iterations of the step"},
+    "r": {"long_name": "position of the body's points (cable nodes, rigid base points)",
+          "units": "m"},
+    "iterations": {"long_name": "Newton iterations of the step", "units": "1"},
     **{e: {"long_name": f"{e.replace('_', ' ')} energy", "units": "J"} for e in ENERGIES},
-    **{"stat_" + c: {"long_name": f"{c} so far (solver counter)"} for c in COUNTERS},
+    **{"stat_" + c: {"long_name": f"{c} so far (solver counter)", "units": "1"}
+       for c in COUNTERS},
+    "body": {"long_name": "body (System.bodies, name)"},
+    "node": {"long_name": "point of the body (cable node, rigid base point)", "units": "1"},
+    "component": {"long_name": "Cartesian component (inertial frame)"},
+    "s": {"long_name": "reference arc length of the cable node", "units": "m"},
+    "dof_body": {"long_name": "body of the coordinate"},
+    "dof_node": {"long_name": "point of the body the coordinate belongs to (-1: none)",
+                 "units": "1"},
+    "dof_component": {"long_name": "component of the coordinate (x y z: position, dx dy "
+                                   "dz: slope, else the body's name of it)"},
+    "dof_label": {"long_name": "the body's description of the coordinate"},
+    "constraint": {"long_name": "constraint of the multiplier"},
+    "equation": {"long_name": "equation of the constraint"},
 }
+
+#: The coordinates written once, at creation, along each dimension of the variables
+#: (xarray shows them through each variable's ``coordinates`` attribute).
+_COORDINATES = {"dof": _DOF_COORDS, "multiplier": _MULTIPLIER_COORDS, "node": ("s",)}
 
 
 def chunk_name(k):
@@ -130,32 +174,82 @@ def _layout(system):
     return {"bodies": bodies, "constraints": constraints}
 
 
+class _Variable(NamedTuple):
+    """A variable of the store: the record ``key`` its values come from, its ``dims``,
+    the ``tail`` of its shape after ``time``, its ``dtype``, for a variable derived
+    from another ``derive`` (the block of ``key`` to the block of this variable), and
+    its Zstandard ``level``."""
+
+    key: str
+    dims: tuple
+    tail: tuple
+    dtype: str
+    derive: Callable | None = None
+    level: int = 5
+
+    def block(self, records):
+        """The values of the saved steps ``records``, ``(len(records), *tail)``."""
+        values = np.asarray([r[self.key] for r in records], dtype=self.dtype)
+        if self.derive is not None:
+            return self.derive(values)
+        return values.reshape(len(records), *self.tail)
+
+
 def _variables(system, fields):
-    """``{variable: (record key, dims, trailing shape, dtype)}`` of a store."""
+    """``{variable: _Variable}`` of a store; the positions ``r`` (``labels.Points``) come
+    with ``q``."""
     n, m = system.n_dofs, system.n_constraints
-    spec = {"time": ("t", ("time",), (), "float64"),
-            "step": ("index", ("time",), (), "int64")}
+    spec = {"time": _Variable("t", ("time",), (), "float64"),
+            "step": _Variable("index", ("time",), (), "int64")}
     for f in fields:
         if f in ("q", "v", "a"):
-            spec[f] = (f, ("time", "dof"), (n,), "float64")
+            spec[f] = _Variable(f, ("time", "dof"), (n,), "float64")
         elif f == "lam":
-            spec[f] = (f, ("time", "multiplier"), (m,), "float64")
+            spec[f] = _Variable(f, ("time", "multiplier"), (m,), "float64")
         elif f == "iterations":
-            spec[f] = (f, ("time",), (), "int64")
+            spec[f] = _Variable(f, ("time",), (), "int64")
         elif f != "t":
-            spec[f] = (f, ("time",), (), "float64")
+            spec[f] = _Variable(f, ("time",), (), "float64")
+    points = Points(system)
+    if "q" in fields and points:  # q's positions again: level 1, a third of the time
+        spec["r"] = _Variable("q", ("time", "body", "node", "component"),
+                              points.index.shape, "float64", points.positions, level=1)
     for c in COUNTERS:
-        spec["stat_" + c] = ("stat_" + c, ("time",), (), "int64")
+        spec["stat_" + c] = _Variable("stat_" + c, ("time",), (), "int64")
     return spec
 
 
-def _codecs(ndim, dtype):
+def _coordinates(system, variables):
+    """``{name: (dims, values)}`` of the labels of the dimensions of ``variables``:
+    written once, when the store is created."""
+    dims = {d for var in variables.values() for d in var.dims}
+    out = {}
+    if "dof" in dims:
+        out.update({"dof_" + k: (("dof",), v) for k, v in dof_labels(system).items()})
+    if "multiplier" in dims:
+        out.update({k: (("multiplier",), v) for k, v in multiplier_labels(system).items()})
+    if "body" in dims:
+        points = Points(system)
+        out.update(body=(("body",), np.array(points.bodies, dtype=str)),
+                   node=(("node",), np.arange(points.index.shape[1])),
+                   component=(("component",), np.array(POSITION, dtype=str)),
+                   s=(("body", "node"), points.arc_length))
+    return out
+
+
+def _coordinate_names(dims):
+    """The ``coordinates`` attribute of a variable of ``dims`` (CF: its labels)."""
+    return " ".join(c for d in dims for c in _COORDINATES.get(d, ()))
+
+
+def _codecs(ndim, level=5):
+    """``(filters, compressors)`` of an array of ``ndim`` dimensions, time first."""
     from zarr.codecs import BloscCodec, Crc32cCodec, TransposeCodec
 
-    if ndim == 2:  # each coordinate's history together: ~1.3x better than row order
-        return ([TransposeCodec(order=(1, 0))],
-                [BloscCodec(cname="zstd", clevel=5, shuffle="bitshuffle"), Crc32cCodec()])
-    return [], [BloscCodec(cname="zstd", clevel=5, shuffle="shuffle"), Crc32cCodec()]
+    if ndim >= 2:  # each coordinate's history together: ~1.3x better than row order
+        return ([TransposeCodec(order=(*range(1, ndim), 0))],
+                [BloscCodec(cname="zstd", clevel=level, shuffle="bitshuffle"), Crc32cCodec()])
+    return [], [BloscCodec(cname="zstd", clevel=level, shuffle="shuffle"), Crc32cCodec()]
 
 
 def _sync(coro):
@@ -188,16 +282,33 @@ async def _create_group(root, system, variables, chunk, attrs):
     store = atomic_store(root)
     group = await za.open_group(store=store, mode="w", zarr_format=3, attributes=attrs)
     arrays = {}
-    for name, (_, dims, tail, dtype) in variables.items():
-        filters, compressors = _codecs(len(dims), dtype)
-        fill = np.nan if dtype == "float64" else 0
+    for name, var in variables.items():
+        filters, compressors = _codecs(len(var.dims), var.level)
+        fill = np.nan if var.dtype == "float64" else 0
+        attributes = dict(_ATTRS.get(name, {}))
+        if _coordinate_names(var.dims):
+            attributes["coordinates"] = _coordinate_names(var.dims)
         arrays[name] = await group.create_array(
-            name, shape=(0, *tail), chunks=(chunk, *(max(s, 1) for s in tail)), dtype=dtype,
-            fill_value=fill, dimension_names=dims, filters=filters, compressors=compressors,
-            attributes=_ATTRS.get(name, {}))
+            name, shape=(0, *var.tail), chunks=(chunk, *(max(s, 1) for s in var.tail)),
+            dtype=var.dtype, fill_value=fill, dimension_names=var.dims, filters=filters,
+            compressors=compressors, attributes=attributes)
         arrays[name] = arrays[name].with_config(_WRITE_ALL)
+    await _gather([_write_coordinate(group, name, dims, values) for name, (dims, values)
+                   in _coordinates(system, variables).items()])
     await za.consolidate_metadata(store)
     return arrays
+
+
+async def _write_coordinate(group, name, dims, values):
+    """Create and fill the array ``name`` of the labels ``values`` (written once)."""
+    strings = values.dtype.kind in "UT"
+    fill = "" if strings else np.nan if values.dtype.kind == "f" else -1
+    arr = await group.create_array(
+        name, shape=values.shape, chunks=tuple(max(s, 1) for s in values.shape),
+        dtype=str if strings else values.dtype, fill_value=fill, dimension_names=dims,
+        attributes=_ATTRS.get(name, {}))
+    if values.size:
+        await arr.with_config(_WRITE_ALL).setitem(..., values)
 
 
 async def _open_arrays(root, names, saved):
@@ -409,9 +520,7 @@ class RunStore(Observer):
         records = [r for r, _ in self.pending]
         snap = self.pending[-1][1]
         start, stop = self.committed, self.committed + len(records)
-        blocks = {name: np.asarray([r[key] for r in records], dtype=dtype)
-                  .reshape(len(records), *tail)
-                  for name, (key, _, tail, dtype) in self.variables.items()}
+        blocks = {name: var.block(records) for name, var in self.variables.items()}
         _sync(_append(self.root, self._arrays, start, blocks))
         index, t = int(records[-1]["index"]), float(records[-1]["t"])
         buf = io.BytesIO()

@@ -53,7 +53,9 @@ def factor(lu, data):
         return perm[info - 1]
     if k == 0:
         return -1
-    W[:] = E
+    for c in range(k):  # W = E (a loop: numba compiles a formatted error for a slice copy)
+        for p in range(nb):
+            W[c, p] = E[c, p]
     band_solve(addresses, ab, band, band, ipiv, W, ints)
     for c in range(k):  # S = D - F W, column c (row c of the column-major storage)
         for r in range(k):

@@ -2,40 +2,18 @@
 that numba (``cache=True``) compiles it once per machine, not once per run.
 
 The cache folder is ``$SKFEM_CABLE_CACHE`` if set, else ``$XDG_CACHE_HOME/skfem_cable``
-(default ``~/.cache/skfem_cable``), with one subfolder per kind of module; a module's name
-carries a digest of everything its text depends on, so a changed input never meets a
-stale module.
+(default ``~/.cache/skfem_cable``; ``kernels.cache``), with one subfolder per kind of
+module; a module's name carries a digest of everything its text depends on, so a changed
+input never meets a stale module.
 """
 
 import hashlib
 import importlib.util
-import os
 import sys
-import tempfile
-from pathlib import Path
 
 from ..io.atomic import write_atomic
-
-
-def cache_dir(kind):
-    """Folder of the generated modules of ``kind`` (created if missing; a private
-    temporary folder if the configured one cannot be written)."""
-    env = os.environ.get("SKFEM_CABLE_CACHE")
-    if env:
-        folder = Path(env)
-    else:
-        base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-        folder = Path(base) / "skfem_cable"
-    folder = folder / kind
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        probe = folder / f".probe-{os.getpid()}"
-        probe.write_bytes(b"")
-        probe.unlink()
-    except OSError:
-        folder = Path(tempfile.gettempdir()) / f"skfem_cable-{os.getuid()}" / kind
-        folder.mkdir(parents=True, exist_ok=True)
-    return folder
+from . import compile_log
+from .cache import cache_dir
 
 
 def digest(*parts):
@@ -43,12 +21,15 @@ def digest(*parts):
     return hashlib.sha256("|".join(parts).encode()).hexdigest()[:16]
 
 
-def load(kind, name, make_source, namespace=None):
+def load(kind, name, make_source, namespace=None, description=None):
     """Import the module ``name`` of ``kind``, writing it first with ``make_source()``
     if it is not in the cache; ``namespace`` (a dict) is placed in the module before its
-    text runs (objects its text refers to by name, e.g. compiled kernels)."""
+    text runs (objects its text refers to by name, e.g. compiled kernels); numba's
+    compilation of the module is reported as that of ``description`` (``compile_log``;
+    default: the module ``name``)."""
     if name in sys.modules:
         return sys.modules[name]
+    compile_log.DESCRIPTIONS[name] = description or f"module {name}"
     path = cache_dir(kind) / f"{name}.py"
     if not path.exists():
         write_atomic(path, make_source().encode())

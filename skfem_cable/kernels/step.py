@@ -136,7 +136,10 @@ def _iterate(terms, model, lu, state, out, prm):
         abar1 = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         q1[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * abar[i] + bt * abar1)
         v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)
-    lam1[:] = lam
+    # copies in loops, not slices: numba compiles a formatted error message for a slice
+    # copy (seconds of a first run)
+    for k in range(lam.size):
+        lam1[k] = lam[k]
     s[0], s[1], s[2], s[3] = t1, 1.0 / bp, gp / bp, 1.0
     cs[0], cs[1], cs[2] = t1, 1.0 / bp, mbar
     dq_err = dq_before = dx_err = np.inf
@@ -182,9 +185,11 @@ def _iterate(terms, model, lu, state, out, prm):
             if singular >= 0:
                 return SINGULAR, it, factorizations, corrections, singular
             factorizations += 1
-            fq[:] = q1
-            fv[:] = v1
-            flam[:] = lam1
+            for i in range(n):
+                fq[i] = q1[i]
+                fv[i] = v1[i]
+            for k in range(lam1.size):
+                flam[k] = lam1[k]
             need = full
         for i in range(r.size):
             rhs[i] = -r[i]
@@ -228,8 +233,8 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     fd[:] = 0.0
     energy[:] = 0.0
     power[:] = 0.0
-    if data.size:
-        data[:] = base
+    for j in range(data.size):
+        data[j] = base[j]
     evaluate(terms[0], terms[1], (q1, v1, s, f, f_ext, fd, data, energy, power))  # noqa: F821
     for k in range(lin_rows.size):
         acc = 0.0

@@ -41,7 +41,13 @@ from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "6"
+GENERATOR = "7"
+
+#: The decorator of the point functions and ``force_tangent``: numba inlines them into
+#: ``kernel``, so that their code is optimised and compiled once, there (a compiled
+#: function compiles again all the compiled functions it calls); called from Python, each
+#: is compiled alone.
+INLINED = '@njit(cache=True, inline="always")'
 
 
 class _ScalarPrinter(PythonCodePrinter):
@@ -149,7 +155,7 @@ def _body(outputs, sym, printer, indent, rates, unpack=_unpack):
 
 
 def _scalar_function(name, args, outputs, returns, sym, rates, unpack=_unpack):
-    lines = ["@njit(cache=True)", f"def {name}({', '.join(args)}):"]
+    lines = [INLINED, f"def {name}({', '.join(args)}):"]
     lines += _body(outputs, sym, _ScalarPrinter({"standard": "python3"}), "    ", rates,
                    unpack)
     lines.append(f"    return {', '.join(returns)}")
@@ -254,7 +260,7 @@ def source(law, kind="gauss"):
         f"PARAMETERS = {law.parameters!r}",
         *points,
         *extra,
-        "@njit(cache=True)\n" + inspect.getsource(module.force_tangent),
+        INLINED + "\n" + inspect.getsource(module.force_tangent),
         "@njit(cache=True)\n" + inspect.getsource(module.kernel),
     ]
     return "\n\n\n".join(parts) + "\n"
@@ -272,4 +278,5 @@ def module_name(law, kind="gauss"):
 
 def load(law, kind="gauss"):
     """Import (generating it first if needed) the module of ``law`` of ``kind``."""
-    return generated.load("laws", module_name(law, kind), lambda: source(law, kind))
+    return generated.load("laws", module_name(law, kind), lambda: source(law, kind),
+                          description=f"the kernel of the law {law.name!r} ({kind})")

@@ -3,7 +3,8 @@ solver settings (the schema is documented in ``docs/scene_files.md``), or a rod-
 tether (a ``[rod_chain]`` table; ``docs/rodchain.md``).
 
 Every value is checked; an error names the file, the key (e.g. ``cables[1].elements``) and
-the offending value, and an unknown key lists the keys allowed in its table::
+the offending value; an unknown key is named with the closest known one and the keys
+allowed in its table (never with its value, which may be a whole table)::
 
     >>> loads_text('[solver]\\nt_end = -1', "demo.toml")      # doctest: +SKIP
     SceneFileError: demo.toml: solver.t_end must be a number > 0, got -1

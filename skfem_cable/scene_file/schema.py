@@ -149,11 +149,15 @@ class Table:
         return [Table(v, f"{self.name(key)}[{i}]", self.source) for i, v in enumerate(value)]
 
     def finish(self):
+        """Refuse the first key not asked for, naming it (never its value, which may be a
+        whole table) and the closest known key."""
         unknown = [k for k in self.data if k not in self.asked]
         if unknown:
-            allowed = ", ".join(dict.fromkeys(self.asked)) or "none"
-            self.fail(unknown[0], f"is not a known key (allowed here: {allowed})",
-                      self.data[unknown[0]])
+            known = list(dict.fromkeys(self.asked))
+            close = difflib.get_close_matches(unknown[0], known, n=1)
+            guess = f": did you mean {close[0]!r}?" if close else ""
+            self.fail(unknown[0], f"is not a known key{guess} (allowed here: "
+                      f"{', '.join(known) or 'none'})")
 
 
 def rotation(v):

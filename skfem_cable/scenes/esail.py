@@ -418,9 +418,10 @@ def coning_animation(result, path, up_scale=10.0, **options):
 
 
 def figures(out, plots_dir, tether=0, modes=None, animation=None):
-    """The paper's kinds of figures (Figs. 6-10) from ``outputs``: tether angles, hub
-    rates and attitude, thrust and reactions in the orbit frame, energies
-    (``plot.energy_figure``), PSDs (``psd_figure``, ``modes`` marked when given) and,
+    """The paper's kinds of figures (Figs. 6-9) from ``outputs``: tether angles and mean
+    strain, hub rates and attitude, thrust and reactions in the orbit frame, PSDs
+    (``psd_figure``, ``modes`` marked when given; the energies of Fig. 10 are the run's
+    ``plots/energies.png``) and,
     when ``animation`` (the run's ``Result``) is given, ``esail_coning.gif``
     (``coning_animation``; needs off-screen OpenGL).  Returns the paths written."""
     from pathlib import Path
@@ -432,13 +433,13 @@ def figures(out, plots_dir, tether=0, modes=None, animation=None):
     t, deg = out["t"], np.rad2deg(1.0)
     k = tether
     paths = [d / "esail_tether.png", d / "esail_hub.png", d / "esail_forces.png",
-             d / "esail_energy.png", d / "esail_psd.png"]
+             d / "esail_psd.png"]
     plot.histories(t, {"coning [deg]": {"tip": deg * out["coning"][:, k],
                                         "root": deg * out["root_coning"][:, k]},
                        "lagging [deg]": {"tip": deg * out["lagging"][:, k],
                                          "root": deg * out["root_lagging"][:, k]},
-                       "L / L0": out["length_ratio"][:, k]}, paths[0],
-                   title=f"tether {k + 1}")
+                       "mean strain\nL / L0 - 1 [ppm]": 1e6 * (out["length_ratio"][:, k] - 1)},
+                   paths[0], title=f"tether {k + 1}")
     plot.histories(t, {"omega_B [rad/s]": {f"w{i + 1}": out["omega_B"][:, i]
                                            for i in range(3)},
                        "hub Euler [deg]": {n: deg * out["euler_B"][:, i]
@@ -453,8 +454,7 @@ def figures(out, plots_dir, tether=0, modes=None, animation=None):
                        "angles from Z_O [deg]": {"thrust": deg * out["thrust_angle"],
                                                  "reaction": deg * out["reaction_angle"]}},
                    paths[2], title="thrust and reactions")
-    plot.energy_figure(t, out, paths[3], title="E-sail energies")
-    psd_figure(out, paths[4], k, modes)
+    psd_figure(out, paths[3], k, modes)
     if animation is not None:
         paths.append(d / "esail_coning.gif")
         coning_animation(animation, paths[-1])

@@ -28,7 +28,7 @@ from ..kernels import books, bordered, generated, lapack
 from ..kernels import step as template
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "7"
+GENERATOR = "8"
 
 _TEMPLATE_FUNCTIONS = ("newton", "_finish", "_iterate", "_residual", "_factor",
                        "pseudo_acceleration", "first_error_factor", "error_factor")
@@ -92,6 +92,12 @@ def _calls(prefix, n, pack, index, ev):
     return [f"    {prefix}{k}({pack}[{k}], {index}[{k}], {ev})" for k in range(n)] or ["    pass"]
 
 
+#: The decorator of the generated module's functions but ``newton``: inlined into it by
+#: numba, so that their code and the kernels' are optimised and compiled once, in
+#: ``newton`` (each compiled function would compile again all that it calls).
+_INLINED = '@njit(cache=True, inline="always")'
+
+
 def source(n_kernels, n_constraints):
     """Text of the generated module for ``n_kernels`` term kernels ``k0 ... k{n-1}`` and
     ``n_constraints`` constraint kernels ``c0 ...`` (taken from the injected tuples
@@ -109,13 +115,13 @@ def source(n_kernels, n_constraints):
         f"ETA_FIRST = {template.ETA_FIRST!r}",
         f"({names}) = KERNELS  # noqa: F821 (placed by the loader)" if n_kernels else "",
         f"({cnames}) = CONSTRAINT_KERNELS  # noqa: F821" if n_constraints else "",
-        "@njit(cache=True)\ndef evaluate(packs, indices, ev):\n"
+        f"{_INLINED}\ndef evaluate(packs, indices, ev):\n"
         + "\n".join(_calls("k", n_kernels, "packs", "indices", "ev")),
-        "@njit(cache=True)\ndef constrain(packs, indices, cev):\n"
+        f"{_INLINED}\ndef constrain(packs, indices, cev):\n"
         + "\n".join(_calls("c", n_constraints, "packs", "indices", "cev")),
     ]
-    parts += ["@njit(cache=True)\n" + inspect.getsource(getattr(template, name))
-              for name in _TEMPLATE_FUNCTIONS]
+    parts += [("@njit(cache=True)" if name == "newton" else _INLINED) + "\n"
+              + inspect.getsource(getattr(template, name)) for name in _TEMPLATE_FUNCTIONS]
     return "\n\n\n".join(p for p in parts if p) + "\n"
 
 
@@ -140,7 +146,9 @@ def module(kernels, constraint_kernels):
         *(_kernel_source_id(k) for k in constraint_kernels))
     return generated.load("steps", name,
                           lambda: source(len(kernels), len(constraint_kernels)),
-                          {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels})
+                          {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels},
+                          f"the Newton step of {len(kernels)} term and "
+                          f"{len(constraint_kernels)} constraint kernels")
 
 
 class CompiledNewton:

@@ -23,6 +23,7 @@ import time
 import numpy as np
 
 from ..contract import Observer, Run, Step, finish_observers
+from ..kernels import compile_log
 from ..result import FIELDS, SETTINGS, Result, settings_array, step_record
 from .galpha import GeneralizedAlpha
 
@@ -102,9 +103,31 @@ def _check_steps(t_start, t_end, dt, max_halvings):
                              "dt or fewer max_halvings")
 
 
-def _stats(integ, wall0, stopped=None):
+class _Clock:
+    """Wall time of the time loop, and numba's compile time apart: in the whole call
+    (``compile_log.seconds``: compiling, or loading compiled code from the cache) and in
+    the loop."""
+
+    def __init__(self):
+        self.compile0 = compile_log.seconds()
+        self.wall0 = self.compile1 = None
+
+    def start(self):
+        """Start the clock of the time loop."""
+        self.wall0 = time.perf_counter()
+        self.compile1 = compile_log.seconds()
+
+    def times(self):
+        """``wall_time``, ``compile_time`` and ``integration_time`` (``wall_time`` less
+        the compilation in the loop) so far."""
+        wall, compiled = time.perf_counter() - self.wall0, compile_log.seconds()
+        return {"wall_time": wall, "compile_time": compiled - self.compile0,
+                "integration_time": wall - (compiled - self.compile1)}
+
+
+def _stats(integ, clock, stopped=None):
     stats = dict(integ.stats)
-    stats["wall_time"] = time.perf_counter() - wall0
+    stats.update(clock.times())
     stats["solver"] = integ.solver.method
     stats["path"] = integ.step_path
     stats["stopped"] = stopped
@@ -170,11 +193,14 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     -------
     Result
         The saved steps (with those of the interrupted run when resuming); ``stats``
-        holds ``steps``, ``rejected``, ``newton``, ``factorizations``, ``wall_time``,
-        ``solver``, ``path`` (``GeneralizedAlpha.step_path``: the compiled or the Python
-        Newton step, and why), ``stopped`` (the message of the observer that stopped the
-        run, or None) and, with ``rtol``/``atol``, ``h_min`` and ``h_max``, the smallest
-        and largest accepted steps.
+        holds ``steps``, ``rejected``, ``newton``, ``factorizations``, ``wall_time``
+        (of the time loop), ``compile_time`` (numba compiling the kernels, or loading them
+        from its cache, in the whole call: the first run on a machine compiles),
+        ``integration_time`` (``wall_time`` less the compilation in it), ``solver``,
+        ``path`` (``GeneralizedAlpha.step_path``: the compiled or the Python Newton step,
+        and why), ``stopped`` (the message of the observer that stopped the run, or None)
+        and, with ``rtol``/``atol``, ``h_min`` and ``h_max``, the smallest and largest
+        accepted steps.
 
     Raises
     ------
@@ -199,6 +225,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         raise ValueError(f"every must be an integer >= 1, got {every!r}")
     _check_steps(t_start, t_end, dt, max_halvings)
     observers = list(observers or ())
+    clock = _Clock()
     for obs in observers:
         if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved",
                                                                     "finish")):
@@ -232,7 +259,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         recorder = _Recorder(system)
     everyone = [recorder, *observers]
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
-    wall0 = time.perf_counter()
+    clock.start()
 
     def save(index):
         """Hand the current state to every observer; returns a stop message or None."""
@@ -307,8 +334,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     except BaseException as err:
         # whatever stopped the run, the steps computed so far travel with the error
         with contextlib.suppress(Exception):
-            err.result = Result(system, recorder.arrays(), _stats(integ, wall0))
+            err.result = Result(system, recorder.arrays(), _stats(integ, clock))
         finish_observers(started, run, err)
         raise
     finish_observers(started, run, None)
-    return Result(system, recorder.arrays(), _stats(integ, wall0, run.stop_reason))
+    return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason))
