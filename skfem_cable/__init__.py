@@ -11,6 +11,8 @@ Public API (``__all__``, documented on the API page of the docs):
   (module ``constraints``); deploying and retrieving cables: ``System.deploy`` (module
   ``deploy``), from a ``Reel`` with a torque law ``Brake``, ``Motor``, ``Servo`` (module
   ``reel``);
+* orbits: ``Orbit`` (Keplerian reference orbits, the orbiting frame), the constants
+  ``MU_EARTH``, ``MU_SUN``, ``R_EARTH``, ``AU`` (module ``orbit``);
 * element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
   forms ``forms``;
 * solvers: ``solve_static`` (``StaticConvergenceError``), ``solve_steady``, ``modes``,
@@ -57,6 +59,7 @@ from .element import ElementLineCableHermite
 from .formulation import FORMULATIONS
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
+from .orbit import AU, MU_EARTH, MU_SUN, R_EARTH, Orbit
 from .reel import Brake, Motor, Reel, Servo
 from .result import Result
 from .rigid import RigidBody
@@ -72,6 +75,11 @@ from .study import sweep  # parameter studies on Dask distributed
 from .system import System, SystemChanged
 
 __all__ = [
+    "AU",
+    "MU_EARTH",
+    "MU_SUN",
+    "R_EARTH",
+    "Orbit",
     "Brake",
     "Buoyancy",
     "Cable",

@@ -521,6 +521,16 @@ class Cable:
                                             self._exact).tocsr())
         return self._mass[1]
 
+    def mass_points(self):
+        """Where the mass is (the hook ``orbit_gravity`` reads): the Gauss points of every
+        element, ``(dofs (np, 12), G (np, 3, 12), mass (np,))`` with positions
+        ``G[p] @ q[dofs[p]]`` and masses ``rho A`` times the Gauss weights (the rule
+        integrates the mass matrix exactly)."""
+        ne, nq, _ = self.S.shape
+        G = np.einsum("egA,ij->egiAj", self.S, np.eye(3)).reshape(ne * nq, 3, 12)
+        dofs = np.repeat(self.element_dofs, nq, axis=0)
+        return dofs, G, self.section.mass_per_length * self.weights.ravel()
+
     def line_load(self, force_per_length):
         """Consistent generalized force ``int S^T f dx`` of a uniform line load (N/m)."""
         f = np.asarray(force_per_length, dtype=float)

@@ -13,13 +13,11 @@ import numpy as np
 
 from .contract import Term
 from .kernels import coulomb as kernel
+from .orbit import AU
 from .section import check_positive
 
 _EMPTY = np.zeros(0)
 _NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
-
-#: Astronomical unit (m).
-AU = 1.495978707e11
 
 
 @dataclass

@@ -30,6 +30,7 @@ from .io.fingerprint import describe_system, differences
 from .layout import Layout
 from .loads import Centrifugal, Gravity, PointLoad, PointMass, PointMoment, UniformLineLoad
 from .loads import vector3 as _vector3
+from .orbit_gravity import DifferentialGravity
 
 
 class SystemChanged(RuntimeError):
@@ -112,6 +113,7 @@ class System:
         self.loads = []
         self.point_masses = []
         self.deployments = {}
+        self.orbit = None
         self._layout = None
 
     # --- building -------------------------------------------------------------------------
@@ -326,6 +328,9 @@ class System:
         see ``loads`` and ``contract``). Returns the system."""
         if not callable(getattr(load, "bind", None)):
             raise TypeError(f"add_load expects an object with bind(system), got {load!r}")
+        if self.orbit is not None and isinstance(load, Gravity):
+            raise ValueError("add_gravity: the system is in orbit (add_orbit), where the "
+                             "central body's differential gravity replaces uniform gravity")
         self.loads.append(load)
         return self._changed()
 
@@ -347,6 +352,21 @@ class System:
     def add_gravity(self, g):
         """Uniform gravity (m/s^2) on every body and point mass (consistent nodal forces)."""
         return self.add_load(Gravity(g))
+
+    def add_orbit(self, orbit, j2=None, body_radius=None):
+        """Put the system in orbit: its coordinates become offsets from the reference
+        point of ``orbit`` (an ``Orbit``), in axes parallel to the inertial ones, and every
+        body and point mass feels the central body's differential gravity (optionally with
+        J2 of a central body of equatorial radius ``body_radius``, its axis along ``z``);
+        see ``orbit_gravity``.  Uniform gravity (``add_gravity``) and an orbit exclude each
+        other.  Returns the system."""
+        if self.orbit is not None:
+            raise ValueError("add_orbit: the system is already in orbit")
+        if any(isinstance(load, Gravity) for load in self.loads):
+            raise ValueError("add_orbit: the system has uniform gravity (add_gravity); in "
+                             "orbit the central body's gravity replaces it")
+        self.orbit = orbit
+        return self.add_load(DifferentialGravity(orbit, j2, body_radius))
 
     def add_line_load(self, cable, force_per_length):
         """Uniform distributed load (N/m, fixed in space) along a cable; for loads that

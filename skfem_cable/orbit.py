@@ -1,0 +1,270 @@
+"""Keplerian reference orbits and the central body's differential gravity.
+
+A system in orbit keeps small coordinates: positions are offsets ``delta`` from a
+reference point moving on a Keplerian orbit, in axes parallel to the inertial ones (the
+E-sail paper's translated frame, Sect. 2, which it needs because heliocentric positions of
+1.5e11 m leave about 3e-5 m of double precision).  The reference point accelerates with
+the central body's gravity ``g(R)``, so a body at ``R + delta`` feels, in the reference
+point's frame, the *differential* gravity ``g(R + delta) - g(R)``: two nearly equal
+vectors whose difference must not be formed by subtraction.  :func:`differential_gravity`
+uses Battin's cancellation-free form (Battin, *An Introduction to the Mathematics and
+Methods of Astrodynamics*, AIAA 1999: the function ``f(q)`` of Encke's method).
+
+Angles are in radians, lengths in metres, times in seconds, ``mu`` in m^3/s^2.
+"""
+
+import numpy as np
+
+MU_EARTH = 3.986004418e14
+"""Earth's gravitational parameter (m^3/s^2, WGS 84 / IERS)."""
+MU_SUN = 1.32712440018e20
+"""The Sun's gravitational parameter (m^3/s^2, IAU 2009 / DE405)."""
+R_EARTH = 6378.137e3
+"""Earth's equatorial radius (m, WGS 84)."""
+AU = 1.495978707e11
+"""The astronomical unit (m, IAU 2012, exact)."""
+
+KEPLER_ITERATIONS = 50
+
+
+def _finite(name, value):
+    value = float(value)
+    if not np.isfinite(value):
+        raise ValueError(f"Orbit: {name} must be finite, got {value}")
+    return value
+
+
+def _rotation(raan, inclination, argp):
+    """Columns: periapsis direction P, its in-plane normal Q and the orbit normal W, in
+    the inertial axes (the 3-1-3 rotation ``Rz(raan) Rx(inclination) Rz(argp)``)."""
+    co, so = np.cos(raan), np.sin(raan)
+    ci, si = np.cos(inclination), np.sin(inclination)
+    cw, sw = np.cos(argp), np.sin(argp)
+    return np.array([
+        [co * cw - so * sw * ci, -co * sw - so * cw * ci, so * si],
+        [so * cw + co * sw * ci, -so * sw + co * cw * ci, -co * si],
+        [sw * si, cw * si, ci],
+    ])
+
+
+def eccentric_anomaly(mean_anomaly, e):
+    """Solve Kepler's equation ``E - e sin E = M`` to round-off (``0 <= e < 1``).
+
+    Newton's iteration on ``M`` reduced to ``[-pi, pi)``, started from Danby's
+    ``E = M + 0.85 e sign(sin M)`` (convergent for every ``e < 1``); ``mean_anomaly`` may
+    be an array.
+    """
+    m = np.remainder(np.asarray(mean_anomaly, dtype=float) + np.pi, 2 * np.pi) - np.pi
+    ecc = m + 0.85 * e * np.sign(np.sin(m))
+    for _ in range(KEPLER_ITERATIONS):
+        step = (ecc - e * np.sin(ecc) - m) / (1.0 - e * np.cos(ecc))
+        ecc = ecc - step
+        if np.all(np.abs(step) <= 4 * np.finfo(float).eps * np.maximum(1.0, np.abs(ecc))):
+            break
+    return ecc + (np.asarray(mean_anomaly, dtype=float) - m)
+
+
+class Orbit:
+    """A Keplerian reference orbit (``0 <= e < 1``).
+
+    Parameters
+    ----------
+    mu : float
+        Gravitational parameter of the central body (m^3/s^2), e.g. :data:`MU_EARTH`.
+    a : float
+        Semi-major axis (m), positive.
+    e : float
+        Eccentricity in ``[0, 1)``.
+    inclination, raan, argp : float
+        Inclination, right ascension of the ascending node and argument of periapsis
+        (rad), the 3-1-3 rotation from the perifocal to the inertial axes.
+    anomaly : float
+        True anomaly at ``t0`` (rad).
+    t0 : float
+        Epoch (s) of ``anomaly``.
+
+    Notes
+    -----
+    With the default angles the orbit lies in the ``x, y`` plane, periapsis on ``+x``: at
+    ``t = t0`` the local vertical (radial) is ``+x``, along-track ``+y`` and the orbit
+    normal ``+z``.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> orbit = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 400e3)
+    >>> round(orbit.period / 60, 2)
+    92.56
+    """
+
+    def __init__(self, mu, a, e=0.0, inclination=0.0, raan=0.0, argp=0.0, anomaly=0.0,
+                 t0=0.0):
+        self.mu = _finite("mu", mu)
+        self.a = _finite("a", a)
+        self.e = _finite("e", e)
+        if self.mu <= 0:
+            raise ValueError(f"Orbit: mu must be > 0 (m^3/s^2), got {self.mu}")
+        if self.a <= 0:
+            raise ValueError(f"Orbit: a must be > 0 (m; only elliptic orbits), got {self.a}")
+        if not 0.0 <= self.e < 1.0:
+            raise ValueError(f"Orbit: e must be in [0, 1) (elliptic orbits), got {self.e}")
+        self.inclination = _finite("inclination", inclination)
+        self.raan = _finite("raan", raan)
+        self.argp = _finite("argp", argp)
+        self.anomaly = _finite("anomaly", anomaly)
+        self.t0 = _finite("t0", t0)
+        self.axes = _rotation(self.raan, self.inclination, self.argp)
+        half = 0.5 * self.anomaly
+        ecc0 = 2.0 * np.arctan2(np.sqrt(1.0 - self.e) * np.sin(half),
+                                np.sqrt(1.0 + self.e) * np.cos(half))
+        self.mean_anomaly0 = ecc0 - self.e * np.sin(ecc0)
+
+    @classmethod
+    def from_state(cls, mu, r, v, t0=0.0):
+        """The orbit through position ``r`` (m) and velocity ``v`` (m/s) at time ``t0``.
+
+        A circular orbit takes its periapsis on the ascending node (``argp = 0``), an
+        equatorial one its node on ``+x`` (``raan = 0``); position and velocity are
+        reproduced to round-off either way.  Parabolic and hyperbolic states are refused.
+        """
+        r = np.asarray(r, dtype=float).reshape(3)
+        v = np.asarray(v, dtype=float).reshape(3)
+        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(v))):
+            raise ValueError("Orbit.from_state: r and v must be finite")
+        mu = _finite("mu", mu)
+        h = np.cross(r, v)
+        rn, hn = np.linalg.norm(r), np.linalg.norm(h)
+        if rn == 0 or hn == 0:
+            raise ValueError("Orbit.from_state: r and v must span a plane (a rectilinear "
+                             "orbit has no elements)")
+        energy = 0.5 * (v @ v) - mu / rn
+        if energy >= 0:
+            raise ValueError(f"Orbit.from_state: the state is not bound (specific energy "
+                             f"{energy:.6g} J/kg >= 0): only elliptic orbits")
+        w = h / hn
+        ecc = ((v @ v - mu / rn) * r - (r @ v) * v) / mu
+        e = np.linalg.norm(ecc)
+        node = np.array([-h[1], h[0], 0.0])
+        node_norm = np.linalg.norm(node)
+        node = node / node_norm if node_norm > 1e-15 * hn else np.array([1.0, 0.0, 0.0])
+        p = ecc / e if e > 0 else node
+        q = np.cross(w, p)
+        inclination = np.arccos(np.clip(w[2], -1.0, 1.0))
+        raan = np.arctan2(node[1], node[0])
+        argp = np.arctan2(p @ np.cross(w, node), p @ node)
+        anomaly = np.arctan2(r @ q, r @ p)
+        return cls(mu, -mu / (2 * energy), e, inclination, raan, argp, anomaly, t0)
+
+    @property
+    def mean_motion(self):
+        """Mean motion ``n = sqrt(mu / a^3)`` (rad/s)."""
+        return np.sqrt(self.mu / self.a**3)
+
+    @property
+    def period(self):
+        """Orbital period ``2 pi / n`` (s)."""
+        return 2 * np.pi / self.mean_motion
+
+    def _perifocal(self, t):
+        """Position and velocity in the perifocal axes (P, Q), shape ``t.shape + (2,)``."""
+        t = np.asarray(t, dtype=float)
+        ecc = eccentric_anomaly(self.mean_anomaly0 + self.mean_motion * (t - self.t0),
+                                self.e)
+        c, s = np.cos(ecc), np.sin(ecc)
+        root = np.sqrt(1.0 - self.e**2)
+        r = self.a * (1.0 - self.e * c)
+        pos = np.stack([self.a * (c - self.e), self.a * root * s], axis=-1)
+        speed = np.sqrt(self.mu * self.a) / r
+        vel = np.stack([-speed * s, speed * root * c], axis=-1)
+        return pos, vel
+
+    def position(self, t):
+        """Absolute position of the reference point (m): shape (3,) or ``t.shape + (3,)``."""
+        return self._perifocal(t)[0] @ self.axes[:, :2].T
+
+    def velocity(self, t):
+        """Absolute velocity of the reference point (m/s)."""
+        return self._perifocal(t)[1] @ self.axes[:, :2].T
+
+    def true_anomaly(self, t):
+        """True anomaly (rad) at ``t``, continuous in time (not wrapped)."""
+        pos = self._perifocal(t)[0]
+        angle = np.arctan2(pos[..., 1], pos[..., 0])
+        mean = self.mean_anomaly0 + self.mean_motion * (np.asarray(t, float) - self.t0)
+        return angle + 2 * np.pi * np.round((mean - angle) / (2 * np.pi))
+
+    def lvlh(self, t):
+        """The orbiting frame at ``t``: rows radial, along-track, orbit normal, in the
+        system's axes; shape (3, 3) or ``t.shape + (3, 3)``."""
+        pos = self._perifocal(t)[0]
+        radial = pos / np.linalg.norm(pos, axis=-1, keepdims=True)
+        along = np.stack([-radial[..., 1], radial[..., 0]], axis=-1)
+        plane = self.axes[:, :2].T
+        normal = np.broadcast_to(self.axes[:, 2], radial.shape[:-1] + (3,))
+        return np.stack([radial @ plane, along @ plane, normal], axis=-2)
+
+    def angular_velocity(self, t):
+        """Angular velocity of the orbiting frame (rad/s, a vector along the orbit normal
+        in the system's axes): ``h / |R|^2``."""
+        pos = self._perifocal(t)[0]
+        h = np.sqrt(self.mu * self.a * (1.0 - self.e**2))
+        rate = h / np.sum(pos**2, axis=-1)
+        return rate[..., None] * self.axes[:, 2]
+
+    def to_lvlh(self, t, x):
+        """Offsets ``x`` (..., 3) in the system's axes, expressed in the orbiting frame at
+        ``t`` (a scalar, or one time per leading entry of ``x``)."""
+        frame = self.lvlh(t)
+        x = np.asarray(x, dtype=float)
+        if frame.ndim == 2:
+            return x @ frame.T
+        return np.einsum("tij,t...j->t...i", frame, x)
+
+    def from_lvlh(self, t, y):
+        """Inverse of :meth:`to_lvlh`."""
+        frame = self.lvlh(t)
+        y = np.asarray(y, dtype=float)
+        if frame.ndim == 2:
+            return y @ frame
+        return np.einsum("tji,t...j->t...i", frame, y)
+
+    def __repr__(self):
+        return (f"Orbit(mu={self.mu:.10g}, a={self.a:.10g}, e={self.e:.6g}, "
+                f"inclination={self.inclination:.6g}, raan={self.raan:.6g}, "
+                f"argp={self.argp:.6g}, anomaly={self.anomaly:.6g}, t0={self.t0:.6g})")
+
+
+def battin_f(q):
+    """``(1 + q)^(3/2) - 1`` without cancellation for small ``q``:
+    ``q (3 + 3 q + q^2) / (1 + (1 + q)^(3/2))``, since ``((1 + q)^(3/2) - 1)
+    ((1 + q)^(3/2) + 1) = (1 + q)^3 - 1`` (Battin's ``f(q)``, up to its sign)."""
+    return q * (3.0 + q * (3.0 + q)) / (1.0 + (1.0 + q) ** 1.5)
+
+
+def differential_gravity(mu, reference, delta):
+    """``g(R + delta) - g(R)`` of a point mass ``mu`` at the origin, free of
+    cancellation.
+
+    With ``r = R + delta`` and ``q = delta . (2 R + delta) / |R|^2`` (so that
+    ``|r|^2 = |R|^2 (1 + q)``),
+
+    ``g(r) - g(R) = -mu / |r|^3 (delta - f(q) R)``,  ``f(q) = (1 + q)^(3/2) - 1``
+
+    (Battin's form of Encke's method).  ``delta`` may hold many points (..., 3).
+    """
+    reference = np.asarray(reference, dtype=float)
+    delta = np.asarray(delta, dtype=float)
+    r2 = reference @ reference
+    q = np.sum(delta * (2.0 * reference + delta), axis=-1) / r2
+    r3 = (r2 * (1.0 + q)) ** 1.5
+    return -(mu / r3)[..., None] * (delta - battin_f(q)[..., None] * reference)
+
+
+def gravity_gradient(mu, r):
+    """Tangent of the point-mass gravity at ``r``: ``dg/dr = mu / |r|^3 (3 r r^T / |r|^2
+    - I)``, shape ``r.shape[:-1] + (3, 3)`` (also the tangent of the differential gravity
+    with respect to ``delta``)."""
+    r = np.asarray(r, dtype=float)
+    r2 = np.sum(r * r, axis=-1)[..., None, None]
+    outer = r[..., :, None] * r[..., None, :]
+    return mu / r2**1.5 * (3.0 * outer / r2 - np.eye(3))
