@@ -161,6 +161,12 @@ ENTRIES = (
           "relative 1e-5", "tests/test_steady.py::test_esail_steady_demo",
           "Coning angle over two spin periods from the steady state and from the usual "
           "start (the sail at rest in the stress-free configuration)."),
+    Entry("esail_orbit.py",
+          "centre of mass against a point mass propagated under the run's recorded thrust "
+          "(DOP853), 72 minutes, 2 elements per tether",
+          "1e-5 of the departure", "tests/test_demos.py::test_esail_orbit_demo",
+          "A week around the Sun (2 elements per tether, 1 s steps): departure from the "
+          "Keplerian orbit against the point mass, spin rate and sailing angle."),
     Entry("slack_catenary.py",
           "largest position error of the catenary found from the straight 12 m start, "
           "against the elastic catenary, 16 elements",
@@ -228,6 +234,20 @@ ENTRIES = (
           "-62.87 J +- 0.01 J",
           "tests/test_rodchain_io.py::test_example_scene_file_is_the_papers_energy_experiment",
           "The twenty rods every 0.5 s, and the energies: their total stays constant."),
+    Entry("tss_libration.py",
+          "pitch libration frequency of the 20 km tethered satellite system in a 400 km "
+          "orbit (0.05 rad pitch, 0.03 rad roll, 4 elements, 100 steps per period) against "
+          "`sqrt(3) n (1 - (2 theta_0)^2 / 16)`; the roll against `2 n`: 1e-3",
+          "relative 2e-3", "tests/test_orbit_scenes.py::test_tss_libration_demo",
+          "Pitch and roll over three pitch periods against the rigid dumbbell's small "
+          "librations at `sqrt(3) n` and `2 n` (dotted: their periods)."),
+    Entry("ed_tether_deorbit.py",
+          "altitude drop of the short-circuited 5 km tether over a quarter of a day against "
+          "Gauss's averaged equation `da/dt = 2 F_t / (m n)`",
+          "relative 2e-2",
+          "tests/test_electrodynamic.py::test_demo_follows_the_averaged_decay",
+          "Altitude of the centre of mass's osculating orbit over two days, and the "
+          "short-circuit current, against Gauss's averaged equation."),
 )
 
 
@@ -661,6 +681,15 @@ def draw_esail_steady():
     _written("esail_steady")
 
 
+def draw_esail_orbit():
+    import shutil
+
+    out = ROOT / "runs" / "esail_orbit"
+    _load_demo("esail_orbit").main(elements=2, out=str(out))   # about 5 minutes
+    shutil.copyfile(out / "esail_orbit.png", _path("esail_orbit"))
+    _written("esail_orbit")
+
+
 def draw_slack_catenary():
     _load_demo("slack_catenary").main(figure=_path("slack_catenary"))
     _written("slack_catenary")
@@ -860,6 +889,27 @@ def draw_reel_spin_rate():
                  f"{out['predicted']:.8f} ({out['difference']:.1e}); angular momentum drift "
                  f"{out['momentum_drift']:.1e}", fontsize=9)
     _save(fig, "reel_spin_rate")
+
+
+def draw_tss_libration():
+    _load_demo("tss_libration").main(figure=_path("tss_libration"),
+                                     render=ROOT / "docs" / "figures" / "tss_lvlh.png")
+    _written("tss_libration")
+
+
+def draw_ed_tether_deorbit():
+    out = _load_demo("ed_tether_deorbit").main()
+    fig, (ax, bx) = _figure(ncols=2, width=7.5, height=3.0)
+    ax.plot(out["days"], out["reference_altitude"], color="0.6", lw=3,
+            label="Gauss's equation")
+    ax.plot(out["days"], out["altitude"], "C0", lw=1, label="tether model")
+    ax.set(xlabel="t [days]", ylabel="altitude a - R_E [km]")
+    ax.legend(fontsize=8)
+    bx.plot(out["days"][:-1], out["current"], "C1")
+    bx.set(xlabel="t [days]", ylabel="short-circuit current [A]")
+    fig.suptitle(f"Drop {out['drop'] / 1e3:.3f} km, Gauss's equation "
+                 f"{out['reference_drop'] / 1e3:.3f} km", fontsize=10)
+    _save(fig, "ed_tether_deorbit")
 
 
 DRAW = {e.name: globals()[f"draw_{e.name}"] for e in ENTRIES}

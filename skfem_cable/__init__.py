@@ -7,7 +7,8 @@ Public API (``__all__``, documented on the API page of the docs):
 * loads: ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``, ``Centrifugal``,
   ``PointMass`` (module ``loads``), the solar wind ``SolarWind``, ``SolarWindForce``, drag
   in water and in a rarefied atmosphere ``MorisonDrag``, ``Buoyancy``, ``CurrentProfile``,
-  ``FreeMolecularDrag`` (module ``drag``); constraints: ``System.clamp``, ``System.pin``
+  ``FreeMolecularDrag`` (module ``drag``), electrodynamic tethers ``ElectrodynamicForce``,
+  ``MagneticDipole`` (module ``electrodynamic``); constraints: ``System.clamp``, ``System.pin``
   (module ``constraints``); deploying and retrieving cables: ``System.deploy`` (module
   ``deploy``), from a ``Reel`` with a torque law ``Brake``, ``Motor``, ``Servo`` (module
   ``reel``);
@@ -55,6 +56,7 @@ from .cable import Cable, Node
 from .contract import Evaluation, Observer, Term
 from .coulomb import SolarWind, SolarWindForce
 from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
+from .electrodynamic import ElectrodynamicForce, MagneticDipole
 from .element import ElementLineCableHermite
 from .formulation import FORMULATIONS
 from .laws import CableLaw, cable_law
@@ -86,10 +88,12 @@ __all__ = [
     "CableLaw",
     "Centrifugal",
     "CurrentProfile",
+    "ElectrodynamicForce",
     "Evaluation",
     "FreeMolecularDrag",
     "Gravity",
     "LineLoad",
+    "MagneticDipole",
     "MorisonDrag",
     "Motor",
     "Observer",

@@ -22,6 +22,7 @@ EPILOG = """examples:
   skfem-cable run pendulum --out runs/pendulum
   skfem-cable run demos/spinning_hub.toml --t-end 2 --out runs/hub --animate
   skfem-cable run pendulum --out runs/pendulum --t-end 5 --resume
+  skfem-cable run tss --out runs/tss --frame lvlh
   skfem-cable sweep esail --param alpha=0,30,60 --param voltage=1e4,2e4 --t-end 600 --out runs/s
   skfem-cable validate
   skfem-cable bench kernel_cost step_cost
@@ -143,6 +144,7 @@ def _sweepable_scenes():
 
 def build_parser():
     """The argument parser (exposed for the documentation and the tests)."""
+    from .export import FRAMES
     from .scenes.catalog import SCENES
 
     parser = _Parser(
@@ -187,6 +189,10 @@ def build_parser():
                      help="write no figures or snapshot into the run directory")
     run.add_argument("--animate", action="store_true",
                      help="also render animation.gif of the run (needs OpenGL)")
+    run.add_argument("--frame", choices=tuple(FRAMES), metavar="FRAME",
+                     help="frame of the ParaView series and the renders: inertial (default) "
+                     "or lvlh, the orbiting frame of a system in orbit (x radial, y "
+                     "along-track, z orbit normal; velocities relative to it)")
     existing = run.add_mutually_exclusive_group()
     existing.add_argument("--overwrite", action="store_true",
                           help="replace the run already in --out DIR (removes only the "
@@ -264,7 +270,7 @@ def cmd_run(args):
                          formulation=args.formulation, alpha=args.alpha, every=args.every,
                          progress=False if args.no_progress else None,
                          plots=not args.no_plots, animate=args.animate,
-                         overwrite=args.overwrite, resume=args.resume)
+                         overwrite=args.overwrite, resume=args.resume, frame=args.frame)
     check_run_dir(args.out, args.overwrite, args.resume)  # before any work
     try:
         summary = run_scene(args.scene, options)

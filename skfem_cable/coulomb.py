@@ -1,5 +1,13 @@
 """The solar-wind Coulomb force on charged tethers (paper Sect. 2.2.3, Eqs. 27-35).
 
+The wind's data (``SolarWind``) hold at 1 AU; at the heliocentric distance ``r`` of a point
+of a tether the force per unit length is scaled by ``(AU / r)^p``, ``p = 7/6`` by default
+(``THRUST_EXPONENT``).  The Sun's position in the system's coordinates is fixed
+(``sun_position`` an array: a system without an orbit, the paper's translated frame I),
+or moves with time (a callable ``t -> (3,)``): ``SunAtFocus(orbit)`` for a system in a
+heliocentric orbit (``System.add_orbit``), whose coordinates are offsets from the orbit's
+reference point ``R(t)``, so that the Sun sits at ``-R(t)``.
+
 Examples
 --------
 >>> from skfem_cable import SolarWind
@@ -15,6 +23,15 @@ from .contract import Term
 from .kernels import coulomb as kernel
 from .orbit import AU
 from .section import check_positive
+
+THRUST_EXPONENT = 7.0 / 6.0
+"""Exponent ``p`` of the E-sail thrust's fall-off with solar distance, ``(AU / r)^p``
+(Janhunen et al., "Electric solar wind sail: toward test missions", Rev. Sci. Instrum. 81,
+111301, 2010, ref. [16] of the paper: thrust at constant voltage ``~ 1/r^(7/6)``).  The
+ion-deflecting sheath of a tether is a few electron Debye lengths wide,
+``lambda_D ~ sqrt(T_e / n)``, with the density ``n ~ r^-2`` and the electron temperature
+``T_e ~ r^(-1/3)``, so ``lambda_D ~ r^(5/6)``; the force per unit length is the dynamic
+pressure ``m_p n u^2 ~ r^-2`` times the sheath width: ``r^-2 r^(5/6) = r^(-7/6)``."""
 
 _EMPTY = np.zeros(0)
 _NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
@@ -63,6 +80,28 @@ class SolarWind:
                 * np.sqrt(self.eps0 * self.proton_mass * self.density) * self.speed)
 
 
+@dataclass(frozen=True)
+class SunAtFocus:
+    """The Sun at the focus of a heliocentric ``orbit`` (``Orbit`` with ``mu = MU_SUN``), as
+    seen in the coordinates of a system on it (``System.add_orbit(orbit)``): offsets from
+    the reference point ``R(t)``, so the Sun sits at ``-R(t)``.  A callable ``t -> (3,)``
+    for ``SolarWindForce(sun_position=...)``; a Gauss point at offset ``x`` is then at the
+    heliocentric position ``R(t) + x``.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> from skfem_cable.coulomb import SunAtFocus
+    >>> SunAtFocus(sc.Orbit(sc.MU_SUN, sc.AU))(0.0) / sc.AU
+    array([-1., -0., -0.])
+    """
+
+    orbit: object
+
+    def __call__(self, t):
+        return -self.orbit.position(t)
+
+
 class SolarWindForce:
     """Coulomb drag of the solar wind on a set of cables, a load for ``System.add_load``.
 
@@ -72,14 +111,22 @@ class SolarWindForce:
     voltage : float, callable, or sequence of them (one per cable)
         Tether voltage ``V0`` (V); a callable ``V0(t)`` modulates it in time.
     wind : SolarWind
-    sun_position : array_like (3,)
-        Position of the Sun in the simulation frame I (``-R0``, Eq. 32).
+    sun_position : array_like (3,) or callable
+        Position of the Sun in the system's coordinates: fixed (the frame I of the paper,
+        ``-R0``, Eq. 32), or ``sun_position(t) -> (3,)`` refreshed once per time step
+        (``SunAtFocus(orbit)`` for a system in a heliocentric orbit; for an orbit about
+        the Earth, the Sun's position relative to the orbit's reference point).
+    exponent : float
+        ``p`` of the scaling ``(AU / r)^p`` of the force with the heliocentric distance
+        ``r`` of each Gauss point (default ``THRUST_EXPONENT`` = 7/6; 0: the uniform wind
+        of the paper's Eq. 29, bit for bit).
 
     Notes
     -----
     Each tether element is pushed along the wind's component perpendicular to it, with
-    ``SolarWind.force_per_length`` for a tether across the wind (Eqs. 27-35); the wind
-    blows radially from the Sun.
+    ``SolarWind.force_per_length`` for a tether across the wind at 1 AU (Eqs. 27-35)
+    times ``(AU / r)^p``; the wind blows radially from the Sun with the velocity
+    ``u i_R`` of Eq. 32, not relative to the tether (as in the paper's force law).
 
     Examples
     --------
@@ -95,7 +142,8 @@ class SolarWindForce:
     >>> system = sc.System([a, b]).add_load(wind)
     """
 
-    def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0)):
+    def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0),
+                 exponent=THRUST_EXPONENT):
         self.cables = list(cables)
         if callable(voltage) or np.ndim(voltage) == 0:
             voltage = [voltage] * len(self.cables)
@@ -107,7 +155,11 @@ class SolarWindForce:
                 raise ValueError(f"voltage[{k}] must be >= 0 V or a callable, got {v!r}")
         self.voltage = list(voltage)
         self.wind = wind or SolarWind()
-        self.sun = np.asarray(sun_position, dtype=float)
+        self.sun = sun_position if callable(sun_position) else np.asarray(sun_position,
+                                                                            dtype=float)
+        if not np.isfinite(exponent):
+            raise ValueError(f"exponent must be finite, got {exponent!r}")
+        self.scaling = np.array([AU, float(exponent)])
         per = [np.full(c.n_elements, k) for k, c in enumerate(self.cables)]
         self.cable_of_element = np.concatenate(per)
         self.S = np.ascontiguousarray(np.concatenate([c.S for c in self.cables]))
@@ -127,8 +179,23 @@ class SolarWindForce:
                              f"{float(out[k])}: it must be finite and >= 0 V")
         return out
 
+    def sun_at(self, t):
+        """The Sun's position (3,) in the system's coordinates at time ``t``."""
+        return np.asarray(self.sun(t) if callable(self.sun) else self.sun, dtype=float)
+
+    def line_force(self, r, a, coef, t):
+        """Force per unit length (N/m) at points ``r`` (..., 3) of slopes ``a`` (..., 3)
+        with the coefficients ``coef`` (...) of ``coefficients`` at time ``t``:
+        ``coef (AU / rho)^p (i_R - (t . i_R) t)`` (Eqs. 29-32, as the kernel)."""
+        rel = r - self.sun_at(t)
+        rho = np.linalg.norm(rel, axis=-1, keepdims=True)
+        i_R = rel / rho
+        tangent = a / np.linalg.norm(a, axis=-1, keepdims=True)
+        u_perp = i_R - np.sum(tangent * i_R, axis=-1, keepdims=True) * tangent
+        return (coef[..., None] * (self.scaling[0] / rho) ** self.scaling[1]) * u_perp
+
     def coefficients(self, t):
-        """Force per unit length on a perpendicular tether, per element (N/m)."""
+        """Force per unit length on a perpendicular tether at 1 AU, per element (N/m)."""
         per_cable = np.array([self.wind.force_per_length(V) for V in self.voltages(t)])
         return per_cable[self.cable_of_element]
 
@@ -137,31 +204,48 @@ class SolarWindForce:
     stretches = True
 
     def bind(self, system):
-        """The compiled term (``kernels.coulomb.kernel``); a time-modulated voltage or a
+        """The compiled term (``kernels.coulomb.kernel``); a time-modulated voltage, a
         deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
-        length) refreshes the per-element coefficients once per time step
-        (``Term.prepare``)."""
+        length) or a moving Sun refreshes, once per time step (``Term.prepare``), only
+        what moves: the per-element coefficients or the Sun's position."""
         edofs = np.ascontiguousarray(np.concatenate(
             [c.global_element_dofs(system) for c in self.cables]))
         coef = np.array(self.coefficients(0.0), dtype=float)
+        sun = self.sun_at(0.0).copy()
+        refresh = self._refreshers(system, coef, sun)
+
+        def prepare(t):
+            for part in refresh:
+                part(t)
+
+        prepare(0.0)
+        pack = (edofs, self.S, self.Sx, self.w, coef, sun, self.scaling, np.zeros(3))
+        return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
+                    cols=edofs[:, None, :], name="solar wind",
+                    prepare=prepare if refresh else None)
+
+    def _refreshers(self, system, coef, sun):
+        """The functions of ``t`` refreshing, in place, the coefficients ``coef`` (with a
+        voltage callable or a deploying tether) and the Sun's position ``sun`` (a
+        callable ``sun_position``)."""
         deploying = [system.deployment(c) is not None for c in self.cables]
         for cable, deploys in zip(self.cables, deploying):
             if deploys and system.deployment(cable).reel is not None:
                 raise ValueError(f"SolarWindForce on {cable.name!r}, deployed from a reel: "
                                  "the solar wind supports prescribed lengths only")
 
-        def prepare(t):
+        def coefficients(t):
             coef[:] = self.coefficients(t)
             if any(deploying):
                 stretch = np.array([system.stretch(c, t) for c in self.cables])
                 coef[:] *= stretch[self.cable_of_element]
 
-        prepare(0.0)
-        pack = (edofs, self.S, self.Sx, self.w, coef, self.sun, np.zeros(3))
-        constant = not any(callable(v) for v in self.voltage) and not any(deploying)
-        return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
-                    cols=edofs[:, None, :], name="solar wind",
-                    prepare=None if constant else prepare)
+        def sun_position(t):
+            sun[:] = self.sun(t)
+
+        moving = any(callable(v) for v in self.voltage) or any(deploying)
+        return [part for part, needed in ((coefficients, moving),
+                                          (sun_position, callable(self.sun))) if needed]
 
     def add_force(self, edofs, q, t, f, data=None, index=None, cK=1.0):
         """Add the generalized force on the cables with global element coordinates
@@ -170,7 +254,7 @@ class SolarWindForce:
         resultant = np.zeros(3)
         want = data is not None
         kernel.force_tangent(q, (edofs, self.S, self.Sx, self.w),
-                             (self.coefficients(t), self.sun),
+                             (self.coefficients(t), self.sun_at(t), self.scaling),
                              (f, data if want else _EMPTY, index if want else _NO_SCATTER,
                               resultant), cK)
         return resultant

@@ -20,6 +20,10 @@ and pyvista leave NaN out of colour ranges.  Every point has ``body_id`` (index 
 
 A time series is one ``.vtu`` per saved step and a ``.pvd`` collection listing them with
 their times, which ParaView (and ``pyvista.get_reader``) opens as an animation.
+
+Output frames (``FRAMES``, ``output_frame``): ``"inertial"`` writes the coordinates as
+computed; ``"lvlh"`` (a system in orbit) writes them in the orbiting frame of
+``Orbit.lvlh``: positions and slopes turned into its axes, velocities relative to it.
 """
 
 import xml.etree.ElementTree as ET
@@ -187,17 +191,90 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
     return out.mesh()
 
 
+class InertialFrame:
+    """The system's own axes (inertial, or parallel to them in orbit): configurations are
+    written as computed."""
+
+    name = "inertial"
+    label = ""  # nothing to say on a render
+    view = None  # renders choose their view (plot.view_camera)
+
+    def __init__(self, system):
+        self.system = system
+
+    def configuration(self, t, q, v=None):
+        """``(q, v)`` unchanged (the same arrays)."""
+        return q, v
+
+
+class LvlhFrame:
+    """The orbiting frame of a system in orbit (``System.add_orbit``): axes radial,
+    along-track and orbit normal (``Orbit.lvlh``), turning with the orbit.
+
+    Raises
+    ------
+    ValueError
+        When ``system`` is not in orbit.
+    """
+
+    name = "lvlh"
+    label = "orbiting frame (LVLH): x radial, y along-track"
+    view = "orbital"  # renders look along the orbit normal, radial up
+
+    def __init__(self, system):
+        if system.orbit is None:
+            raise ValueError("frame 'lvlh' (the orbiting frame) needs a system in orbit "
+                             "(System.add_orbit, or the [orbit] table of a scene file); "
+                             "this one has no orbit: use frame 'inertial'")
+        self.system = system
+        self.orbit = system.orbit
+
+    def configuration(self, t, q, v=None):
+        """Coordinates ``q`` at time ``t`` in the orbiting frame (positions ``C r``,
+        slopes ``C r'`` with ``C = Orbit.lvlh(t)``) and velocities relative to it,
+        ``C (v - omega x r)`` (``v`` None stays None); scalar coordinates unchanged."""
+        C = self.orbit.lvlh(t)
+        turned = self.system.rotate(q, C)
+        if v is None:
+            return turned, None
+        carried = self.system.rigid_motion_velocity(q, self.orbit.angular_velocity(t))
+        return turned, self.system.rotate(np.asarray(v, dtype=float) - carried, C)
+
+
+#: The output frames by name: ``cls(system)`` with ``configuration(t, q, v) -> (q, v)``.
+FRAMES = {"inertial": InertialFrame, "lvlh": LvlhFrame}
+
+
+def frame_name(frame):
+    """``frame`` if it names one of ``FRAMES``, else ``ValueError`` listing them."""
+    if frame not in FRAMES:
+        raise ValueError(f"frame must be one of {', '.join(map(repr, FRAMES))}, "
+                         f"got {frame!r}")
+    return frame
+
+
+def output_frame(system, frame="inertial"):
+    """The output frame named ``frame`` (one of ``FRAMES``) for ``system``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, or ``"lvlh"`` on a system without orbit.
+    """
+    return FRAMES[frame_name(frame)](system)
+
+
 def _write_atomic(path, mesh):
     with replacing(path) as tmp:  # a full disk or an interrupt leaves no temporary file
         meshio.write(tmp, mesh, file_format="vtu")
 
 
-def write_vtu(path, system, state, points_per_element=8, resolution=32):
+def write_vtu(path, system, state, points_per_element=8, resolution=32, frame="inertial"):
     """Write one configuration (a ``State``, with or without velocities) to ``path``
-    (``.vtu``); returns the path."""
+    (``.vtu``) in the output ``frame`` (one of ``FRAMES``); returns the path."""
     path = Path(path)
-    _write_atomic(path, system_mesh(system, state.q, state.v, points_per_element, resolution,
-                                    state.t))
+    q, v = output_frame(system, frame).configuration(state.t, state.q, state.v)
+    _write_atomic(path, system_mesh(system, q, v, points_per_element, resolution, state.t))
     return path
 
 
@@ -276,6 +353,9 @@ class SeriesWriter(VtuSeries):
         See ``system_mesh``.
     append, name
         See ``VtuSeries``.
+    frame : str
+        The output frame, one of ``FRAMES``: ``"inertial"`` (as computed) or ``"lvlh"``
+        (the orbiting frame of a system in orbit).
 
     Examples
     --------
@@ -286,15 +366,17 @@ class SeriesWriter(VtuSeries):
     """
 
     def __init__(self, run_dir, system, points_per_element=8, resolution=32, append=False,
-                 name="series"):
+                 name="series", frame="inertial"):
+        self.frame = output_frame(system, frame)  # refused before any file is touched
         super().__init__(run_dir, append, name)
         self.system = system
         self.points_per_element = points_per_element
         self.resolution = resolution
 
     def write(self, t, q, v=None):
-        """Write the step at time ``t``; entries at or after ``t`` are replaced.
-        Returns the path of the ``.vtu``."""
+        """Write the step at time ``t`` (in the writer's frame); entries at or after ``t``
+        are replaced.  Returns the path of the ``.vtu``."""
+        q, v = self.frame.configuration(t, q, v)
         return self.add(t, system_mesh(self.system, q, v, self.points_per_element,
                                        self.resolution, t))
 

@@ -116,3 +116,33 @@ class DifferentialGravity:
         return Term(kernels=((central.kernel, (dofs, G, mass, reference, base, constants)),),
                     rows=dofs[:, :, None], cols=dofs[:, None, :], prepare=prepare,
                     name="differential gravity")
+
+
+def orbital_energy(system, q, v, t):
+    """Kinetic plus potential energy (J) in the central field of the system in orbit at
+    ``(q, v, t)``, less that of its mass moving with the reference point:
+    ``sum_p m_p (|V + v_p|^2 / 2 - mu / |R + delta_p|) - m (|V|^2 / 2 - mu / |R|)``, with
+    ``V, R`` the reference point's velocity and position and ``delta_p``, ``v_p`` the mass
+    points' offsets and velocities (``system_mass_points``).
+
+    Formed without cancellation (``V . v_p + |v_p|^2 / 2`` and ``mu / |R| q_p /
+    (sqrt(1 + q_p) (1 + sqrt(1 + q_p)))`` with ``|R + delta_p|^2 = |R|^2 (1 + q_p)``), so that
+    a tether's libration energy stays readable beside the orbit's.  The reference point's
+    own energy is constant on its Keplerian orbit, so with the elastic energy added this is
+    conserved by the equations of motion without other loads (the differential gravity is
+    the gradient of the mass points' potential).
+    """
+    orbit = system.orbit
+    if orbit is None:
+        raise ValueError("orbital_energy: the system is not in orbit (System.add_orbit)")
+    dofs, G, mass = system_mass_points(system)
+    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+    delta = np.einsum("pic,pc->pi", G, q[dofs])
+    speed = np.einsum("pic,pc->pi", G, v[dofs])
+    R, V = orbit.position(t), orbit.velocity(t)
+    r2 = R @ R
+    qp = np.sum(delta * (2.0 * R + delta), axis=-1) / r2
+    root = np.sqrt(1.0 + qp)
+    potential = orbit.mu / np.sqrt(r2) * qp / (root * (1.0 + root))
+    kinetic = speed @ V + 0.5 * np.sum(speed * speed, axis=-1)
+    return float(mass @ (kinetic + potential))

@@ -28,7 +28,7 @@ from .loads import Gravity
 TENSION_CMAP = "viridis"
 
 #: Views of ``render`` and ``animate`` (see ``view_camera``).
-VIEWS = ("auto", "isometric", "xy", "xz", "yz", "gravity", "axial", "side")
+VIEWS = ("auto", "isometric", "xy", "xz", "yz", "orbital", "gravity", "axial", "side")
 
 #: A camera: unit vectors from the focal point towards the eye, and up on the screen.
 Camera = namedtuple("Camera", "eye up")
@@ -166,7 +166,9 @@ def view_camera(view, points, gravity=None, spin=None, sun=None, plane=None):
         anticlockwise on the screen), the Sun's direction (else a coordinate axis)
         up.  ``"side"``: the spin axis up, looking perpendicular to it and to the Sun's
         direction (the Sun on the left).  ``"isometric"`` (z up) and ``"xy"``, ``"xz"``,
-        ``"yz"`` (looking along the third axis) are pyvista's.
+        ``"yz"`` (looking along the third axis) are pyvista's.  ``"orbital"``: the
+        orbiting frame's view, ``x`` (radial) up, ``y`` (along-track) to the right,
+        looking along ``z`` (the orbit normal).
     points : ndarray (..., 3)
     gravity, spin, sun : array_like (3,), optional
         Gravity (m/s^2), the unit spin axis and the direction towards the Sun.
@@ -212,7 +214,8 @@ def plane_camera(normal):
 
 #: ``(eye, up)`` of pyvista's fixed views.
 _FIXED_VIEWS = {"isometric": ((1, 1, 1), (0, 0, 1)), "xy": ((0, 0, 1), (0, 1, 0)),
-                "xz": ((0, -1, 0), (0, 0, 1)), "yz": ((1, 0, 0), (0, 0, 1))}
+                "xz": ((0, -1, 0), (0, 0, 1)), "yz": ((1, 0, 0), (0, 0, 1)),
+                "orbital": ((0, 0, -1), (1, 0, 0))}
 
 
 def _unit(x):
@@ -461,7 +464,7 @@ def _render_grid(grid, path, window_size, clim, tube_radius, title, camera, sun=
 
 
 def render(system, state, path, points_per_element=8, window_size=(1024, 768), clim=None,
-           tube_radius=None, title=None, view=None, sun=None):
+           tube_radius=None, title=None, view=None, sun=None, frame="inertial"):
     """Render one configuration to a PNG: tubes coloured by tension (a colour bar with
     tick labels precise enough for the range), rigid bodies, point masses, an axes triad
     and a scale bar, in parallel projection from a camera chosen from the scene
@@ -486,17 +489,23 @@ def render(system, state, path, points_per_element=8, window_size=(1024, 768), c
     title : str, optional
         Text in the upper left corner, above the name of the colour field.
     view : str, optional
-        One of ``VIEWS`` (``view_camera``); default automatic.
+        One of ``VIEWS`` (``view_camera``); default the frame's (``"orbital"`` in the
+        orbiting frame), else automatic.
     sun : array_like (3,), optional
         Direction towards the Sun: drawn as an arrow (and used by the spin views).
+    frame : str
+        The frame drawn (``export.FRAMES``): ``"inertial"``, or ``"lvlh"`` for the
+        orbiting frame of a system in orbit (the camera is chosen there too).
 
     Returns
     -------
     ndarray (height, width, 3)
         The image.
     """
-    (grid,) = _grids(system, [(state.q, state.v, state.t)], points_per_element)
-    camera = scene_camera(system, state.q, state.v, view, sun, points=grid.points)
+    moved = export.output_frame(system, frame)
+    q, v = moved.configuration(state.t, state.q, state.v)
+    (grid,) = _grids(system, [(q, v, state.t)], points_per_element)
+    camera = scene_camera(system, q, v, view or moved.view, sun, points=grid.points)
     return _render_grid(grid, path, window_size, clim, tube_radius, title, camera, sun)
 
 
@@ -530,7 +539,7 @@ def _save_png(path, img):
 
 def animate(result, path, every=None, max_frames=150, fps=15, points_per_element=8,
             window_size=(800, 600), clim=None, tube_radius=None, view=None, sun=None,
-            up_scale=1.0, title=None):
+            up_scale=1.0, title=None, frame="inertial"):
     """Animate a run: a GIF (Pillow) or an MP4 (needs ``imageio-ffmpeg``: the ``video``
     extra) of its saved steps, with fixed camera, scale bar and tension colour range.
 
@@ -553,6 +562,8 @@ def animate(result, path, every=None, max_frames=150, fps=15, points_per_element
         the title says so and the scale bar is then horizontal only.
     title : str, optional
         First line of every frame's text, above the time.
+    frame : str
+        The frame drawn, as in ``render``.
 
     Returns
     -------
@@ -568,9 +579,12 @@ def animate(result, path, every=None, max_frames=150, fps=15, points_per_element
     idx = list(range(0, n, every))
     if idx[-1] != n - 1:
         idx.append(n - 1)
-    grids = _grids(result.system, [(result.q[i], result.v[i], result.t[i]) for i in idx],
+    moved = export.output_frame(result.system, frame)
+    shown = [moved.configuration(result.t[i], result.q[i], result.v[i]) for i in idx]
+    grids = _grids(result.system, [(q, v, result.t[i]) for i, (q, v) in zip(idx, shown)],
                    points_per_element)
-    camera = scene_camera(result.system, result.q[idx], result.v[idx], view, sun,
+    camera = scene_camera(result.system, np.array([q for q, _ in shown]),
+                          np.array([v for _, v in shown]), view or moved.view, sun,
                           points=np.vstack([g.points for g in grids]))
     lines = [title] if title else []
     if up_scale != 1:

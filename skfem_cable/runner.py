@@ -15,6 +15,12 @@ A run directory holds
 * ``plots/``: energy and cable histories, tension spectra and a rendered snapshot
   (``plot``), and ``animation.gif`` on request.
 
+``RunOptions.frame`` chooses the frame of the series and the renders (``export.FRAMES``:
+``"inertial"``, or ``"lvlh"``, the orbiting frame of a system in orbit); the store holds
+the computed coordinates.  The summary of a system in orbit reports the reference orbit
+and the osculating orbit of the centre of mass at the first and last saved steps
+(``orbit_summary``).
+
 A directory that holds another run is not written into: ``RunOptions.overwrite`` removes
 that run's files first (only files this package writes), ``RunOptions.resume`` continues
 it, and only as the run it holds (``run_directory``).  A run holds the lock of its
@@ -42,6 +48,8 @@ from .io.fingerprint import system_fingerprint
 from .io.jsonable import jsonable
 from .io.manifest import read_manifest
 from .io.store import STORE, check_fingerprint, describe_run, remove_store, run_info, store_files
+from .orbit import Orbit
+from .orbit_gravity import system_mass_points
 from .solvers.simulate import simulate
 from .state import State
 from .tension_guard import tension_warnings
@@ -66,6 +74,7 @@ class RunOptions:
     animate: bool = False
     overwrite: bool = False
     resume: bool = False
+    frame: str | None = None
 
     def reject(self, scene, *names):
         """Raise ``ValueError`` if one of the options ``names`` was given: it has no
@@ -104,6 +113,41 @@ def cable_outputs(system, q, t=0.0):
                            "length": cable.length * system.stretch(cable, t, q),
                            "elements": cable.n_elements}
     return out
+
+
+def orbit_elements(orbit):
+    """The elements of ``orbit`` (an ``Orbit``) for a summary: ``a`` (m), ``e``,
+    ``inclination``, ``raan``, ``argp``, ``anomaly`` (the true anomaly at ``t``) and
+    ``longitude`` (the true longitude ``raan + argp + anomaly`` in ``[0, 2 pi)``: well
+    defined also when a nearly circular or nearly equatorial orbit leaves its terms
+    ill-conditioned), all in rad, ``t`` (s, the epoch) and ``period`` (s)."""
+    return {"a": orbit.a, "e": orbit.e, "inclination": orbit.inclination,
+            "raan": orbit.raan, "argp": orbit.argp, "anomaly": orbit.anomaly,
+            "longitude": float(np.remainder(orbit.raan + orbit.argp + orbit.anomaly,
+                                            2 * np.pi)),
+            "t": orbit.t0, "period": orbit.period}
+
+
+def centre_of_mass_orbit(system, state):
+    """The osculating orbit of the centre of mass of ``system`` (in orbit) at ``state``:
+    ``Orbit.from_state(mu, R(t) + x_cm, V(t) + v_cm, t)``, with ``x_cm``, ``v_cm`` from
+    the bodies' mass points (``orbit_gravity.system_mass_points``)."""
+    dofs, G, mass = system_mass_points(system)
+    v = np.zeros_like(state.q) if state.v is None else state.v
+    x_cm, v_cm = (mass @ np.einsum("pic,pc->pi", G, u[dofs]) / mass.sum()
+                  for u in (state.q, v))
+    reference = system.orbit
+    return Orbit.from_state(reference.mu, reference.position(state.t) + x_cm,
+                            reference.velocity(state.t) + v_cm, state.t)
+
+
+def orbit_summary(system, first, last):
+    """The orbit of a run of ``system`` (in orbit) for its summary: ``mu``, the
+    ``reference`` orbit's elements and the osculating elements of the centre of mass at
+    the ``first`` and ``last`` states (``start``, ``end``; ``orbit_elements``)."""
+    return {"mu": system.orbit.mu, "reference": orbit_elements(system.orbit),
+            "start": orbit_elements(centre_of_mass_orbit(system, first)),
+            "end": orbit_elements(centre_of_mass_orbit(system, last))}
 
 
 def run_outputs(result):
@@ -153,24 +197,32 @@ def complete_summary(summary, result, outputs=None, warnings=()):
         warn(warning)
 
 
-def snapshot(out, system, state, name="final.png", title=None):
-    """Render ``state`` into ``out/plots/name`` when off-screen rendering works; returns
-    the path, or None (with a warning on stderr) when it does not."""
+def snapshot(out, system, state, name="final.png", title=None, frame="inertial"):
+    """Render ``state`` (in the output ``frame``, ``export.FRAMES``) into
+    ``out/plots/name`` when off-screen rendering works; returns the path, or None (with a
+    warning on stderr) when it does not."""
     ok, reason = plot.rendering_available()
     if not ok:
         warn(f"skipping the 3-D snapshot: {reason}")
         return None
     path = Path(out) / "plots" / name
     path.parent.mkdir(parents=True, exist_ok=True)
-    plot.render(system, state, path, title=title)
+    plot.render(system, state, path, title=title, frame=frame)
     return path
 
 
-def run_figures(out, result, animate=False, title=None):
+def framed_title(title, frame):
+    """``title`` with the line that names the output ``frame`` (``export.FRAMES``; none
+    for the inertial one), or None when both are empty."""
+    return "\n".join(filter(None, [title, export.FRAMES[frame].label])) or None
+
+
+def run_figures(out, result, animate=False, title=None, frame="inertial"):
     """The standard figures of a dynamic run in ``out/plots`` (energies, cable histories,
     root-tension spectra, final snapshot) and ``out/animation.gif`` if ``animate``; the
-    snapshot and the animation show ``title`` (a scene file's) above the time.  Returns
-    the paths written."""
+    snapshot and the animation show ``title`` (a scene file's) above the time and are
+    drawn in the output ``frame`` (``export.FRAMES``; ``"lvlh"`` says so on them).
+    Returns the paths written."""
     plots = Path(out) / "plots"
     plots.mkdir(parents=True, exist_ok=True)
     paths = [plots / "energies.png", plots / "cables.png"]
@@ -180,13 +232,15 @@ def run_figures(out, result, animate=False, title=None):
         signals = {c.name: result.tension(c, 0.0) for c in result.system.cables()}
         paths.append(plots / "tension_psd.png")
         plot.psd(result.t, signals, paths[-1], title="root tension", units="N")
+    title = framed_title(title, frame)
     final = snapshot(out, result.system, result.state(len(result) - 1),
-                     title="\n".join(filter(None, [title, f"t = {result.t[-1]:.4g} s"])))
+                     title="\n".join(filter(None, [title, f"t = {result.t[-1]:.4g} s"])),
+                     frame=frame)
     if final is not None:
         paths.append(final)
         if animate:
             paths.append(Path(out) / "animation.gif")
-            plot.animate(result, paths[-1], title=title)
+            plot.animate(result, paths[-1], title=title, frame=frame)
     elif animate:
         warn("skipping the animation (no off-screen rendering)")
     return paths
@@ -382,6 +436,16 @@ def _check_settings(out, manifest, solver):
 MOVABLE = ("file",)
 
 
+def _check_frame(out, manifest, frame):
+    """Before a continued run: its series must go on in the frame it was written in
+    (``attrs.frame`` of the manifest, ``"inertial"`` when absent), else
+    ``StoreMismatch`` naming both."""
+    stored = (manifest.get("attrs") or {}).get("frame", "inertial")
+    if stored != frame:
+        raise StoreMismatch(f"{out} was written in the frame {stored!r}, not {frame!r}: "
+                            f"continue it with --frame {stored}")
+
+
 def _check_scene(out, manifest, system, parameters):
     """Before a continued run: the scene must be the stored one, its parameters (those
     the manifest records, but ``MOVABLE``; a store of an earlier version may record
@@ -412,7 +476,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     system : System
     initial : State or None
     options : RunOptions
-        ``t_end``, ``dt``, ``every`` override ``defaults``; ``progress`` is passed on.
+        ``t_end``, ``dt``, ``every`` override ``defaults``; ``progress`` is passed on;
+        ``frame`` is the frame of the series and the renders (refused before any file
+        is written when the system cannot have it: ``export.output_frame``).
     defaults : dict
         ``t_end``, ``dt``, ``every``, and optionally ``rho_inf`` and other ``simulate``
         keywords (``tol``, ``newton``, ...), ``series_every`` (a ``.vtu`` for every
@@ -434,7 +500,8 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
         (``session_wall_time``: this one's), ``total_wall_time`` adds the rest (the
         store's setup, the summary, the figures); ``compile_time`` is this session's
         compilation of the kernels by numba (or their loading from its cache), and
-        ``integration_time`` is ``wall_time`` less this session's compilation in it.
+        ``integration_time`` is ``wall_time`` less this session's compilation in it;
+        ``frame`` the output frame; ``orbit`` (a system in orbit) is ``orbit_summary``.
     result : Result
 
     The run directory is held (``run_directory``) from its first check to the summary.
@@ -445,6 +512,7 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     settings = dict(defaults)
     for key in ("t_end", "dt", "every"):
         settings[key] = options.value(key, defaults[key])
+    export.output_frame(system, options.value("frame", "inertial"))  # before any file
     with run_directory(options) as out:
         return _run_dynamic(out, name, system, initial, options, settings, parameters,
                             outputs, points_per_element)
@@ -458,16 +526,20 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
     storage = {"series_every": solver.pop("series_every", 1), "chunk": solver.pop("chunk", 200),
                "fields": solver.pop("fields", None)}
     settings.pop("fields", None)
+    frame = options.value("frame", "inertial")
+    attrs = {"scene": name, "parameters": parameters or {}}
+    if frame != "inertial":  # the store of an inertial run is as before frames existed
+        attrs["frame"] = frame
     resume, before = None, 0.0  # wall time of the earlier sessions of a continued run
     if options.resume:
         _check_scene(out, read_manifest(out), system, parameters)
+        _check_frame(out, read_manifest(out), frame)
         resume = resume_run(out)
         _check_settings(out, resume.manifest, solver)
         before = resume.manifest.get("wall_time", 0.0)
     observers = run_observers(out, options.progress, points_per_element=points_per_element,
                               restart=options.resume, overwrite=options.overwrite,
-                              attrs={"scene": name, "parameters": parameters or {}},
-                              **storage)
+                              attrs=attrs, frame=frame, **storage)
     result = simulate(system, initial=initial, observers=observers, resume=resume, **solver)
     stats = result.stats
     summary = {"scene": name,
@@ -482,6 +554,9 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
                           "factorizations": stats["factorizations"],
                           "rejected_steps": stats["rejected"], "solver": stats["solver"]},
                "outputs": run_outputs(result)}
+    summary["frame"] = frame
+    if system.orbit is not None:
+        summary["orbit"] = orbit_summary(system, result.state(0), result.state(len(result) - 1))
     complete_summary(summary, result, outputs,
                      tension_warnings(result.system, result.q, result.t))
     if out is not None:
@@ -490,7 +565,8 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
                  "checkpoint": summary["store"]["checkpoint"], "series": "series.pvd"}
         if options.plots:
             files["plots"] = plot_files(out, run_figures(out, result, options.animate,
-                                                         (parameters or {}).get("title")))
+                                                         (parameters or {}).get("title"),
+                                                         frame))
         summary["files"] = files
         summary["total_wall_time"] = before + time.perf_counter() - wall0
         write_summary(out, summary)
@@ -559,9 +635,11 @@ def run_static(name, system, steps, options, parameters=None, outputs=None, titl
         Equilibria with the value recorded as their time in the VTU series (a load
         factor or load parameter); the last one is rendered.
     options : RunOptions
+        ``frame``: the frame of the series and the snapshot (``export.FRAMES``).
     parameters, outputs : dict, optional
         Scene parameters and key numbers for the summary (the cables' tip positions and
-        tensions at the last equilibrium are added).
+        tensions at the last equilibrium are added; in orbit, ``orbit_summary`` of the
+        first and last equilibria).
     title : str, optional
         Title of the snapshot.
 
@@ -571,20 +649,25 @@ def run_static(name, system, steps, options, parameters=None, outputs=None, titl
         The summary.
     """
     final = steps[-1][1]
+    frame = options.value("frame", "inertial")
+    moved = export.output_frame(system, frame)  # refused before any work
     summary = {"scene": name, "parameters": parameters or {},
                "outputs": {**(outputs or {}), "cables": cable_outputs(system, final.q)},
-               "warnings": tension_warnings(system, final.q)}
+               "warnings": tension_warnings(system, final.q), "frame": frame}
+    if system.orbit is not None:
+        summary["orbit"] = orbit_summary(system, steps[0][1], final)
     for warning in summary["warnings"]:
         warn(warning)
     with run_directory(options, can_resume=False) as out:
         if out is None:
             return summary
         writer = export.SeriesWriter(out, system, points_per_element)
-        for value, state in steps:
-            writer.write(value, state.q)
+        for value, state in steps:  # turned at the state's time, not at its value
+            writer.write(value, moved.configuration(state.t, state.q)[0])
         files = {"series": writer.pvd.name}
         if options.plots:
-            path = snapshot(out, system, final, title=title)
+            path = snapshot(out, system, final, title=framed_title(title, frame),
+                            frame=frame)
             files["plots"] = [] if path is None else [path.relative_to(out).as_posix()]
         summary["files"] = files
         write_summary(out, summary)
@@ -608,6 +691,9 @@ def format_summary(summary):
         lines.append(f"  {it['steps']} {it['method']} steps of {it['step']:.3g} s in "
                      f"{summary['wall_time']:.2f} s")
     lines.extend(_format_tree(summary.get("outputs", {}), "  "))
+    if "orbit" in summary:
+        lines.append("  orbit (osculating elements of the centre of mass; m, rad, s):")
+        lines.extend(_format_tree(summary["orbit"], "    "))
     store = summary.get("store")
     if store:
         lines.append(f"  store {store['path']}: {store['saved_steps']} saved steps, "

@@ -29,7 +29,7 @@ __all__ = ["DEFAULT_FIELDS", "Progress", "ProgressBar", "Resume", "RunExists", "
 
 def run_observers(output=None, progress=None, series_every=1, restart=False, chunk=200,
                   points_per_element=8, fields=None, overwrite=False, source=None,
-                  attrs=None):
+                  attrs=None, frame="inertial"):
     """The standard observers of a run.
 
     Parameters
@@ -47,6 +47,12 @@ def run_observers(output=None, progress=None, series_every=1, restart=False, chu
         The run continues the one in ``source`` (``simulate(resume=resume(source))``)
         but is written to ``output``: the store of ``source`` is copied first, so that
         ``output`` holds the whole run.
+    frame : str
+        Frame of the ParaView series (``export.FRAMES``): ``"inertial"`` (the coordinates
+        as computed) or ``"lvlh"`` (the orbiting frame of a system in orbit: positions
+        and slopes in the axes of ``Orbit.lvlh``, velocities relative to it; refused at
+        the start of a run without orbit).  The run store always holds the computed
+        coordinates.
 
     Returns
     -------
@@ -64,7 +70,8 @@ def run_observers(output=None, progress=None, series_every=1, restart=False, chu
                                   source=source, attrs=attrs))
         observers.append(SeriesObserver(output, every=series_every,
                                         points_per_element=points_per_element,
-                                        append=restart or source is not None))
+                                        append=restart or source is not None,
+                                        frame=frame))
     if progress is not False:
         observers.append(ProgressBar(progress))
     return observers

@@ -25,11 +25,17 @@ class SeriesObserver(Observer):
     append : bool
         Continue the series in ``run_dir`` (a resumed run always does): its entries are
         kept up to the first time written again.  Otherwise the series starts afresh.
+    frame : str
+        The output frame (``export.FRAMES``): ``"inertial"`` (as computed) or ``"lvlh"``
+        (the orbiting frame of a system in orbit, refused at the start of a run without
+        orbit).
     """
 
-    def __init__(self, run_dir, system=None, every=1, points_per_element=8, append=False):
+    def __init__(self, run_dir, system=None, every=1, points_per_element=8, append=False,
+                 frame="inertial"):
         if int(every) != every or every < 1:
             raise ValueError(f"every must be a positive integer, got {every!r}")
+        self.frame = export.frame_name(frame)
         self.dir = Path(run_dir)
         self.system = system
         self.every = int(every)
@@ -45,10 +51,12 @@ class SeriesObserver(Observer):
 
     def start(self, run):
         system = run.system if self.system is None else self.system
+        frame = export.output_frame(system, self.frame)  # refused before any file changes
         append = self.append or run.resumed
         if not append:
             self.pvd.unlink(missing_ok=True)  # a series left by an earlier run
-        self.writer = export.SeriesWriter(self.dir, system, self.points_per_element, append=append)
+        self.writer = export.SeriesWriter(self.dir, system, self.points_per_element,
+                                          append=append, frame=frame.name)
         self.last = None
 
     def saved(self, run, step):

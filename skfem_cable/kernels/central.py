@@ -54,26 +54,26 @@ def j2_tangent(k, r, T):
 
 
 @njit(cache=True)
-def field(mu, k, reference, base, delta, a, T):
+def field(mu, k, reference, base, delta, a, T, r, extra):
     """Differential acceleration ``a`` (3,) at the offset ``delta`` and its tangent ``T``
-    (3, 3); ``base`` holds ``a_J2(R)`` (unused when ``k = 0``)."""
+    (3, 3); ``base`` holds ``a_J2(R)`` (unused when ``k = 0``); ``r`` and ``extra`` (3,)
+    are scratch."""
     R2 = reference[0] ** 2 + reference[1] ** 2 + reference[2] ** 2
     q = 0.0
-    r = np.empty(3)
     for i in range(3):
         q += delta[i] * (2.0 * reference[i] + delta[i])
         r[i] = reference[i] + delta[i]
     q /= R2
-    fq = q * (3.0 + q * (3.0 + q)) / (1.0 + (1.0 + q) ** 1.5)
+    root = np.sqrt(1.0 + q)
+    fq = q * (3.0 + q * (3.0 + q)) / (1.0 + (1.0 + q) * root)
     r2 = R2 * (1.0 + q)
-    s = mu / r2 ** 1.5
+    s = mu / (r2 * np.sqrt(r2))
     for i in range(3):
         a[i] = -s * (delta[i] - fq * reference[i])
         for j in range(3):
             T[i, j] = 3.0 * s * r[i] * r[j] / r2
         T[i, i] -= s
     if k != 0.0:
-        extra = np.empty(3)
         j2_acceleration(k, r, extra)
         for i in range(3):
             a[i] += extra[i] - base[i]
@@ -97,12 +97,14 @@ def kernel(pack, index, ev):
     a = np.empty(3)
     T = np.empty((3, 3))
     TG = np.empty((3, n))
+    r = np.empty(3)
+    extra = np.empty(3)
     for p in range(n_points):
         for i in range(3):
             delta[i] = 0.0
             for c in range(n):
                 delta[i] += G[p, i, c] * q[dofs[p, c]]
-        field(mu, k, reference, base, delta, a, T)
+        field(mu, k, reference, base, delta, a, T, r, extra)
         m = mass[p]
         for c in range(n):
             f_ext[dofs[p, c]] += m * (G[p, 0, c] * a[0] + G[p, 1, c] * a[1]

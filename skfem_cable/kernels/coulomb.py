@@ -1,12 +1,18 @@
 """Numba kernel of the solar-wind Coulomb force on cables (paper Eqs. 29-35).
 
-At every Gauss point ``f = c u_perp`` with ``u_perp = (I - t t^T) i_R`` (Eqs. 29-30),
-``t = r_x / |r_x|`` the tether tangent and ``i_R = (r - r_sun) / |r - r_sun|`` the radial
-direction from the Sun (Eq. 32); ``c`` (N/m) is the per-element product of the force
-coefficient of Eq. 29 and the wind speed.  The tangent has the two parts
-``df/dr = c (I - t t^T)(I - i_R i_R^T) / |r - r_sun|`` and
-``df/dr_x = -c (t i_R^T + (t . i_R) I)(I - t t^T) / |r_x|`` (Eq. 35 and the dependence of
-``i_R`` on the position, negligible at 1 AU but kept exact).
+At every Gauss point ``f = c s(rho) u_perp`` with ``u_perp = (I - t t^T) i_R``
+(Eqs. 29-30), ``t = r_x / |r_x|`` the tether tangent, ``i_R = (r - r_sun) / rho`` the radial
+direction from the Sun (Eq. 32) at the heliocentric distance ``rho = |r - r_sun|``, and
+``s(rho) = (d0 / rho)^p`` the scaling of the thrust with solar distance (``d0`` the distance
+of the wind's data, 1 AU; ``p = 7/6`` after Janhunen et al. 2010, see ``coulomb``); ``c``
+(N/m) is the per-element product of the force coefficient of Eq. 29 and the wind speed.
+With ``ds/dr = -p s i_R^T / rho`` the tangent has the two parts
+
+``df/dr = c s (I - t t^T)(I - (1 + p) i_R i_R^T) / rho``,
+``df/dr_x = -c s (t i_R^T + (t . i_R) I)(I - t t^T) / |r_x|``
+
+(Eq. 35 and the dependence of ``i_R`` and ``s`` on the position, negligible at 1 AU but kept
+exact).  With ``p = 0`` the force and tangent are the paper's, bit for bit.
 """
 
 import math
@@ -28,9 +34,10 @@ def force_tangent(q, elements, wind, out, cK):
     elements : tuple ``(edofs, S, Sx, w)``
         Global DOF of each element coordinate (ne, 12), shape functions and their
         derivatives at the Gauss points (ne, nq, 4), weights (ne, nq).
-    wind : tuple ``(coef, sun)``
-        Force per unit length of a perpendicular tether per element (ne,) (N/m) and the
-        Sun's position (3,).
+    wind : tuple ``(coef, sun, scaling)``
+        Force per unit length of a perpendicular tether per element at the distance ``d0``
+        (ne,) (N/m), the Sun's position (3,) and ``scaling = (d0, p)`` (2,): the force
+        scales as ``(d0 / rho)^p`` with the heliocentric distance ``rho``.
     out : tuple ``(f, data, scatter, resultant)``
         Force accumulator (n,), CSR data and the index (ne, 12, 12) of each element-matrix
         entry in it ((0, 12, 12): no tangent), force resultant (3,).
@@ -38,7 +45,8 @@ def force_tangent(q, elements, wind, out, cK):
         Factor of the tangent.
     """
     edofs, S, Sx, w = elements
-    coef, sun = wind
+    coef, sun, scaling = wind
+    d0, power = scaling[0], scaling[1]
     f, data, scatter, resultant = out
     ne, nq = w.shape
     want = scatter.shape[0] == ne
@@ -74,9 +82,10 @@ def force_tangent(q, elements, wind, out, cK):
                 r[i] /= rho
                 a[i] /= p
             ti = r[0] * a[0] + r[1] * a[1] + r[2] * a[2]
+            cs = c * (d0 / rho) ** power
             wg = w[e, g]
             for i in range(3):
-                fi = c * (r[i] - ti * a[i])
+                fi = cs * (r[i] - ti * a[i])
                 resultant[i] += wg * fi
                 for A in range(4):
                     fe[3 * A + i] += wg * S[e, g, A] * fi
@@ -85,7 +94,7 @@ def force_tangent(q, elements, wind, out, cK):
                     for j in range(3):
                         d = 1.0 if i == j else 0.0
                         Pt[i, j] = d - a[i] * a[j]
-                        Pr[i, j] = d - r[i] * r[j]
+                        Pr[i, j] = d - (1.0 + power) * r[i] * r[j]
                 for i in range(3):
                     for j in range(3):
                         sr = 0.0
@@ -94,8 +103,8 @@ def force_tangent(q, elements, wind, out, cK):
                             sr += Pt[i, k] * Pr[k, j]
                             d = 1.0 if i == k else 0.0
                             sa += (a[i] * r[k] + ti * d) * Pt[k, j]
-                        fr[i, j] = c * sr / rho
-                        fa[i, j] = -c * sa / p
+                        fr[i, j] = cs * sr / rho
+                        fa[i, j] = -cs * sa / p
                 for A in range(4):
                     sA = wg * S[e, g, A]
                     for B in range(4):
@@ -116,9 +125,10 @@ def force_tangent(q, elements, wind, out, cK):
 def kernel(pack, index, ev):
     """The solar wind's compiled hook of the evaluation contract
     (``contract.Term.kernels``): ``force_tangent`` into the external forces of the packed
-    evaluation ``ev``, with ``pack = (edofs, S, Sx, w, coef, sun, resultant)`` (the last a
-    scratch accumulator (3,)) and the tangent entries at ``index``, int (ne, 12, 12)."""
+    evaluation ``ev``, with ``pack = (edofs, S, Sx, w, coef, sun, scaling, resultant)`` (the
+    last a scratch accumulator (3,)) and the tangent entries at ``index``, int (ne, 12, 12)."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, S, Sx, w, coef, sun, resultant = pack
+    edofs, S, Sx, w, coef, sun, scaling, resultant = pack
     scatter = index if data.size else index[:0]
-    force_tangent(q, (edofs, S, Sx, w), (coef, sun), (f_ext, data, scatter, resultant), -s[1])
+    force_tangent(q, (edofs, S, Sx, w), (coef, sun, scaling), (f_ext, data, scatter, resultant),
+                  -s[1])

@@ -21,6 +21,9 @@ The pieces, one job each:
   statics, stability limit and ``simulate``;
 * ``problem``: ``Problem``, the loads and the anchor motion (right-hand side of Eq. 21),
   and ``circular_anchor``;
+* ``orbiting``: ``OrbitingChain``, the chain with end bodies, both ends free, in the
+  differential gravity of an ``Orbit`` (``RodChain.in_orbit``); ``tss``: ``tss_chain``, a
+  tethered satellite system along the local vertical;
 * ``integrate``: RK4 (compiled blocks, or Python for callable loads) and the adaptive
   methods, with ``contract.Observer`` observers; ``RodChainDivergence``;
 * ``result``: ``RodChainResult`` (the API of the cable ``Result``) and ``ChainState``;
@@ -31,10 +34,12 @@ The pieces, one job each:
 from .export import ChainSeriesObserver, ChainSeriesWriter, chain_mesh, write_series, write_vtu
 from .integrate import METHODS, RK4_STABILITY, Integration, RodChainDivergence, rk4_step
 from .model import RodChain
+from .orbiting import OrbitingChain, OrbitingChainResult
 from .problem import Problem, circular_anchor
 from .result import ChainState, RodChainResult
+from .tss import tss_chain
 
 __all__ = ["METHODS", "RK4_STABILITY", "ChainSeriesObserver", "ChainSeriesWriter",
-           "ChainState", "Integration", "Problem", "RodChain", "RodChainDivergence",
-           "RodChainResult", "chain_mesh", "circular_anchor", "rk4_step", "write_series",
-           "write_vtu"]
+           "ChainState", "Integration", "OrbitingChain", "OrbitingChainResult", "Problem",
+           "RodChain", "RodChainDivergence", "RodChainResult", "chain_mesh", "circular_anchor",
+           "rk4_step", "tss_chain", "write_series", "write_vtu"]

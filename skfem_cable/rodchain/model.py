@@ -8,6 +8,7 @@ import scipy.sparse as sp
 from ..kernels import rodchain as kern
 from .checks import positive, positive_array, positive_int, vector3
 from .integrate import METHODS, RK4_STABILITY, integrate
+from .orbiting import OrbitingChain
 from .problem import Problem
 
 
@@ -41,7 +42,7 @@ class RodChain:
         if not isinstance(compression, bool | np.bool_):
             raise ValueError(f"compression must be True or False, got {compression!r}")
         self.compression = bool(compression)
-        self._a, self._b = kern.factor_mass(self.masses)
+        self._a, self._b = kern.factor_mass(self.masses, np.zeros(n))
         self._max_frequency = None
         tail = np.concatenate([np.cumsum(self.masses[::-1])[::-1][1:], [0.0]])
         # c_i = m_i / 2 + sum_{j>i} m_j: Q_i = c_i g for gravity (Eq. 16)
@@ -229,6 +230,12 @@ class RodChain:
         """Largest RK4 step that keeps all axial modes stable, ``2 sqrt(2) / max_frequency``
         (RK4 is stable on the imaginary axis for ``|omega dt| <= 2 sqrt(2)``)."""
         return RK4_STABILITY / self.max_frequency()
+
+    def in_orbit(self, orbit, end_masses, quadrature=2, max_strain=1.0):
+        """This chain with end bodies of masses ``end_masses = (m_a, m_b)`` (kg) at ``O_0``
+        and ``O_n``, both ends free, in the differential gravity of ``orbit``: an
+        ``OrbitingChain`` (positions are offsets from the orbit's reference point)."""
+        return OrbitingChain(self, orbit, end_masses, quadrature, max_strain)
 
     # --- time integration ----------------------------------------------------------------------
     def simulate(self, q0, v0, t_end, dt, *, gravity=(0.0, 0.0, 0.0), method="rk4",

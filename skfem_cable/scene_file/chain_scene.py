@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..rodchain import METHODS, RodChain, circular_anchor
-from .schema import boolean, choice, count, number, positive, text, vector3
+from .schema import boolean, choice, count, number, one_of, positive, text, vector3
 
 #: Material presets of ``[rod_chain]``: defaults for the keys not given.  ``"steel"`` is
 #: the paper's steel tether (Ma & Wang, Sect. 3): 1.1 m of 1 mm-radius steel wire.
@@ -51,7 +51,7 @@ def _total_or_material(t, preset, keys, area, factor, meaning):
     """A quantity given either in total (``keys[0]``) or as a material constant
     (``keys[1]``, from the table or the ``preset``) times ``area * factor``."""
     total, material = keys
-    key, value = _one_of(t, keys, positive)
+    key, value = one_of(t, keys, positive)
     if key is None and material in preset:
         key, value = material, preset[material]
     if key is None:
@@ -61,17 +61,6 @@ def _total_or_material(t, preset, keys, area, factor, meaning):
             t.fail(material, "needs the section: A or radius", value)
         value = value * area * factor
     return value
-
-
-def _one_of(t, keys, check):
-    """The one of ``keys`` given in ``t`` (``(key, value)``), ``(None, None)`` if none;
-    two of them fail."""
-    given = [k for k in keys if k in t.data]
-    if len(given) > 1:
-        t.fail(given[1], f"excludes {t.name(given[0])} (give one of them)", t.data[given[1]])
-    for k in keys:
-        t.has(k)
-    return (given[0], t.get(given[0], check)) if given else (None, None)
 
 
 def read_chain(t, elements=None):
@@ -88,7 +77,7 @@ def read_chain(t, elements=None):
     length = t.get("length", positive, preset.get("length"))
     if length is None:
         t.fail("length", "is required (the total rest length, m)")
-    key, value = _one_of(t, ("A", "radius"), positive)
+    key, value = one_of(t, ("A", "radius"), positive)
     if key is None and "radius" in preset:
         key, value = "radius", preset["radius"]
     area = None if key is None else (value if key == "A" else np.pi * value**2)
@@ -212,6 +201,7 @@ def run(path, spec, options):
     ``options.out`` (``rodchain.run.run_chain``); returns the summary."""
     from ..rodchain.run import run_chain
 
+    options.reject(Path(path).name, "frame")  # a rod chain is never in orbit (yet)
     parameters = {"file": str(path), "title": spec.title, **spec.parameters}
     defaults = {**spec.solver, "series_every": spec.series_every}
     return run_chain(Path(path).stem, spec.chain, spec.initial, options, defaults,

@@ -160,6 +160,17 @@ class Table:
                       f"{', '.join(known) or 'none'})")
 
 
+def one_of(t, keys, check):
+    """The one of ``keys`` given in the ``Table`` ``t`` (``(key, value)``, the value
+    checked by ``check``), ``(None, None)`` if none; two of them fail."""
+    given = [k for k in keys if k in t.data]
+    if len(given) > 1:
+        t.fail(given[1], f"excludes {t.name(given[0])} (give one of them)", t.data[given[1]])
+    for k in keys:
+        t.has(k)
+    return (given[0], t.get(given[0], check)) if given else (None, None)
+
+
 def rotation(v):
     R = matrix3(v)
     if not np.allclose(R.T @ R, np.eye(3), atol=1e-9) or np.linalg.det(R) < 0:

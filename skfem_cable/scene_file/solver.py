@@ -39,14 +39,17 @@ def read_initial(t, system, analysis):
     """``[initial]``: the stress-free configuration with the velocity of a rigid motion
     (``angular_velocity`` about ``center`` plus ``velocity``; dynamic only), or with
     ``steady = true`` the relative equilibrium spinning at ``angular_velocity`` about
-    ``center`` (``solve_steady``): the run starts at rest in the rotating frame."""
+    ``center`` (``solve_steady``): the run starts at rest in the rotating frame.  In
+    orbit, ``steady = true`` takes the orbiting frame's rate at ``t = 0`` as the default
+    ``angular_velocity``: the run starts at rest in the orbiting frame."""
     q = system.q0
     if analysis != "dynamic":
         t.finish()
         return State(system, q)
-    omega = t.get("angular_velocity", vector3, np.zeros(3))
+    steady = t.get("steady", boolean, False)
+    omega = t.get("angular_velocity", vector3, orbiting_rate(system) if steady else np.zeros(3))
     center = t.get("center", vector3, np.zeros(3))
-    if t.get("steady", boolean, False):
+    if steady:
         if not np.any(omega):
             t.fail("angular_velocity", "must be non-zero with steady = true", omega.tolist())
         t.finish()
@@ -54,6 +57,12 @@ def read_initial(t, system, analysis):
     v = system.rigid_motion_velocity(q, omega, center, t.get("velocity", vector3, np.zeros(3)))
     t.finish()
     return State(system, q, v=v)
+
+
+def orbiting_rate(system):
+    """The angular velocity (rad/s) of the orbiting frame at ``t = 0`` for a system in
+    orbit, zeros otherwise."""
+    return np.zeros(3) if system.orbit is None else system.orbit.angular_velocity(0.0)
 
 
 def read_output(t):

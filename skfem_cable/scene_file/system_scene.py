@@ -1,6 +1,6 @@
 """A scene of cables and rigid bodies (``System``) from a scene file: the tables are read
-in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loads`` and
-``solver``;
+in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loads``,
+``orbit`` and ``solver``;
 ``run`` simulates (``runner.run_dynamic``) or solves it (``runner.run_static``)."""
 
 from dataclasses import dataclass
@@ -15,6 +15,7 @@ from .bodies import Bodies, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
 from .deploy import read_deploy, read_reel
 from .loads import read_loads, read_point_mass
+from .orbit import place_in_orbit, read_orbit
 from .schema import text
 from .solver import read_analysis, read_initial, read_output, read_solver
 
@@ -59,6 +60,8 @@ def build(root, elements=None):
         read_deploy(t, bodies, system, reel)
     for t in root.tables("point_masses"):
         read_point_mass(t, bodies, system)
+    if root.has("orbit"):
+        place_in_orbit(root, read_orbit(root.table("orbit")), system)
     read_loads(root.table("loads"), bodies, system, analysis)
     motion = root.table("initial")
     initial = read_initial(motion, system, analysis)

@@ -204,6 +204,31 @@ def esail_scene(alpha=10.0, voltage=20e3, elements=5, formulation=None, t_end=No
                     lambda result: esail_numbers(scene, result))
 
 
+def esail_orbit_scene(alpha=10.0, voltage=20e3, elements=5, formulation=None,
+                      t_end=86400.0, dt=1.0, every=600):
+    """The baseline E-sail on the circular heliocentric orbit of 1 AU (``esail.build_orbit``:
+    the Sun's differential gravity, the solar wind at each point's heliocentric position)
+    at sailing angle ``alpha`` (deg) and tether voltage ``voltage`` (V), run to ``t_end``
+    (default a day) with step ``dt`` (rho_inf = 0.25), every ``every``-th step saved; its
+    outputs are ``esail_numbers``', the summary adds the orbit (``runner.orbit_summary``)."""
+    from . import esail
+
+    cfg = esail.BaselineConfig(voltage=voltage)
+    scene = esail.build_orbit(cfg, alpha, elements, formulation=formulation)
+    settings = {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.25, "series_every": 6}
+    parameters = {"alpha_deg": alpha, "voltage": voltage, "elements_per_tether": elements,
+                  "tethers": cfg.n_tethers, "formulation": scene.tethers[0].formulation}
+    return RunScene("esail-orbit", scene.system, scene.initial, settings, parameters,
+                    lambda result: esail_numbers(scene, result))
+
+
+def esail_orbit(options):
+    """``esail_orbit_scene`` run by ``skfem-cable run esail-orbit`` (``--alpha``,
+    ``--elements``, ``--formulation``)."""
+    return esail_orbit_scene(options.value("alpha", 10.0), elements=options.value("elements", 5),
+                             formulation=options.formulation).run(options)
+
+
 def esail_numbers(scene, result):
     """Key numbers of an E-sail run (``esail.outputs`` averaged over the saved steps):
     ``thrust_mean_O`` (the mean thrust vector in the orbit frame, N), ``thrust_mean_N``
@@ -234,3 +259,9 @@ register("spinning-tether", spinning_tether,
          build=spinning_tether_scene)
 register("hanging-chain", "skfem_cable.scenes.hanging_chain:run",
          "steel rod chain released from horizontal, against rigid links")
+register("esail-orbit", esail_orbit,
+         "E-sail baseline on the circular orbit of 1 AU for a day; --alpha sailing angle",
+         build=esail_orbit_scene)
+register("tss", "skfem_cable.scenes.tss:run",
+         "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations",
+         build="skfem_cable.scenes.tss:scene")

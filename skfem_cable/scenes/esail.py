@@ -17,13 +17,14 @@ azimuth of the projection of ``X_E`` (``atan2``, not ``acos``); ``reaction_force
 the tethers apply to the hub (the paper's multipliers carry the opposite sign).
 """
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from ..cable import Cable
-from ..coulomb import AU, SolarWind, SolarWindForce
+from ..coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce, SunAtFocus
 from ..frames import R1, dcm_321, euler_321, euler_323, orbit_frame
+from ..orbit import MU_SUN, Orbit
 from ..rigid import RigidBody
 from ..section import Section, check_positive
 from ..state import State
@@ -85,7 +86,9 @@ class BaselineConfig:
 @dataclass
 class ESailScene:
     """A built E-sail: the system, its bodies, the initial state and what ``outputs``
-    needs (``zeta`` tether angles, ``anchors`` in the body frame, ``R0``)."""
+    needs (``zeta`` tether angles, ``anchors`` in the body frame, ``R0`` the heliocentric
+    position of the origin of I at t = 0, ``orbit`` the heliocentric orbit of the system's
+    reference point or None: I fixed)."""
 
     config: BaselineConfig
     alpha: float
@@ -97,6 +100,15 @@ class ESailScene:
     wind_force: SolarWindForce
     initial: State
     R0: np.ndarray
+    orbit: Orbit | None = None
+
+    def heliocentric(self, t):
+        """Heliocentric position (m) of the origin of the system's coordinates at times
+        ``t`` (nt,): ``R0`` fixed, or the orbit's reference point ``R(t)``; (nt, 3)."""
+        t = np.asarray(t, dtype=float)
+        if self.orbit is None:
+            return np.broadcast_to(self.R0, t.shape + (3,))
+        return self.orbit.position(t)
 
 
 def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass, omega):
@@ -133,9 +145,33 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
     The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
     rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
-    rigid rotation (Eqs. 79-82).
+    rigid rotation (Eqs. 79-82).  The frame I is fixed, the Sun at ``-R0``.
     """
-    cfg = config.validate()
+    return _build(config.validate(), alpha_deg, n_elements, kind, formulation)
+
+
+def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
+                exponent=THRUST_EXPONENT):
+    """The sail of ``build`` on a heliocentric orbit (``System.add_orbit``): the system's
+    coordinates are offsets from the orbit's reference point ``R(t)``, the Sun's
+    differential gravity acts on every mass, and the solar wind is evaluated at each Gauss
+    point's heliocentric position ``R(t) + x`` (``SunAtFocus``), its force scaled by
+    ``(AU / r)^exponent``.
+
+    ``orbit`` defaults to the circular orbit of 1 AU in the ecliptic, ``Orbit(MU_SUN,
+    AU)``; its central body must be the Sun.  The sail starts at the reference point at
+    t = 0, at rest relative to it apart from its spin: ``config.R0`` is replaced by
+    ``orbit.position(0)`` (the sailing angle is set against the Sun line there).
+    """
+    orbit = Orbit(MU_SUN, AU) if orbit is None else orbit
+    cfg = replace(config, R0=tuple(orbit.position(0.0))).validate()
+    return _build(cfg, alpha_deg, n_elements, kind, formulation, orbit, exponent)
+
+
+def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
+           exponent=THRUST_EXPONENT):
+    """``build`` of a validated config; with ``orbit``, the system is put on it and the Sun
+    sits at its focus."""
     if int(n_elements) != n_elements or n_elements < 1:
         raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
     if not np.isfinite(alpha_deg) or abs(alpha_deg) > 90:
@@ -166,13 +202,17 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
     for cable, x in zip(tethers, anchors):
         system.pin(cable.node(0), hub.point(x))
         system.add_point_mass(cable.node(-1), cfg.remote_mass)
-    wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=-R0)
+    sun = -R0 if orbit is None else SunAtFocus(orbit)
+    wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=sun,
+                                exponent=exponent)
     system.add_load(wind_force)
+    if orbit is not None:
+        system.add_orbit(orbit)
     q0 = system.q0
     omega_I = C_I_B @ np.array([cfg.spin_rate, 0.0, 0.0])
     v0 = system.rigid_motion_velocity(q0, omega_I)
     return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
-                      State(system, q0, v=v0), R0)
+                      State(system, q0, v=v0), R0, orbit)
 
 
 def _angles(vec_Z):
@@ -200,7 +240,7 @@ def outputs(scene, result):
     d = result.q[:, system.dofs(hub)]
     C_I_B = hub.rotation(d)
     origin = hub.positions(d, np.zeros(3))
-    C_I_O = orbit_frame(scene.R0 + origin)
+    C_I_O = orbit_frame(scene.heliocentric(result.t) + origin)
     out = {"t": result.t}
     rho_Z, tau_Z, ratio = [], [], []
     for zeta, cable in zip(scene.zeta, scene.tethers):
@@ -271,11 +311,7 @@ def _coulomb_resultants(scene, result, C_I_B):
             qe = qc[cable.element_dofs].reshape(-1, 4, 3)
             r = np.einsum("egA,eAi->egi", cable.S, qe)
             a = np.einsum("egA,eAi->egi", cable.Sx, qe)
-            iR = r - wf.sun
-            iR /= np.linalg.norm(iR, axis=-1, keepdims=True)
-            tvec = a / np.linalg.norm(a, axis=-1, keepdims=True)
-            f = (iR - np.einsum("egi,egi->eg", tvec, iR)[..., None] * tvec)
-            f *= coef[start: start + cable.n_elements, None, None]
+            f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t)
             start += cable.n_elements
             fw = f * cable.weights[..., None]
             force[k, i] = fw.sum(axis=(0, 1))
@@ -413,7 +449,8 @@ def coning_animation(result, path, up_scale=10.0, **options):
     from .. import plot
 
     wind = next(load for load in result.system.loads if isinstance(load, SolarWindForce))
-    return plot.animate(result, path, view="side", sun=wind.sun, up_scale=up_scale,
+    return plot.animate(result, path, view="side", sun=wind.sun_at(result.t[0]),
+                        up_scale=up_scale,
                         title="E-sail, side view: spin axis up", **options)
 
 
