@@ -72,10 +72,8 @@ def start(p=TETHER):
 
 def centre_of_mass(system, q, v):
     """Offset and velocity of the centre of mass and the total mass."""
-    dofs, G, mass = system_mass_points(system)
-    x = np.einsum("p,pic,pc->i", mass, G, q[dofs]) / mass.sum()
-    u = np.einsum("p,pic,pc->i", mass, G, v[dofs]) / mass.sum()
-    return x, u, mass.sum()
+    return system.centre_of_mass(q), system.centre_of_mass(v), \
+        system_mass_points(system).mass.sum()
 
 
 def recentred(system, orbit, q, v, t):

@@ -37,8 +37,7 @@ DAY = 86400.0
 
 def centre_of_mass(system, x):
     """Centre of mass (nt, 3) of the states ``x`` (nt, n) (positions or velocities)."""
-    dofs, G, mass = system_mass_points(system)
-    return np.einsum("p,pic,tpc->ti", mass, G, x[:, dofs]) / mass.sum()
+    return system.centre_of_mass(x)
 
 
 def point_mass(orbit, t, thrust, mass, x0, v0):
@@ -70,7 +69,7 @@ def main(days=7.0, elements=5, dt=1.0, alpha=0.0, out="runs/esail_orbit", every=
     wall = time.perf_counter() - start
     outs = esail.outputs(scene, result)
     com = centre_of_mass(system, result.q)
-    mass = system_mass_points(system)[2].sum()
+    mass = system_mass_points(system).mass.sum()
     reference = point_mass(orbit, result.t, outs["thrust"], mass, com[0],
                            centre_of_mass(system, result.v)[0])
     series = {"t": result.t, "departure_lvlh": orbit.to_lvlh(result.t, com),

@@ -523,13 +523,14 @@ class Cable:
 
     def mass_points(self):
         """Where the mass is (the hook ``orbit_gravity`` reads): the Gauss points of every
-        element, ``(dofs (np, 12), G (np, 3, 12), mass (np,))`` with positions
-        ``G[p] @ q[dofs[p]]`` and masses ``rho A`` times the Gauss weights (the rule
-        integrates the mass matrix exactly)."""
+        element, ``(vectors (np, 4), coefficients (np, 4), mass (np,))``, a point at
+        ``sum_A S_A q[vectors[A] : vectors[A] + 3]`` (the element's positions and slopes
+        weighted by its Hermite functions) with mass ``rho A`` times the Gauss weight (the
+        rule integrates the mass matrix exactly)."""
         ne, nq, _ = self.S.shape
-        G = np.einsum("egA,ij->egiAj", self.S, np.eye(3)).reshape(ne * nq, 3, 12)
-        dofs = np.repeat(self.element_dofs, nq, axis=0)
-        return dofs, G, self.section.mass_per_length * self.weights.ravel()
+        vectors = np.repeat(self.element_dofs[:, 0::3], nq, axis=0)
+        return vectors, self.S.reshape(ne * nq, 4), \
+            self.section.mass_per_length * self.weights.ravel()
 
     def line_load(self, force_per_length):
         """Consistent generalized force ``int S^T f dx`` of a uniform line load (N/m)."""

@@ -7,30 +7,79 @@ gravity ``g(R + delta) - g(R)`` (``orbit.differential_gravity``, optional J2) ov
 points in one compiled kernel (``kernels.central``), with its exact tangent.
 """
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from .contract import Term
 from .kernels import central
 
 
-def _padded(points, width):
-    """``(dofs, G, mass)`` of mass points padded to ``width`` coordinates (zero columns of
-    ``G`` on a repeated coordinate)."""
-    dofs, G, mass = points
-    n_points, n = dofs.shape
+@dataclass(frozen=True)
+class MassPoints:
+    """Where the mass of a system is: points at ``positions(q)``, with masses ``mass``.
+
+    Attributes
+    ----------
+    vectors : int ndarray (np, k)
+        Global index of the first coordinate of each 3-vector a point combines.
+    coefficients : ndarray (np, k)
+        ``position_p = sum_j coefficients[p, j] q[vectors[p, j] : vectors[p, j] + 3]``
+        (ANCF positions and slopes, natural coordinates: the positions are such
+        combinations); padding has coefficient 0.
+    mass : ndarray (np,)
+    groups : int ndarray (ng + 1,)
+        Points ``groups[g]:groups[g + 1]`` share their vectors (a cable element's Gauss
+        points): the kernel adds their tangents into one block.
+    """
+
+    vectors: np.ndarray
+    coefficients: np.ndarray
+    mass: np.ndarray
+    groups: np.ndarray
+
+    def positions(self, x):
+        """The points' positions (np, 3) for coordinates ``x`` (or their velocities for
+        velocities ``x``)."""
+        blocks = np.asarray(x, dtype=float)[self.vectors[..., None] + np.arange(3)]
+        return np.einsum("pk,pki->pi", self.coefficients, blocks)
+
+    def group_dofs(self):
+        """The coordinates of each group's tangent block, int (ng, 3 k)."""
+        first = self.vectors[self.groups[:-1]]
+        return (first[:, :, None] + np.arange(3)).reshape(len(first), -1)
+
+
+def _point_mass_vectors(system, point_mass):
+    """``(vectors (1, k), coefficients (1, k))`` of a point mass, from
+    ``System.position_map``: its ``G`` must combine whole 3-vectors (``[c_1 I, c_2 I, ...]``:
+    cable nodes and rigid-body points)."""
+    dofs, G = system.position_map(point_mass.point)
+    G = np.asarray(G, dtype=float)
+    c = G[0, 0::3]
+    if dofs.size % 3 or not np.array_equal(G, np.kron(c[None, :], np.eye(3))):
+        raise TypeError(f"point mass at {point_mass.point!r}: its position is not a "
+                        "combination of 3-vectors of coordinates; in orbit a point mass sits "
+                        "at a cable node or a rigid-body point")
+    return np.asarray(dofs)[0::3][None, :], c[None, :]
+
+
+def _padded(vectors, coefficients, width):
+    """Vectors and coefficients padded to ``width`` columns (repeating the first vector
+    with coefficient 0)."""
+    n = vectors.shape[1]
     if n == width:
-        return dofs, G, mass
-    pad = np.repeat(dofs[:, :1], width - n, axis=1)
-    return (np.concatenate([dofs, pad], axis=1),
-            np.concatenate([G, np.zeros((n_points, 3, width - n))], axis=2), mass)
+        return vectors, coefficients
+    return (np.concatenate([vectors, np.repeat(vectors[:, :1], width - n, axis=1)], axis=1),
+            np.concatenate([coefficients, np.zeros((len(vectors), width - n))], axis=1))
 
 
 def system_mass_points(system):
-    """The mass points of every body and point mass of ``system``: ``dofs`` (np, n) global
-    coordinates, ``G`` (np, 3, n) with ``position = G[p] @ q[dofs[p]]``, ``mass`` (np,).
+    """The ``MassPoints`` of every body and point mass of ``system``.
 
-    Bodies provide ``mass_points()`` returning the same triple in their own coordinates;
-    point masses are placed by ``System.position_map``.
+    Bodies provide ``mass_points()`` returning ``(vectors, coefficients, mass)`` in their
+    own coordinates (``MassPoints``' first three attributes, ``vectors`` counted from the
+    body's first coordinate); point masses are placed by ``System.position_map``.
     """
     parts = []
     for body in system.bodies:
@@ -40,18 +89,19 @@ def system_mass_points(system):
                 f"body {body.name!r} ({type(body).__name__}) has no mass_points() hook: "
                 "a system in orbit needs every body to say where its mass is (see "
                 "docs/extending.md)")
-        dofs, G, mass = hook()
-        parts.append((np.asarray(dofs) + system.dofs(body)[0], np.asarray(G, float),
-                      np.asarray(mass, float)))
+        vectors, coefficients, mass = hook()
+        parts.append((np.asarray(vectors) + system.dofs(body)[0],
+                      np.asarray(coefficients, float), np.asarray(mass, float)))
     for point_mass in system.point_masses:
-        dofs, G = system.position_map(point_mass.point)
-        parts.append((np.asarray(dofs)[None, :], np.asarray(G, float)[None],
-                      np.array([point_mass.mass])))
+        parts.append((*_point_mass_vectors(system, point_mass), np.array([point_mass.mass])))
     width = max(p[0].shape[1] for p in parts)
-    parts = [_padded(p, width) for p in parts]
-    return (np.ascontiguousarray(np.concatenate([p[0] for p in parts]), dtype=np.int64),
-            np.ascontiguousarray(np.concatenate([p[1] for p in parts])),
-            np.ascontiguousarray(np.concatenate([p[2] for p in parts])))
+    padded = [_padded(v, c, width) for v, c, _ in parts]
+    vectors = np.ascontiguousarray(np.concatenate([p[0] for p in padded]), dtype=np.int64)
+    change = np.any(vectors[1:] != vectors[:-1], axis=1)
+    groups = np.append(np.flatnonzero(np.append(True, change)), len(vectors))
+    return MassPoints(vectors, np.ascontiguousarray(np.concatenate([p[1] for p in padded])),
+                      np.ascontiguousarray(np.concatenate([p[2] for p in parts])),
+                      groups.astype(np.int64))
 
 
 class DifferentialGravity:
@@ -70,12 +120,12 @@ class DifferentialGravity:
 
     Notes
     -----
-    Bodies provide ``mass_points() -> (dofs, G, mass)``: points whose positions are
-    ``G[p] @ q_body[dofs[p]]`` and whose masses reproduce the body's mass, centre of mass
-    and second moments (a cable: its Gauss points weighted by ``rho A``; a rigid body: six
-    points on its principal axes).  The force on them is the differential gravity at the
-    points, so the gravity-gradient torque on a rigid body is exact to second order in its
-    size over the orbit radius.
+    Bodies provide ``mass_points() -> (vectors, coefficients, mass)`` (``MassPoints``):
+    points whose positions combine 3-vectors of the body's coordinates and whose masses
+    reproduce the body's mass, centre of mass and second moments (a cable: its Gauss
+    points weighted by ``rho A``; a rigid body: six points on its principal axes).  The
+    force on them is the differential gravity at the points, so the gravity-gradient
+    torque on a rigid body is exact to second order in its size over the orbit radius.
     """
 
     def __init__(self, orbit, j2=None, body_radius=None):
@@ -102,20 +152,25 @@ class DifferentialGravity:
             raise ValueError("add_orbit: deploying cables (System.deploy) are not "
                              "supported in orbit yet: their mass points move with the "
                              "free length")
-        dofs, G, mass = system_mass_points(system)
+        points = system_mass_points(system)
+        dofs = points.group_dofs()
         reference = np.zeros(3)
         base = np.zeros(3)
-        constants = np.array([self.orbit.mu, self.k])
+        constants = np.array([self.orbit.mu, self.k, 0.0])
 
         def prepare(t):
             reference[:] = self.orbit.position(t)
+            # a bound of the gradient's norm 3 mu / r^3 wherever r > |R| / 2 (J2's share
+            # is below a tenth of it above the central body's surface)
+            constants[2] = 24.0 * self.orbit.mu / float(reference @ reference) ** 1.5
             if constants[1] != 0.0:
                 central.j2_acceleration(constants[1], reference, base)
 
         prepare(self.orbit.t0)
-        return Term(kernels=((central.kernel, (dofs, G, mass, reference, base, constants)),),
-                    rows=dofs[:, :, None], cols=dofs[:, None, :], prepare=prepare,
-                    name="differential gravity")
+        pack = (points.vectors, points.coefficients, points.mass, points.groups, reference,
+                base, constants)
+        return Term(kernels=((central.kernel, pack),), rows=dofs[:, :, None],
+                    cols=dofs[:, None, :], prepare=prepare, name="differential gravity")
 
 
 def orbital_energy(system, q, v, t):
@@ -135,14 +190,12 @@ def orbital_energy(system, q, v, t):
     orbit = system.orbit
     if orbit is None:
         raise ValueError("orbital_energy: the system is not in orbit (System.add_orbit)")
-    dofs, G, mass = system_mass_points(system)
-    q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
-    delta = np.einsum("pic,pc->pi", G, q[dofs])
-    speed = np.einsum("pic,pc->pi", G, v[dofs])
+    points = system_mass_points(system)
+    delta, speed = points.positions(q), points.positions(v)
     R, V = orbit.position(t), orbit.velocity(t)
     r2 = R @ R
     qp = np.sum(delta * (2.0 * R + delta), axis=-1) / r2
     root = np.sqrt(1.0 + qp)
     potential = orbit.mu / np.sqrt(r2) * qp / (root * (1.0 + root))
     kinetic = speed @ V + 0.5 * np.sum(speed * speed, axis=-1)
-    return float(mass @ (kinetic + potential))
+    return float(points.mass @ (kinetic + potential))

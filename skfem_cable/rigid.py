@@ -231,14 +231,15 @@ class RigidBody:
         """Where the mass is (the hook ``orbit_gravity`` reads): six points of mass
         ``m / 6`` at ``c +- sqrt(3 s_k / m) e_k`` on the principal axes ``e_k`` of the
         second moment ``S = tr(J) / 2 I - J = sum_k s_k e_k e_k^T``; they have the body's
-        mass, centre of mass and second moments.  Returns ``(dofs (6, 12), G (6, 3, 12),
-        mass (6,))``."""
+        mass, centre of mass and second moments.  Returns ``(vectors (6, 4), coefficients
+        (6, 4), mass (6,))``: a point at ``sum_j g_j(x) r_j`` over the base points (Eq.
+        132)."""
         second = 0.5 * np.trace(self.inertia) * np.eye(3) - self.inertia
         s, axes = np.linalg.eigh(0.5 * (second + second.T))
         arms = axes * np.sqrt(3.0 * np.clip(s, 0.0, None) / self.mass)
         x = self.center_of_mass + np.concatenate([arms.T, -arms.T])
-        G = np.stack([self.G(xi) for xi in x])
-        return np.tile(np.arange(12), (6, 1)), G, np.full(6, self.mass / 6)
+        return np.tile(np.arange(0, 12, 3), (6, 1)), self.coefficients(x), \
+            np.full(6, self.mass / 6)
 
     def bind(self, system):
         """No internal forces: a rigid body's coordinates are held by its

@@ -49,7 +49,6 @@ from .io.jsonable import jsonable
 from .io.manifest import read_manifest
 from .io.store import STORE, check_fingerprint, describe_run, remove_store, run_info, store_files
 from .orbit import Orbit
-from .orbit_gravity import system_mass_points
 from .solvers.simulate import simulate
 from .state import State
 from .tension_guard import tension_warnings
@@ -131,11 +130,9 @@ def orbit_elements(orbit):
 def centre_of_mass_orbit(system, state):
     """The osculating orbit of the centre of mass of ``system`` (in orbit) at ``state``:
     ``Orbit.from_state(mu, R(t) + x_cm, V(t) + v_cm, t)``, with ``x_cm``, ``v_cm`` from
-    the bodies' mass points (``orbit_gravity.system_mass_points``)."""
-    dofs, G, mass = system_mass_points(system)
+    ``System.centre_of_mass``."""
     v = np.zeros_like(state.q) if state.v is None else state.v
-    x_cm, v_cm = (mass @ np.einsum("pic,pc->pi", G, u[dofs]) / mass.sum()
-                  for u in (state.q, v))
+    x_cm, v_cm = system.centre_of_mass(state.q), system.centre_of_mass(v)
     reference = system.orbit
     return Orbit.from_state(reference.mu, reference.position(state.t) + x_cm,
                             reference.velocity(state.t) + v_cm, state.t)

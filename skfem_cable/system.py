@@ -529,6 +529,18 @@ class System:
         return float(sum(term.energy_rate(q, t) for term, _ in lay.body_terms + lay.load_terms
                          if term.energy_rate is not None))
 
+    def centre_of_mass(self, x):
+        """The centre of mass of the coordinates ``x`` (n_dofs,) or (..., n_dofs): ``U_i^T
+        M x / m`` over the unit translations ``U_i`` (of velocities: its velocity), exact
+        for ANCF cables, natural coordinates and point masses, whose positions are linear
+        in the coordinates; shape (3,) or (..., 3)."""
+        M = self.mass_matrix()
+        x = np.asarray(x, dtype=float)
+        weighted = (M @ x.reshape(-1, self.n_dofs).T).T[:, self.vectors]
+        unit = self.rigid_motion_velocity(self.q0, (0, 0, 0), velocity=(1, 0, 0))
+        total = weighted[:, self.vector_is_position].sum(axis=1) / (unit @ (M @ unit))
+        return total.reshape(x.shape[:-1] + (3,))
+
     def linear_momentum(self, q, v, t=0.0):
         """Linear momentum (kg m/s): the sum of the momentum over the position blocks of
         the coordinates (positions are linear in the coordinates, slopes carry none)."""

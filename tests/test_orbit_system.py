@@ -52,14 +52,17 @@ def test_mass_points_hold_mass_centre_and_second_moments():
                                 rotation=Rotation.from_rotvec([0.3, -0.2, 0.5]).as_matrix())
     cable = sc.Cable.straight([0, 1, 0], [3, 5, 2], 4, sc.Section.circular(1e-3, 7e10, 2700.0))
     system = sc.System([hub, cable]).add_point_mass(cable.node(-1), 2.5)
-    dofs, G, mass = system_mass_points(system)
-    x = np.einsum("pic,pc->pi", G, system.q0[dofs])
+    points = system_mass_points(system)
+    x, mass = points.positions(system.q0), points.mass
     M = system.mass_matrix()
     ones = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=[1, 1, 1])
     assert mass.sum() == pytest.approx(ones @ M @ ones / 3, rel=1e-13)
+    np.testing.assert_allclose(mass @ x / mass.sum(), system.centre_of_mass(system.q0),
+                               rtol=1e-12)
     for i in range(3):
         u = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=np.eye(3)[i])
         assert mass @ x[:, i] == pytest.approx(u @ M @ system.q0, rel=1e-12)
+    assert len(points.groups) - 1 == 1 + 4 + 1   # the hub, 4 elements, the point mass
     # second moments of the hub about its centre: its inertia tensor
     hub_points = slice(0, 6)
     rel = x[hub_points] - hub.positions(hub.q0, hub.center_of_mass)
@@ -210,7 +213,7 @@ def test_a_body_joins_an_orbit_through_its_mass_points():
 
     class OrbitingBead(Bead):
         def mass_points(self):
-            return np.arange(3)[None, :], np.eye(3)[None], np.array([self.m])
+            return np.zeros((1, 1), dtype=int), np.ones((1, 1)), np.array([self.m])
 
     with pytest.raises(TypeError, match="body 'bead' .*mass_points"):
         sc.System([Bead(m=2.0, k=0.0, anchor=[0, 0, 0])]).add_orbit(ORBIT).current_layout()

@@ -22,6 +22,9 @@ low Earth orbit).
 import numpy as np
 from numba import njit
 
+#: In dynamics, a gravity-gradient tangent below this, relative to the mass, is omitted.
+NEGLIGIBLE = 1e-12
+
 
 @njit(cache=True)
 def j2_acceleration(k, r, out):
@@ -34,7 +37,7 @@ def j2_acceleration(k, r, out):
     out[2] -= 2.0 * k * r[2] * inv5
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def j2_tangent(k, r, T):
     """Add ``da_J2/dr`` to ``T`` (3, 3)."""
     r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
@@ -53,7 +56,7 @@ def j2_tangent(k, r, T):
     T[2, 2] -= 2.0 * k * inv5
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def field(mu, k, reference, base, delta, a, T, r, extra):
     """Differential acceleration ``a`` (3,) at the offset ``delta`` and its tangent ``T``
     (3, 3); ``base`` holds ``a_J2(R)`` (unused when ``k = 0``); ``r`` and ``extra`` (3,)
@@ -83,38 +86,54 @@ def field(mu, k, reference, base, delta, a, T, r, extra):
 @njit(cache=True)
 def kernel(pack, index, ev):
     """The compiled hook of the evaluation contract (``contract.Term.kernels``): the
-    generalized forces of the mass points into ``ev``'s external forces and
-    ``-cK m G^T T G`` into its matrix values at ``index`` (np, n, n), with
-    ``pack = (dofs (np, n), G (np, 3, n), mass (np,), reference (3,), base (3,),
-    constants = [mu, k])``."""
+    generalized forces of the mass points into ``ev``'s external forces and ``-cK m (s
+    s^T) (x) T`` into its matrix values at ``index`` (ng, 3 k, 3 k), one block per group
+    of points sharing their vectors, with ``pack = (vectors (np, k), coefficients (np, k),
+    mass (np,), groups (ng + 1,), reference (3,), base (3,), constants = [mu, k_J2])``
+    (``orbit_gravity.MassPoints``: point ``p`` is at ``sum_j s_pj q[v_pj : v_pj + 3]``;
+    ``constants[2]``: a bound of the gravity gradient's norm).
+
+    In dynamics the tangent is left out when ``cK`` times the gradient is below
+    ``NEGLIGIBLE``: beside the unit mass it is added to, it would change Newton's
+    contraction by less than that, and the converged step not at all (the residual is
+    exact).  Far from the central body (the E-sail at 1 AU: ``cK |T|`` about 1e-14) this
+    halves the load's cost; statics and modes always get it (there it may be the only
+    stiffness of a libration)."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
-    dofs, G, mass, reference, base, constants = pack
-    n_points, n = dofs.shape
-    want = data.size > 0
+    vectors, coefficients, mass, groups, reference, base, constants = pack
+    n_groups = groups.size - 1
+    k = vectors.shape[1]
     cK = s[1]
-    mu, k = constants[0], constants[1]
+    want = data.size > 0 and (s[3] == 0.0 or cK * constants[2] > NEGLIGIBLE)
+    mu, k2 = constants[0], constants[1]
     delta = np.empty(3)
     a = np.empty(3)
     T = np.empty((3, 3))
-    TG = np.empty((3, n))
     r = np.empty(3)
     extra = np.empty(3)
-    for p in range(n_points):
-        for i in range(3):
-            delta[i] = 0.0
-            for c in range(n):
-                delta[i] += G[p, i, c] * q[dofs[p, c]]
-        field(mu, k, reference, base, delta, a, T, r, extra)
-        m = mass[p]
-        for c in range(n):
-            f_ext[dofs[p, c]] += m * (G[p, 0, c] * a[0] + G[p, 1, c] * a[1]
-                                      + G[p, 2, c] * a[2])
-        if not want:
-            continue
-        for i in range(3):
-            for c in range(n):
-                TG[i, c] = T[i, 0] * G[p, 0, c] + T[i, 1] * G[p, 1, c] + T[i, 2] * G[p, 2, c]
-        for c in range(n):
-            for d in range(n):
-                value = G[p, 0, c] * TG[0, d] + G[p, 1, c] * TG[1, d] + G[p, 2, c] * TG[2, d]
-                data[index[p, c, d]] -= cK * m * value
+    K = np.empty((3 * k, 3 * k))
+    for g in range(n_groups):
+        K[:] = 0.0
+        for p in range(groups[g], groups[g + 1]):
+            for i in range(3):
+                delta[i] = 0.0
+                for j in range(k):
+                    delta[i] += coefficients[p, j] * q[vectors[p, j] + i]
+            field(mu, k2, reference, base, delta, a, T, r, extra)
+            m = mass[p]
+            for j in range(k):
+                c = m * coefficients[p, j]
+                for i in range(3):
+                    f_ext[vectors[p, j] + i] += c * a[i]
+            if not want:
+                continue
+            for j in range(k):
+                for l in range(k):
+                    w = m * coefficients[p, j] * coefficients[p, l]
+                    for i in range(3):
+                        for ii in range(3):
+                            K[3 * j + i, 3 * l + ii] += w * T[i, ii]
+        if want:
+            for row in range(3 * k):
+                for col in range(3 * k):
+                    data[index[g, row, col]] -= cK * K[row, col]
