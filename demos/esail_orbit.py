@@ -91,6 +91,23 @@ def main(days=7.0, elements=5, dt=1.0, alpha=0.0, out="runs/esail_orbit", every=
     return summary
 
 
+#: Window (s) of the spin rate's mean and range in the figure: the samples, minutes
+#: apart, alias the spin's swing of a few per cent at its own period.
+WINDOW = 6 * 3600.0
+
+
+def windows(t, x, width):
+    """Centres, means, minima and maxima of ``x(t)`` in consecutive windows of ``width``
+    (s); a last window shorter than half the others is left out."""
+    k = ((t - t[0]) // width).astype(int)
+    edges = np.flatnonzero(np.diff(k)) + 1
+    parts = np.split(np.arange(len(t)), edges)
+    if len(parts) > 1 and t[parts[-1][-1]] - t[parts[-1][0]] < width / 2:
+        parts = parts[:-1]
+    return tuple(np.array([f(a[p]) for p in parts]) for f, a in
+                 ((np.mean, t), (np.mean, x), (np.min, x), (np.max, x)))
+
+
 def plot(series, orbit, path):
     """Departure from the Keplerian orbit (radial, along-track; point mass dashed), spin
     rate and sailing angle against days; returns the path."""
@@ -107,8 +124,12 @@ def plot(series, orbit, path):
                    label="point mass (DOP853)" if k == 0 else None)
     ax[0].set_ylabel("departure from Kepler [km]")
     ax[0].legend()
-    ax[1].plot(days, series["spin_rate"] * 1e3)
+    centre, mean, low, high = windows(series["t"], series["spin_rate"] * 1e3, WINDOW)
+    ax[1].fill_between(centre / DAY, low, high, alpha=0.3, lw=0,
+                       label=f"range of the samples in {WINDOW / 3600:g} h")
+    ax[1].plot(centre / DAY, mean, label=f"mean over {WINDOW / 3600:g} h")
     ax[1].set_ylabel("spin rate [mrad/s]")
+    ax[1].legend()
     ax[2].plot(days, np.rad2deg(series["sailing_angle"]), label="sailing angle")
     ax[2].plot(days, np.rad2deg(orbit.mean_motion * series["t"]), "--", color="k", lw=0.8,
                label="orbit's turn n t")

@@ -75,8 +75,10 @@ from .solvers.steady import solve_steady
 from .state import State
 from .study import sweep  # parameter studies on Dask distributed
 from .system import System, SystemChanged
+from .tangent_check import check_tangent
 
 __all__ = [
+    "check_tangent",
     "AU",
     "MU_EARTH",
     "MU_SUN",

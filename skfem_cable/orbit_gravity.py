@@ -122,8 +122,9 @@ class DifferentialGravity:
     -----
     Bodies provide ``mass_points() -> (vectors, coefficients, mass)`` (``MassPoints``):
     points whose positions combine 3-vectors of the body's coordinates and whose masses
-    reproduce the body's mass, centre of mass and second moments (a cable: its Gauss
-    points weighted by ``rho A``; a rigid body: six points on its principal axes).  The
+    reproduce the body's mass, centre of mass and second moments (a cable: 4 Gauss
+    points per element weighted by ``rho A``; a rigid body: six points on its principal
+    axes).  The
     force on them is the differential gravity at the points, so the gravity-gradient
     torque on a rigid body is exact to second order in its size over the orbit radius.
     """

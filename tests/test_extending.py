@@ -15,27 +15,6 @@ SECTION = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0, gamma_axial=0.01,
                      gamma_bending=0.02)
 
 
-def tangents(system, q, v, t=0.3):
-    """``(dr/dq, dr/dv)`` of the dynamic rows: assembled and by central differences."""
-    n = system.n_dofs
-    lam = np.zeros(system.n_constraints)
-    lay = system.layout
-
-    def residual(q, v):
-        return system.evaluate(q, v, t, lam)[0][:n]
-
-    assembled = []
-    for cK, cC in ((1.0, 0.0), (0.0, 1.0)):
-        data = np.zeros(lay.nnz)
-        system.evaluate(q, v, t, lam, cK=cK, cC=cC, data=data)
-        assembled.append(lay.matrix(data).toarray()[:n, :n])
-    h = 1e-6
-    E = np.eye(n)
-    fd_q = np.array([(residual(q + h * e, v) - residual(q - h * e, v)) / (2 * h) for e in E]).T
-    fd_v = np.array([(residual(q, v + h * e) - residual(q, v - h * e)) / (2 * h) for e in E]).T
-    return assembled, (fd_q, fd_v)
-
-
 def curved_state(cable, seed=3):
     rng = np.random.default_rng(seed)
     return (cable.q0 + 0.05 * rng.standard_normal(cable.n_dofs),
@@ -62,17 +41,16 @@ def nonlinear_load():
 
 @pytest.mark.parametrize("exact", [True, False])
 def test_line_load_jacobians_match_finite_differences(exact):
-    """The whole dynamic tangent (cable with damping + the load): ``dF/dq`` and ``dF/dv``
-    blocks, with the exact Jacobians (1e-6) and with the finite-difference fallback
-    (1e-5)."""
+    """The dynamic tangents (cable with damping, the load): ``dF/dq`` and ``dF/dv`` of
+    each term (``sc.check_tangent``), with the exact Jacobians (1e-6) and with the
+    finite-difference fallback (1e-5)."""
     cable = sc.Cable.straight([0, 0, 0], [1.0, 0.2, 0.1], 3, SECTION)
     force, dq, dv = nonlinear_load()
     load = sc.LineLoad(cable, force, dq if exact else None, dv if exact else None)
     system = sc.System([cable]).add_load(load)
-    (K, C), (fd_K, fd_C) = tangents(system, *curved_state(cable))
-    tol = 1e-6 if exact else 1e-5
-    assert np.abs(K - fd_K).max() < tol * np.abs(fd_K).max()
-    assert np.abs(C - fd_C).max() < tol * np.abs(fd_C).max()
+    check = sc.check_tangent(system, *curved_state(cable), t=0.3)
+    assert sum(p.name.startswith("line load") for p in check.parts) == 2   # q and v
+    assert check.error < (1e-6 if exact else 1e-5), str(check)
 
 
 def test_line_load_force_is_consistent():
@@ -96,8 +74,9 @@ def test_point_moment_and_centrifugal_tangents():
     cable = sc.Cable.straight([0, 0, 0], [1.0, 0.0, 0.0], 2, SECTION)
     system = sc.System([cable]).add_point_moment(cable.node(-1), [0.1, -0.3, 0.2])
     system.add_centrifugal([0.0, 0.4, 1.1])
-    (K, _), (fd_K, _) = tangents(system, *curved_state(cable))
-    assert np.abs(K - fd_K).max() < 1e-6 * np.abs(fd_K).max()
+    check = sc.check_tangent(system, curved_state(cable)[0], t=0.3)
+    assert {"centrifugal"} <= {p.name for p in check.parts}
+    assert check.error < 1e-6, str(check)
 
 
 def test_drag_demo_reaches_terminal_speed():
