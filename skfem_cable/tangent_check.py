@@ -19,8 +19,8 @@ from .contract import Evaluation
 
 @dataclass(frozen=True)
 class PartCheck:
-    """The check of one part: ``name`` (the term, or ``constraints``), ``wrt`` (``q`` or
-    ``v``), ``error`` (largest difference relative to ``scale``, the largest entry of the
+    """The check of one part: ``name`` (the term, or ``constraints``), ``wrt`` (``q``,
+    ``v`` or ``a``), ``error`` (largest difference relative to ``scale``, the largest entry of the
     differences), and where it is (``row``, ``col``: described coordinates)."""
 
     name: str
@@ -54,7 +54,7 @@ class TangentCheck:
         return "\n".join(lines)
 
 
-def check_tangent(system, q=None, v=None, t=0.0, step=1e-6, seed=0):
+def check_tangent(system, q=None, v=None, t=0.0, a=None, step=1e-6, seed=0):
     """Compare every tangent of ``system`` at ``(q, v, t)`` with central differences.
 
     Parameters
@@ -66,6 +66,9 @@ def check_tangent(system, q=None, v=None, t=0.0, step=1e-6, seed=0):
         Velocities: the check is then dynamic (damping and velocity-dependent loads on)
         and includes the tangents in ``v``.
     t : float
+    a : array_like (n_dofs,), optional
+        Accelerations, for terms with inertia beyond the constant mass (a deploying
+        cable): the check then includes their tangents in ``a`` (``contract``).
     step : float
         Difference step relative to each coordinate's scale (the system's size for
         positions, 1 for slopes).
@@ -91,50 +94,54 @@ def check_tangent(system, q=None, v=None, t=0.0, step=1e-6, seed=0):
     lay = system.current_layout()
     q = np.array(system.q0 if q is None else q, dtype=float)
     v = None if v is None else np.array(v, dtype=float)
+    a = None if a is None else np.array(a, dtype=float)
     h = step * lay.coordinate_scale
     parts = []
     for term, index in lay.body_terms + lay.load_terms:
         if term.has_tangent:
-            parts += _term_parts(system, term, index, q, v, t, h)
+            parts += _term_parts(system, term, index, (q, v, a), t, h)
     if lay.n_c:
         lam = np.random.default_rng(seed).standard_normal(lay.n_c)
         parts += _constraint_parts(system, q, t, lam, h)
     return TangentCheck(tuple(parts))
 
 
-def _forces(system, term, index, q, v, t, cK=1.0, cC=0.0, data=None):
-    """``f - f_ext`` of ``term`` alone (and its tangent into ``data``)."""
-    ev = Evaluation(system, t, q, v, np.zeros(system.layout.n_c), cK, cC, data)
+def _forces(system, term, index, state, t, coefficients=(1.0, 0.0, 0.0), data=None):
+    """``f - f_ext`` of ``term`` alone at ``state = (q, v, a)`` (and its tangent with
+    ``coefficients = (cK, cC, cM)`` into ``data``)."""
+    q, v, a = state
+    cK, cC, cM = coefficients
+    ev = Evaluation(system, t, q, v, np.zeros(system.layout.n_c), cK, cC, data, a, cM)
     term.evaluate(ev, index)
     return ev.f - ev.f_ext
 
 
-def _term_parts(system, term, index, q, v, t, h):
+def _term_parts(system, term, index, state, t, h):
     lay, n = system.layout, system.n_dofs
     cols = np.unique(np.broadcast_to(term.cols, np.broadcast_shapes(
         np.shape(term.rows), np.shape(term.cols))))
     parts = []
-    for wrt, (cK, cC) in (("q", (1.0, 0.0)), ("v", (0.0, 1.0))):
-        if wrt == "v" and v is None:
+    for k, wrt in enumerate("qva"):
+        if state[k] is None:
             continue
         data = np.zeros(lay.nnz)
-        _forces(system, term, index, q, v, t, cK, cC, data)
+        _forces(system, term, index, state, t, tuple(np.eye(3)[k]), data)
         tangent = lay.matrix(data)[:n][:, cols].toarray()
-        differences = np.column_stack([_difference(system, term, index, q, v, t, h[j], j,
-                                                   wrt) for j in cols])
+        differences = np.column_stack([_difference(system, term, index, state, t, h[j], j,
+                                                   k) for j in cols])
         parts.append(_compare(system, term.name or "term", wrt, tangent, differences,
                               np.arange(n), cols))
     return parts
 
 
-def _difference(system, term, index, q, v, t, step, j, wrt):
-    """Central difference of the term's ``f - f_ext`` in coordinate (``wrt = "q"``) or
-    velocity (``"v"``) ``j``."""
+def _difference(system, term, index, state, t, step, j, k):
+    """Central difference of the term's ``f - f_ext`` in entry ``j`` of ``state[k]``
+    (coordinates, velocities or accelerations)."""
     forces = []
     for sign in (1.0, -1.0):
-        qq, vv = q.copy(), None if v is None else v.copy()
-        (qq if wrt == "q" else vv)[j] += sign * step
-        forces.append(_forces(system, term, index, qq, vv, t))
+        shifted = [None if x is None else x.copy() for x in state]
+        shifted[k][j] += sign * step
+        forces.append(_forces(system, term, index, shifted, t))
     return (forces[0] - forces[1]) / (2 * step)
 
 

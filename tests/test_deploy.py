@@ -6,7 +6,6 @@ from demo_modules import load_demo
 from lagrange import cubic_path, inertial_force, lagrange_force
 
 import skfem_cable as sc
-from skfem_cable.contract import Evaluation
 
 SECTION = sc.Section.circular(1e-3, 1e9, 1000.0)
 
@@ -92,39 +91,19 @@ def test_inertial_force_is_lagrange_of_the_kinetic_energy():
 
 def test_deployment_tangent_matches_differences():
     """The term's tangent blocks ``d/dq``, ``d/dv``, ``d/da`` of its force (with the
-    reel's content at a body point) against central differences (1e-7)."""
+    reel's content at a body point) against central differences (1e-7,
+    ``sc.check_tangent``)."""
     hub = sc.RigidBody.cylinder(radius=0.5, height=0.3, density=1000.0)
     tether = sc.Cable.straight([0, 0.5, 0], [0, 3.5, 0], 3, SECTION)
     system = sc.System([hub, tether]).deploy(
         tether, hub.point([0, 0.5, 0]), length=lambda t: 3 + t + t**2,
         rate=lambda t: 1 + 2 * t, acceleration=lambda t: 2.0, capacity=50.0)
-    term = system.deployment(tether).bind(system)
     rng = np.random.default_rng(2)
-    z = [system.q0 + 0.1 * rng.normal(size=system.n_dofs),
-         rng.normal(size=system.n_dofs), rng.normal(size=system.n_dofs)]
-    lam0 = np.zeros(system.n_constraints)
-
-    def force(z):
-        ev = Evaluation(system, 0.4, z[0], z[1], lam0, a=z[2])
-        term.evaluate(ev, None)
-        return -ev.f_ext
-
-    n = system.n_dofs
-    for k, coefficients in enumerate([(1, 0, 0), (0, 1, 0), (0, 0, 1)]):
-        data = np.zeros(len(term.rows))
-        ev = Evaluation(system, 0.4, *z[:2], lam0, *coefficients[:2], data=data, a=z[2],
-                        cM=coefficients[2])
-        term.evaluate(ev, np.arange(len(data)))
-        tangent = np.zeros((n, n))
-        np.add.at(tangent, (term.rows, term.cols), data)
-        differences = np.zeros((n, n))
-        for j in range(n):
-            up = [zi.copy() for zi in z]
-            down = [zi.copy() for zi in z]
-            up[k][j] += 1e-6
-            down[k][j] -= 1e-6
-            differences[:, j] = (force(up) - force(down)) / 2e-6
-        assert np.abs(tangent - differences).max() < 1e-7 * max(1.0, np.abs(tangent).max())
+    q, v, a = (system.q0 + 0.1 * rng.normal(size=system.n_dofs),
+               rng.normal(size=system.n_dofs), rng.normal(size=system.n_dofs))
+    check = sc.check_tangent(system, q, v, t=0.4, a=a)
+    assert {p.wrt for p in check.parts} == {"q", "v", "a"}
+    assert check.error < 1e-7, str(check)
 
 
 def hub_deployment(dt, t_end=2.5, omega=1.0, rate=1.0, L0=5.0, R=0.5):
