@@ -297,3 +297,14 @@ def test_generated_module_digest_covers_the_kernels_compiled_callees(tmp_path, m
     for part in ("def kernel", "def scale", "def inner", "2.5 * x"):
         assert part in text, part
     assert text.count("def inner") == 1
+
+
+def test_parameter_slots_are_named_in_order():
+    """The compiled step's parameter vector is read through named slots; the generated
+    module gets the same names and values as the template."""
+    from skfem_cable.kernels import step
+    from skfem_cable.solvers.compiled import source
+
+    assert [getattr(step, name) for name in step.PRM_SLOTS] == list(range(len(step.PRM_SLOTS)))
+    header = f"{', '.join(step.PRM_SLOTS)} = range({len(step.PRM_SLOTS)})"
+    assert header in source(1, 0)

@@ -23,6 +23,18 @@ CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
 #: the tolerance in later steps, which may contract slowly).
 ETA_FIRST = 0.1
 
+#: The named slots of ``prm``, the float64 parameter vector of ``newton`` (filled by
+#: ``solvers.compiled.CompiledNewton``): the step's end time and size, the method's
+#: coefficients (``beta'``, ``gamma'`` of the step), Newton's settings, whether to factor
+#: and whether Newton is full (1.0 or 0.0), its contraction estimate (updated by
+#: ``newton``) and the predictor's extrapolation factor.  The generated module gets them
+#: as constants (``solvers.compiled.source``).
+PRM_SLOTS = ("T1", "H", "ALPHA_M", "ALPHA_F", "GAMMA", "BETA", "BETA_P", "GAMMA_P", "MBAR",
+             "TOL", "CON_WEIGHT", "MAX_ITER", "NEED", "FULL", "TOL_LOCAL", "ERROR_CONSTANT",
+             "RATE", "EXTRAPOLATION")
+(T1, H, ALPHA_M, ALPHA_F, GAMMA, BETA, BETA_P, GAMMA_P, MBAR, TOL, CON_WEIGHT, MAX_ITER, NEED,
+ FULL, TOL_LOCAL, ERROR_CONSTANT, RATE, EXTRAPOLATION) = range(len(PRM_SLOTS))
+
 
 def pseudo_acceleration(a1, a, abar, am, af):
     """``abar_(n+1)`` of ``(1 - alpha_m) abar_(n+1) + alpha_m abar_n = (1 - alpha_f) a_(n+1)
@@ -62,7 +74,7 @@ def _finish(model, state, out, prm):
     q, a, abar, before = state[0], state[2], state[3], (state[6], state[7], state[8])
     q1, v1, a1, after = out[0], out[1], out[2], (out[9], out[8], out[10])
     abar1, books, dq = out[22], out[23], out[24]
-    am, af = prm[2], prm[3]
+    am, af = prm[ALPHA_M], prm[ALPHA_F]
     for i in range(q.size):
         abar1[i] = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         dq[i] = q1[i] - q[i]
@@ -123,13 +135,14 @@ def _iterate(terms, model, lu, state, out, prm):
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
      history, fq, fv, flam, dx, rhs, s, cs) = out[:22]
     xscale, inv_xscale = model[6], model[7]
-    t1, h, am, af, gm, bt = prm[0], prm[1], prm[2], prm[3], prm[4], prm[5]
-    bp, gp, mbar, tol_floor, con_weight = prm[6], prm[7], prm[8], prm[9], prm[10]
-    tol_local, error_constant = prm[14], prm[15]
-    eta = first_error_factor(prm[16])
-    max_iter, need, full = int(prm[11]), prm[12] != 0.0, prm[13] != 0.0
+    t1, h, am, af = prm[T1], prm[H], prm[ALPHA_M], prm[ALPHA_F]
+    gm, bt, bp, gp = prm[GAMMA], prm[BETA], prm[BETA_P], prm[GAMMA_P]
+    mbar, tol_floor, con_weight = prm[MBAR], prm[TOL], prm[CON_WEIGHT]
+    tol_local, error_constant = prm[TOL_LOCAL], prm[ERROR_CONSTANT]
+    eta = first_error_factor(prm[RATE])
+    max_iter, need, full = int(prm[MAX_ITER]), prm[NEED] != 0.0, prm[FULL] != 0.0
     n = q.size
-    c = prm[17]
+    c = prm[EXTRAPOLATION]
     # predictor: GeneralizedAlpha.predicted_acceleration
     for i in range(n):
         a1[i] = a[i] + c * (a[i] - a_prev[i]) if c != 0.0 else a[i]
@@ -171,7 +184,7 @@ def _iterate(terms, model, lu, state, out, prm):
         if it > 0 and ((err <= tol and dq_err <= tol) or (
                 exact and err <= 1e3 * tol and dq_err <= 1e3 * tol
                 and (err >= 0.5 * history[it - 1] or dq_err >= 0.5 * dq_before))):
-            prm[16] = eta
+            prm[RATE] = eta
             return CONVERGED, it, factorizations, corrections, -1
         if it > 0 and not exact and err > tol and err >= 0.5 * history[it - 1]:
             need = True  # the stale tangent no longer reduces the residual
@@ -213,7 +226,7 @@ def _iterate(terms, model, lu, state, out, prm):
             need = True  # modified Newton contracts too slowly: refresh the tangent
         if eta * dx_err <= tol_floor:  # the error left after this correction
             correct_elastic(f, fd, dx[:n], energy)
-            prm[16] = eta
+            prm[RATE] = eta
             return CONVERGED, it + 1, factorizations, corrections, -1
     return NO_CONVERGENCE, max_iter, factorizations, corrections, -1
 

@@ -112,7 +112,8 @@ def source(n_kernels, n_constraints):
         "from skfem_cable.kernels.books import correct_elastic, step_books",
         f"CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = {template.CONVERGED}, "
         f"{template.NON_FINITE}, {template.NO_CONVERGENCE}, {template.SINGULAR}\n"
-        f"ETA_FIRST = {template.ETA_FIRST!r}",
+        f"ETA_FIRST = {template.ETA_FIRST!r}\n"
+        f"{', '.join(template.PRM_SLOTS)} = range({len(template.PRM_SLOTS)})",
         f"({names}) = KERNELS  # noqa: F821 (placed by the loader)" if n_kernels else "",
         f"({cnames}) = CONSTRAINT_KERNELS  # noqa: F821" if n_constraints else "",
         f"{_INLINED}\ndef evaluate(packs, indices, ev):\n"
@@ -199,24 +200,29 @@ class CompiledNewton:
         self.arrays = {k: np.zeros(sizes[k]) for k in sizes}
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
-        self.prm = np.zeros(18)
-        self.prm[2:6] = g.alpha_m, g.alpha_f, g.gamma, g.beta
-        self.prm[8:12] = g.mbar, g.tol, g.con_weight, g.max_iter
-        self.prm[13:16] = g.newton == "full", g.tol_local or 0.0, g.error_constant
+        prm = self.prm = np.zeros(len(template.PRM_SLOTS))
+        prm[template.ALPHA_M], prm[template.ALPHA_F] = g.alpha_m, g.alpha_f
+        prm[template.GAMMA], prm[template.BETA] = g.gamma, g.beta
+        prm[template.MBAR], prm[template.TOL] = g.mbar, g.tol
+        prm[template.CON_WEIGHT], prm[template.MAX_ITER] = g.con_weight, g.max_iter
+        prm[template.FULL] = g.newton == "full"
+        prm[template.TOL_LOCAL], prm[template.ERROR_CONSTANT] = g.tol_local or 0.0, \
+            g.error_constant
 
     def iterate(self, g, h, t1, need):
         """Run the Newton iteration of the step ``t_n -> t1 = t_n + h`` of the integrator
         ``g``; returns ``(status, iterations, factorizations, corrections, singular)``
-        (the step's contraction estimate in ``prm[16]``)."""
+        (the step's contraction estimate in ``prm[RATE]``)."""
         lay = g.lay
         for prepare in self.prepare:
             prepare(t1)
         if self.lin_rows.size:
             self.c_t[:] = lay.linear_offsets(t1)
         prm = self.prm
-        prm[0], prm[1] = t1, h
-        prm[6], prm[7] = g._coefficients(h)
-        prm[12], prm[16], prm[17] = need, g.newton_rate, g.extrapolation(h)
+        prm[template.T1], prm[template.H] = t1, h
+        prm[template.BETA_P], prm[template.GAMMA_P] = g._coefficients(h)
+        prm[template.NEED], prm[template.RATE] = need, g.newton_rate
+        prm[template.EXTRAPOLATION] = g.extrapolation(h)
         a_prev = g.a if g.a_prev is None else g.a_prev
         state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, g.fd, g.fnc, g.fcon)
         return self.newton(self.terms, self.model, self.lu, state, self.out, self.prm)

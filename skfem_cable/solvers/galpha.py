@@ -441,7 +441,7 @@ class GeneralizedAlpha:
                 "abar": arrays["abar1"].copy(), "sums": tuple(arrays["books"])}
         return self._accept(t1, h, arrays["q1"].copy(), arrays["v1"].copy(),
                             arrays["a1"].copy(), arrays["lam1"].copy(), info, it,
-                            self.compiled.prm[16])
+                            self.compiled.prm[codes.RATE])
 
     def _python_step(self, h, need):
         system, lay, n = self.system, self.lay, self.n
