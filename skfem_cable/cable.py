@@ -69,10 +69,9 @@ def merge_cable_terms(terms):
 #: No tangent entries, as the cable kernels take them (int, 3-D).
 NO_ELEMENT_INDEX = NO_INDEX.reshape(0, 12, 12)
 
-#: The 4-point Gauss rule on [0, 1] (points, weights) of a cable's mass points
-#: (``Cable.mass_points``): exact for the mass matrix's degree 6.
-MASS_RULE = (0.5 * (np.polynomial.legendre.leggauss(4)[0] + 1.0),
-             0.5 * np.polynomial.legendre.leggauss(4)[1])
+#: Order of the Gauss rule of a cable's mass points (``Cable.mass_points``): 4 points,
+#: exact for the mass matrix's degree 6.
+MASS_ORDER = 7
 
 
 class _Stretched:
@@ -527,14 +526,14 @@ class Cable:
         return self._mass[1]
 
     def mass_points(self):
-        """Where the mass is (the hook ``orbit_gravity`` reads): ``MASS_RULE``'s 4 Gauss
-        points in every element, ``(vectors (np, 4), coefficients (np, 4), mass (np,))``, a
+        """Where the mass is (the hook ``orbit_gravity`` reads): the 4 Gauss points of
+        ``MASS_ORDER`` in every element, ``(vectors (np, 4), coefficients (np, 4), mass (np,))``, a
         point at ``sum_A S_A q[vectors[A] : vectors[A] + 3]`` (the element's positions and
         slopes weighted by its Hermite functions) with mass ``rho A`` times the Gauss
         weight: the rule integrates the mass matrix (degree 6) exactly, so the points hold
         the cable's mass, centre of mass, second moments and kinetic energy."""
-        xi, w = MASS_RULE
-        S = self._hermite(xi)[0]
+        X, w = get_quadrature(self.mesh.refdom, MASS_ORDER)
+        S = self._hermite(X[0])[0]
         ne, nq, _ = S.shape
         vectors = np.repeat(self.element_dofs[:, 0::3], nq, axis=0)
         return vectors, S.reshape(ne * nq, 4), \

@@ -159,10 +159,14 @@ def _constraint_parts(system, q, t, lam, h):
     values(q, data)
     matrix = lay.matrix(data + lay.linear_data)
     cols = np.arange(n)
-    pairs = [(values(q + e, None), values(q - e, None), e[j])
-             for j, e in ((j, np.eye(1, n, j)[0] * h[j]) for j in cols)]
-    dC = np.column_stack([(a[0] - b[0]) / (2 * s) for a, b, s in pairs])
-    dF = np.column_stack([(a[1] - b[1]) / (2 * s) for a, b, s in pairs])
+    dC, dF = [], []
+    for j in cols:
+        e = np.zeros(n)
+        e[j] = h[j]
+        (c_up, f_up), (c_down, f_down) = values(q + e), values(q - e)
+        dC.append((c_up - c_down) / (2 * h[j]))
+        dF.append((f_up - f_down) / (2 * h[j]))
+    dC, dF = np.column_stack(dC), np.column_stack(dF)
     return [_compare(system, "constraints C_q", "q", matrix[n:, :n].toarray(), dC,
                      n + np.arange(lay.n_c), cols),
             _compare(system, "constraints d(C_q^T lam)/dq", "q", matrix[:n, :n].toarray(),

@@ -57,22 +57,32 @@ def j2_tangent(k, r, T):
 
 
 @njit(cache=True, inline="always")
+def differential_acceleration(mu, R, R2, x, y, z):
+    """``g(R + delta) - g(R)`` at the offset ``delta = (x, y, z)`` from the reference point
+    ``R`` (``R2 = |R|^2``) in Battin's cancellation-free form (``orbit.differential_gravity``),
+    with ``p^(3/2) = p sqrt(p)`` (a square root is several times faster than a power):
+    its three components, ``mu / |r|^3`` and ``|r|^2``.  ``kernels.rodchain`` inlines it
+    too; numba's cache of that module does not notice a change here (as ``bordered``'s
+    does not notice ``lapack``'s): touch that file as well."""
+    q = (x * (2.0 * R[0] + x) + y * (2.0 * R[1] + y) + z * (2.0 * R[2] + z)) / R2
+    p = 1.0 + q
+    f = q * (3.0 + q * (3.0 + q)) / (1.0 + p * np.sqrt(p))
+    r2 = R2 * p
+    s = mu / (r2 * np.sqrt(r2))
+    return -s * (x - f * R[0]), -s * (y - f * R[1]), -s * (z - f * R[2]), s, r2
+
+
+@njit(cache=True, inline="always")
 def field(mu, k, reference, base, delta, a, T, r, extra):
     """Differential acceleration ``a`` (3,) at the offset ``delta`` and its tangent ``T``
     (3, 3); ``base`` holds ``a_J2(R)`` (unused when ``k = 0``); ``r`` and ``extra`` (3,)
     are scratch."""
     R2 = reference[0] ** 2 + reference[1] ** 2 + reference[2] ** 2
-    q = 0.0
+    a[0], a[1], a[2], s, r2 = differential_acceleration(mu, reference, R2, delta[0],
+                                                        delta[1], delta[2])
     for i in range(3):
-        q += delta[i] * (2.0 * reference[i] + delta[i])
         r[i] = reference[i] + delta[i]
-    q /= R2
-    root = np.sqrt(1.0 + q)
-    fq = q * (3.0 + q * (3.0 + q)) / (1.0 + (1.0 + q) * root)
-    r2 = R2 * (1.0 + q)
-    s = mu / (r2 * np.sqrt(r2))
     for i in range(3):
-        a[i] = -s * (delta[i] - fq * reference[i])
         for j in range(3):
             T[i, j] = 3.0 * s * r[i] * r[j] / r2
         T[i, i] -= s

@@ -12,6 +12,8 @@ the entry ``B[i + 1, i]`` of the lower-bidiagonal factor; ``b[n - 1] = 0``.
 import numpy as np
 from numba import njit
 
+from .central import differential_acceleration
+
 
 @njit(cache=True, error_model="numpy")
 def factor_mass(m, p):
@@ -173,20 +175,6 @@ def rk4_block(q, v, dt, nsteps, stride, masses, l0, EA, compression, a, b, gtab,
 
 
 @njit(cache=True, error_model="numpy")
-def differential_gravity(mu, R, R2, x, y, z):
-    """``g(R + delta) - g(R)`` at the offset ``delta = (x, y, z)`` from the reference point
-    ``R`` (``R2 = |R|^2``) in Battin's cancellation-free form (``orbit.differential_gravity``),
-    without allocation and with ``p^(3/2) = p sqrt(p)`` (a square root is several times
-    faster than a power); returns the three components."""
-    q = (x * (2.0 * R[0] + x) + y * (2.0 * R[1] + y) + z * (2.0 * R[2] + z)) / R2
-    p = 1.0 + q
-    f = q * (3.0 + q * (3.0 + q)) / (1.0 + p * np.sqrt(p))
-    r2 = R2 * p
-    s = -mu / (r2 * np.sqrt(r2))
-    return s * (x - f * R[0]), s * (y - f * R[1]), s * (z - f * R[2])
-
-
-@njit(cache=True, error_model="numpy")
 def orbit_loads(x, masses, ends, R, mu, xi, wq, F, Fs):
     """``F_i``, ``F*_i`` (Eq. 14) of the differential gravity on a free chain in orbit.
 
@@ -200,7 +188,7 @@ def orbit_loads(x, masses, ends, R, mu, xi, wq, F, Fs):
     n = x.shape[0] - 1
     R2 = R[0] * R[0] + R[1] * R[1] + R[2] * R[2]
     px, py, pz = x[0, 0], x[0, 1], x[0, 2]
-    ax, ay, az = differential_gravity(mu, R, R2, px, py, pz)
+    ax, ay, az, _, _ = differential_acceleration(mu, R, R2, px, py, pz)
     F[0, 0], F[0, 1], F[0, 2] = ends[0] * ax, ends[0] * ay, ends[0] * az
     Fs[0, 0], Fs[0, 1], Fs[0, 2] = F[0, 0], F[0, 1], F[0, 2]
     for i in range(1, n + 1):
@@ -210,8 +198,8 @@ def orbit_loads(x, masses, ends, R, mu, xi, wq, F, Fs):
             Fs[i, d] = 0.0
         for g in range(xi.size):
             s = xi[g]
-            ax, ay, az = differential_gravity(mu, R, R2, px + s * x[i, 0], py + s * x[i, 1],
-                                              pz + s * x[i, 2])
+            ax, ay, az, _, _ = differential_acceleration(
+                mu, R, R2, px + s * x[i, 0], py + s * x[i, 1], pz + s * x[i, 2])
             F[i, 0] += m * wq[g] * ax
             F[i, 1] += m * wq[g] * ay
             F[i, 2] += m * wq[g] * az
@@ -219,7 +207,7 @@ def orbit_loads(x, masses, ends, R, mu, xi, wq, F, Fs):
             Fs[i, 1] += m * wq[g] * s * ay
             Fs[i, 2] += m * wq[g] * s * az
         px, py, pz = px + x[i, 0], py + x[i, 1], pz + x[i, 2]
-    ax, ay, az = differential_gravity(mu, R, R2, px, py, pz)
+    ax, ay, az, _, _ = differential_acceleration(mu, R, R2, px, py, pz)
     F[n, 0] += ends[1] * ax
     F[n, 1] += ends[1] * ay
     F[n, 2] += ends[1] * az
