@@ -22,15 +22,16 @@ the bending part on the 3-point Gauss rule; their strain and tension are recover
    apart, built straight): tension (largest error over 321 points relative to the
    largest tension), support tension and positions (relative to the span) against the
    planar elastica-catenary with bending (``analytic.elastica_catenary``).  The elastic
-   catenaries of ``tests/test_validation_statics.py``, "rope" (2.7 % strain) and "steel",
-   cable law: support force ``H``, midspan sag, positions and tension.  And the steel
-   case with the truss law from its stress-free start: solved or not.
+   catenaries of ``tests/test_validation_statics.py`` (``validation.CATENARIES``), "rope"
+   (2.7 % strain) and "steel", cable law: support force ``H``, midspan sag, positions and
+   tension.  And the steel case with the truss law from its stress-free start: solved or
+   not.
 3. Frequencies of a rotating tether: one E-sail tether (``esail.spinning_tether``) pinned
    at the hub rim with its remote unit, in the frame spinning at ``4e-3 rad/s``
    (``modes(..., spin=...)``), about the static centrifugal state; the ten frequencies
    above the (near-zero) in-plane lag mode (coning, four bending pairs, first axial mode)
    against the paper's formulation with ``TETHER_REFERENCE`` elements.  The taut string of
-   ``tests/test_validation_statics.py`` (steel, 1 m, Green pre-strain 1e-3,
+   ``tests/test_validation_statics.py`` (``validation.STEEL``, 1 m, Green pre-strain 1e-3,
    pinned-pinned): first three transverse frequencies against the exact string (truss
    law) and tensioned-beam (cable law) formulas.  The first axial frequency of the
    unstressed clamped-free bar.
@@ -60,7 +61,6 @@ noisy: read the ratios, not the absolute times.
 """
 
 import argparse
-import importlib.util
 import json
 import os
 import subprocess
@@ -70,6 +70,7 @@ from pathlib import Path
 import numpy as np
 
 import skfem_cable as sc
+from skfem_cable import validation as V  # the cases of tests/test_validation_statics.py
 from skfem_cable.analytic import elastica_catenary, elastica_tip_load, elastica_tip_load_angle
 from skfem_cable.scenes import classics, esail
 from skfem_cable.scenes.classics import ELASTICA_SECTION
@@ -87,18 +88,6 @@ REFERENCE_ELEMENTS = 512
 TETHER_REFERENCE = 64
 SIZES = (60, 1000, 6000)
 
-
-def _validation_helpers():
-    """The catenary and taut-string helpers of ``tests/test_validation_statics.py``,
-    imported by path."""
-    path = ROOT / "tests" / "test_validation_statics.py"
-    spec = importlib.util.spec_from_file_location("_validation_statics", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-V = _validation_helpers()
 
 
 # --------------------------------------------------------------------------------------
@@ -210,7 +199,8 @@ def hanging_table(ns=ELEMENTS + (64,)):
 
 
 def catenary_table(cases=("rope", "steel"), ns=ELEMENTS):
-    """Errors of the validation tests' ``catenary_errors`` (cable law) on each mesh.
+    """Errors of the validation tests' ``validation.catenary_errors`` (cable law) on each
+    mesh.
 
     Returns
     -------

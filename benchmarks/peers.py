@@ -33,7 +33,9 @@ catenary
     g = 9.81 m/s^2, in vacuum, hangs in static equilibrium between two pins 8 m apart at
     the same height; the right end is released and swings for 2 s.  Ours: ``solve_static``
     of the cable pinned at both ends (started from the inextensible catenary), then
-    ``simulate`` with only the left pin, rho_inf = 0.8, elements 4..32, dt 4e-3..2.5e-4 s.
+    ``simulate`` with only the left pin, rho_inf = 0.8, elements 4..64, dt 1e-2..5e-4 s;
+    the same with the linear element (``element="linear"``, the truss law: the segment
+    model of MoorDyn in our implicit integrator), 10..160 elements, dt 4e-3..1e-3 s.
     MoorDyn: one line of n = 10..160 lumped-mass segments with the same EA and EI, no
     fluid (water density 0, all drag and added-mass coefficients 0), a fixed anchor and a
     massless ``Free`` end point, RK4 at CFL 0.2 (its stable step).  Error: the largest tip
@@ -70,6 +72,12 @@ Notes
   RK2 (even at CFL 0.05) and RK4 at CFL >= 0.25 blow up or drift for some n; RK4 at
   CFL 0.2 is stable for all n.  At the time steps tried our error is spatial: dt = 4e-3 s
   is as accurate as 2.5e-4 s, so our cheapest settings sit at the coarsest dt.
+* Without bending (``E, no bending``: MoorDyn's EI = 0, our truss law; the reference our
+  linear element, 640 elements, dt = 2.5e-4 s) the released end whips: the string's
+  problem is not smooth there, and every code converges at first order in the element
+  size.  Our linear element is the segment model of MoorDyn, integrated implicitly: at
+  equal segments its error is about half MoorDyn's and, at MoorDyn's stable step, its
+  cost a small fraction (``docs/elements.md``).
 * MoorDyn with E/100 stalls at an error of about 6e-3 m for every n: at the release its
   lumped end node overshoots the continuum recoil speed ``eps c`` by about 45 % (a Gibbs
   effect of the lumped masses), the last segment goes slack, and its tension-only segments
@@ -468,10 +476,22 @@ WIRE = {"length": 10.0, "span": 8.0, "radius": 1e-3, "E": 2e11, "rho": 7850.0, "
 CATENARY_RUN = {"t_end": 2.0, "sample": 0.02, "rho_inf": 0.8}
 CATENARY_GRID = {
     "full": {"elements": (4, 8, 16, 32, 48, 64), "dts": (1e-2, 5e-3, 4e-3, 2e-3, 1e-3, 5e-4),
+             "linear": (10, 20, 40, 80, 160), "linear_dts": (4e-3, 2e-3, 1e-3),
              "segments": (10, 20, 40, 80, 160), "reference": (96, 5e-5)},
     "quick": {"elements": (4, 8, 16), "dts": (2e-3, 1e-3, 5e-4),
+              "linear": (10, 20, 40), "linear_dts": (2e-3, 1e-3),
               "segments": (10, 20, 40), "reference": (48, 2.5e-4)},
 }
+#: Our codes in the catenary case: the cubic ANCF cable and the linear element (the
+#: segment model of lumped-mass codes, ``element="linear"``, no bending: run in the
+#: variant without bending only), and their grids' keys.
+OUR_ELEMENTS = {"ours": ("hermite3", "elements", "dts"),
+                "ours-linear": ("linear", "linear", "linear_dts")}
+#: The catenary's variants: (stiffness factor, bending); without bending the wire is a
+#: string (EI = 0 in MoorDyn, the truss law in ours) and the reference is the linear
+#: element, fine (``LINEAR_REFERENCE``).
+CATENARY_VARIANTS = ((1.0, True), (0.01, True), (1.0, False))
+LINEAR_REFERENCE = {"full": (640, 2.5e-4), "quick": (160, 5e-4)}
 LEVELS = (3e-2, 1e-2, 3e-3, 1e-3)
 MOORDYN_CFL, MOORDYN_SCHEME = 0.2, "RK4"
 
@@ -488,36 +508,41 @@ def catenary_guess(s):
     return np.column_stack([X, Y, 0 * u]), t
 
 
-def catenary_ours(n_elements, stiffness):
+def catenary_ours(n_elements, stiffness, element="hermite3", bending=True):
     """Static equilibrium pinned at both ends, then the released system: ``(system,
-    cable, static State)``."""
+    cable, static State)``; ``element``: the cable's element type; without ``bending``
+    the truss law (the linear element's only one)."""
     w = WIRE
     sec = sc.Section.circular(radius=w["radius"], E=w["E"] * stiffness, rho=w["rho"])
     s = np.linspace(0.0, w["length"], n_elements + 1)
-    cable = sc.Cable(MeshLine(s), sec, *catenary_guess(s))
+    cable = sc.Cable(MeshLine(s), sec, *catenary_guess(s), element=element,
+                     law=None if bending else "truss")
     hanging = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1))
     static = sc.solve_static(hanging.add_gravity([0, -w["g"], 0]))
     released = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -w["g"], 0])
     return released, cable, static
 
 
-def catenary_run_ours(n_elements, dt, stiffness, repeats):
+def catenary_run_ours(n_elements, dt, stiffness, repeats, element="hermite3", bending=True):
     """Fastest ``(wall, tip positions (x, y) at the samples)`` of the released swing."""
     p = CATENARY_RUN
-    system, cable, static = catenary_ours(n_elements, stiffness)
+    system, cable, static = catenary_ours(n_elements, stiffness, element, bending)
     initial = (static.q, np.zeros_like(static.q))
     wall, r = run_ours(system, initial, p["t_end"], dt, p["rho_inf"], repeats,
                        every=int(round(p["sample"] / dt)))
     return wall, r.position(cable, cable.length)[:, :2]
 
 
-def catenary_reference(quick, stiffness):
-    """Reference tips and static shape ``s -> (x, y)`` (ours, fine), cached."""
-    n, dt = CATENARY_GRID["quick" if quick else "full"]["reference"]
-    key = ("catenary", n, dt, stiffness)
+def catenary_reference(quick, stiffness, bending=True):
+    """Reference tips and static shape ``s -> (x, y)`` (ours, fine: the cubic element,
+    or without bending the linear one), cached."""
+    grade = "quick" if quick else "full"
+    n, dt = CATENARY_GRID[grade]["reference"] if bending else LINEAR_REFERENCE[grade]
+    element = "hermite3" if bending else "linear"
+    key = ("catenary", n, dt, stiffness, bending)
     if key not in _CACHE:
-        wall, tips = catenary_run_ours(n, dt, stiffness, 1)
-        _, cable, static = catenary_ours(n, stiffness)
+        wall, tips = catenary_run_ours(n, dt, stiffness, 1, element, bending)
+        _, cable, static = catenary_ours(n, stiffness, element, bending)
         _CACHE[key] = (tips, lambda s: static.position(cable, s)[:, :2], (n, dt, wall))
     return _CACHE[key]
 
@@ -550,12 +575,13 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 MOORDYN_Z0 = -10.0  # the scene hangs below MoorDyn's water surface z = 0 (no water: rho = 0)
 
 
-def moordyn_input(n_segments, stiffness):
+def moordyn_input(n_segments, stiffness, bending=True):
     """The MoorDyn input file of the wire (x-z plane, z up)."""
     w = WIRE
     area, E = np.pi * w["radius"] ** 2, w["E"] * stiffness
     return MOORDYN_INPUT.format(d=2 * w["radius"], mu=w["rho"] * area, EA=E * area,
-                                EI=E * np.pi * w["radius"] ** 4 / 4, z0=MOORDYN_Z0,
+                                EI=E * np.pi * w["radius"] ** 4 / 4 if bending else 0.0,
+                                z0=MOORDYN_Z0,
                                 span=w["span"], L=w["length"], n=n_segments, g=w["g"],
                                 cfl=MOORDYN_CFL, scheme=MOORDYN_SCHEME)
 
@@ -593,14 +619,14 @@ def moordyn_dt(md, system):
     return dt
 
 
-def moordyn_swing(md, n_segments, stiffness, shape):
+def moordyn_swing(md, n_segments, stiffness, shape, bending=True):
     """One released swing in MoorDyn from the static ``shape``: ``(wall, tips (x, y),
     dt)``; raises RuntimeError if it blows up."""
     p, w = CATENARY_RUN, WIRE
     with tempfile.TemporaryDirectory() as tmp, quiet():
         path = os.path.join(tmp, "wire.txt")
         with open(path, "w") as f:
-            f.write(moordyn_input(n_segments, stiffness))
+            f.write(moordyn_input(n_segments, stiffness, bending))
         system = md.Create(path)
         try:
             md.Init_NoIC(system, [], [])
@@ -620,22 +646,31 @@ def moordyn_swing(md, n_segments, stiffness, shape):
     return wall, (tips[:, [0, 2]], dt)
 
 
-def catenary_sweep(md, quick, stiffness, repeats):
-    """Every setting of both codes for one stiffness: rows with wall time and error."""
+def catenary_label(stiffness, bending):
+    """``E``, ``E/100``, ``E, no bending``."""
+    return ("E" if stiffness == 1 else f"E/{1 / stiffness:g}") + ("" if bending
+                                                                   else ", no bending")
+
+
+def catenary_sweep(md, quick, stiffness, repeats, bending=True):
+    """Every setting of every code for one variant: rows with wall time and error."""
     grid = CATENARY_GRID["quick" if quick else "full"]
-    ref, shape, _ = catenary_reference(quick, stiffness)
-    label = "E" if stiffness == 1 else f"E*{stiffness:g}"
+    ref, shape, _ = catenary_reference(quick, stiffness, bending)
+    label = catenary_label(stiffness, bending)
     rows = []
-    for n in grid["elements"]:
-        for dt in grid["dts"]:
-            wall, tips = catenary_run_ours(n, dt, stiffness, repeats)
-            rows.append(record("catenary", "ours", f"{n} el, dt={dt:g}", wall,
-                               float(np.linalg.norm(tips - ref, axis=1).max()),
-                               stiffness=label, elements=n, dt=dt))
+    for code, (element, counts, dts) in OUR_ELEMENTS.items():
+        if bending and element == "linear":
+            continue
+        for n in grid[counts]:
+            for dt in grid[dts]:
+                wall, tips = catenary_run_ours(n, dt, stiffness, repeats, element, bending)
+                rows.append(record("catenary", code, f"{n} el, dt={dt:g}", wall,
+                                   float(np.linalg.norm(tips - ref, axis=1).max()),
+                                   stiffness=label, elements=n, dt=dt))
     for n in grid["segments"] if md is not None else ():
         try:
-            wall, (tips, dt) = best_of(repeats, lambda n=n: moordyn_swing(md, n, stiffness,
-                                                                          shape))
+            wall, (tips, dt) = best_of(repeats, lambda n=n: moordyn_swing(
+                md, n, stiffness, shape, bending))
             err = float(np.linalg.norm(tips - ref, axis=1).max())
         except RuntimeError:
             wall, dt, err = float("nan"), float("nan"), float("inf")
@@ -656,28 +691,34 @@ def catenary_front(rows, label, with_peer):
     front = []
     for level in LEVELS:
         ours, peer = cheapest(rows, "ours", level), cheapest(rows, "moordyn", level)
+        linear = cheapest(rows, "ours-linear", level)
         front.append(record(
             "catenary", "front", f"{label}, error <= {level:g} m", None, level,
             stiffness=label, ours=ours and ours["setting"], ours_wall=ours and ours["wall_s"],
+            linear=linear["setting"] if linear else "—",
+            linear_wall=linear and linear["wall_s"],
             moordyn=peer["setting"] if peer else ("—" if with_peer else "skipped"),
             moordyn_wall=peer and peer["wall_s"],
-            ratio=ours["wall_s"] / peer["wall_s"] if ours and peer else None))
+            ratio=ours["wall_s"] / peer["wall_s"] if ours and peer else None,
+            linear_ratio=linear["wall_s"] / peer["wall_s"] if linear and peer else None))
     return front
 
 
 def catenary(quick=False, repeats=3):
-    """Released catenary, ours against MoorDyn, at E and E/100; prints the tables,
-    returns the rows (every setting and the fronts)."""
+    """Released catenary, ours against MoorDyn, at E and E/100 (with bending: our cubic
+    element) and at E without bending (a string: our cubic and linear elements, MoorDyn
+    with EI = 0); prints the tables, returns the rows (every setting and the fronts)."""
     md = import_peer("moordyn")
     rows = []
-    for stiffness in (1.0, 0.01):
-        label = "E" if stiffness == 1 else "E/100"
-        sweep = catenary_sweep(md, quick, stiffness, repeats)
-        _, _, (n, dt, wall) = catenary_reference(quick, stiffness)
-        notes = [f"wire 10 m, r = 1 mm, {label} = {WIRE['E'] * stiffness:.3g} Pa, span 8 m, "
+    for stiffness, bending in CATENARY_VARIANTS:
+        label = catenary_label(stiffness, bending)
+        sweep = catenary_sweep(md, quick, stiffness, repeats, bending)
+        _, _, (n, dt, wall) = catenary_reference(quick, stiffness, bending)
+        notes = [f"wire 10 m, r = 1 mm, {label}: E = {WIRE['E'] * stiffness:.3g} Pa, span 8 m, "
                  "released right end, 2 s in vacuum; wall: the 2 s of dynamics only",
                  f"error: max over 0.02 s samples of |tip - reference|; reference: ours, "
-                 f"{n} elements, dt = {dt:g} s ({wall:.0f} s)",
+                 f"{n} {'cubic' if bending else 'linear'} elements, dt = {dt:g} s "
+                 f"({wall:.0f} s)",
                  f"ours: rho_inf = {CATENARY_RUN['rho_inf']}, default tol; MoorDyn: "
                  f"{MOORDYN_SCHEME}, CFL {MOORDYN_CFL}, started from the reference static state"]
         print_table(f"catenary ({label}): every setting", notes,
@@ -686,9 +727,11 @@ def catenary(quick=False, repeats=3):
                     sweep)
         front = catenary_front(sweep, label, md is not None)
         print_table(f"catenary ({label}): cheapest setting per error level", [],
-                    [("error <=", "error", "g"), ("ours", "ours", "s"),
-                     ("wall [s]", "ours_wall", ".3f"), ("MoorDyn", "moordyn", "s"),
-                     ("wall [s]", "moordyn_wall", ".3f"), ("ours/MoorDyn", "ratio", ".3f")],
+                    [("error <=", "error", "g"), ("ours (cubic)", "ours", "s"),
+                     ("wall [s]", "ours_wall", ".3f"), ("ours (linear)", "linear", "s"),
+                     ("wall [s]", "linear_wall", ".3f"), ("MoorDyn", "moordyn", "s"),
+                     ("wall [s]", "moordyn_wall", ".3f"), ("cubic/MoorDyn", "ratio", ".3f"),
+                     ("linear/MoorDyn", "linear_ratio", ".3f")],
                     front)
         rows += sweep + front
     return rows

@@ -135,5 +135,29 @@ def main(days=2.0, p=TETHER):
     return out
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the altitude of the
+    centre of mass's osculating orbit over two days, and the short-circuit current,
+    against Gauss's averaged equation."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = main()
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(7.5, 3.0), layout="constrained")
+    ax.plot(out["days"], out["reference_altitude"], color="0.6", lw=3,
+            label="Gauss's equation")
+    ax.plot(out["days"], out["altitude"], "C0", lw=1, label="tether model")
+    ax.set(xlabel="t [days]", ylabel="altitude a - R_E [km]")
+    ax.legend(fontsize=8)
+    bx.plot(out["days"][:-1], out["current"], "C1")
+    bx.set(xlabel="t [days]", ylabel="short-circuit current [A]")
+    fig.suptitle(f"Drop {out['drop'] / 1e3:.3f} km, Gauss's equation "
+                 f"{out['reference_drop'] / 1e3:.3f} km", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     main()

@@ -40,6 +40,43 @@ def main(alpha=10.0, periods=3.0, elements=5, out="runs/esail", plots=True, prog
     return catalog.run_scene("esail", options)
 
 
+def gallery_figure(path, out=None):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the thrust angle over
+    three spin periods with the tolerance band, and the coning angle of the twelve tethers,
+    from the run in ``out`` (default ``runs/esail`` of the repository), reused when it
+    holds a complete run of ``main``'s defaults and made by ``main`` otherwise."""
+    import json
+    from pathlib import Path
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    run = Path(out) if out else Path(__file__).resolve().parents[1] / "runs" / "esail"
+    summary = run / "summary.json"
+    ok = summary.is_file() and json.loads(summary.read_text()).get("steps") == 47124
+    if not ok:
+        main(out=str(run), plots=False)
+    outputs = np.load(run / "esail_outputs.npz")
+    t = outputs["t"] / 3600
+    fig, (a, b) = plt.subplots(1, 2, figsize=(8.5, 3.0), layout="constrained")
+    a.axhspan(4.9, 5.1, color="0.85", label="5 deg +- 0.1 deg")
+    a.plot(t, np.rad2deg(outputs["thrust_angle"]), label="thrust angle")
+    a.set_ylim(4.8, 5.2)
+    a.set_xlabel("t [h]")
+    a.set_ylabel("deg")
+    a.legend(fontsize=8)
+    a.set_title("thrust angle from the Sun line, alpha = 10 deg", fontsize=10)
+    b.plot(t, np.rad2deg(outputs["coning"]), lw=0.8)
+    b.set_xlabel("t [h]")
+    b.set_ylabel("deg")
+    b.set_title("coning angle of the 12 tethers", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--alpha", type=float, default=10.0, help="sailing angle (deg)")

@@ -325,7 +325,7 @@ def animation(out, path, degrees=30.0, window_size=(640, 480)):
     the start are not aliased by the four-fold symmetry of the sail, and the slow ones
     at the end are not drawn many times.  Returns the number of frames."""
     from skfem_cable import plot
-    from skfem_cable.result import FIELDS
+    from skfem_cable.records import FIELDS
 
     r = out["result"]
     turned = out["fan_angle"] - out["fan_angle"][0]
@@ -338,6 +338,12 @@ def animation(out, path, degrees=30.0, window_size=(640, 480)):
                         title=f"E-sail deploying {len(out['tethers'])} tethers "
                               f"({out['lengths'][0]:.0f} m -> {out['lengths'][-1]:.0f} m), "
                               f"a frame every {degrees:g} deg")
+
+
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: ``figure`` of a run
+    of ``main``."""
+    figure(main(), path)
 
 
 if __name__ == "__main__":

@@ -143,6 +143,17 @@ def plot(series, orbit, path):
     return str(path)
 
 
+def gallery_figure(path, out=None):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the figure of a week
+    with 2 elements per tether (``main``, about 5 minutes) run into ``out`` (default
+    ``runs/esail_orbit`` of the repository)."""
+    import shutil
+
+    out = Path(out) if out else Path(__file__).resolve().parents[1] / "runs" / "esail_orbit"
+    main(elements=2, out=str(out))
+    shutil.copyfile(out / "esail_orbit.png", path)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--days", type=float, default=7.0, help="days to run")

@@ -99,6 +99,13 @@ def plot_coning(runs, steady_coning, period, path):
     plt.close(fig)
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the coning angle over
+    two spin periods from the steady state and from the usual start (``main``'s
+    figure)."""
+    main(figure=path)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--periods", type=float, default=2.0, help="spin periods to run")

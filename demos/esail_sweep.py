@@ -78,6 +78,21 @@ def figure(study):
     return fig
 
 
+def gallery_figure(path, out=None):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: ``figure`` of the
+    study of ``main`` in ``out`` (default ``runs/esail_sweep`` of the repository, whose
+    finished runs are reused), at 90 dpi."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = Path(out) if out else Path(__file__).resolve().parents[1] / "runs" / "esail_sweep"
+    fig = figure(main(out=str(out), plot=False))
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--periods", type=float, default=1.0, help="spin periods per run")

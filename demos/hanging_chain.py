@@ -43,6 +43,32 @@ from skfem_cable.scenes.rodchain_studies import (
 __all__ = ["main"]
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the eleven rods every
+    0.05 s of the first second, released from horizontal."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from skfem_cable.scenes.hanging_chain import simulate_release
+
+    res = simulate_release(11, t_end=1.0, output_dt=1e-3)
+    fig, ax = plt.subplots(1, 1, figsize=(5.0, 4.0), layout="constrained")
+    n = len(res.t)
+    for k in range(0, n, 50):
+        joints = res.joints[k]
+        ax.plot(joints[:, 0], joints[:, 1], ".-", color="C0", ms=3, lw=1,
+                alpha=0.25 + 0.75 * k / (n - 1))
+    ax.plot(0, 0, "ko")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("steel rod chain released from horizontal, 0 to 1 s", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     for key, value in main().items():
         print(f"{key:>24s}: {value}")

@@ -59,6 +59,27 @@ def main(n_elements=8, l1=50.0, duration=60.0, hold=30.0, dt=0.05, capacity=60.0
             "result": r}
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the spin rate of the
+    hub and the rotation rate of the fan of tethers while they are deployed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    out = main()
+    fig, ax = plt.subplots(1, 1, figsize=(6.5, 3.0), layout="constrained")
+    ax.plot(out["t"], out["hub_rate"], label="hub")
+    ax.plot(out["t"], out["fan_rate"], label="fan of tethers (end masses)")
+    ax.axvline(60.0, color="k", lw=0.6, ls=":")
+    ax.set(xlabel="t [s]", ylabel="rotation rate [rad/s]")
+    ax.set_title(f"Deployment 10 m -> 50 m in 60 s; angular momentum drift "
+                 f"{out['momentum_drift']:.1e}", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     import sys
 

@@ -85,6 +85,31 @@ def main(omega=2 * np.pi * 10, margin=0.1, t_end=4.0):
     return out
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the tilt from the
+    upward vertical, 5 % above and 5 % below the threshold amplitude."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    omega = 2 * np.pi * 10
+    a_c = threshold(omega)
+    fig, ax = plt.subplots(1, 1, figsize=(6.0, 3.2), layout="constrained")
+    for label, factor in (("5 % above", 1.05), ("5 % below", 0.95)):
+        t, tilt = tilt_history(factor * a_c, omega, 5.0)
+        ax.plot(t, np.unwrap(tilt), label=f"a = {factor:.2f} a_c ({label})")
+    ax.axhspan(-0.15, 0.15, color="0.85", label="|tilt| < 0.15 rad")
+    ax.set_ylim(-0.5, 3.5)
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("tilt from upward vertical [rad]")
+    ax.legend(fontsize=8)
+    ax.set_title(f"Kapitza's pendulum, 10 Hz pivot, threshold a_c = {a_c * 1e3:.2f} mm",
+                 fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     for key, value in main().items():
         print(f"{key:>20s}: {value:.6g}")

@@ -62,7 +62,7 @@ def slack_force(squeeze=0.9):
     """Largest internal force of a straight polymer bar compressed to ``squeeze`` of its
     length (zero: a slack tether carries nothing)."""
     bar = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, SECTION, law=polymer)
-    f, _ = bar.assemble(bar.q0 * np.tile([squeeze] * 3 + [squeeze] * 3, bar.n_nodes))
+    f, _ = sc.System([bar]).assemble(bar.q0 * np.tile([squeeze] * 3 + [squeeze] * 3, bar.n_nodes))
     return float(np.abs(f).max())
 
 
@@ -88,6 +88,45 @@ def main():
             "polymer_stretch": stretch, "polymer_exact": exact,
             "polymer_slack_force": slack_force(),
             "power_law_dissipated": dissipated, "power_law_balance": balance}
+
+
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the polymer tether's
+    stretch against the pull, computed and exact; the released bar's energy with the
+    power-law damping and what it dissipated."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    e0 = polymer.values["e0"]
+    loads = np.linspace(0.002, 0.03, 8)
+    stretch = [pulled_bar(polymer, p) for p in loads]
+    fine = np.linspace(0, 0.031, 100)
+    bar = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, SECTION, law=damped_biot)
+    system = sc.System([bar]).clamp(bar.node(0))
+    q0 = bar.q0.copy()
+    q0[0::6] *= 1.01
+    q0[3::6] = 1.01
+    r = sc.simulate(system, t_end=2e-3, dt=2e-6, initial=(q0, np.zeros_like(q0)))
+    E = r.energy
+    fig, (a, b) = plt.subplots(1, 2, figsize=(8.0, 3.0), layout="constrained")
+    a.plot(fine, e0 * np.log1p(fine / e0), "k-", lw=0.8, label="e0 ln(1 + P/(EA e0))")
+    a.plot(loads, stretch, "o", label="polymer law")
+    a.set_xlabel("P / EA")
+    a.set_ylabel("tip stretch u / L")
+    a.legend(fontsize=8)
+    a.set_title("tension-only polymer tether", fontsize=10)
+    b.plot(r.t * 1e3, E["total"] / E["total"][0], label="energy")
+    b.plot(r.t * 1e3, E["dissipated"] / E["total"][0], label="dissipated")
+    b.plot(r.t * 1e3, (E["total"] + E["dissipated"]) / E["total"][0], "k--", lw=0.8,
+           label="sum")
+    b.set_xlabel("t [ms]")
+    b.set_ylabel("/ initial energy")
+    b.legend(fontsize=8)
+    b.set_title("power-law damping", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -153,6 +153,40 @@ def main(n_elements=20, t_end=60.0, dt=0.1):
     return out
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: a 1 m/s current
+    switched on, the shapes every 2 s and the end tensions against the equilibrium
+    equations."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    result, cable = switched_on(20, 40.0, 0.05, every=10)
+    s = np.linspace(0.0, cable.length, 201)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(8.0, 3.0), layout="constrained")
+    for i, t in enumerate(result.t):
+        if i % 4 == 0:
+            r = result.state(i).position(cable, s)
+            ax.plot(r[:, 0], r[:, 2], "-", color=str(0.8 - 0.8 * t / result.t[-1]), lw=0.8)
+    reference, solution = equilibrium()
+    y = solution.sol(s)
+    ax.plot(y[0], y[2], "C3--", lw=1, label="solve_bvp, settled")
+    ax.set(xlabel="x [m]", ylabel="z [m]", aspect="equal", ylim=(-30, 2))
+    ax.legend(fontsize=8, loc="upper center")
+    ends = [numbers(result.state(i), cable) for i in range(len(result.t))]
+    bx.plot(result.t, [m["tension_a"] for m in ends], label="upstream")
+    bx.plot(result.t, [m["tension_b"] for m in ends], label="downstream")
+    for key in ("tension_a", "tension_b"):
+        bx.axhline(reference[key], color="k", lw=0.6, ls=":")
+    bx.set(xlabel="t [s]", ylabel="end tension [N]")
+    bx.legend(fontsize=8)
+    ax.set_title("1 m/s current switched on: shapes every 2 s", fontsize=10)
+    bx.set_title("dotted: equilibrium equations", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     for key, value in main().items():
         print(f"{key:>20s}: {value}")

@@ -51,6 +51,42 @@ def main(n_elements=16, dt=1e-3, t_end=0.7, length=1.2):
             "newton_per_step": r.stats["newton"] / r.stats["steps"]}
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the shapes every 0.05 s
+    until the first passage through the vertical, and the tip's horizontal position
+    against the rigid bar's quarter period."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    length = 1.2
+    scene = classics.pendulum(n_elements=16, length=length, g=G)
+    r = sc.simulate(scene.system, t_end=0.7, dt=1e-3, rho_inf=0.8, initial=scene.initial)
+    quarter = compound_pendulum_period(length, np.pi / 2, G) / 4
+    fig, (a, b) = plt.subplots(1, 2, figsize=(8.0, 3.2), layout="constrained")
+    s = np.linspace(0, length, 65)
+    for k in range(0, len(r.t), 50):
+        if r.t[k] > quarter + 1e-9:
+            break
+        p = r.position(scene.cable, s)[k]
+        a.plot(p[:, 0], p[:, 1], color="C0", alpha=0.3 + 0.7 * r.t[k] / quarter)
+    a.plot(0, 0, "ko")
+    a.set_aspect("equal")
+    a.set_xlabel("x [m]")
+    a.set_ylabel("y [m]")
+    a.set_title("shapes every 0.05 s", fontsize=10)
+    b.plot(r.t, r.position(scene.cable, length)[:, 0], label="cable tip x")
+    b.axvline(quarter, color="k", ls="--", label=f"rigid T/4 = {quarter:.4f} s")
+    b.axhline(0, color="0.6", lw=0.8)
+    b.set_xlabel("t [s]")
+    b.set_ylabel("x [m]")
+    b.legend(fontsize=8)
+    b.set_title("first passage through the vertical", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     for key, value in main().items():
         print(f"{key:>32s}: {value:.6g}")

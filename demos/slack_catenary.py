@@ -107,6 +107,12 @@ def plot(cable, state, rows, path):
     plt.close(fig)
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the hanging cable and
+    the convergence of its errors (``main``'s figure)."""
+    main(figure=path)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--figure", default=None, help="PNG of the catenary")

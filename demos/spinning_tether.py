@@ -45,6 +45,39 @@ def main(n_elements=10, t_end=2.0, dt=1e-3, spin=2.0, tip_mass=0.5):
             "energy_drift": float(np.abs(E / E[0] - 1).max())}
 
 
+def gallery_figure(path):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: tip radius and root
+    tension over 0.5 s (10 elements) against the steady values."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spin, tip_mass = 2.0, 0.5
+    scene = classics.spinning_tether(n_elements=10, spin=spin, tip_mass=tip_mass)
+    cable = scene.cable
+    r = sc.simulate(scene.system, t_end=0.5, dt=1e-3, rho_inf=0.9, initial=scene.initial)
+    L, mu, EA = cable.length, cable.section.mass_per_length, cable.section.EA
+    tip = r.position(cable, L)
+    radius = np.linalg.norm(tip[:, :2], axis=1)
+    omega_r = np.sqrt(EA / L / (tip_mass + mu * L / 3) - spin**2)
+    T0 = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
+    fig, (a, b) = plt.subplots(1, 2, figsize=(8.0, 3.0), layout="constrained")
+    a.plot(r.t, (radius - L) * 1e3)
+    a.set_xlabel("t [s]")
+    a.set_ylabel("tip radius - L [mm]")
+    a.set_title(f"radial oscillation; spring model period {2 * np.pi / omega_r * 1e3:.1f} ms",
+                fontsize=10)
+    b.plot(r.t, r.tension(cable, 0.0), label="root tension")
+    b.axhline(T0, color="k", ls="--", label=f"rigid T0 = {T0:.2f} N")
+    b.set_xlabel("t [s]")
+    b.set_ylabel("N [N]")
+    b.legend(fontsize=8, loc="lower right")
+    b.set_title("root tension", fontsize=10)
+    fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
+    plt.close(fig)
+
+
 if __name__ == "__main__":
     for key, value in main().items():
         print(f"{key:>24s}: {value:.6g}")

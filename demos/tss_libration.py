@@ -99,6 +99,13 @@ def plot_librations(orbits, pitch, roll, out, path):
     plt.close(fig)
 
 
+def gallery_figure(path, render=None):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: pitch and roll over
+    three pitch periods (``main``'s figure); with ``render``, the render of the largest
+    pitch of the last period in the orbiting frame there too."""
+    main(figure=path, render=render)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--periods", type=float, default=3.0, help="pitch periods to run")

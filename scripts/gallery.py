@@ -9,7 +9,9 @@ it, so the docs build stays fast (``mkdocs.yml``: ``hooks: [scripts/gallery.py]`
 
 The pictures are drawn once, by running the demos (about two minutes; the E-sail reuses
 the run directory ``runs/esail`` of ``python3 tasks.py demo`` when it holds a complete
-run)::
+run).  Each demo script draws its own picture (its ``gallery_figure(path)``); this script
+only runs it, checks the size, and draws the pictures of the scene files (TOML, no code of
+their own)::
 
     .venv/bin/python scripts/gallery.py              # every picture
     .venv/bin/python scripts/gallery.py kapitza      # one demo
@@ -22,6 +24,7 @@ import ast
 import re
 import sys
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
@@ -305,7 +308,8 @@ def page(entries=ENTRIES, demos=DEMOS):
             "Each file of `demos/` is a short, runnable script (or scene file) whose docstring "
             "states the physics; its test imports it at reduced size and checks one number "
             "against an independent reference (scikit-fem's habit).  Below: the demo's "
-            "docstring, a picture drawn from a run of it, the number its test checks with "
+            "docstring, a picture drawn from a run of it (a script draws its own, with its "
+            "`gallery_figure(path)`), the number its test checks with "
             "the tolerance, and the command that runs it.  The page is generated when the "
             "docs are built (`scripts/gallery.py`, an MkDocs hook) from the demos' "
             "docstrings; the pictures are redrawn with `.venv/bin/python scripts/gallery.py`.",
@@ -336,6 +340,19 @@ def on_files(files, config):
 
 
 # --- the pictures -------------------------------------------------------------------------
+# A demo script draws its own picture: its ``gallery_figure(path)`` runs it and writes the
+# PNG.  A scene file holds no code, so its picture is drawn here (``draw_<name>``).
+
+#: Keywords of a demo's ``gallery_figure`` beyond the path (pictures of other pages).
+DEMO_OPTIONS = {"tss_libration": {"render": ROOT / "docs" / "figures" / "tss_lvlh.png"}}
+
+
+def draw_demo(name):
+    """Run ``demos/NAME.py``'s ``gallery_figure`` into the picture; check its size."""
+    _load_demo(name).gallery_figure(_path(name), **DEMO_OPTIONS.get(name, {}))
+    _written(name)
+
+
 def _load_demo(name):
     import importlib.util
 
@@ -378,242 +395,7 @@ def _written(name):
         raise RuntimeError(f"{path} is {size} bytes, more than {MAX_BYTES}")
 
 
-def draw_cantilever():
-    import numpy as np
-
-    import skfem_cable as sc
-    from skfem_cable.analytic import elastica_tip_load
-    from skfem_cable.scenes import classics
-
-    fig, ax = _figure(width=6.5, height=3.6)
-    s = np.linspace(0, 1, 101)
-    for k in (1.0, 2.0, 5.0, 10.0):
-        scene = classics.cantilever(16, k)
-        state = sc.solve_static(scene.system, load_steps=20)
-        r = state.position(scene.cable, s)
-        u, w = elastica_tip_load(k)
-        tip = r[-1]
-        err = max(abs(1 - tip[0] - u) / u, abs(-tip[1] - w) / w)
-        ax.plot(r[:, 0], r[:, 1], label=f"k = {k:g} (error {err:.1e})")
-        ax.plot(1 - u, -w, "kx")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x / L")
-    ax.set_ylabel("y / L")
-    ax.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.02, 0.5))
-    ax.set_title("Elastica: ANCF cable against the elliptic integrals", fontsize=10)
-    _save(fig, "cantilever")
-
-
-def draw_pendulum():
-    import numpy as np
-
-    import skfem_cable as sc
-    from skfem_cable.analytic import compound_pendulum_period
-    from skfem_cable.scenes import classics
-
-    length = 1.2
-    scene = classics.pendulum(n_elements=16, length=length, g=9.81)
-    r = sc.simulate(scene.system, t_end=0.7, dt=1e-3, rho_inf=0.8, initial=scene.initial)
-    quarter = compound_pendulum_period(length, np.pi / 2, 9.81) / 4
-    fig, (a, b) = _figure(2, width=8.0, height=3.2)
-    s = np.linspace(0, length, 65)
-    for k in range(0, len(r.t), 50):
-        if r.t[k] > quarter + 1e-9:
-            break
-        p = r.position(scene.cable, s)[k]
-        a.plot(p[:, 0], p[:, 1], color="C0", alpha=0.3 + 0.7 * r.t[k] / quarter)
-    a.plot(0, 0, "ko")
-    a.set_aspect("equal")
-    a.set_xlabel("x [m]")
-    a.set_ylabel("y [m]")
-    a.set_title("shapes every 0.05 s", fontsize=10)
-    b.plot(r.t, r.position(scene.cable, length)[:, 0], label="cable tip x")
-    b.axvline(quarter, color="k", ls="--", label=f"rigid T/4 = {quarter:.4f} s")
-    b.axhline(0, color="0.6", lw=0.8)
-    b.set_xlabel("t [s]")
-    b.set_ylabel("x [m]")
-    b.legend(fontsize=8)
-    b.set_title("first passage through the vertical", fontsize=10)
-    _save(fig, "pendulum")
-
-
-def draw_spinning_tether():
-    import numpy as np
-
-    import skfem_cable as sc
-    from skfem_cable.scenes import classics
-
-    spin, tip_mass = 2.0, 0.5
-    scene = classics.spinning_tether(n_elements=10, spin=spin, tip_mass=tip_mass)
-    cable = scene.cable
-    r = sc.simulate(scene.system, t_end=0.5, dt=1e-3, rho_inf=0.9, initial=scene.initial)
-    L, mu, EA = cable.length, cable.section.mass_per_length, cable.section.EA
-    tip = r.position(cable, L)
-    radius = np.linalg.norm(tip[:, :2], axis=1)
-    omega_r = np.sqrt(EA / L / (tip_mass + mu * L / 3) - spin**2)
-    T0 = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
-    fig, (a, b) = _figure(2, width=8.0, height=3.0)
-    a.plot(r.t, (radius - L) * 1e3)
-    a.set_xlabel("t [s]")
-    a.set_ylabel("tip radius - L [mm]")
-    a.set_title(f"radial oscillation; spring model period {2 * np.pi / omega_r * 1e3:.1f} ms",
-                fontsize=10)
-    b.plot(r.t, r.tension(cable, 0.0), label="root tension")
-    b.axhline(T0, color="k", ls="--", label=f"rigid T0 = {T0:.2f} N")
-    b.set_xlabel("t [s]")
-    b.set_ylabel("N [N]")
-    b.legend(fontsize=8, loc="lower right")
-    b.set_title("root tension", fontsize=10)
-    _save(fig, "spinning_tether")
-
-
-def draw_custom_element():
-    import numpy as np
-
-    demo = _load_demo("custom_element")
-    loads = np.linspace(0.02, 0.2, 6)
-    biot = [demo.pulled_bar(demo.biot, p) for p in loads]
-    green = [demo.pulled_bar("cable", p) for p in loads]
-    fig, ax = _figure(width=5.5, height=3.4)
-    ax.plot(loads, loads, "k-", lw=0.8, label="P L / EA")
-    ax.plot(loads, biot, "o", label="Biot law (four lines)")
-    ax.plot(loads, green, "s", label="Green law (built-in)")
-    ax.set_xlabel("P / EA")
-    ax.set_ylabel("tip stretch u / L")
-    ax.legend(fontsize=8)
-    ax.set_title(f"pulled bar: Biot stretch at P = 0.1 EA: {demo.pulled_bar(demo.biot):.10f}",
-                 fontsize=10)
-    _save(fig, "custom_element")
-
-
-def draw_law_gallery():
-    import numpy as np
-
-    import skfem_cable as sc
-
-    demo = _load_demo("law_gallery")
-    e0 = demo.polymer.values["e0"]
-    loads = np.linspace(0.002, 0.03, 8)
-    stretch = [demo.pulled_bar(demo.polymer, p) for p in loads]
-    fine = np.linspace(0, 0.031, 100)
-    bar = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, demo.SECTION, law=demo.damped_biot)
-    system = sc.System([bar]).clamp(bar.node(0))
-    q0 = bar.q0.copy()
-    q0[0::6] *= 1.01
-    q0[3::6] = 1.01
-    r = sc.simulate(system, t_end=2e-3, dt=2e-6, initial=(q0, np.zeros_like(q0)))
-    E = r.energy
-    fig, (a, b) = _figure(2, width=8.0, height=3.0)
-    a.plot(fine, e0 * np.log1p(fine / e0), "k-", lw=0.8, label="e0 ln(1 + P/(EA e0))")
-    a.plot(loads, stretch, "o", label="polymer law")
-    a.set_xlabel("P / EA")
-    a.set_ylabel("tip stretch u / L")
-    a.legend(fontsize=8)
-    a.set_title("tension-only polymer tether", fontsize=10)
-    b.plot(r.t * 1e3, E["total"] / E["total"][0], label="energy")
-    b.plot(r.t * 1e3, E["dissipated"] / E["total"][0], label="dissipated")
-    b.plot(r.t * 1e3, (E["total"] + E["dissipated"]) / E["total"][0], "k--", lw=0.8,
-           label="sum")
-    b.set_xlabel("t [ms]")
-    b.set_ylabel("/ initial energy")
-    b.legend(fontsize=8)
-    b.set_title("power-law damping", fontsize=10)
-    _save(fig, "law_gallery")
-
-
-def draw_drag_terminal_speed():
-    import numpy as np
-
-    import skfem_cable as sc
-
-    demo = _load_demo("drag_terminal_speed")
-    tau = 0.05
-    section = sc.Section.circular(radius=1e-3, E=2e11, rho=7850.0)
-    cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, section)
-    c = section.mass_per_length / tau
-    force, dv = demo.linear_drag(c)
-    system = sc.System([cable]).add_gravity([0, -demo.G, 0])
-    system.add_load(sc.LineLoad(cable, force, dv=dv))
-    r = sc.simulate(system, t_end=40 * tau, dt=tau / 10, rho_inf=0.8)
-    speed = -r.velocity(cable, 1.0)[:, 1]
-    vT = section.mass_per_length * demo.G / c
-    fine = np.linspace(0, r.t[-1], 400)
-    fig, ax = _figure(width=5.5, height=3.2)
-    ax.plot(fine, vT * (1 - np.exp(-fine / tau)), "k-", lw=0.8, label="v_T (1 - exp(-t/tau))")
-    ax.plot(r.t, speed, ".", ms=4, label="cable (mid-point)")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("fall speed [m/s]")
-    ax.legend(fontsize=8)
-    ax.set_title(f"linear drag: final speed / v_T - 1 = {speed[-1] / vT - 1:.1e}",
-                 fontsize=10)
-    _save(fig, "drag_terminal_speed")
-
-
-def draw_kapitza():
-    import numpy as np
-
-    demo = _load_demo("kapitza")
-    omega = 2 * np.pi * 10
-    a_c = demo.threshold(omega)
-    fig, ax = _figure(width=6.0, height=3.2)
-    for label, factor in (("5 % above", 1.05), ("5 % below", 0.95)):
-        t, tilt = demo.tilt_history(factor * a_c, omega, 5.0)
-        ax.plot(t, np.unwrap(tilt), label=f"a = {factor:.2f} a_c ({label})")
-    ax.axhspan(-0.15, 0.15, color="0.85", label="|tilt| < 0.15 rad")
-    ax.set_ylim(-0.5, 3.5)
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("tilt from upward vertical [rad]")
-    ax.legend(fontsize=8)
-    ax.set_title(f"Kapitza's pendulum, 10 Hz pivot, threshold a_c = {a_c * 1e3:.2f} mm",
-                 fontsize=10)
-    _save(fig, "kapitza")
-
-
-def draw_hanging_chain():
-    from skfem_cable.scenes import hanging_chain
-
-    res = hanging_chain.simulate_release(11, t_end=1.0, output_dt=1e-3)
-    fig, ax = _figure(width=5.0, height=4.0)
-    n = len(res.t)
-    for k in range(0, n, 50):
-        joints = res.joints[k]
-        ax.plot(joints[:, 0], joints[:, 1], ".-", color="C0", ms=3, lw=1,
-                alpha=0.25 + 0.75 * k / (n - 1))
-    ax.plot(0, 0, "ko")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.set_title("steel rod chain released from horizontal, 0 to 1 s", fontsize=10)
-    _save(fig, "hanging_chain")
-
-
-def draw_esail_baseline():
-    import json
-
-    import numpy as np
-
-    run = ROOT / "runs" / "esail"
-    summary = run / "summary.json"
-    ok = summary.is_file() and json.loads(summary.read_text()).get("steps") == 47124
-    if not ok:
-        _load_demo("esail_baseline").main(out=str(run), plots=False)
-    out = np.load(run / "esail_outputs.npz")
-    t = out["t"] / 3600
-    fig, (a, b) = _figure(2, width=8.5, height=3.0)
-    a.axhspan(4.9, 5.1, color="0.85", label="5 deg +- 0.1 deg")
-    a.plot(t, np.rad2deg(out["thrust_angle"]), label="thrust angle")
-    a.set_ylim(4.8, 5.2)
-    a.set_xlabel("t [h]")
-    a.set_ylabel("deg")
-    a.legend(fontsize=8)
-    a.set_title("thrust angle from the Sun line, alpha = 10 deg", fontsize=10)
-    b.plot(t, np.rad2deg(out["coning"]), lw=0.8)
-    b.set_xlabel("t [h]")
-    b.set_ylabel("deg")
-    b.set_title("coning angle of the 12 tethers", fontsize=10)
-    _save(fig, "esail_baseline")
-
-
+# --- the scene files' pictures ----------------------------------------------------------
 def draw_spinning_hub():
     import numpy as np
 
@@ -667,32 +449,6 @@ def draw_falling_chain():
     b.legend(fontsize=8)
     b.set_title(f"energies; total at t = 0: {E['total'][0]:.2f} J", fontsize=10)
     _save(fig, "falling_chain")
-
-
-
-def draw_esail_sweep():
-    demo = _load_demo("esail_sweep")
-    study = demo.main(out=str(ROOT / "runs" / "esail_sweep"), plot=False)  # reuses runs
-    _save(demo.figure(study), "esail_sweep")
-
-
-def draw_esail_steady():
-    _load_demo("esail_steady").main(figure=_path("esail_steady"))
-    _written("esail_steady")
-
-
-def draw_esail_orbit():
-    import shutil
-
-    out = ROOT / "runs" / "esail_orbit"
-    _load_demo("esail_orbit").main(elements=2, out=str(out))   # about 5 minutes
-    shutil.copyfile(out / "esail_orbit.png", _path("esail_orbit"))
-    _written("esail_orbit")
-
-
-def draw_slack_catenary():
-    _load_demo("slack_catenary").main(figure=_path("slack_catenary"))
-    _written("slack_catenary")
 
 
 def draw_spinning_hub_steady():
@@ -762,34 +518,6 @@ def draw_tether_lowering():
     _save(fig, "tether_lowering")
 
 
-def draw_mooring_current():
-    import numpy as np
-
-    demo = _load_demo("mooring_current")
-    result, cable = demo.switched_on(20, 40.0, 0.05, every=10)
-    s = np.linspace(0.0, cable.length, 201)
-    fig, (ax, bx) = _figure(ncols=2, width=8.0, height=3.0)
-    for i, t in enumerate(result.t):
-        if i % 4 == 0:
-            r = result.state(i).position(cable, s)
-            ax.plot(r[:, 0], r[:, 2], "-", color=str(0.8 - 0.8 * t / result.t[-1]), lw=0.8)
-    reference, solution = demo.equilibrium()
-    y = solution.sol(s)
-    ax.plot(y[0], y[2], "C3--", lw=1, label="solve_bvp, settled")
-    ax.set(xlabel="x [m]", ylabel="z [m]", aspect="equal", ylim=(-30, 2))
-    ax.legend(fontsize=8, loc="upper center")
-    ends = [demo.numbers(result.state(i), cable) for i in range(len(result.t))]
-    bx.plot(result.t, [m["tension_a"] for m in ends], label="upstream")
-    bx.plot(result.t, [m["tension_b"] for m in ends], label="downstream")
-    for key in ("tension_a", "tension_b"):
-        bx.axhline(reference[key], color="k", lw=0.6, ls=":")
-    bx.set(xlabel="t [s]", ylabel="end tension [N]")
-    bx.legend(fontsize=8)
-    ax.set_title("1 m/s current switched on: shapes every 2 s", fontsize=10)
-    bx.set_title("dotted: equilibrium equations", fontsize=10)
-    _save(fig, "mooring_current")
-
-
 def draw_mooring_line():
     import numpy as np
 
@@ -808,40 +536,6 @@ def draw_mooring_line():
     ax.set(xlabel="x [m]", ylabel="z [m]", aspect="equal")
     ax.legend(fontsize=8, loc="lower left")
     _save(fig, "mooring_line")
-
-
-def draw_tether_retrieval():
-    import numpy as np
-
-    out = _load_demo("tether_retrieval").main()
-    fig, ax = _figure(width=7.5, height=3.0)
-    ax.plot(out["t"], np.degrees(out["reference_angle"]), color="0.6", lw=3,
-            label="variable-length pendulum")
-    ax.plot(out["t"], np.degrees(out["angle"]), color="C0", lw=1, label="cable model")
-    ax.set(xlabel="t [s]", ylabel="swing angle [deg]")
-    ax.set_title(f"Retrieval 10 m -> 2.5 m: the swing grows {out['growth']:.4f}x "
-                 f"(pendulum {out['reference']:.4f}x)", fontsize=10)
-    ax.legend(fontsize=8, loc="upper left")
-    _save(fig, "tether_retrieval")
-
-
-def draw_hub_deployment():
-    out = _load_demo("hub_deployment").main()
-    fig, ax = _figure(width=6.5, height=3.0)
-    ax.plot(out["t"], out["hub_rate"], label="hub")
-    ax.plot(out["t"], out["fan_rate"], label="fan of tethers (end masses)")
-    ax.axvline(60.0, color="k", lw=0.6, ls=":")
-    ax.set(xlabel="t [s]", ylabel="rotation rate [rad/s]")
-    ax.set_title(f"Deployment 10 m -> 50 m in 60 s; angular momentum drift "
-                 f"{out['momentum_drift']:.1e}", fontsize=10)
-    ax.legend(fontsize=8)
-    _save(fig, "hub_deployment")
-
-
-def draw_esail_deployment():
-    demo = _load_demo("esail_deployment")
-    demo.figure(demo.main(), _path("esail_deployment"))
-    _written("esail_deployment")
 
 
 def draw_reel_brake():
@@ -873,46 +567,9 @@ def draw_reel_brake():
     _save(fig, "reel_brake")
 
 
-def draw_reel_spin_rate():
-    out = _load_demo("reel_spin_rate").main()
-    r = out["result"]
-    fig, (ax, bx) = _figure(ncols=2, width=7.5, height=3.0)
-    ax.plot(r.t, out["rate"], "C0", label="hub")
-    ax.axhline(out["predicted"], color="k", lw=0.8, ls="--", label="H / I, deployed")
-    ax.set(xlabel="t [s]", ylabel="spin rate [rad/s]")
-    ax.legend(fontsize=8)
-    system = out["system"]
-    reel = system.bodies[2]
-    bx.plot(r.t, r.q[:, system.dofs(reel)[0]], "C1")
-    bx.set(xlabel="t [s]", ylabel="free length [m]")
-    fig.suptitle(f"Settled spin {out['measured']:.8f} rad/s, predicted "
-                 f"{out['predicted']:.8f} ({out['difference']:.1e}); angular momentum drift "
-                 f"{out['momentum_drift']:.1e}", fontsize=9)
-    _save(fig, "reel_spin_rate")
-
-
-def draw_tss_libration():
-    _load_demo("tss_libration").main(figure=_path("tss_libration"),
-                                     render=ROOT / "docs" / "figures" / "tss_lvlh.png")
-    _written("tss_libration")
-
-
-def draw_ed_tether_deorbit():
-    out = _load_demo("ed_tether_deorbit").main()
-    fig, (ax, bx) = _figure(ncols=2, width=7.5, height=3.0)
-    ax.plot(out["days"], out["reference_altitude"], color="0.6", lw=3,
-            label="Gauss's equation")
-    ax.plot(out["days"], out["altitude"], "C0", lw=1, label="tether model")
-    ax.set(xlabel="t [days]", ylabel="altitude a - R_E [km]")
-    ax.legend(fontsize=8)
-    bx.plot(out["days"][:-1], out["current"], "C1")
-    bx.set(xlabel="t [days]", ylabel="short-circuit current [A]")
-    fig.suptitle(f"Drop {out['drop'] / 1e3:.3f} km, Gauss's equation "
-                 f"{out['reference_drop'] / 1e3:.3f} km", fontsize=10)
-    _save(fig, "ed_tether_deorbit")
-
-
-DRAW = {e.name: globals()[f"draw_{e.name}"] for e in ENTRIES}
+#: The function drawing each entry's picture.
+DRAW = {e.name: partial(draw_demo, e.name) if e.demo.endswith(".py")
+        else globals()[f"draw_{e.name}"] for e in ENTRIES}
 
 
 if __name__ == "__main__":

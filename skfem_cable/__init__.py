@@ -2,7 +2,9 @@
 
 Public API (``__all__``, documented on the API page of the docs):
 
-* model: ``Section``, ``Cable`` (and its ``Node``, ``ElementLineCableHermite``),
+* model: ``Section``, ``Cable`` (and its ``Node``; its element types ``ELEMENTS``,
+  ``CableElement``, ``ElementLineCableHermite``, ``ElementLineCableHermite5``,
+  ``ElementLineCableLinear``),
   ``RigidBody``, ``System``;
 * loads: ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``, ``Centrifugal``,
   ``PointMass`` (module ``loads``), the solar wind ``SolarWind``, ``SolarWindForce``, drag
@@ -52,15 +54,22 @@ from . import forms as forms  # scikit-fem forms of the element laws
 from . import io as io  # observers: run store, ParaView series, progress bar
 from . import laws as laws  # element laws: energy densities -> compiled kernels
 from . import plot as plot  # renders and figures
-from .cable import Cable, Node
+from .cable import Cable
 from .contract import Evaluation, Observer, Term
 from .coulomb import SolarWind, SolarWindForce
 from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from .electrodynamic import ElectrodynamicForce, MagneticDipole
-from .element import ElementLineCableHermite
+from .elements import (
+    ELEMENTS,
+    CableElement,
+    ElementLineCableHermite,
+    ElementLineCableHermite5,
+    ElementLineCableLinear,
+)
 from .formulation import FORMULATIONS
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
+from .node import Node
 from .orbit import AU, MU_EARTH, MU_SUN, R_EARTH, Orbit
 from .reel import Brake, Motor, Reel, Servo
 from .result import Result
@@ -103,7 +112,11 @@ __all__ = [
     "PointMass",
     "PointMoment",
     "Term",
+    "ELEMENTS",
+    "CableElement",
     "ElementLineCableHermite",
+    "ElementLineCableHermite5",
+    "ElementLineCableLinear",
     "FORMULATIONS",
     "Node",
     "Reel",

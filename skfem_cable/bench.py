@@ -24,7 +24,7 @@ from datetime import datetime, timezone
 from importlib import metadata
 from pathlib import Path
 
-from .io.atomic import write_atomic
+from .atomic import write_atomic
 from .io.jsonable import jsonable
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -178,6 +178,9 @@ def build_parser():
                      f"{', '.join(FORMULATIONS)} (default {DEFAULT}: locking-free with the "
                      "paper's accuracy on taut cables; paper: the paper's own, whose "
                      "tension locks in bending; docs/locking.md)")
+    run.add_argument("--model", metavar="NAME",
+                     help="model of a scene that has several (tss: ancf, the default, or "
+                     "rodchain)")
     run.add_argument("--alpha", type=_finite_float, metavar="DEG",
                      help="sailing angle in degrees (esail only)")
     run.add_argument("--out", type=_directory, metavar="DIR", help="run directory to write")
@@ -263,14 +266,17 @@ def build_parser():
 
 
 def cmd_run(args):
-    from .runner import RunOptions, check_run_dir, format_summary
+    from .runner.directory import check_run_dir
+    from .runner.options import RunOptions
+    from .runner.summary import format_summary
     from .scenes.catalog import run_scene
 
     options = RunOptions(out=args.out, t_end=args.t_end, dt=args.dt, elements=args.elements,
                          formulation=args.formulation, alpha=args.alpha, every=args.every,
                          progress=False if args.no_progress else None,
                          plots=not args.no_plots, animate=args.animate,
-                         overwrite=args.overwrite, resume=args.resume, frame=args.frame)
+                         overwrite=args.overwrite, resume=args.resume, frame=args.frame,
+                         model=args.model)
     check_run_dir(args.out, args.overwrite, args.resume)  # before any work
     try:
         summary = run_scene(args.scene, options)
@@ -285,8 +291,8 @@ def cmd_run(args):
 def _interrupted(args, err):
     """Ctrl-C, SIGTERM or SIGHUP ended ``skfem-cable run``: say what is stored and how to
     continue; the exit status is the shell's for that signal (130 for Ctrl-C)."""
+    from .io.reader import run_info
     from .io.signals import exit_status, interrupt_signal, signal_name
-    from .io.store import run_info
 
     signum = interrupt_signal(err)
     lines = [f"skfem-cable run: interrupted by {signal_name(signum)}"]

@@ -35,7 +35,7 @@ array([0., 0., 0., 0., 0.])
 
 import numpy as np
 
-from .cable import Node
+from .node import Node
 from .quadratic import QuadraticConstraints
 from .rigid import BodyPoint
 
@@ -226,7 +226,7 @@ class SlopeDirection:
         return self.n0 @ R.T
 
     def dofs(self, system):
-        return system.dofs(self.node)[3:]
+        return system.dofs(self.node)[3:6]
 
     def value(self, qc, t=0.0):
         return self.normals(t) @ qc
@@ -298,9 +298,9 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
     """
     if not isinstance(node, Node):
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
+    q0 = node.body.q0[np.concatenate([node.position_dofs, node.slope_dofs])]
     if isinstance(position, BodyPoint):
         return _body_clamp(node, position, direction, velocity, acceleration)
-    q0 = node.body.q0[node.body.node_dofs(node.index)]
     labels = ["Fx", "Fy", "Fz"]
     p = q0[:3] if position is None else position
     place = LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3),
@@ -318,7 +318,7 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
                lambda t: np.append(place.offset(t, 1), [0.0, 0.0]),
                lambda t: np.append(place.offset(t, 2), [0.0, 0.0]), "position", size=5) \
         if place.driven else np.append(place.offset(0.0), [0.0, 0.0])
-    return [LinearConstraint(lambda s: s.dofs(node), J, c, f"clamp {node!r}",
+    return [LinearConstraint(lambda s: s.dofs(node)[:6], J, c, f"clamp {node!r}",
                              labels + ["M1", "M2"])]
 
 
@@ -332,7 +332,7 @@ def _body_clamp(node, point, direction, velocity, acceleration):
                          "must be None")
     if direction is None:
         body = point.body
-        slope = node.body.q0[node.body.node_dofs(node.index)][3:]
+        slope = node.body.q0[node.slope_dofs]
         direction = body.rotation(body.q0).T @ slope
     return [pin(node, point), BodySlope(node, point.body, direction)]
 
@@ -396,7 +396,7 @@ class BodySlope(QuadraticConstraints):
         self.labels = ["M1", "M2"]
 
     def dofs(self, system):
-        return np.concatenate([system.dofs(self.node)[3:], system.dofs(self.body)])
+        return np.concatenate([system.dofs(self.node)[3:6], system.dofs(self.body)])
 
 
 def pin(node, target=None, velocity=None, acceleration=None):

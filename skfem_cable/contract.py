@@ -53,11 +53,17 @@ the Hessian term (``kernels.rigid`` does it for the rigid body).
 
 An *observer* receives the state at the start, at every saved step and at the end of a
 time integration; see ``Observer``.
+
+What plugs in is stated as ``typing.Protocol``s, each with its hooks: ``Body``, ``Load``,
+``Constraint``, ``Observer`` (and ``Line``, a body with fields along an arc length).  They
+are structural: a user's class need not inherit from them, only provide the hooks; a
+``System`` refuses a body that lacks one, naming it.
 """
 
+import contextlib
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 from numba import njit
@@ -307,10 +313,150 @@ class Step:
     energies: dict = field(default_factory=dict)
 
 
-class Observer:
-    """Base class of observers of a time integration (``simulate(..., observers=[...])``).
+#: Values of a ``Shape``'s ``part`` (the cell data ``part`` of the ParaView output).
+PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
 
-    Override any of the three hooks; the defaults do nothing.
+
+@dataclass
+class Shape:
+    """What a body shows in ParaView (``Body.show``): ``points`` (n, 3) and their
+    ``velocity`` (n, 3); cells of one meshio ``cell_type`` (``"line"``, ``"triangle"``,
+    ``"vertex"``, ...) with ``cells`` (m, k), indices into ``points``; a ``part`` number
+    (``PART_CABLE``, ...); point ``data``, name -> array (n,) or (n, 3) (fields that
+    other bodies lack are NaN there)."""
+
+    points: np.ndarray
+    velocity: np.ndarray
+    cell_type: str
+    cells: np.ndarray
+    part: int
+    data: dict = field(default_factory=dict)
+
+
+@runtime_checkable
+class Body(Protocol):
+    """A body of a ``System``: coordinates, mass, internal forces, and what it shows.
+
+    ``name``, ``n_dofs``, ``q0`` (its initial coordinates) and ``position_mask`` (True for
+    coordinates that are lengths: scales for convergence tests); optionally
+    ``vector_mask`` (True for coordinates that are parts of 3-vectors in space, which
+    rigid motions move; all True by default).
+    """
+
+    name: str
+    n_dofs: int
+    q0: np.ndarray
+    position_mask: np.ndarray
+
+    def describe_dof(self, index):
+        """Which coordinate ``index`` (local) is, for messages: ``"node 3 r_x[1]"``."""
+
+    def mass_matrix(self):
+        """The constant mass matrix (scipy sparse, ``n_dofs`` square)."""
+
+    def mass_points(self):
+        """Where the mass is, for gravity fields that vary in space (an orbit's):
+        ``(vectors (np, nf), coefficients (np, nf), mass (np,))``, point ``p`` at ``sum_j
+        coefficients[p, j] q[vectors[p, j]: +3]`` of the body's coordinates ``q``, masses
+        that reproduce the body's mass, centre of mass and second moments (empty arrays
+        for a body without mass in space)."""
+
+    def internal_constraints(self):
+        """The body's own constraints (a list, maybe empty)."""
+
+    def bind(self, system):
+        """The ``Term`` of its internal forces in ``system``, or None."""
+
+    def show(self, system, q, v, t, **detail):
+        """What ParaView draws of it at the system's coordinates ``q`` and velocities ``v``
+        and time ``t``: a ``Shape``, or None for a body with nothing in space (a reel).
+        ``detail``: ``points_per_element`` (samples of a line per element), ``resolution``
+        (segments around a surface); a body ignores what it does not use."""
+
+    def outputs(self, system, q, t):
+        """Its key numbers for a run's summary at ``q`` and ``t``: a dict of numbers and
+        short arrays."""
+
+
+#: What a ``Body`` provides (``check_body``).
+BODY_HOOKS = ("name", "n_dofs", "q0", "position_mask", "describe_dof", "mass_matrix",
+              "mass_points", "internal_constraints", "bind", "show", "outputs")
+
+
+def check_body(body):
+    """Refuse a body that lacks a hook of ``Body``, naming the hooks."""
+    missing = [name for name in BODY_HOOKS if not hasattr(body, name)]
+    if missing:
+        raise TypeError(f"{body!r} is not a body: it lacks {', '.join(sorted(missing))} "
+                        "(the hooks of skfem_cable.contract.Body; docs/extending.md, "
+                        "'A body')")
+
+
+@runtime_checkable
+class Line(Body, Protocol):
+    """A body with fields along its arc length ``s`` (a cable): ``length``, and
+    ``interpolate(q, s)`` (position, slope and second derivative), ``strain``,
+    ``tension`` and ``curvature(q, s, stretch)`` of its own coordinates ``q``."""
+
+    length: float
+
+    def interpolate(self, q, s):
+        """``r``, ``r_s``, ``r_ss`` at arc lengths ``s``."""
+
+    def strain(self, q, s, stretch=1.0):
+        """Axial (Green) strain at arc lengths ``s``."""
+
+    def tension(self, q, s, stretch=1.0):
+        """Axial force (N) at arc lengths ``s``."""
+
+    def curvature(self, q, s, stretch=1.0):
+        """Curvature (1/m) at arc lengths ``s``."""
+
+
+@runtime_checkable
+class Load(Protocol):
+    """A load: ``bind(system)`` returns its ``Term`` (forces through ``add`` or
+    ``kernels``, constant ``force`` and ``mass``; see the module docstring)."""
+
+    def bind(self, system):
+        """The load's ``Term`` in ``system``."""
+
+
+@runtime_checkable
+class Constraint(Protocol):
+    """Equations ``C(q, t) = 0`` with multipliers: ``n_eq``, ``name``, ``labels`` (one
+    per equation), ``linear`` (constant Jacobian), and the hooks below on the
+    coordinates ``qc = q[dofs(system)]`` (module docstring; an optional compiled
+    ``kernel``)."""
+
+    n_eq: int
+    name: str
+    labels: list
+    linear: bool
+
+    def dofs(self, system):
+        """The global coordinates it reads."""
+
+    def value(self, qc, t=0.0):
+        """``C`` (n_eq,)."""
+
+    def jacobian(self, qc, t=0.0):
+        """``C_q`` (n_eq, len(qc))."""
+
+    def hessian(self, qc, lam, t=0.0):
+        """``d(C_q^T lam)/dq`` (len(qc) square), or None if zero."""
+
+    def velocity_term(self, qc, t=0.0):
+        """``C_t``."""
+
+    def accel_term(self, qc, vc, t=0.0):
+        """``(C_q v)_q v + 2 C_qt v + C_tt``."""
+
+
+class Observer(Protocol):
+    """Observers of a time integration (``simulate(..., observers=[...])``): a protocol
+    with default hooks, so a subclass overrides any of the three and a plain class with
+    all three needs no base.
 
     ``start(run)``
         Once before the first step (also when a run is resumed).  ``run`` carries the
@@ -360,6 +506,53 @@ class Run:
     stats: dict
     resumed: bool = False
     stop_reason: str | None = None
+
+
+class Observers:
+    """The observer loop of a time integration, the one every integrator runs
+    (``simulate``, the rod chain's ``integrate``): check the observers, start them, hand
+    them each saved step, finish them, also when the run fails.
+
+    ``with Observers(run, observers, result) as watch:`` starts them; ``watch.saved(step)``
+    hands a ``Step`` to each and returns the first stop message (a true value returned by
+    an observer's ``saved``; not a string: ``"stopped by <class>"``), or None; leaving the
+    block finishes them (``finish_observers``), and an exception leaving it carries
+    ``result()``, the steps computed so far, as ``err.result``.
+    """
+
+    def __init__(self, run, observers, result):
+        self.run, self.observers, self.result = run, list(observers or ()), result
+        for obs in self.observers:
+            if not all(callable(getattr(obs, hook, None))
+                       for hook in ("start", "saved", "finish")):
+                raise TypeError(f"{obs!r} is not an Observer (needs start, saved and "
+                                "finish)")
+        self.started = []
+
+    def __enter__(self):
+        try:
+            for obs in self.observers:
+                obs.start(self.run)
+                self.started.append(obs)
+        except BaseException as err:
+            self.__exit__(type(err), err, err.__traceback__)
+            raise
+        return self
+
+    def saved(self, step):
+        stop = None
+        for obs in self.observers:
+            answer = obs.saved(self.run, step)
+            if answer and stop is None:
+                stop = answer if isinstance(answer, str) else f"stopped by {type(obs).__name__}"
+        return stop
+
+    def __exit__(self, kind, error, traceback):
+        if error is not None:
+            with contextlib.suppress(Exception):  # the saved steps travel with the error
+                error.result = self.result()
+        finish_observers(self.started, self.run, error)
+        return False
 
 
 def finish_observers(observers, run, error):

@@ -34,7 +34,6 @@ ion-deflecting sheath of a tether is a few electron Debye lengths wide,
 pressure ``m_p n u^2 ~ r^-2`` times the sheath width: ``r^-2 r^(5/6) = r^(-7/6)``."""
 
 _EMPTY = np.zeros(0)
-_NO_SCATTER = np.zeros((0, 12, 12), dtype=np.int64)
 
 
 @dataclass
@@ -255,6 +254,7 @@ class SolarWindForce:
         want = data is not None
         kernel.force_tangent(q, (edofs, self.S, self.Sx, self.w),
                              (self.coefficients(t), self.sun_at(t), self.scaling),
-                             (f, data if want else _EMPTY, index if want else _NO_SCATTER,
+                             (f, data if want else _EMPTY, index if want else
+                              np.zeros((0,) + edofs.shape[1:] * 2, dtype=np.int64),
                               resultant), cK)
         return resultant

@@ -397,18 +397,15 @@ def _vector(fn):
 
 
 def _gauss_points(cable):
-    """Mesh coordinates ``x`` of the cable's Gauss points (ne, nq): the Hermite
-    interpolation of the nodes' reference arc lengths (exact: ``x`` is linear)."""
-    x = cable.mesh.p[0]
-    xe = np.stack([x[:-1], np.ones_like(cable.h), x[1:], np.ones_like(cable.h)], axis=1)
-    return np.einsum("egA,eA->eg", cable.S, xe)
+    """Mesh coordinates ``x`` of the cable's Gauss points (ne, nq)."""
+    return cable.mesh.p[0, :-1, None] + cable.h[:, None] * cable.xi[None, :]
 
 
 def _assemble(cable, blocks):
-    """The sparse matrix (cable coordinates) of element blocks ``(ne, 4, 4)`` of the
-    Hermite functions, on every component: ``K[3A+i, 3B+i] = blocks[A, B]``."""
-    ne = blocks.shape[0]
-    full = np.einsum("eAB,ij->eAiBj", blocks, np.eye(3)).reshape(ne, 12, 12)
+    """The sparse matrix (cable coordinates) of element blocks ``(ne, nf, nf)`` of the
+    element's functions, on every component: ``K[3A+i, 3B+i] = blocks[A, B]``."""
+    ne, nf, _ = blocks.shape
+    full = np.einsum("eAB,ij->eAiBj", blocks, np.eye(3)).reshape(ne, 3 * nf, 3 * nf)
     edofs = cable.element_dofs
     rows = np.broadcast_to(edofs[:, :, None], full.shape).ravel()
     cols = np.broadcast_to(edofs[:, None, :], full.shape).ravel()

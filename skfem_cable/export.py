@@ -3,18 +3,21 @@
 scikit-fem's ``Mesh.save`` writes the 1-D parameter mesh of a cable, not the deformed 3-D
 curve, so the mesh is built here from the solution:
 
-* every cable is a smooth curve: its cubic Hermite interpolant sampled at
-  ``points_per_element`` points per element (``line`` cells), with the point data
-  ``position``, ``velocity``, ``tension``, ``axial_strain``, ``curvature``, ``arc_length``,
-  ``cable_id`` (index in ``System.cables()``) and ``element_id``;
+every body draws itself (``Body.show`` returns a ``contract.Shape``), so a user's body
+appears as it says:
+
+* every cable is a smooth curve: its interpolant sampled at ``points_per_element`` points
+  per element (``line`` cells, ``Cable.sample``), with the point data ``position``,
+  ``velocity``, ``tension``, ``axial_strain``, ``curvature``, ``arc_length``, ``cable_id``
+  (index among the cables) and ``element_id``;
 * a rigid body is a closed triangulated surface following its motion: a cylinder for
   ``RigidBody.cylinder`` (axis along the body ``x`` axis), the tetrahedron of its base
-  points otherwise;
-* point masses are ``vertex`` cells.
+  points otherwise (``RigidBody.surface``);
+* point masses are ``vertex`` cells; a reel shows nothing.
 
-Fields that only cables carry (``tension``, ``axial_strain``, ``curvature``,
-``arc_length``) are NaN on rigid-body and point-mass points, and their ids are -1; ParaView
-and pyvista leave NaN out of colour ranges.  Every point has ``body_id`` (index in
+Fields that only some shapes carry (the cables' ``tension``, ``axial_strain``,
+``curvature``, ``arc_length``) are NaN on the other points, and their ids are -1;
+ParaView and pyvista leave NaN out of colour ranges.  Every point has ``body_id`` (index in
 ``System.bodies``) and every cell the cell data ``body_id`` and ``part`` (``PART_CABLE``,
 ``PART_RIGID``, ``PART_POINT_MASS``).
 
@@ -32,125 +35,13 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from .io.atomic import replacing
-
-#: Values of the cell data ``part``.
-PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
-
-#: Point data that only cables carry (NaN elsewhere).
-CABLE_FIELDS = ("tension", "axial_strain", "curvature", "arc_length")
-
-
-def sample_cable(cable, q, v=None, points_per_element=8, stretch=1.0):
-    """Fields of a cable at ``points_per_element`` equally spaced points of each element.
-
-    Parameters
-    ----------
-    cable : Cable
-    q, v : ndarray (cable.n_dofs,)
-        The cable's coordinates and velocities (``v`` None: zero velocity).
-    points_per_element : int
-        Samples per element, the element's first node included; consecutive elements
-        share their common node, so there are ``n_elements * points_per_element + 1``
-        points.
-    stretch : float
-        Mesh stretch of a deploying cable (``System.stretch``): its fields are
-        derivatives in the material arc length ``arc_length = stretch x``.
-
-    Returns
-    -------
-    dict
-        ``arc_length`` and ``element_id`` (npts,), ``position`` and ``velocity``
-        (npts, 3), ``tension`` (N), ``axial_strain`` (Green strain) and ``curvature``
-        (1/m), each (npts,).
-    """
-    m = int(points_per_element)
-    if m != points_per_element or m < 1:
-        raise ValueError(f"points_per_element must be a positive integer, "
-                         f"got {points_per_element!r}")
-    x = cable.mesh.p[0]
-    ne = cable.n_elements
-    s = np.append((x[:-1, None] + cable.h[:, None] * (np.arange(m) / m)).ravel(), x[-1])
-    velocity = np.zeros((len(s), 3)) if v is None else cable.interpolate(v, s)[0]
-    return {"arc_length": stretch * s,
-            "element_id": np.append(np.repeat(np.arange(ne), m), ne - 1),
-            "position": cable.interpolate(q, s)[0],
-            "velocity": velocity,
-            "tension": cable.tension(q, s, stretch),
-            "axial_strain": cable.strain(q, s, stretch),
-            "curvature": cable.curvature(q, s, stretch)}
-
-
-def cylinder_surface(radius, height, resolution=32):
-    """Closed triangulated cylinder with its axis along ``x``, centred at the origin.
-
-    Returns ``points`` (2 resolution + 2, 3) and outward-oriented ``triangles``
-    (4 resolution, 3): the side wall and two caps fanned from their centres.
-    """
-    n = int(resolution)
-    if n != resolution or n < 3:
-        raise ValueError(f"resolution must be an integer >= 3, got {resolution!r}")
-    th = 2 * np.pi * np.arange(n) / n
-    ring = np.column_stack([np.zeros(n), radius * np.cos(th), radius * np.sin(th)])
-    bottom, top = ring - [height / 2, 0, 0], ring + [height / 2, 0, 0]
-    points = np.vstack([bottom, top, [[-height / 2, 0, 0], [height / 2, 0, 0]]])
-    k, k1 = np.arange(n), (np.arange(n) + 1) % n
-    cb, ct = np.full(n, 2 * n), np.full(n, 2 * n + 1)
-    triangles = np.vstack([np.column_stack([k, k1, n + k1]),
-                           np.column_stack([k, n + k1, n + k]),
-                           np.column_stack([cb, k1, k]),
-                           np.column_stack([ct, n + k, n + k1])])
-    return points, triangles
-
-
-def body_surface(body, resolution=32):
-    """Body-frame surface of a rigid body: its cylinder (``RigidBody.cylinder``) or the
-    tetrahedron of its base points, as ``points`` (n, 3) and outward ``triangles``."""
-    if hasattr(body, "radius") and hasattr(body, "height"):
-        return cylinder_surface(body.radius, body.height, resolution)
-    points = body.base_points
-    faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
-    centre = points.mean(axis=0)
-    for f in faces:
-        a, b, c = points[f]
-        if np.cross(b - a, c - a) @ (a - centre) < 0:
-            f[[1, 2]] = f[[2, 1]]
-    return points, faces
-
-
-class _Builder:
-    """Accumulates points, point data and cell blocks of the mesh of a system."""
-
-    def __init__(self):
-        self.points, self.data, self.cells = [], [], []
-        self.count = 0
-
-    def add(self, points, cell_type, connectivity, part, body_id, **data):
-        n = len(points)
-        fields = {"velocity": np.zeros((n, 3)), "body_id": np.full(n, body_id),
-                  "cable_id": np.full(n, -1), "element_id": np.full(n, -1)}
-        fields.update({name: np.full(n, np.nan) for name in CABLE_FIELDS})
-        fields.update(data)
-        self.points.append(np.asarray(points, dtype=float))
-        self.data.append(fields)
-        self.cells.append((cell_type, np.asarray(connectivity) + self.count, part, body_id))
-        self.count += n
-
-    def mesh(self):
-        points = np.vstack(self.points)
-        names = self.data[0].keys()
-        point_data = {name: np.concatenate([d[name] for d in self.data]) for name in names}
-        point_data["position"] = points
-        for name in ("body_id", "cable_id", "element_id"):
-            point_data[name] = point_data[name].astype(np.int32)
-        cells = [meshio.CellBlock(kind, conn.astype(np.int64)) for kind, conn, _, _ in self.cells]
-        cell_data = {"part": [np.full(len(c), p, np.int32) for _, c, p, _ in self.cells],
-                     "body_id": [np.full(len(c), b, np.int32) for _, c, _, b in self.cells]}
-        return meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
+from .atomic import replacing
+from .contract import PART_CABLE, PART_POINT_MASS, Shape
 
 
 def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
-    """The deformed system as one ``meshio.Mesh`` (see the module docstring).
+    """The deformed system as one ``meshio.Mesh`` (see the module docstring): what every
+    body shows (``Body.show``) and the point masses.
 
     Parameters
     ----------
@@ -158,7 +49,7 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
     q, v : ndarray (system.n_dofs,)
         Coordinates and velocities (``v`` None: zero velocity).
     points_per_element : int
-        Samples per cable element (``sample_cable``).
+        Samples per cable element (``Cable.sample``).
     resolution : int
         Segments around a cylinder.
     t : float
@@ -166,29 +57,54 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
     """
     q = np.asarray(q, dtype=float)
     v = np.zeros_like(q) if v is None else np.asarray(v, dtype=float)
-    out = _Builder()
-    cables = system.cables()
-    cable_index = 0
+    shapes = []
     for body_id, body in enumerate(system.bodies):
-        dofs = system.dofs(body)
-        if body in cables:
-            f = sample_cable(body, q[dofs], v[dofs], points_per_element,
-                             system.stretch(body, t, q))
-            n = len(f["arc_length"])
-            lines = np.column_stack([np.arange(n - 1), np.arange(1, n)])
-            out.add(f.pop("position"), "line", lines, PART_CABLE, body_id,
-                    cable_id=np.full(n, cable_index), **f)
-            cable_index += 1
-        elif hasattr(body, "positions"):
-            x, triangles = body_surface(body, resolution)
-            out.add(body.positions(q[dofs], x), "triangle", triangles, PART_RIGID, body_id,
-                    velocity=body.positions(v[dofs], x))
+        shape = body.show(system, q, v, t, points_per_element=points_per_element,
+                          resolution=resolution)
+        if shape is not None:
+            shapes.append((shape, body_id))
     for point_mass in system.point_masses:
         dofs, G = system.position_map(point_mass.point)
         owner = max(i for i, b in enumerate(system.bodies) if system.dofs(b)[0] <= dofs[0])
-        out.add((G @ q[dofs])[None], "vertex", [[0]], PART_POINT_MASS, owner,
-                velocity=(G @ v[dofs])[None])
-    return out.mesh()
+        shapes.append((Shape((G @ q[dofs])[None], (G @ v[dofs])[None], "vertex", [[0]],
+                             PART_POINT_MASS), owner))
+    return _mesh(shapes)
+
+
+def _mesh(shapes):
+    """One ``meshio.Mesh`` of ``(shape, body_id)`` pairs: their points, cells and point
+    data, a field a shape lacks NaN on its points; ``body_id`` and ``part`` as cell data;
+    ``cable_id`` (the index among the cables' shapes, -1 elsewhere) and ``element_id`` (-1
+    where a shape has none) as integer point data."""
+    names = {}
+    for shape, _ in shapes:
+        names.update({k: np.shape(a)[1:] for k, a in shape.data.items()})
+    points, cells, data = [], [], {k: [] for k in ("velocity", "body_id", "cable_id")}
+    data.update({k: [] for k in names})
+    count, cable = 0, 0
+    for shape, body_id in shapes:
+        n = len(shape.points)
+        points.append(np.asarray(shape.points, dtype=float))
+        data["velocity"].append(np.asarray(shape.velocity, dtype=float))
+        data["body_id"].append(np.full(n, body_id))
+        data["cable_id"].append(np.full(n, cable if shape.part == PART_CABLE else -1))
+        cable += shape.part == PART_CABLE
+        for k, tail in names.items():
+            fill = -1 if k == "element_id" else np.nan
+            data[k].append(np.asarray(shape.data[k]) if k in shape.data
+                           else np.full((n,) + tail, fill))
+        cells.append((shape.cell_type, np.asarray(shape.cells) + count, shape.part, body_id))
+        count += n
+    point_data = {k: np.concatenate(parts) for k, parts in data.items()}
+    point_data["position"] = np.vstack(points)
+    for name in ("body_id", "cable_id", "element_id"):
+        if name in point_data:
+            point_data[name] = point_data[name].astype(np.int32)
+    blocks = [meshio.CellBlock(kind, conn.astype(np.int64)) for kind, conn, _, _ in cells]
+    cell_data = {"part": [np.full(len(c), p, np.int32) for _, c, p, _ in cells],
+                 "body_id": [np.full(len(c), b, np.int32) for _, c, _, b in cells]}
+    return meshio.Mesh(point_data["position"], blocks, point_data=point_data,
+                       cell_data=cell_data)
 
 
 class InertialFrame:

@@ -18,7 +18,7 @@ D_xd,x`` and ``Hc = D_xd,xd`` (``laws.codegen``), and
 >>> q = cable.q0 * 1.01
 >>> L, a = sc.forms.internal(cable)
 >>> f = skfem.asm(L, cable.basis, **sc.forms.state(cable, q))
->>> bool(np.allclose(f, cable.assemble(q)[0], rtol=1e-12, atol=1e-9))
+>>> bool(np.allclose(f, sc.System([cable]).assemble(q)[0], rtol=1e-12, atol=1e-9))
 True
 
 A reference path for checking and extending (it evaluates the law in numpy, once per

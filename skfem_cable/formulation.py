@@ -20,6 +20,10 @@ them (``docs/locking.md`` measures the three).
     recovered from the Lobatto points.  Locking-free, but fourth order on taut cables
     where the others reach sixth.
 
+``"segment"`` (the linear element's)
+    The law at the element midpoints, strain and tension recovered from them
+    (``Segment``).
+
 A formulation is a small object with three hooks: ``passes(cable)`` (the compiled kernel
 calls of its elastic forces: a law or a part of it, the kind of its generated module,
 ``laws.codegen.TEMPLATES``, and the tables of its rule) and ``strain``/``tension(cable, q,
@@ -78,7 +82,20 @@ def _quadratic(cable, nodes, middles, s):
             + 2 * xi * (xi - 0.5) * nodes[..., e + 1])
 
 
-class Lobatto:
+class _Recovered:
+    """Strain and tension of the raw field, sampled and interpolated by the formulation's
+    ``_recovered(cable, value, s)`` (``value(e, xi)``: the field in elements ``e`` at
+    reference coordinates ``xi``)."""
+
+    def strain(self, cable, q, s, stretch=1.0):
+        return self._recovered(cable, lambda e, xi: cable.green(q, e, xi, stretch), s)
+
+    def tension(self, cable, q, s, stretch=1.0):
+        return self._recovered(cable, lambda e, xi: cable.section_force(q, e, xi, stretch),
+                               s)
+
+
+class Lobatto(_Recovered):
     """The axial part on the Gauss-Lobatto rule, the bending part on the 3-point Gauss
     rule; fields recovered from the Lobatto points."""
 
@@ -87,13 +104,6 @@ class Lobatto:
     def passes(self, cable):
         return [(cable.law.part(0), "gauss", cable.tables_at(*LOBATTO)),
                 (cable.law.part(1), "gauss", cable.tables_at(*BENDING_RULE))]
-
-    def strain(self, cable, q, s, stretch=1.0):
-        return self._recovered(cable, lambda e, xi: cable.green(q, e, xi, stretch), s)
-
-    def tension(self, cable, q, s, stretch=1.0):
-        return self._recovered(cable, lambda e, xi: cable.section_force(q, e, xi, stretch),
-                               s)
 
     @staticmethod
     def _recovered(cable, value, s):
@@ -186,6 +196,37 @@ class AssumedStrain:
         return _quadratic(cable, _nodal(mean - a1 + a2, mean + a1 + a2), mean - a2 / 2, s)
 
 
+class Segment(_Recovered):
+    """The law at the midpoint of each element (exact for the constant strain of the
+    linear element); strain and tension recovered from the midpoints, where the linear
+    element's strain is superconvergent: the piecewise linear through them, extrapolated
+    to the cable's ends (a uniform field in a cable of one element).  Exact for tension
+    that is linear along the cable (a hanging cable's), where the raw, constant value of
+    an element is off by half an element's weight."""
+
+    name = "segment"
+
+    #: The midpoint rule: reference coordinate and weight.
+    MIDPOINT = (np.array([0.5]), np.array([1.0]))
+
+    def passes(self, cable):
+        return [(cable.law, "gauss", cable.tables_at(*self.MIDPOINT))]
+
+    @staticmethod
+    def _recovered(cable, value, s):
+        """``value(e, xi)`` at the element midpoints, interpolated linearly in the arc
+        length between them and extrapolated beyond the first and last, at ``s``."""
+        e = np.arange(cable.n_elements)
+        middle = value(e, np.full(e.size, 0.5))
+        if cable.n_elements == 1:
+            return np.broadcast_to(middle[..., :1], middle.shape[:-1] + np.shape(s))
+        x = cable.mesh.p[0]
+        centre = 0.5 * (x[1:] + x[:-1])
+        k = np.clip(np.searchsorted(centre, s) - 1, 0, cable.n_elements - 2)
+        w = (np.asarray(s) - centre[k]) / (centre[k + 1] - centre[k])
+        return (1 - w) * middle[..., k] + w * middle[..., k + 1]
+
+
 #: The formulations by name; the first is the default.
-FORMULATIONS = {f.name: f for f in (AssumedStrain(), Paper(), Lobatto())}
+FORMULATIONS = {f.name: f for f in (AssumedStrain(), Paper(), Lobatto(), Segment())}
 DEFAULT = next(iter(FORMULATIONS))

@@ -317,19 +317,19 @@ class LineLoad(AlongCable):
     def bind(self, system):
         cable = self.cable
         edofs = cable.global_element_dofs(system)
-        S = cable.S  # (ne, nq, 4)
+        S = cable.S  # (ne, nq, nf)
         w = cable.weights  # (ne, nq)
-        ne, nq = w.shape
+        ne, nq, nf = S.shape
 
         def add(ev, index):
-            qe = ev.q[edofs].reshape(ne, 4, 3)
+            qe = ev.q[edofs].reshape(ne, nf, 3)
             x = np.einsum("egA,eAi->egi", S, qe).reshape(-1, 3)
             if ev.dynamic:
-                v = np.einsum("egA,eAi->egi", S, ev.v[edofs].reshape(ne, 4, 3)).reshape(-1, 3)
+                v = np.einsum("egA,eAi->egi", S, ev.v[edofs].reshape(ne, nf, 3)).reshape(-1, 3)
             else:
                 v = np.zeros_like(x)
             f = self.evaluate(x, v, ev.t)
-            fe = np.einsum("eg,egA,egi->eAi", w, S, f.reshape(ne, nq, 3)).reshape(ne, 12)
+            fe = np.einsum("eg,egA,egi->eAi", w, S, f.reshape(ne, nq, 3)).reshape(ne, 3 * nf)
             np.add.at(ev.f_ext, edofs, fe)
             if ev.want_tangent:
                 dq, dv = self.jacobians(x, v, ev.t, f, ev.dynamic)
@@ -342,9 +342,9 @@ class LineLoad(AlongCable):
 
     @staticmethod
     def _element_matrix(S, w, J):
-        ne, nq, _ = S.shape
+        ne, nq, nf = S.shape
         Ke = np.einsum("eg,egA,egij,egB->eAiBj", w, S, J.reshape(ne, nq, 3, 3), S)
-        return Ke.reshape(ne, 12, 12)
+        return Ke.reshape(ne, 3 * nf, 3 * nf)
 
 
 class Centrifugal:

@@ -83,13 +83,7 @@ def system_mass_points(system):
     """
     parts = []
     for body in system.bodies:
-        hook = getattr(body, "mass_points", None)
-        if hook is None:
-            raise TypeError(
-                f"body {body.name!r} ({type(body).__name__}) has no mass_points() hook: "
-                "a system in orbit needs every body to say where its mass is (see "
-                "docs/extending.md)")
-        vectors, coefficients, mass = hook()
+        vectors, coefficients, mass = body.mass_points()
         parts.append((np.asarray(vectors) + system.dofs(body)[0],
                       np.asarray(coefficients, float), np.asarray(mass, float)))
     for point_mass in system.point_masses:

@@ -88,6 +88,18 @@ class Reel:
         """``[[J / R^2]]`` (kg): the drum's inertia seen by the length."""
         return sp.csr_matrix([[self.inertia / self.radius**2]])
 
+    def mass_points(self):
+        """No mass in space (``Body.mass_points``): the drum's inertia is the length's."""
+        return np.zeros((0, 1), np.int64), np.zeros((0, 1)), np.zeros(0)
+
+    def show(self, system, q, v, t, **detail):
+        """Nothing to draw (``Body.show``): the drum is not placed in space."""
+        return None
+
+    def outputs(self, system, q, t):
+        """``Body.outputs``: the free length (m)."""
+        return {"length": q[system.dofs(self)][0]}
+
     def bind(self, system):
         """The term of the drive's torque on the length, ``torque / R``, booked as
         external work (a brake's is negative); None for a free reel."""

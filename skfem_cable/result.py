@@ -7,32 +7,8 @@ with ``Result.load`` (``io.load_result``; xarray users open its store directly, 
 
 import numpy as np
 
+from .records import FIELDS
 from .state import State
-
-#: Energies recorded at every saved step (``contract.Step.energies``).
-ENERGIES = ("kinetic", "axial", "bending", "potential", "dissipated", "external_work")
-
-#: Arrays recorded at every saved step.
-FIELDS = ("t", "q", "v", "a", "lam", "iterations") + ENERGIES
-
-
-#: Settings of a run recorded in a checkpoint (``settings``, an array in this order); all
-#: but ``t_end`` must match when the run is resumed.
-SETTINGS = ("t_start", "t_end", "dt", "rho_inf", "every", "tol", "max_iter")
-
-
-def settings_array(settings):
-    """The ``SETTINGS`` of a run's settings (a dict, ``contract.Run.settings``) as the
-    array a checkpoint stores."""
-    return np.array([settings[k] for k in SETTINGS], dtype=float)
-
-
-def step_record(step):
-    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied."""
-    record = {"t": step.t, "q": step.q.copy(), "v": step.v.copy(), "a": step.a.copy(),
-              "lam": step.lam.copy(), "iterations": step.iterations}
-    record.update({name: step.energies[name] for name in ENERGIES})
-    return record
 
 
 class Result:
@@ -189,9 +165,9 @@ class Result:
         skips the test; sizes must still match).  Fields the store left out (by default
         the accelerations ``a``) are NaN.  ``stats``: the solver counters at the last
         saved step, ``status`` and ``stopped``.  See ``io.load_result``."""
-        from .io.store import load_result
+        from .io.reader import read_result
 
-        return load_result(path, system, check=check)
+        return cls(system, *read_result(path, system, check=check))
 
 
 def _describe_body(body):

@@ -17,6 +17,7 @@ Examples
 import numpy as np
 import scipy.sparse as sp
 
+from .contract import PART_RIGID, Shape
 from .quadratic import QuadraticConstraints
 from .section import check_positive
 
@@ -136,6 +137,7 @@ class RigidBody:
             raise ValueError("rotation must be a proper rotation matrix")
         self.q0 = (np.asarray(position, dtype=float) + P @ R.T).ravel()
         self.element_dofs = np.arange(12, dtype=np.int64)[None, :]
+        self.radius = self.height = None  # a cylinder's (``cylinder``), for its surface
         self._mass = None
 
     @classmethod
@@ -245,6 +247,57 @@ class RigidBody:
         """No internal forces: a rigid body's coordinates are held by its
         ``internal_constraints``."""
         return None
+
+    # --- what it shows (contract.Body) ------------------------------------------------------
+    def surface(self, resolution=32):
+        """Body-frame surface: the cylinder of ``RigidBody.cylinder`` (``resolution``
+        segments around), or else the tetrahedron of the base points, as ``points``
+        (n, 3) and outward-oriented ``triangles``."""
+        if self.radius is not None:
+            return cylinder_surface(self.radius, self.height, resolution)
+        points = self.base_points
+        faces = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+        centre = points.mean(axis=0)
+        for f in faces:
+            a, b, c = points[f]
+            if np.cross(b - a, c - a) @ (a - centre) < 0:
+                f[[1, 2]] = f[[2, 1]]
+        return points, faces
+
+    def show(self, system, q, v, t, resolution=32, **detail):
+        """``Body.show``: its ``surface`` moving with it (``triangle`` cells)."""
+        dofs = system.dofs(self)
+        x, triangles = self.surface(resolution)
+        return Shape(self.positions(q[dofs], x), self.positions(v[dofs], x), "triangle",
+                     triangles, PART_RIGID)
+
+    def outputs(self, system, q, t):
+        """``Body.outputs``: the position of the centre of mass (m) and the rotation
+        matrix (body to inertial)."""
+        d = q[system.dofs(self)]
+        return {"center_of_mass": self.positions(d, self.center_of_mass),
+                "rotation": self.rotation(d)}
+
+
+def cylinder_surface(radius, height, resolution=32):
+    """Closed triangulated cylinder with its axis along ``x``, centred at the origin.
+
+    Returns ``points`` (2 resolution + 2, 3) and outward-oriented ``triangles``
+    (4 resolution, 3): the side wall and two caps fanned from their centres.
+    """
+    n = int(resolution)
+    if n != resolution or n < 3:
+        raise ValueError(f"resolution must be an integer >= 3, got {resolution!r}")
+    th = 2 * np.pi * np.arange(n) / n
+    ring = np.column_stack([np.zeros(n), radius * np.cos(th), radius * np.sin(th)])
+    bottom, top = ring - [height / 2, 0, 0], ring + [height / 2, 0, 0]
+    points = np.vstack([bottom, top, [[-height / 2, 0, 0], [height / 2, 0, 0]]])
+    k, k1 = np.arange(n), (np.arange(n) + 1) % n
+    cb, ct = np.full(n, 2 * n), np.full(n, 2 * n + 1)
+    return points, np.vstack([np.column_stack([k, k1, n + k1]),
+                              np.column_stack([k, n + k1, n + k]),
+                              np.column_stack([cb, k1, k]),
+                              np.column_stack([ct, n + k, n + k1])])
 
 
 class RigidConstraints(QuadraticConstraints):

@@ -24,12 +24,12 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import constraints as cons
-from .cable import Node
-from .contract import Evaluation
+from .contract import Evaluation, Line, check_body
 from .io.fingerprint import describe_system, differences
 from .layout import Layout
 from .loads import Centrifugal, Gravity, PointLoad, PointMass, PointMoment, UniformLineLoad
 from .loads import vector3 as _vector3
+from .node import Node
 from .orbit_gravity import DifferentialGravity
 
 
@@ -100,6 +100,8 @@ class System:
         self.bodies = list(bodies)
         if not self.bodies:
             raise ValueError("bodies must contain at least one body")
+        for body in self.bodies:
+            check_body(body)
         self.offsets = {}
         n = 0
         for body in self.bodies:
@@ -464,9 +466,9 @@ class System:
                                                      np.concatenate(cols))), shape=M.shape)
 
     def cables(self):
-        """The bodies with cable fields (``interpolate``, ``tension``): cables and their
-        subclasses."""
-        return [b for b in self.bodies if hasattr(b, "interpolate")]
+        """The bodies with fields along a line (``contract.Line``: ``interpolate``,
+        ``tension``, ...): cables, their subclasses and a user's line bodies."""
+        return [b for b in self.bodies if isinstance(b, Line)]
 
     def describe_dof(self, index):
         """Human-readable owner of a global unknown (body and node, or constraint)."""
@@ -626,6 +628,26 @@ class System:
             info["force_ref"] = max(np.linalg.norm(ev.f), np.linalg.norm(f_ext),
                                     np.linalg.norm(f_con))
         return r, info
+
+    def assemble(self, q, v=None, cK=1.0, cC=0.0):
+        """The bodies' internal force ``f = dU/dq + dD/dv`` and its tangent ``cK df/dq + cC
+        df/dv`` (sparse, ``n_dofs`` square) at ``q`` and ``v`` (None: statics, no
+        dissipation), by the compiled kernels; loads and constraints left out.
+
+        Examples
+        --------
+        >>> import skfem_cable as sc
+        >>> sec = sc.Section(E=1e9, A=1e-6, I=1e-12, rho=1e3)
+        >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sec)
+        >>> f, K = sc.System([cable]).assemble(cable.q0 * 1.01)   # stretched by 1 %
+        >>> round(float(f[12]), 6), K.shape                      # the tip's axial force
+        (10.1505, (18, 18))
+        """
+        data = np.zeros(self.layout.nnz)
+        _, info = self.evaluate(q, v, 0.0, np.zeros(self.n_constraints), load_factor=0.0,
+                                cK=cK, cC=cC, data=data)
+        n = self.n_dofs
+        return info["f"], self.layout.matrix(data)[:n, :n].tocsr()
 
 
 def _vector_blocks(bodies):

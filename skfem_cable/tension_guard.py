@@ -79,9 +79,10 @@ def tension_warnings(system, q, t=None):
                 i = int(np.argmax(ratio))
                 if ratio[i] > worst[key][0]:
                     worst[key] = (ratio[i], (times[i], mean[i], detail[i], N[i].max()))
-        what = (f"(formulation {cable.formulation!r}): membrane locking or an unresolved "
-                "tension; refine the mesh, or use the default formulation "
-                "'assumed-strain' (docs/locking.md)")
+        what = (f"(element {cable.element.name!r}, formulation {cable.formulation!r}): "
+                "membrane locking or an unresolved tension; refine the mesh, or use the "
+                "cubic element's default formulation 'assumed-strain' (docs/locking.md, "
+                "docs/elements.md)")
         if worst["sign"][0] > SIGN_TOLERANCE:
             time, mean, least, most = worst["sign"][1]
             when = "" if static else f" at t = {time:.6g} s"

@@ -3,14 +3,28 @@
 Each case is a reduced version of a test of the suite (``tests/test_validation_statics.py``,
 ``tests/test_dynamics*.py``) that runs in about a second and returns the reference value and
 ours; the table lists the relative error against the case's tolerance.
+
+Below them, the statics and modal cases that ``tests/test_validation_statics.py`` and
+``benchmarks/locking.py`` share: modes of straight beams (``beam_modes``, ``axial_fraction``,
+``transverse_pairs``), the taut elastic catenaries ``CATENARIES`` against the exact solution
+(``catenary_reference``, ``catenary_system``, ``catenary_errors``; the reference is
+``analytic.solve_catenary``) and the observed orders of convergence (``observed_rates``).
 """
 
 import time
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
+from skfem import MeshLine
 
-from .analytic import compound_pendulum_period, elastica_tip_load, string_frequency
+from .analytic import (
+    catenary_xz,
+    compound_pendulum_period,
+    elastica_tip_load,
+    solve_catenary,
+    string_frequency,
+)
 from .cable import Cable
 from .scenes import classics
 from .section import Section
@@ -157,3 +171,262 @@ def format_table(rows):
     passed = sum(r["passed"] for r in rows)
     lines.append(f"{passed} passed, {len(rows) - passed} failed")
     return "\n".join(lines)
+
+
+# --- statics and modes: the cases of tests/test_validation_statics.py ---------------------
+#: Gravity of the catenaries (m/s^2).
+G = 9.81
+#: Green pre-strain of the taut string (steel, 1 m, both ends pinned).
+EPS0 = 1e-3
+
+
+def axial_fraction(system, shapes, axis):
+    """Share of each mode's nodal displacement that lies along ``axis``.
+
+    Parameters
+    ----------
+    system : System
+        A system of one cable (6 coordinates per node).
+    shapes : ndarray, shape (k, n_dofs)
+        Mode shapes as returned by ``modes``.
+    axis : array_like, shape (3,)
+        Unit vector of the undeformed cable axis.
+
+    Returns
+    -------
+    ndarray, shape (k,)
+        ``sum |u . axis|^2 / sum |u|^2`` over the nodal positions ``u``: 1 for an axial
+        mode, 0 for a transverse one.
+    """
+    u = shapes.reshape(len(shapes), system.n_dofs // 6, 6)[:, :, :3]
+    along = np.einsum("kni,i->kn", u, np.asarray(axis, float))
+    return np.sum(along**2, axis=1) / np.sum(u**2, axis=(1, 2))
+
+
+def transverse_pairs(freqs, fraction, count, pair_rtol=1e-9):
+    """Distinct transverse frequencies of a straight 3-D beam (each appears twice).
+
+    Parameters
+    ----------
+    freqs : ndarray
+        Ascending frequencies (Hz).
+    fraction : ndarray
+        Axial fraction of each mode (``axial_fraction``).
+    count : int
+        Number of distinct frequencies wanted.
+    pair_rtol : float
+        The two planes of bending must agree to this relative tolerance.
+
+    Returns
+    -------
+    ndarray, shape (count,)
+
+    Raises
+    ------
+    ValueError
+        With fewer than ``2 count`` transverse modes, or when the two planes disagree.
+    """
+    f = freqs[fraction < 1e-6]
+    if len(f) < 2 * count:
+        raise ValueError(f"only {len(f)} transverse modes in {freqs}")
+    first, second = f[0:2 * count:2], f[1:2 * count:2]
+    if not np.all(np.abs(second - first) <= pair_rtol * np.abs(first)):
+        raise ValueError(f"bending pairs split: {first} and {second}")
+    return first
+
+
+def beam_modes(n_elements, supports, k=None, section=STEEL, length=1.0, formulation=None):
+    """Modes of a straight, stress-free beam along x (in ``formulation``, default the
+    library's).
+
+    Parameters
+    ----------
+    n_elements : int
+    supports : {"clamped-free", "pinned-pinned"}
+    k : int, optional
+        Number of modes; default all of them (dense eigensolver).
+    section : Section
+    length : float
+
+    Returns
+    -------
+    freqs : ndarray
+        Ascending frequencies (Hz).
+    fraction : ndarray
+        Axial fraction of each mode.
+    """
+    cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, section,
+                           formulation=formulation)
+    system = System([cable])
+    if supports == "clamped-free":
+        system.clamp(cable.node(0))
+    elif supports == "pinned-pinned":
+        system.pin(cable.node(0)).pin(cable.node(-1))
+    else:
+        raise ValueError(supports)
+    k = system.n_dofs - system.n_constraints if k is None else k
+    freqs, shapes = modes(system, k=k)
+    return freqs, axial_fraction(system, shapes, [1, 0, 0])
+
+
+def observed_rates(n_elements, errors):
+    """Observed convergence orders of successive meshes.
+
+    Parameters
+    ----------
+    n_elements : sequence of int
+    errors : sequence of float
+        Error on each mesh.
+
+    Returns
+    -------
+    ndarray
+        ``log(e_i / e_{i+1}) / log(n_{i+1} / n_i)``.
+    """
+    n, e = np.asarray(n_elements, float), np.asarray(errors, float)
+    return np.log(e[:-1] / e[1:]) / np.log(n[1:] / n[:-1])
+
+
+def midspan_sag(position_x, position_z, span, height, L0):
+    """Vertical distance of the cable below the chord at ``x = span/2``.
+
+    Parameters
+    ----------
+    position_x, position_z : callable
+        ``x`` and ``z`` of the cable at unstretched arc length ``s`` (scalar).
+    span, height, L0 : float
+        Horizontal span, height of the right support, unstretched length.
+
+    Returns
+    -------
+    float
+    """
+    s_mid = brentq(lambda s: position_x(s) - span / 2, 0.0, L0, xtol=1e-13)
+    return height / 2 - position_z(s_mid)
+
+
+#: Catenary cases: span (m), height difference (m), unstretched length (m), section.
+#: "steel": 20 mm solid steel rod (strain 5e-5); "rope": a soft rope, 2.7 % strain,
+#: shorter than the chord so that it hangs only by stretching (its support forces differ
+#: by 1.5 % from the Hooke-law catenary: the test sees the constitutive law).  I is tiny
+#: (EI / (H span^2) < 1e-10) so that the "cable" kind is a flexible catenary too.
+CATENARIES = {
+    "steel": (100.0, 10.0, 103.0, Section(E=2.1e11, A=np.pi * 1e-4, I=1e-14, rho=7850.0)),
+    "rope": (100.0, 10.0, 100.0, Section(E=5e8, A=1e-4, I=1e-14, rho=1e4)),
+}
+
+
+def catenary_reference(case, law="green"):
+    """Exact support forces and midspan sag of a case of ``CATENARIES``
+    (``analytic.solve_catenary``).
+
+    Parameters
+    ----------
+    case : str
+        Key of ``CATENARIES``.
+    law : {"green", "hooke"}
+        Material law (``analytic.stretch_minus_one``); ``"hooke"`` only for comparison.
+
+    Returns
+    -------
+    H, VA, VB, sag : float
+        Horizontal force, upward support forces (N) and midspan sag (m).
+    """
+    span, height, L0, sec = CATENARIES[case]
+    w = sec.mass_per_length * G
+    EA = sec.EA
+    H, VA, VB = solve_catenary(span, height, L0, w, EA, law)
+    sag = midspan_sag(lambda s: catenary_xz(s, H, VA, w, EA, law)[0, 0],
+                      lambda s: catenary_xz(s, H, VA, w, EA, law)[0, 1], span, height, L0)
+    return H, VA, VB, sag
+
+
+def catenary_system(case, n_elements, kind="truss", R=None, formulation=None):
+    """FE model of a catenary case in the frame rotated by ``R`` (default: identity).
+
+    The start is stress-free and independent of the answer: the inextensible catenary of
+    length ``L0`` (``EA = None``) when ``L0`` exceeds the chord, else the straight chord
+    (uniformly stretched, in tension).  Gravity is ``-g`` along the (rotated) z axis.
+
+    Parameters
+    ----------
+    case : str
+        Key of ``CATENARIES``.
+    n_elements : int
+    kind : {"truss", "cable"}
+    R : ndarray (3, 3), optional
+        Rotation of the frame.
+    formulation : str, optional
+        The cable's formulation (default: the library's).
+
+    Returns
+    -------
+    cable : Cable
+    system : System
+        Pins at ``R (0, 0, 0)`` and ``R (span, 0, height)``; the pin at the left support is
+        ``system.constraints[0]``.
+    """
+    R = np.eye(3) if R is None else np.asarray(R, dtype=float)
+    span, height, L0, sec = CATENARIES[case]
+    w = sec.mass_per_length * G
+    s = np.linspace(0.0, L0, n_elements + 1)
+    chord = np.array([span, height])
+    if L0 > np.linalg.norm(chord):
+        H, VA, _ = solve_catenary(span, height, L0, w, None)
+        xz = catenary_xz(s, H, VA, w, None)
+        txz = np.column_stack([H + 0 * s, w * s - VA]) / np.hypot(H, w * s - VA)[:, None]
+    else:
+        xz = s[:, None] * chord / L0
+        txz = np.tile(chord / L0, (len(s), 1))
+    zero = np.zeros_like(s)
+    positions = np.column_stack([xz[:, 0], zero, xz[:, 1]]) @ R.T
+    slopes = np.column_stack([txz[:, 0], zero, txz[:, 1]]) @ R.T
+    cable = Cable(MeshLine(s), sec, positions, slopes, law=kind, formulation=formulation)
+    system = System([cable])
+    system.pin(cable.node(0), R @ [0.0, 0.0, 0.0])
+    system.pin(cable.node(-1), R @ [span, 0.0, height])
+    system.add_gravity(R @ [0.0, 0.0, -G])
+    return cable, system
+
+
+def catenary_errors(case, n_elements, kind="truss", formulation=None):
+    """Relative errors of the FE catenary against ``catenary_reference``.
+
+    Parameters
+    ----------
+    case : str
+        Key of ``CATENARIES``.
+    n_elements : int
+    kind : {"truss", "cable"}
+
+    Returns
+    -------
+    dict
+        ``H``, ``V`` (both supports; the support force on the cable is ``-lambda``),
+        ``out_of_plane`` (the support forces across the plane, relative to ``H``),
+        ``sag`` (relative to the sag), ``position`` (max over 201 points, relative to the
+        span), ``tension`` (max over 201 points, relative), ``state``, ``system``.
+    """
+    span, height, L0, sec = CATENARIES[case]
+    w = sec.mass_per_length * G
+    H, VA, VB, sag = catenary_reference(case)
+    cable, system = catenary_system(case, n_elements, kind, formulation=formulation)
+    state = solve_static(system, load_steps=2)
+    lam_a, lam_b = (state.multipliers[c.name] for c in system.constraints)
+    support_a, support_b = -lam_a, -lam_b
+    s = np.linspace(0.0, L0, 201)
+    exact = catenary_xz(s, H, VA, w, sec.EA)
+    got = state.position(cable, s)[:, [0, 2]]
+    fe_sag = midspan_sag(lambda t: state.position(cable, t)[0],
+                         lambda t: state.position(cable, t)[2], span, height, L0)
+    tension = np.hypot(H, w * s - VA)
+    return {
+        "H": max(abs(support_a[0] + H), abs(support_b[0] - H)) / H,
+        "V": max(abs(support_a[2] - VA) / VA, abs(support_b[2] - VB) / VB),
+        "out_of_plane": max(abs(support_a[1]), abs(support_b[1])) / H,
+        "sag": abs(fe_sag - sag) / sag,
+        "position": np.max(np.abs(got - exact)) / span,
+        "tension": np.max(np.abs(state.tension(cable, s) / tension - 1.0)),
+        "state": state,
+        "system": system,
+    }

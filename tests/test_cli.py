@@ -141,9 +141,11 @@ def test_builtin_scenes_run(tmp_path, capsys):
 
 
 def test_registry_takes_dotted_targets(tmp_path):
-    catalog.register("probe-scene", "json:dumps", "a stand-in runner")
+    catalog.register("probe-scene", "dataclasses:asdict", "a stand-in runner")
     try:
-        assert catalog.run_scene("probe-scene", [1]) == "[1]"
+        assert catalog.run_scene("probe-scene", RunOptions(t_end=2.0))["t_end"] == 2.0
+        with pytest.raises(ValueError, match="'probe-scene' does not take --model"):
+            catalog.run_scene("probe-scene", RunOptions(model="rodchain"))
     finally:
         del catalog.SCENES["probe-scene"]
 

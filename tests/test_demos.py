@@ -33,7 +33,7 @@ def test_custom_element_force():
     q = bar.q0.copy()
     q[0::6] *= 1.3
     q[3::6] = 1.3
-    f, _ = bar.assemble(q)
+    f, _ = sc.System([bar]).assemble(q)
     assert f[6] == pytest.approx(0.3 * section.EA, rel=1e-12)
 
 

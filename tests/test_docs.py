@@ -158,6 +158,20 @@ def test_gallery_has_every_demo_with_picture_and_test():
         assert callable(g.DRAW[entry.name])
 
 
+def test_each_demo_script_draws_its_own_gallery_picture():
+    """A demo script holds the code of its picture (``gallery_figure(path)``), which the
+    gallery only runs; the gallery draws the pictures of the scene files (no code)."""
+    g = gallery()
+    for entry in g.ENTRIES:
+        if entry.demo.endswith(".py"):
+            tree = ast.parse((ROOT / "demos" / entry.demo).read_text())
+            names = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
+            assert "gallery_figure" in names, entry.demo
+            assert not hasattr(g, f"draw_{entry.name}"), entry.demo
+        else:
+            assert g.DRAW[entry.name] is getattr(g, f"draw_{entry.name}"), entry.demo
+
+
 def test_gallery_page_is_built_from_the_docstrings():
     g = gallery()
     text = g.page()

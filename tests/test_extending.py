@@ -199,6 +199,17 @@ class Bead:
     def describe_dof(self, i):
         return "xyz"[i]
 
+    def mass_points(self):
+        return np.zeros((1, 1), np.int64), np.ones((1, 1)), np.array([self.m])
+
+    def show(self, system, q, v, t, **detail):
+        d = system.dofs(self)
+        return sc.contract.Shape(q[d][None], v[d][None], "vertex", [[0]], part=3,
+                                 data={"stretch": [np.linalg.norm(q[d] - self.anchor)]})
+
+    def outputs(self, system, q, t):
+        return {"stretch": np.linalg.norm(q[system.dofs(self)] - self.anchor)}
+
     def bind(self, system):
         d = system.dofs(self)
         K = self.k * np.eye(3)
@@ -225,6 +236,40 @@ def test_user_body_is_called_through_its_own_hook():
     initial = sc.State(system, np.zeros(3), v=np.array([1.0, 0.0, 0.0]))
     r = sc.simulate(system, t_end=1.0, dt=1e-3, rho_inf=1.0, initial=initial)
     assert r.q[-1, 0] == pytest.approx(np.sin(w * r.t[-1]) / w, abs=2e-5)
+
+
+def test_user_body_appears_in_paraview_and_the_summary(tmp_path):
+    """A user body with the hooks of ``contract.Body`` is drawn by the ParaView export as
+    it says (a vertex with its own point data, NaN on the cable's points, the cable's
+    fields NaN on it) and reports its numbers in a run's summary; one without them is
+    refused, the missing hooks named."""
+    from skfem_cable import export, runner
+
+    bead = Bead(m=2.0, k=50.0, anchor=[0, 0, -1])
+    cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section(E=1e9, A=1e-6, I=1e-12,
+                                                                 rho=1e3))
+    system = sc.System([cable, bead])
+    q = system.q0.copy()
+    q[-3:] += [0.0, 0.3, 0.4]
+    mesh = export.system_mesh(system, q)
+    vertex = mesh.cells_dict["vertex"]
+    assert mesh.points[vertex[0, 0]] == pytest.approx([0.0, 0.3, -0.6])
+    stretch = mesh.point_data["stretch"]
+    assert stretch[vertex[0, 0]] == pytest.approx(0.5)
+    assert np.isnan(stretch).sum() == len(mesh.points) - 1
+    assert np.isnan(mesh.point_data["tension"][vertex[0, 0]])
+    result = sc.simulate(system, t_end=0.02, dt=0.01, initial=sc.State(system, q))
+    summary = runner.run_outputs(result)
+    assert summary["bodies"]["bead"]["stretch"] == pytest.approx(
+        np.linalg.norm(result.q[-1, -3:] - bead.anchor))
+    assert set(summary["cables"]) == {"cable"}
+
+    class Lump:
+        name, n_dofs, q0, position_mask = "lump", 3, np.zeros(3), np.ones(3, bool)
+
+    with pytest.raises(TypeError, match="lacks bind, describe_dof, internal_constraints, "
+                                        "mass_matrix, mass_points, outputs, show"):
+        sc.System([Lump()])
 
 
 @njit(cache=True)

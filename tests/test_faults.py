@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import cli, export
+from skfem_cable import atomic, cli, export
 from skfem_cable.coulomb import SolarWindForce
 from skfem_cable.io import (
     RunExists,
@@ -30,12 +30,12 @@ from skfem_cable.io import (
     StoreCorrupt,
     StoreError,
     StoreMismatch,
-    atomic,
     resume,
     run_observers,
 )
-from skfem_cable.io.store import DEFAULT_FIELDS, LEGACY_CHECKPOINT, STORE, chunk_name
-from skfem_cable.result import ENERGIES, FIELDS, SETTINGS
+from skfem_cable.io.legacy import LEGACY_CHECKPOINT, chunk_name
+from skfem_cable.io.schema import DEFAULT_FIELDS, STORE
+from skfem_cable.records import ENERGIES, FIELDS, SETTINGS
 from skfem_cable.scenes import classics
 
 # ===========================================================================================

@@ -21,8 +21,8 @@ import pytest
 import xarray as xr
 
 import skfem_cable as sc
-from skfem_cable import cli, export
-from skfem_cable.io import RunLocked, RunStore, StoreCorrupt, atomic, lock
+from skfem_cable import atomic, cli, export
+from skfem_cable.io import RunLocked, RunStore, StoreCorrupt, lock
 from skfem_cable.io.progress import Progress
 from skfem_cable.scenes import catalog, classics
 from skfem_cable.scenes.catalog import pendulum_scene

@@ -10,6 +10,7 @@ import skfem
 
 import skfem_cable as sc
 from skfem_cable import laws
+from skfem_cable.elements import ELEMENTS
 from skfem_cable.laws import codegen
 
 DEMOS = Path(__file__).resolve().parents[1] / "demos"
@@ -37,8 +38,13 @@ def deformed(cable, seed, size=0.05):
     return q, rng.standard_normal(cable.n_dofs)
 
 
-def make(law, n, formulation=None):
-    return sc.Cable.straight([0, 0, 0], [2, 0, 0], n, DAMPED, law=law, formulation=formulation)
+def make(law, n, formulation=None, element="hermite3"):
+    return sc.Cable.straight([0, 0, 0], [2, 0, 0], n, DAMPED, law=law, formulation=formulation,
+                             element=element)
+
+
+#: Every element with every formulation it supports.
+ELEMENT_FORMULATIONS = [(e, f) for e, element in ELEMENTS.items() for f in element.formulations]
 
 
 def relative(a, b):
@@ -46,19 +52,22 @@ def relative(a, b):
     return np.abs(a - b).max() / np.abs(b).max()
 
 
-@pytest.mark.parametrize("n", [1, 16, 1000])
+@pytest.mark.parametrize(("element", "n"), [("hermite3", 1), ("hermite3", 16),
+                                            ("hermite3", 1000), ("hermite5", 1),
+                                            ("hermite5", 16)])
 @pytest.mark.parametrize("name", LAWS)
-def test_forms_equal_kernel(name, n):
-    """skfem.asm of the law's forms = the compiled kernel of the paper's formulation (force,
-    df/dq, df/dv) to 1e-12, damping included."""
-    cable = make(LAWS[name], n, "paper")
+def test_forms_equal_kernel(name, element, n):
+    """skfem.asm of the law's forms on the element's scikit-fem basis = the compiled kernel
+    of the paper's formulation (force, df/dq, df/dv) to 1e-12, damping included, on the
+    cubic and the quintic element."""
+    cable = make(LAWS[name], n, "paper", element)
     q, v = deformed(cable, n)
     w = sc.forms.state(cable, q, v)
     L, a = sc.forms.internal(cable)
-    f, K = cable.assemble(q, v)
+    f, K = sc.System([cable]).assemble(q, v)
     assert relative(skfem.asm(L, cable.basis, **w), f) < 1e-12
     assert relative(skfem.asm(a, cable.basis, **w).toarray(), K.toarray()) < 1e-12
-    _, C = cable.assemble(q, v, cK=0.0, cC=1.0)
+    _, C = sc.System([cable]).assemble(q, v, cK=0.0, cC=1.0)
     if cable.law.damped:
         assert relative(skfem.asm(sc.forms.damping(cable), cable.basis, **w).toarray(),
                         C.toarray()) < 1e-12
@@ -72,7 +81,7 @@ def energy(cable, q):
     return info["energy"].sum()
 
 
-@pytest.mark.parametrize("formulation", sc.FORMULATIONS)
+@pytest.mark.parametrize("formulation", ELEMENTS["hermite3"].formulations)
 def test_forms_refuse_the_locking_free_formulations(formulation):
     """The forms express one rule on cable.basis: the other formulations are refused with
     the formulation named and the one that works."""
@@ -84,23 +93,31 @@ def test_forms_refuse_the_locking_free_formulations(formulation):
         sc.forms.internal(cable)
 
 
-@pytest.mark.parametrize("formulation", sc.FORMULATIONS)
+@pytest.mark.parametrize(("element", "formulation"), ELEMENT_FORMULATIONS)
 @pytest.mark.parametrize("name", LAWS)
-def test_generated_tangents_match_finite_differences(name, formulation):
-    """Every law in every formulation: f = dU/dq, K = df/dq and C = df/dv of the generated
-    kernels against central differences (relative 1e-6)."""
-    cable = make(LAWS[name], 3, formulation)
+def test_generated_tangents_match_finite_differences(name, element, formulation):
+    """Every law on every element in every formulation (the laws with bending on the
+    elements with ``r_xx``): f = dU/dq, K = df/dq and C = df/dv of the generated kernels
+    against central differences (relative 1e-6)."""
+    law = LAWS[name]
+    if not ELEMENTS[element].bending and (law if isinstance(law, sc.CableLaw)
+                                          else laws.BUILTIN[law]).bending:
+        with pytest.raises(ValueError, match="has bending"):
+            make(law, 3, formulation, element)
+        return
+    cable = make(law, 3, formulation, element)
     q, v = deformed(cable, 7)
-    f_static, K_static = cable.assemble(q)
-    f, K = cable.assemble(q, v)
-    _, C = cable.assemble(q, v, cK=0.0, cC=1.0)
+    system = sc.System([cable])
+    f_static, K_static = system.assemble(q)
+    f, K = system.assemble(q, v)
+    _, C = system.assemble(q, v, cK=0.0, cC=1.0)
     h = 1e-6
     E = np.eye(cable.n_dofs)
     fd_f = np.array([(energy(cable, q + h * e) - energy(cable, q - h * e)) / (2 * h)
                      for e in E])
-    fd_K = np.array([(cable.assemble(q + h * e, v)[0] - cable.assemble(q - h * e, v)[0])
+    fd_K = np.array([(system.assemble(q + h * e, v)[0] - system.assemble(q - h * e, v)[0])
                      / (2 * h) for e in E]).T
-    fd_C = np.array([(cable.assemble(q, v + h * e)[0] - cable.assemble(q, v - h * e)[0])
+    fd_C = np.array([(system.assemble(q, v + h * e)[0] - system.assemble(q, v - h * e)[0])
                      / (2 * h) for e in E]).T
     assert relative(fd_f, f_static) < 1e-6
     assert relative(fd_K, K.toarray()) < 1e-6
@@ -156,8 +173,8 @@ def test_parameters_from_the_law_override_the_section():
     """with_parameters fixes EA whatever the section: twice the stiffness, twice the force."""
     stiff = laws.green.with_parameters(EA=2 * DAMPED.EA)
     q = make("cable", 2).q0 * 1.01
-    f1, _ = make("cable", 2).assemble(q)
-    f2, _ = make(stiff, 2).assemble(q)
+    f1, _ = sc.System([make("cable", 2)]).assemble(q)
+    f2, _ = sc.System([make(stiff, 2)]).assemble(q)
     assert np.allclose(f2, 2 * f1, rtol=1e-12)
 
 

@@ -164,7 +164,7 @@ def test_free_straight_cable_has_exactly_the_rigid_zero_modes(n, law):
     for formulation in ("assumed-strain", "paper"):
         cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], n, section, law=law,
                                   formulation=formulation)
-        eig = np.abs(np.linalg.eigvalsh(cable.assemble(cable.q0)[1].toarray()))
+        eig = np.abs(np.linalg.eigvalsh(sc.System([cable]).assemble(cable.q0)[1].toarray()))
         counts.append(int(np.sum(eig < 1e-13 * eig.max())))
     zero = counts[0]
     if law == "cable":
@@ -199,7 +199,10 @@ def test_formulation_is_named_and_checked():
     assert make(*args).formulation == "assumed-strain"
     assert make(*args, locking_free=False).formulation == "paper"
     assert make(*args, locking_free=True).formulation == "lobatto"
-    assert tuple(sc.FORMULATIONS) == ("assumed-strain", "paper", "lobatto")
+    assert tuple(sc.FORMULATIONS) == ("assumed-strain", "paper", "lobatto", "segment")
+    with pytest.raises(ValueError, match="'segment' is not available on the element "
+                                         "'hermite3'"):
+        make(*args, formulation="segment")
     with pytest.raises(ValueError, match="formulation must be one of .*'assumed-strain'"):
         make(*args, formulation="mixed")
     with pytest.raises(ValueError, match="locking_free=True means formulation='lobatto'"):
@@ -220,7 +223,7 @@ def test_a_law_whose_axial_part_is_not_a_function_of_the_stretch():
         sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, law=anisotropic)
     cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, law=anisotropic,
                               formulation="paper")
-    assert np.allclose(cable.assemble(cable.q0 * 1.01)[0][[0, 12]], [-1e3, 1e3])
+    assert np.allclose(sc.System([cable]).assemble(cable.q0 * 1.01)[0][[0, 12]], [-1e3, 1e3])
 
 
 def test_cli_scene_and_scene_file_take_the_option(tmp_path):

@@ -188,6 +188,24 @@ def test_psd_window_resolves_the_spin_frequency():
         assert f[np.argmax(p)] == pytest.approx(f_spin, abs=f[1])
 
 
+def test_esail_psd_is_the_one_spectrum():
+    """``esail.psd`` is ``plot.spectrum`` (``skfem_cable.spectra``): the same numbers,
+    several signals at once with time along the first axis, and a run's shortened last
+    step left out; one segment is the whole run (the E-sail tests' peaks)."""
+    from skfem_cable import spectra
+
+    assert plot.spectrum is spectra.spectrum and plot.welch_plan is spectra.welch_plan
+    t = np.append(np.arange(0.0, 400.0, 1.0), 399.4)  # a shortened last step
+    x = np.column_stack([np.sin(2 * np.pi * 0.05 * t), 1.0 + np.cos(2 * np.pi * 0.125 * t)])
+    f, p = esail.psd(t, x, segments=1)
+    assert p.shape == (len(f), 2) and len(f) == 201  # 400 samples, one segment
+    for k in range(2):
+        fk, pk = plot.spectrum(t, x[:, k], segments=1)
+        np.testing.assert_array_equal(fk, f)
+        np.testing.assert_allclose(pk, p[:, k], rtol=1e-12, atol=1e-12 * pk.max())
+    assert f[np.argmax(p, axis=0)] == pytest.approx([0.05, 0.125])
+
+
 def test_psd_figure_marks_frequencies_and_units(tmp_path):
     t = np.arange(0.0, 5000.0, 5.0)
     fig = plot.psd(t, {"a": np.sin(2e-3 * t), "b": np.cos(3e-3 * t), "r": 1e-3 * np.sin(t / 50)},

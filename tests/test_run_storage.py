@@ -10,8 +10,8 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable.io import Progress, ProgressBar, RunStore, open_dataset, resume, run_observers
-from skfem_cable.io.store import DEFAULT_FIELDS, STORE
-from skfem_cable.result import ENERGIES, FIELDS
+from skfem_cable.io.schema import DEFAULT_FIELDS, STORE
+from skfem_cable.records import ENERGIES, FIELDS
 from skfem_cable.scenes import classics
 
 

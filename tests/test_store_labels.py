@@ -13,8 +13,8 @@ import pytest
 import skfem_cable as sc
 from skfem_cable.io import RunStore
 from skfem_cable.io.labels import Points, dof_labels
-from skfem_cable.io.store import STORE
-from skfem_cable.result import ENERGIES
+from skfem_cable.io.schema import STORE
+from skfem_cable.records import ENERGIES
 
 xr = pytest.importorskip("xarray")
 

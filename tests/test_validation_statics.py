@@ -8,108 +8,42 @@
 4. Frame invariance: every problem built in a randomly rotated frame gives the rotated answer.
 5. Compressed (slack) cables: finite numbers or a clear ``StaticConvergenceError``, never NaN.
 
-The measured numbers and the derivations are in ``docs/validation_statics.md``.
+The measured numbers and the derivations are in ``docs/validation_statics.md``.  The
+cases this suite shares with ``benchmarks/locking.py`` (beam modes, the catenaries and
+their errors) are ``skfem_cable.validation``'s; the exact catenary is
+``skfem_cable.analytic.solve_catenary``.
 """
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq, fsolve
+from scipy.optimize import brentq
 from scipy.spatial.transform import Rotation
 from skfem import MeshLine
 
 import skfem_cable as sc
-from skfem_cable.analytic import green_stretch
+from skfem_cable.analytic import catenary_xz, stretch_minus_one
 
-#: Steel beam of the README script: EA L^2/EI = 1e6 for L = 1 m.
-STEEL = sc.Section(E=2.1e11, A=1e-4, I=1e-10, rho=7850.0)
-G = 9.81
+# The cases, their reference and the helpers shared with ``benchmarks/locking.py`` live in
+# the package (``STEEL``: the steel beam of the README script, EA L^2/EI = 1e6 for L = 1 m;
+# ``EPS0``: the Green pre-strain of the taut string).
+from skfem_cable.validation import (
+    CATENARIES,
+    EPS0,
+    STEEL,
+    G,
+    axial_fraction,
+    beam_modes,
+    catenary_errors,
+    catenary_reference,
+    catenary_system,
+    observed_rates,
+    transverse_pairs,
+)
 
 
 # --------------------------------------------------------------------------------------
 # helpers: modes
 # --------------------------------------------------------------------------------------
-def axial_fraction(system, shapes, axis):
-    """Share of each mode's nodal displacement that lies along ``axis``.
-
-    Parameters
-    ----------
-    system : sc.System
-        A system of one cable (6 coordinates per node).
-    shapes : ndarray, shape (k, n_dofs)
-        Mode shapes as returned by ``sc.modes``.
-    axis : array_like, shape (3,)
-        Unit vector of the undeformed cable axis.
-
-    Returns
-    -------
-    ndarray, shape (k,)
-        ``sum |u . axis|^2 / sum |u|^2`` over the nodal positions ``u``: 1 for an axial
-        mode, 0 for a transverse one.
-    """
-    u = shapes.reshape(len(shapes), system.n_dofs // 6, 6)[:, :, :3]
-    along = np.einsum("kni,i->kn", u, np.asarray(axis, float))
-    return np.sum(along**2, axis=1) / np.sum(u**2, axis=(1, 2))
-
-
-def transverse_pairs(freqs, fraction, count, pair_rtol=1e-9):
-    """Distinct transverse frequencies of a straight 3-D beam (each appears twice).
-
-    Parameters
-    ----------
-    freqs : ndarray
-        Ascending frequencies (Hz).
-    fraction : ndarray
-        Axial fraction of each mode (``axial_fraction``).
-    count : int
-        Number of distinct frequencies wanted.
-    pair_rtol : float
-        The two planes of bending must agree to this relative tolerance.
-
-    Returns
-    -------
-    ndarray, shape (count,)
-    """
-    f = freqs[fraction < 1e-6]
-    assert len(f) >= 2 * count, f"only {len(f)} transverse modes in {freqs}"
-    first, second = f[0:2 * count:2], f[1:2 * count:2]
-    np.testing.assert_allclose(second, first, rtol=pair_rtol, err_msg="bending pairs split")
-    return first
-
-
-def beam_modes(n_elements, supports, k=None, section=STEEL, length=1.0, formulation=None):
-    """Modes of a straight, stress-free beam along x (in ``formulation``, default the
-    library's).
-
-    Parameters
-    ----------
-    n_elements : int
-    supports : {"clamped-free", "pinned-pinned"}
-    k : int, optional
-        Number of modes; default all of them (dense eigensolver).
-    section : sc.Section
-    length : float
-
-    Returns
-    -------
-    freqs : ndarray
-        Ascending frequencies (Hz).
-    fraction : ndarray
-        Axial fraction of each mode.
-    """
-    cable = sc.Cable.straight([0, 0, 0], [length, 0, 0], n_elements, section,
-                              formulation=formulation)
-    system = sc.System([cable])
-    if supports == "clamped-free":
-        system.clamp(cable.node(0))
-    elif supports == "pinned-pinned":
-        system.pin(cable.node(0)).pin(cable.node(-1))
-    else:
-        raise ValueError(supports)
-    k = system.n_dofs - system.n_constraints if k is None else k
-    freqs, shapes = sc.modes(system, k=k)
-    return freqs, axial_fraction(system, shapes, [1, 0, 0])
-
-
 def cantilever_beta():
     """First three roots ``beta L`` of the cantilever equation ``cos(b) cosh(b) + 1 = 0``.
 
@@ -141,24 +75,6 @@ def bending_reference(supports, section=STEEL, length=1.0):
     return beta**2 / (2 * np.pi * length**2) * np.sqrt(section.EI / section.mass_per_length)
 
 
-def observed_rates(n_elements, errors):
-    """Observed convergence orders of successive meshes.
-
-    Parameters
-    ----------
-    n_elements : sequence of int
-    errors : sequence of float
-        Error on each mesh.
-
-    Returns
-    -------
-    ndarray
-        ``log(e_i / e_{i+1}) / log(n_{i+1} / n_i)``.
-    """
-    n, e = np.asarray(n_elements, float), np.asarray(errors, float)
-    return np.log(e[:-1] / e[1:]) / np.log(n[1:] / n[:-1])
-
-
 def stretched_cable(n_elements, section, stretch, kind="cable", length=1.0):
     """A straight cable of reference length ``length`` placed along x at ``stretch`` times
     that span, with slopes ``(stretch, 0, 0)``: uniform Green strain
@@ -186,233 +102,6 @@ def stretched_cable(n_elements, section, stretch, kind="cable", length=1.0):
     cable = sc.Cable(MeshLine(x), section, positions, slopes, law=kind)
     system = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1))
     return cable, system
-
-
-# --------------------------------------------------------------------------------------
-# helpers: the elastic catenary
-# --------------------------------------------------------------------------------------
-_GX, _GW = np.polynomial.legendre.leggauss(64)
-
-
-def stretch_minus_one(T, EA, law="green"):
-    """Stretch ``e = lambda - 1`` at true tension ``T``: the element's Green-strain law
-    (``analytic.green_stretch``), ``"hooke"`` (``T = EA e``, the classical law of Irvine's
-    catenary, for comparison), or zero for an inextensible cable (``EA`` None)."""
-    T = np.asarray(T, dtype=float)
-    if EA is None:
-        return np.zeros_like(T)
-    return T / EA if law == "hooke" else green_stretch(T, EA)
-
-
-def catenary_xz(s, H, VA, w, EA=None, law="green"):
-    """Exact position of the extensible catenary hanging from the origin.
-
-    With the horizontal force ``H`` and the upward support force ``VA`` at ``s = 0``, the
-    force in the cable is ``(H, w s - VA)`` and its tangent is parallel to it, so with the
-    stretch ``lambda(T)`` (``stretch_minus_one``)
-
-        x(s) = int_0^s lambda H / T ds,   z(s) = int_0^s lambda (w s - VA) / T ds.
-
-    The inextensible part (``lambda = 1``) is Irvine's closed form in ``asinh``; the
-    elastic part ``(lambda - 1)`` is integrated by 64-point Gauss-Legendre quadrature (the
-    integrand is analytic: quadrature error at round-off level).
-
-    Parameters
-    ----------
-    s : array_like
-        Unstretched arc length(s) from the left support.
-    H, VA : float
-        Horizontal force and upward support force at the left support (N).
-    w : float
-        Weight per unstretched length (N/m).
-    EA : float or None
-        Axial stiffness; ``None`` for the inextensible catenary.
-    law : {"green", "hooke"}
-        Material law (``stretch_minus_one``).
-
-    Returns
-    -------
-    ndarray, shape (len(s), 2)
-        ``(x, z)``.
-    """
-    s = np.atleast_1d(np.asarray(s, dtype=float))
-    x = H / w * (np.arcsinh((w * s - VA) / H) + np.arcsinh(VA / H))
-    z = (np.hypot(H, w * s - VA) - np.hypot(H, VA)) / w
-    sg = 0.5 * s[:, None] * (_GX + 1.0)
-    wg = 0.5 * s[:, None] * _GW
-    V = w * sg - VA
-    T = np.hypot(H, V)
-    e = stretch_minus_one(T, EA, law)
-    return np.column_stack([x + np.sum(wg * e * H / T, axis=1),
-                            z + np.sum(wg * e * V / T, axis=1)])
-
-
-def solve_catenary(span, height, L0, w, EA=None, law="green"):
-    """Support forces of a catenary of unstretched length ``L0`` between ``(0, 0)`` and
-    ``(span, height)``: the two closure equations ``x(L0) = span, z(L0) = height`` solved
-    with ``scipy.optimize.fsolve``.
-
-    Returns
-    -------
-    H : float
-        Horizontal force (N), the same at both supports.
-    VA, VB : float
-        Upward support forces at the left and the right support (N), ``VA + VB = w L0``.
-    """
-    W = w * L0
-    chord = np.hypot(span, height)
-    sag = np.sqrt(3 * span * max(L0 - chord, 1e-4 * span) / 8)
-
-    def closure(u):
-        return (catenary_xz(L0, u[0] * W, u[1] * W, w, EA, law)[0] - [span, height]) / span
-
-    u, _, _, msg = fsolve(closure, [span / (8 * sag), 0.5], xtol=1e-14, full_output=True)
-    # fsolve may stop with "xtol too small" at round-off: judge by the closure residual
-    assert np.max(np.abs(closure(u))) < 1e-13, (closure(u), msg)
-    return u[0] * W, u[1] * W, W - u[1] * W
-
-
-def midspan_sag(position_x, position_z, span, height, L0):
-    """Vertical distance of the cable below the chord at ``x = span/2``.
-
-    Parameters
-    ----------
-    position_x, position_z : callable
-        ``x`` and ``z`` of the cable at unstretched arc length ``s`` (scalar).
-    span, height, L0 : float
-        Horizontal span, height of the right support, unstretched length.
-
-    Returns
-    -------
-    float
-    """
-    s_mid = brentq(lambda s: position_x(s) - span / 2, 0.0, L0, xtol=1e-13)
-    return height / 2 - position_z(s_mid)
-
-
-#: Catenary cases: span (m), height difference (m), unstretched length (m), section.
-#: "steel": 20 mm solid steel rod (strain 5e-5); "rope": a soft rope, 2.7 % strain,
-#: shorter than the chord so that it hangs only by stretching (its support forces differ
-#: by 1.5 % from the Hooke-law catenary: the test sees the constitutive law).  I is tiny
-#: (EI / (H span^2) < 1e-10) so that the "cable" kind is a flexible catenary too.
-CATENARIES = {
-    "steel": (100.0, 10.0, 103.0, sc.Section(E=2.1e11, A=np.pi * 1e-4, I=1e-14, rho=7850.0)),
-    "rope": (100.0, 10.0, 100.0, sc.Section(E=5e8, A=1e-4, I=1e-14, rho=1e4)),
-}
-
-
-def catenary_reference(case, law="green"):
-    """Exact support forces and midspan sag of a case of ``CATENARIES``.
-
-    Parameters
-    ----------
-    case : str
-        Key of ``CATENARIES``.
-    law : {"green", "hooke"}
-        Material law (``stretch_minus_one``); ``"hooke"`` only for comparison.
-
-    Returns
-    -------
-    H, VA, VB, sag : float
-        Horizontal force, upward support forces (N) and midspan sag (m).
-    """
-    span, height, L0, sec = CATENARIES[case]
-    w = sec.mass_per_length * G
-    EA = sec.EA
-    H, VA, VB = solve_catenary(span, height, L0, w, EA, law)
-    sag = midspan_sag(lambda s: catenary_xz(s, H, VA, w, EA, law)[0, 0],
-                      lambda s: catenary_xz(s, H, VA, w, EA, law)[0, 1], span, height, L0)
-    return H, VA, VB, sag
-
-
-def catenary_system(case, n_elements, kind="truss", R=None, formulation=None):
-    """FE model of a catenary case in the frame rotated by ``R`` (default: identity).
-
-    The start is stress-free and independent of the answer: the inextensible catenary of
-    length ``L0`` (``EA = None``) when ``L0`` exceeds the chord, else the straight chord
-    (uniformly stretched, in tension).  Gravity is ``-g`` along the (rotated) z axis.
-
-    Parameters
-    ----------
-    case : str
-        Key of ``CATENARIES``.
-    n_elements : int
-    kind : {"truss", "cable"}
-    R : ndarray (3, 3), optional
-        Rotation of the frame.
-    formulation : str, optional
-        The cable's formulation (default: the library's).
-
-    Returns
-    -------
-    cable : sc.Cable
-    system : sc.System
-        Pins at ``R (0, 0, 0)`` and ``R (span, 0, height)``; the pin at the left support is
-        ``system.constraints[0]``.
-    """
-    R = np.eye(3) if R is None else np.asarray(R, dtype=float)
-    span, height, L0, sec = CATENARIES[case]
-    w = sec.mass_per_length * G
-    s = np.linspace(0.0, L0, n_elements + 1)
-    chord = np.array([span, height])
-    if L0 > np.linalg.norm(chord):
-        H, VA, _ = solve_catenary(span, height, L0, w, None)
-        xz = catenary_xz(s, H, VA, w, None)
-        txz = np.column_stack([H + 0 * s, w * s - VA]) / np.hypot(H, w * s - VA)[:, None]
-    else:
-        xz = s[:, None] * chord / L0
-        txz = np.tile(chord / L0, (len(s), 1))
-    zero = np.zeros_like(s)
-    positions = np.column_stack([xz[:, 0], zero, xz[:, 1]]) @ R.T
-    slopes = np.column_stack([txz[:, 0], zero, txz[:, 1]]) @ R.T
-    cable = sc.Cable(MeshLine(s), sec, positions, slopes, law=kind, formulation=formulation)
-    system = sc.System([cable])
-    system.pin(cable.node(0), R @ [0.0, 0.0, 0.0])
-    system.pin(cable.node(-1), R @ [span, 0.0, height])
-    system.add_gravity(R @ [0.0, 0.0, -G])
-    return cable, system
-
-
-def catenary_errors(case, n_elements, kind="truss", formulation=None):
-    """Relative errors of the FE catenary against ``catenary_reference``.
-
-    Parameters
-    ----------
-    case : str
-        Key of ``CATENARIES``.
-    n_elements : int
-    kind : {"truss", "cable"}
-
-    Returns
-    -------
-    dict
-        ``H``, ``V`` (both supports; the support force on the cable is ``-lambda``),
-        ``sag`` (relative to the sag), ``position`` (max over 201 points, relative to the
-        span), ``tension`` (max over 201 points, relative), ``state``, ``system``.
-    """
-    span, height, L0, sec = CATENARIES[case]
-    w = sec.mass_per_length * G
-    H, VA, VB, sag = catenary_reference(case)
-    cable, system = catenary_system(case, n_elements, kind, formulation=formulation)
-    state = sc.solve_static(system, load_steps=2)
-    lam_a, lam_b = (state.multipliers[c.name] for c in system.constraints)
-    support_a, support_b = -lam_a, -lam_b
-    s = np.linspace(0.0, L0, 201)
-    exact = catenary_xz(s, H, VA, w, sec.EA)
-    got = state.position(cable, s)[:, [0, 2]]
-    fe_sag = midspan_sag(lambda t: state.position(cable, t)[0],
-                         lambda t: state.position(cable, t)[2], span, height, L0)
-    tension = np.hypot(H, w * s - VA)
-    return {
-        "H": max(abs(support_a[0] + H), abs(support_b[0] - H)) / H,
-        "V": max(abs(support_a[2] - VA) / VA, abs(support_b[2] - VB) / VB),
-        "out_of_plane": max(abs(support_a[1]), abs(support_b[1])) / H,
-        "sag": abs(fe_sag - sag) / sag,
-        "position": np.max(np.abs(got - exact)) / span,
-        "tension": np.max(np.abs(state.tension(cable, s) / tension - 1.0)),
-        "state": state,
-        "system": system,
-    }
 
 
 # --------------------------------------------------------------------------------------
@@ -485,7 +174,6 @@ def test_axial_frequency_converges_at_sixth_order():
 # --------------------------------------------------------------------------------------
 # 2. taut string
 # --------------------------------------------------------------------------------------
-EPS0 = 1e-3  # Green pre-strain of the taut string
 
 
 def string_modes(kind, I, n_elements=16):

@@ -19,6 +19,9 @@ seen: change them and the fingerprint stays the same.  The attributes an object 
 its ``caches`` (a tuple of names: values derived from the others, memos of the last
 evaluation) are not described: the fingerprint does not depend on what was evaluated.
 
+``check_fingerprint`` compares a run directory's manifest with a system (and settings)
+before it is read or continued.
+
 ``describe_system`` is also what a ``System`` compares to notice that it was edited since
 its layout was built (``System.current_layout``); ``differences`` names what changed.
 
@@ -33,6 +36,9 @@ import re
 import types
 
 import numpy as np
+
+from .jsonable import jsonable
+from .manifest import StoreMismatch
 
 #: Settings a continued run may change (not in the fingerprint).
 FREE_SETTINGS = ("t_end", "n_steps")
@@ -296,3 +302,25 @@ def outline(system):
     loads = ", ".join(sorted({type(x).__name__ for x in system.loads})) or "none"
     return (f"{system.n_dofs} dofs: {bodies}; {system.n_constraints} constraint equations; "
             f"loads: {loads}; {len(system.point_masses)} point masses")
+
+
+def check_fingerprint(path, manifest, system, settings=None):
+    """Raise ``StoreMismatch`` unless the store of ``path`` (its ``manifest``) was written
+    by ``system`` (and with ``settings``, when given)."""
+    fp = manifest.get("fingerprint") or {}
+    if fp.get("system") != system_fingerprint(system):
+        raise StoreMismatch(
+            f"{path} was written by another system: stored {manifest.get('system')}; "
+            f"given {outline(system)}"
+            + ("" if manifest.get("system") != outline(system) else
+               " (same bodies and sizes: sections, masses, constraints or loads differ)")
+            + ": load or continue it with the system that wrote it (or write a new run)")
+    if settings is not None and fp.get("settings") != settings_fingerprint(settings):
+        stored = manifest.get("settings") or {}
+        given = jsonable(settings)
+        differ = [k for k in sorted(set(stored) | set(given))
+                  if k not in ("t_end", "n_steps") and stored.get(k) != given.get(k)]
+        details = ", ".join(f"{k}: stored {stored.get(k)!r}, given {given.get(k)!r}"
+                            for k in differ) or "they differ"
+        raise StoreMismatch(f"{path} was run with other solver settings ({details}): "
+                            "continue it with the settings it was started with")

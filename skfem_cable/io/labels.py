@@ -1,5 +1,5 @@
 """Labels of the coordinates, points and multipliers of a system, as a run store writes
-them (``io.store``, ``docs/output.md``): what makes ``xarray.open_zarr`` show labelled
+them (``io.schema``, ``docs/output.md``): what makes ``xarray.open_zarr`` show labelled
 data without this library.
 
 Everything here follows the body contract (``docs/extending.md``): ``name``, ``n_dofs``,

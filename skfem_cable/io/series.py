@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from .. import export  # a module: export imports io.atomic, which imports this package
+from .. import export
 from ..contract import Observer
 
 

@@ -20,9 +20,22 @@ import math
 import numpy as np
 from numba import njit
 
+from . import CUBIC
+
 
 @njit(cache=True)
 def force_tangent(q, elements, wind, out, cK):
+    """``_force_tangent`` with the number of element functions fixed for the cubic
+    element (``kernels.CUBIC``), or read from the tables."""
+    nf = elements[1].shape[2]
+    if nf == CUBIC:
+        _force_tangent(q, elements, wind, out, cK, CUBIC)
+    else:
+        _force_tangent(q, elements, wind, out, cK, nf)
+
+
+@njit(cache=True, inline="always")
+def _force_tangent(q, elements, wind, out, cK, nf):
     """Add the generalized Coulomb force ``int S^T f dx`` (Eq. 34) to ``f`` and
     ``cK d/dq`` of it into ``data`` through ``scatter`` (skipped when empty); adds the
     force resultant ``int f dx`` to ``resultant`` (3,).
@@ -32,38 +45,41 @@ def force_tangent(q, elements, wind, out, cK):
     q : ndarray (n,)
         Global coordinates.
     elements : tuple ``(edofs, S, Sx, w)``
-        Global DOF of each element coordinate (ne, 12), shape functions and their
-        derivatives at the Gauss points (ne, nq, 4), weights (ne, nq).
+        Global DOF of each element coordinate (ne, 3 nf), shape functions and their
+        derivatives at the Gauss points (ne, nq, nf), weights (ne, nq).
     wind : tuple ``(coef, sun, scaling)``
         Force per unit length of a perpendicular tether per element at the distance ``d0``
         (ne,) (N/m), the Sun's position (3,) and ``scaling = (d0, p)`` (2,): the force
         scales as ``(d0 / rho)^p`` with the heliocentric distance ``rho``.
     out : tuple ``(f, data, scatter, resultant)``
-        Force accumulator (n,), CSR data and the index (ne, 12, 12) of each element-matrix
-        entry in it ((0, 12, 12): no tangent), force resultant (3,).
+        Force accumulator (n,), CSR data and the index (ne, 3 nf, 3 nf) of each element-matrix
+        entry in it ((0, 3 nf, 3 nf): no tangent), force resultant (3,).
     cK : float
         Factor of the tangent.
+    nf : int
+        Functions per element (the tables' last dimension).
     """
     edofs, S, Sx, w = elements
     coef, sun, scaling = wind
     d0, power = scaling[0], scaling[1]
     f, data, scatter, resultant = out
     ne, nq = w.shape
+    nd = 3 * nf
     want = scatter.shape[0] == ne
-    qe = np.empty((4, 3))
+    qe = np.empty((nf, 3))
     r = np.empty(3)
     a = np.empty(3)
     fr = np.empty((3, 3))
     fa = np.empty((3, 3))
     Pt = np.empty((3, 3))
     Pr = np.empty((3, 3))
-    fe = np.empty(12)
-    Ke = np.empty((12, 12))
+    fe = np.empty(nd)
+    Ke = np.empty((nd, nd))
     for e in range(ne):
         c = coef[e]
         if c == 0.0:
             continue
-        for A in range(4):
+        for A in range(nf):
             for i in range(3):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
         fe[:] = 0.0
@@ -72,7 +88,7 @@ def force_tangent(q, elements, wind, out, cK):
             for i in range(3):
                 r[i] = 0.0
                 a[i] = 0.0
-                for A in range(4):
+                for A in range(nf):
                     r[i] += S[e, g, A] * qe[A, i]
                     a[i] += Sx[e, g, A] * qe[A, i]
                 r[i] -= sun[i]
@@ -87,7 +103,7 @@ def force_tangent(q, elements, wind, out, cK):
             for i in range(3):
                 fi = cs * (r[i] - ti * a[i])
                 resultant[i] += wg * fi
-                for A in range(4):
+                for A in range(nf):
                     fe[3 * A + i] += wg * S[e, g, A] * fi
             if want:
                 for i in range(3):
@@ -105,19 +121,19 @@ def force_tangent(q, elements, wind, out, cK):
                             sa += (a[i] * r[k] + ti * d) * Pt[k, j]
                         fr[i, j] = cs * sr / rho
                         fa[i, j] = -cs * sa / p
-                for A in range(4):
+                for A in range(nf):
                     sA = wg * S[e, g, A]
-                    for B in range(4):
+                    for B in range(nf):
                         sB = S[e, g, B]
                         xB = Sx[e, g, B]
                         for i in range(3):
                             for j in range(3):
                                 Ke[3 * A + i, 3 * B + j] += sA * (sB * fr[i, j] + xB * fa[i, j])
-        for k in range(12):
+        for k in range(nd):
             f[edofs[e, k]] += fe[k]
         if want:
-            for k in range(12):
-                for m in range(12):
+            for k in range(nd):
+                for m in range(nd):
                     data[scatter[e, k, m]] += cK * Ke[k, m]
 
 
@@ -126,7 +142,7 @@ def kernel(pack, index, ev):
     """The solar wind's compiled hook of the evaluation contract
     (``contract.Term.kernels``): ``force_tangent`` into the external forces of the packed
     evaluation ``ev``, with ``pack = (edofs, S, Sx, w, coef, sun, scaling, resultant)`` (the
-    last a scratch accumulator (3,)) and the tangent entries at ``index``, int (ne, 12, 12)."""
+    last a scratch accumulator (3,)) and the tangent entries at ``index``, int (ne, 3 nf, 3 nf)."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     edofs, S, Sx, w, coef, sun, scaling, resultant = pack
     scatter = index if data.size else index[:0]

@@ -31,6 +31,8 @@ import math
 import numpy as np
 from numba import njit
 
+from . import CUBIC
+
 
 @njit(cache=True)
 def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
@@ -96,18 +98,30 @@ def point_force(a, u, coef, h, Hu, Ha, t, un):
 
 @njit(cache=True)
 def kernel(pack, index, ev):
+    """``_kernel`` with the number of element functions fixed for the cubic element
+    (``kernels.CUBIC``), or read from the tables."""
+    nf = pack[1].shape[2]
+    if nf == CUBIC:
+        _kernel(pack, index, ev, CUBIC)
+    else:
+        _kernel(pack, index, ev, nf)
+
+
+@njit(cache=True, inline="always")
+def _kernel(pack, index, ev, nf):
     """The drag's compiled hook of the evaluation contract (``contract.Term.kernels``):
     ``int S^T f dx`` into the external forces of the packed evaluation ``ev`` and
-    ``-(cK dF/dq + cC dF/dv)`` into its matrix values at ``index`` (ne, 12, 12), with
+    ``-(cK dF/dq + cC dF/dv)`` into its matrix values at ``index`` (ne, 3 nf, 3 nf), with
     ``pack = (edofs, S, Sx, w, coef, uniform, W, vertical, heights, velocities, sigma)``
-    (``sigma`` of shape (1,))."""
+    (``sigma`` of shape (1,)) and ``nf`` functions per element."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     edofs, S, Sx, w, coef, uniform, W, vertical, heights, velocities, sigma = pack
     ne, nq = w.shape
+    nd = 3 * nf
     want = data.size > 0
     cK, cC = s[1], s[2] if s[3] != 0.0 else 0.0
-    qe = np.empty((4, 3))
-    ve = np.empty((4, 3))
+    qe = np.empty((nf, 3))
+    ve = np.empty((nf, 3))
     x = np.empty(3)
     a = np.empty(3)
     u = np.empty(3)
@@ -118,10 +132,10 @@ def kernel(pack, index, ev):
     Ha = np.empty((3, 3))
     Hx = np.empty((3, 3))
     scratch = np.empty((3, 3))
-    fe = np.empty(12)
-    Ke = np.empty((12, 12))
+    fe = np.empty(nd)
+    Ke = np.empty((nd, nd))
     for e in range(ne):
-        for A in range(4):
+        for A in range(nf):
             for i in range(3):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
                 ve[A, i] = v[edofs[e, 3 * A + i]]
@@ -132,7 +146,7 @@ def kernel(pack, index, ev):
                 x[i] = 0.0
                 a[i] = 0.0
                 u[i] = 0.0
-                for A in range(4):
+                for A in range(nf):
                     x[i] += S[e, g, A] * qe[A, i]
                     a[i] += Sx[e, g, A] * qe[A, i]
                     u[i] -= S[e, g, A] * ve[A, i]
@@ -141,7 +155,7 @@ def kernel(pack, index, ev):
                 u[i] += c[i]
             point_force(a, u, coef, h, Hu, Ha, scratch[1], scratch[2])
             wg = w[e, g]
-            for A in range(4):
+            for A in range(nf):
                 for i in range(3):
                     fe[3 * A + i] += wg * S[e, g, A] * h[i]
             if not want:
@@ -149,9 +163,9 @@ def kernel(pack, index, ev):
             for i in range(3):
                 for j in range(3):
                     Hx[i, j] = Hu[i, 0] * dc[0, j] + Hu[i, 1] * dc[1, j] + Hu[i, 2] * dc[2, j]
-            for A in range(4):
+            for A in range(nf):
                 sA = wg * S[e, g, A]
-                for B in range(4):
+                for B in range(nf):
                     sB = S[e, g, B]
                     xB = Sx[e, g, B]
                     for i in range(3):
@@ -159,9 +173,9 @@ def kernel(pack, index, ev):
                             # external force: -(cK dF/dq + cC dF/dv), dF/dv = -dF/du
                             Ke[3 * A + i, 3 * B + j] -= sA * (
                                 cK * (sB * Hx[i, j] + xB * Ha[i, j]) - cC * sB * Hu[i, j])
-        for k in range(12):
+        for k in range(nd):
             f_ext[edofs[e, k]] += fe[k]
         if want:
-            for k in range(12):
-                for m in range(12):
+            for k in range(nd):
+                for m in range(nd):
                     data[index[e, k, m]] += Ke[k, m]

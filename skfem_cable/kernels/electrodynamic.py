@@ -37,6 +37,8 @@ The field is ``B = B_0 + B_d`` with ``B_0`` uniform and ``B_d`` a dipole of mome
 import numpy as np
 from numba import njit
 
+from . import CUBIC
+
 
 @njit(cache=True)
 def gauss_points(edofs, S, Sx, q, v, motion, X, A, U):
@@ -44,14 +46,14 @@ def gauss_points(edofs, S, Sx, q, v, motion, X, A, U):
     ``A = S_x q`` and the absolute velocity ``U = V + S v`` (ne, nq, 3) each, with
     ``motion = [R, V]`` (2, 3) the reference point's position and velocity (``v`` is zero
     in statics: ``contract.Evaluation``)."""
-    ne, nq, _ = S.shape
+    ne, nq, nf = S.shape
     for e in range(ne):
         for g in range(nq):
             for i in range(3):
                 X[e, g, i] = motion[0, i]
                 A[e, g, i] = 0.0
                 U[e, g, i] = motion[1, i]
-                for k in range(4):
+                for k in range(nf):
                     dof = edofs[e, 3 * k + i]
                     X[e, g, i] += S[e, g, k] * q[dof]
                     A[e, g, i] += Sx[e, g, k] * q[dof]
@@ -114,12 +116,24 @@ def motional_emf(w, plasma, X, A, U, B):
 
 @njit(cache=True)
 def assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev):
+    """``_assemble`` with the number of element functions fixed for the cubic element
+    (``kernels.CUBIC``), or read from the tables."""
+    nf = S.shape[2]
+    if nf == CUBIC:
+        _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, CUBIC)
+    else:
+        _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, nf)
+
+
+@njit(cache=True, inline="always")
+def _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, nf):
     """The current ``I = I_0 + G E`` (``drive = [I_0, G]``; ``E`` by (3) only when
     ``G != 0``) into ``out = [I, E]``, the generalized force ``int S^T f dx`` of (1) into
     ``ev``'s external forces and ``-cK dF/dq`` (by (2), at fixed ``I``) into its matrix
-    values at ``index`` (ne, 12, 12)."""
+    values at ``index`` (ne, 3 nf, 3 nf), ``nf`` functions per element."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     ne, nq = w.shape
+    nd = 3 * nf
     E = motional_emf(w, plasma, X, A, U, B) if drive[1] != 0.0 else 0.0
     current = drive[0] + drive[1] * E
     out[0], out[1] = current, E
@@ -128,8 +142,8 @@ def assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev):
     h = np.empty(3)
     Hx = np.empty((3, 3))
     Ha = np.empty((3, 3))
-    fe = np.empty(12)
-    Ke = np.empty((12, 12))
+    fe = np.empty(nd)
+    Ke = np.empty((nd, nd))
     for e in range(ne):
         fe[:] = 0.0
         Ke[:] = 0.0
@@ -139,7 +153,7 @@ def assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev):
             h[1] = current * (a[2] * b[0] - a[0] * b[2])
             h[2] = current * (a[0] * b[1] - a[1] * b[0])
             wg = w[e, g]
-            for k in range(4):
+            for k in range(nf):
                 for i in range(3):
                     fe[3 * k + i] += wg * S[e, g, k] * h[i]
             if not want:
@@ -153,18 +167,18 @@ def assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev):
             Ha[0, 0], Ha[0, 1], Ha[0, 2] = 0.0, current * b[2], -current * b[1]
             Ha[1, 0], Ha[1, 1], Ha[1, 2] = -current * b[2], 0.0, current * b[0]
             Ha[2, 0], Ha[2, 1], Ha[2, 2] = current * b[1], -current * b[0], 0.0
-            for k in range(4):
+            for k in range(nf):
                 sk = cK * wg * S[e, g, k]
-                for m in range(4):
+                for m in range(nf):
                     sm, xm = S[e, g, m], Sx[e, g, m]
                     for i in range(3):
                         for j in range(3):
                             Ke[3 * k + i, 3 * m + j] -= sk * (sm * Hx[i, j] + xm * Ha[i, j])
-        for k in range(12):
+        for k in range(nd):
             f_ext[edofs[e, k]] += fe[k]
         if want:
-            for k in range(12):
-                for m in range(12):
+            for k in range(nd):
+                for m in range(nd):
                     data[index[e, k, m]] += Ke[k, m]
 
 

@@ -11,7 +11,7 @@ import hashlib
 import importlib.util
 import sys
 
-from ..io.atomic import write_atomic
+from ..atomic import write_atomic
 from . import compile_log
 from .cache import cache_dir
 

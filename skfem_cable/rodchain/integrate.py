@@ -16,15 +16,14 @@ observers every saved step costs one evaluation of the accelerations and of the 
 (some 30 us for a short chain): save sparsely when the chain is short and the step small.
 """
 
-import contextlib
 import time
 
 import numpy as np
 from scipy.integrate import DOP853, RK45
 
-from ..contract import Run, Step, finish_observers
+from ..contract import Observers, Run, Step
 from ..kernels import rodchain as kern
-from ..result import ENERGIES
+from ..records import ENERGIES
 from .result import RodChainResult, energies
 
 METHODS = ("rk4", "RK45", "DOP853")
@@ -225,20 +224,11 @@ class Integration:
                 k = k1
 
 
-def _check_observers(observers):
-    observers = list(observers or ())
-    for obs in observers:
-        if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved", "finish")):
-            raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
-    return observers
-
-
 def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=None, atol=None,
               observers=()):
     """Integrate ``problem`` from ``q0, v0`` (checked by ``RodChain.simulate``) over
     ``nsteps`` steps of ``dt`` (RK4) or grid intervals (adaptive), saving every
     ``every``-th; returns a ``RodChainResult``.  See the module docstring for observers."""
-    observers = _check_observers(observers)
     times = dt * every * np.arange(nsteps // every + 1)
     times[-1] = t_end
     Q = np.empty((times.size, chain.n, 3))
@@ -252,6 +242,8 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
                 "max_strain": problem.max_strain}
     run = Run(chain, integ, settings, integ.stats)
     wall0 = time.perf_counter()
+    count = 1
+    watch = Observers(run, observers, lambda: result(count))
 
     def book(k0, k1):
         """The work of the loads without potential up to the saved steps k0..k1-1
@@ -265,19 +257,14 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
 
     def notify(k0, k1):
         """Hand the saved steps k0..k1-1 to the observers: ``(stop message, step)``."""
-        if not observers:
+        if not watch.observers:
             return None, None
         E = energies(chain, problem, times[k0:k1], Q[k0:k1], V[k0:k1], work[k0:k1])
         for k in range(k0, k1):
             a = problem.acceleration(times[k], Q[k], V[k])[0]
-            step = Step(k * every, float(times[k]), Q[k].reshape(-1), V[k].reshape(-1),
-                        a.reshape(-1), np.zeros(0), 0,
-                        {name: float(E[name][k - k0]) for name in ENERGIES})
-            stop = None
-            for obs in observers:
-                answer = obs.saved(run, step)
-                if answer and stop is None:
-                    stop = answer if isinstance(answer, str) else f"stopped by {type(obs).__name__}"
+            stop = watch.saved(Step(k * every, float(times[k]), Q[k].reshape(-1),
+                                    V[k].reshape(-1), a.reshape(-1), np.zeros(0), 0,
+                                    {name: float(E[name][k - k0]) for name in ENERGIES}))
             if stop is not None:
                 return stop, k
         return None, None
@@ -288,11 +275,7 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
         cut = (lambda x: x[:count].copy()) if count < times.size else (lambda x: x)
         return RodChainResult(chain, problem, cut(times), cut(Q), cut(V), cut(work), stats)
 
-    count, started = 1, []
-    try:
-        for obs in observers:
-            obs.start(run)
-            started.append(obs)
+    with watch:
         book(0, 1)
         stop, at = notify(0, 1)
         if stop is None:
@@ -311,10 +294,4 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
             integ.t, integ.q, integ.v = float(times[at]), Q[at], V[at]
             integ.stats["saved"] = count
         run.stop_reason = stop
-    except BaseException as err:
-        with contextlib.suppress(Exception):  # the saved steps travel with the error
-            err.result = result(count)
-        finish_observers(started, run, err)
-        raise
-    finish_observers(started, run, None)
     return result(count, stop)

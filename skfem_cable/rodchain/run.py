@@ -9,10 +9,15 @@ import numpy as np
 
 from ..io import signals
 from ..io.progress import ProgressBar
-from ..runner import complete_summary, run_directory, warn, write_summary
+from ..runner.directory import register_files, run_directory
+from ..runner.summary import complete_summary, warn, write_summary
 from .export import ChainSeriesObserver
 from .integrate import rk4_step
 from .plots import run_figures
+
+# the rod chain's own figure (``plots.run_figures``), for the summary of its runs
+register_files({"plots/chain.png": "rod-chain tip, tensions and energies against time"},
+               after="plots/cables.png")
 
 #: Simulate keywords a run takes from ``defaults`` besides ``t_end`` and ``dt``.
 SOLVER_KEYS = ("method", "rtol", "atol", "max_strain")

@@ -5,7 +5,8 @@ point masses and loads use.  ``Bodies`` holds what was defined so far, by name."
 import numpy as np
 
 from ..cable import Cable
-from ..formulation import DEFAULT, FORMULATIONS
+from ..elements import DEFAULT_ELEMENT, ELEMENTS
+from ..formulation import FORMULATIONS
 from ..rigid import RigidBody
 from ..section import Section
 from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
@@ -103,11 +104,15 @@ def read_cable(t, bodies):
     n = t.get("elements", count, bodies.elements)
     if n is None:
         t.fail("elements", "is required")
-    kind = t.get("kind", choice("cable", "truss"), "cable")
-    formulation = t.get("formulation", choice(*FORMULATIONS), DEFAULT)
+    element = t.get("element", choice(*ELEMENTS), DEFAULT_ELEMENT)
+    kind = t.get("kind", choice("cable", "truss"), None)
+    formulation = t.get("formulation", choice(*FORMULATIONS), None)
     t.finish()
-    cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
-                           law=kind, name=name, formulation=formulation)
+    try:
+        cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
+                               law=kind, name=name, formulation=formulation, element=element)
+    except ValueError as err:  # a law or formulation the element does not have
+        t.fail("element", f"does not take this cable: {err}", element)
     bodies.add(t, cable)
 
 

@@ -6,7 +6,7 @@ in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loa
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..runner import run_dynamic, run_static
+from ..runner.drive import run_dynamic, run_static
 from ..solvers.static import solve_static
 from ..solvers.steady import solve_steady
 from ..state import State

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from ..analytic import elastica_tip_load
-from ..runner import RunScene, run_static
+from ..runner.drive import RunScene, run_static
 from ..solvers.static import solve_static
 from . import classics
 
@@ -46,6 +46,8 @@ class Entry:
     target: object
     help: str
     build: object = None
+    #: The opt-in options (``OPT_IN``) the scene takes, e.g. ``("model",)``.
+    takes: tuple = ()
 
     def runner(self):
         return _resolve(self.target)
@@ -61,11 +63,15 @@ class Entry:
 
 SCENES = {}
 
+#: Options that only the scenes naming them in ``takes`` accept (the others refuse them).
+OPT_IN = ("model",)
 
-def register(name, target, help, build=None):
+
+def register(name, target, help, build=None, takes=()):
     """Add (or replace) the scene ``name``; ``target(options) -> summary``; ``build``:
-    ``build(**params) -> RunScene`` for sweeps (optional)."""
-    SCENES[name] = Entry(name, target, help, build)
+    ``build(**params) -> RunScene`` for sweeps (optional); ``takes``: the options of
+    ``OPT_IN`` it accepts."""
+    SCENES[name] = Entry(name, target, help, build, tuple(takes))
 
 
 def builder(scene):
@@ -78,7 +84,10 @@ def builder(scene):
 def run_scene(scene, options):
     """Run a registered scene by name, or a TOML scene file by path; returns the summary."""
     if scene in SCENES:
-        return SCENES[scene].runner()(options)
+        entry = SCENES[scene]
+        options.reject(scene, *(n for n in OPT_IN if n not in entry.takes))
+        return entry.runner()(options)
+    options.reject(scene, *OPT_IN)
     if scene.endswith(".toml") or Path(scene).is_file():
         from .. import scene_file
 
@@ -263,5 +272,6 @@ register("esail-orbit", esail_orbit,
          "E-sail baseline on the circular orbit of 1 AU for a day; --alpha sailing angle",
          build=esail_orbit_scene)
 register("tss", "skfem_cable.scenes.tss:run",
-         "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations",
-         build="skfem_cable.scenes.tss:scene")
+         "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations; "
+         "--model ancf (default) or rodchain",
+         build="skfem_cable.scenes.tss:scene", takes=("model",))

@@ -26,9 +26,21 @@ from ..coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce, SunAtFocus
 from ..frames import R1, dcm_321, euler_321, euler_323, orbit_frame
 from ..orbit import MU_SUN, Orbit
 from ..rigid import RigidBody
+from ..runner.directory import register_files
 from ..section import Section, check_positive
 from ..state import State
 from ..system import System
+
+# the files of the ``esail`` scene's run directory (``run``, ``figures``), for its summary
+register_files({"esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays"},
+               after="animation.mp4")
+register_files({
+    "plots/esail_tether.png": "tether coning, lagging and stretch against time (Fig. 6)",
+    "plots/esail_hub.png": "hub rates and attitudes, sail attitude (Figs. 7-8)",
+    "plots/esail_forces.png": "thrust and root reactions in the orbit frame (Fig. 9)",
+    "plots/esail_psd.png": "spectra of tether and hub motions, Table 2 modes marked",
+    "plots/esail_coning.gif": "side view of the sail's coning, Sun direction drawn (--animate)",
+}, patterns=("plots/esail_*.png", "plots/esail_*.gif"))
 
 
 @dataclass
@@ -245,12 +257,11 @@ def outputs(scene, result):
     rho_Z, tau_Z, ratio = [], [], []
     for zeta, cable in zip(scene.zeta, scene.tethers):
         qc = result.q[:, system.dofs(cable)]
-        nodes = qc.reshape(len(result.t), -1, 2, 3)
+        nodes = qc.reshape(len(result.t), -1, cable.element.nodal_dofs, 3)
         C_Z_I = R1(zeta) @ np.swapaxes(C_I_B, -1, -2)
         rho_Z.append(np.einsum("tij,tj->ti", C_Z_I, nodes[:, -1, 0] - nodes[:, 0, 0]))
         tau_Z.append(np.einsum("tij,tj->ti", C_Z_I, nodes[:, 0, 1]))
-        a = np.einsum("egA,teAi->tegi", cable.Sx, qc[:, cable.element_dofs].reshape(
-            len(result.t), cable.n_elements, 4, 3))
+        a = np.einsum("egA,teAi->tegi", cable.Sx, cable.element_vectors(qc))
         ratio.append(np.einsum("eg,teg->t", cable.weights, np.linalg.norm(a, axis=-1))
                      / cable.length)
     out["coning"], out["lagging"] = _angles(np.stack(rho_Z, axis=1))
@@ -308,7 +319,7 @@ def _coulomb_resultants(scene, result, C_I_B):
         start = 0
         for i, cable in enumerate(scene.tethers):
             qc = result.q[k, system.dofs(cable)]
-            qe = qc[cable.element_dofs].reshape(-1, 4, 3)
+            qe = cable.element_vectors(qc)
             r = np.einsum("egA,eAi->egi", cable.S, qe)
             a = np.einsum("egA,eAi->egi", cable.Sx, qe)
             f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t)
@@ -394,13 +405,12 @@ def spinning_modes(config, alpha_deg=0.0, n_elements=5, kind="cable", k=200):
 
 def psd(t, x, segments=4):
     """Welch power spectral density of samples ``x`` (leading axis time) at uniform times
-    ``t``: returns frequencies (Hz) and densities."""
-    from scipy.signal import welch
+    ``t``: returns frequencies (Hz) and densities.  The package's one spectrum
+    (``spectra.spectrum``, also drawn by ``plot.psd``): Hann window, ``segments``
+    half-overlapping segments (1: the whole run), mean removed."""
+    from ..spectra import spectrum
 
-    t = np.asarray(t, dtype=float)
-    nper = max(8, len(t) // segments)
-    return welch(np.asarray(x) - np.mean(x, axis=0), fs=1.0 / (t[1] - t[0]), nperseg=nper,
-                 axis=0)
+    return spectrum(t, x, segments=segments)
 
 
 #: Table 2 of the paper: first natural frequencies (Hz) of a pinned rotating tether with
@@ -505,7 +515,7 @@ def run(options):
     (every output of ``outputs``) besides the standard series, results and summary."""
     from pathlib import Path
 
-    from ..runner import run_dynamic
+    from ..runner.drive import run_dynamic
 
     cfg = BaselineConfig()
     alpha = options.value("alpha", 10.0)

@@ -8,17 +8,27 @@ along-track axis) at ``2 n``, ``n`` the mean motion.  The tether is stiff and ne
 massless, so the cable model librates as the dumbbell does; the scene's outputs compare
 its measured libration frequencies with these.
 
-The scene has a ``model``: ``"ancf"`` (ANCF cable, ``ancf_scene``).  Another model is one
+The scene has a ``model`` (``skfem-cable run tss --model NAME``): ``"ancf"`` (ANCF
+cable, ``ancf_scene``, the default) or ``"rodchain"`` (the tethered-satellite paper's own
+model, ``rodchain_scene``: the rod chain in orbit with its compiled RK4).  A model is one
 entry of ``MODELS``: a builder taking the keywords of ``scene`` but ``model`` and
-returning a scene with ``run(options) -> summary`` (as ``runner.RunScene``).
+returning a scene with ``run(options) -> summary`` (as ``runner.RunScene``); both report
+the same libration numbers (``libration_numbers``).
 """
+
+import time
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from ..cable import Cable
 from ..orbit import MU_EARTH, R_EARTH, Orbit
-from ..runner import RunScene
+from ..rodchain.export import ChainSeriesWriter
+from ..rodchain.integrate import rk4_step
+from ..rodchain.tss import tss_chain
+from ..runner.directory import run_directory
+from ..runner.drive import RunScene
+from ..runner.summary import write_summary
 from ..section import Section
 from ..solvers.steady import solve_steady
 from ..state import State
@@ -65,7 +75,13 @@ def attitude(orbit, cable, t, q):
     away from the orbit normal (a turn about the along-track axis); ``q`` (n_steps,
     n_dofs) holds the cable's coordinates at the times ``t``."""
     ends = np.array([cable.interpolate(qi, np.array([0.0, cable.length]))[0] for qi in q])
-    y = orbit.to_lvlh(np.asarray(t, dtype=float), ends[:, 1] - ends[:, 0])
+    return axis_attitude(orbit, t, ends[:, 1] - ends[:, 0])
+
+
+def axis_attitude(orbit, t, axis):
+    """Pitch and roll (rad) of the vectors ``axis`` (n_steps, 3) at the times ``t`` in the
+    orbiting frame (``attitude``)."""
+    y = orbit.to_lvlh(np.asarray(t, dtype=float), axis)
     pitch = np.arctan2(y[:, 1], y[:, 0])
     roll = np.arcsin(-y[:, 2] / np.linalg.norm(y, axis=1))
     return pitch, roll
@@ -86,11 +102,17 @@ def libration_outputs(orbit, cable, result):
     """Key numbers of a libration run: pitch and roll amplitudes (rad) and their
     frequencies over the mean motion against ``sqrt(3)`` and ``2``."""
     pitch, roll = attitude(orbit, cable, result.t, result.q[:, result.system.dofs(cable)])
+    return libration_numbers(orbit, result.t, pitch, roll)
+
+
+def libration_numbers(orbit, t, pitch, roll):
+    """The libration numbers of both models: the amplitudes (rad) and the frequencies of
+    the pitch and roll histories over the mean motion, against ``sqrt(3)`` and ``2``."""
     n = orbit.mean_motion
     return {"pitch_max": np.abs(pitch).max(), "roll_max": np.abs(roll).max(),
-            "pitch_frequency_over_n": crossing_frequency(result.t, pitch) / n,
+            "pitch_frequency_over_n": crossing_frequency(t, pitch) / n,
             "pitch_frequency_rigid": np.sqrt(3.0),
-            "roll_frequency_over_n": crossing_frequency(result.t, roll) / n,
+            "roll_frequency_over_n": crossing_frequency(t, roll) / n,
             "roll_frequency_rigid": 2.0}
 
 
@@ -112,28 +134,100 @@ def ancf_scene(elements=8, formulation=None, altitude=ALTITUDE, pitch=PITCH, rol
                     lambda result: libration_outputs(orbit, cable, result))
 
 
+class ChainLibration:
+    """The rod-chain model of the scene as a run (``run(options) -> summary``): the
+    orbiting chain from ``x0, v0`` over ``t_end`` seconds by its compiled RK4, saved every
+    ``output_dt``; the run directory gets ``summary.json`` and the ParaView series of the
+    saved steps (every ``series_every``-th).  No checkpoint: ``--resume`` is refused."""
+
+    def __init__(self, model, x0, v0, orbit, t_end, output_dt, parameters, series_every=5):
+        self.model, self.x0, self.v0, self.orbit = model, x0, v0, orbit
+        self.t_end, self.output_dt = t_end, output_dt
+        self.parameters, self.series_every = parameters, series_every
+
+    def run(self, options):
+        options.reject("tss --model rodchain", "every", "frame")
+        if options.resume:
+            raise ValueError("tss --model rodchain has no checkpoint and cannot be resumed: "
+                             "run it again into another --out, or with --overwrite")
+        t_end = options.value("t_end", self.t_end)
+        output_dt = options.value("dt", self.output_dt)
+        step = rk4_step(self.model, output_dt)
+        every = int(round(output_dt / step))
+        t_end = np.ceil(t_end / output_dt - 1e-9) * output_dt
+        with run_directory(options, can_resume=False) as out:
+            start = time.perf_counter()
+            result = self.model.simulate(self.x0, self.v0, t_end, step, every=every)
+            wall = time.perf_counter() - start
+            joints = result.joints
+            pitch, roll = axis_attitude(self.orbit, result.t, joints[:, -1] - joints[:, 0])
+            tension = result.tension
+            summary = {"scene": "tss",
+                       "parameters": {**self.parameters, "t_end": t_end, "dt": output_dt},
+                       "wall_time": wall, "saved_steps": len(result),
+                       "integration": {"method": "rk4", "step": step,
+                                       "steps": result.stats["steps"],
+                                       "stable_dt": self.model.stable_dt()},
+                       "outputs": {"chain": {"rods": self.model.n,
+                                             "mass": self.model.total_mass,
+                                             "central_tension_mean":
+                                                 tension[:, self.model.n // 2].mean(),
+                                             "max_tension_run": tension.max(),
+                                             "min_tension_run": tension.min()},
+                                   **libration_numbers(self.orbit, result.t, pitch, roll)},
+                       "warnings": []}
+            if out is not None:
+                writer = ChainSeriesWriter(out, self.model.chain)
+                for k in sorted({*range(0, len(result), self.series_every), len(result) - 1}):
+                    writer.write(result.t[k], result.x[k, 1:], result.v[k, 1:],
+                                 result.x[k, 0], result.v[k, 0])
+                summary["files"] = {"series": "series.pvd"}
+                write_summary(out, summary)
+        return summary
+
+
+def rodchain_scene(elements=None, formulation=None, altitude=ALTITUDE, pitch=PITCH,
+                   roll=ROLL, periods=3.0, steps_per_period=200, every=4):
+    """The rod-chain model of the scene: ``tss_chain`` of ``elements`` rods (default 3)
+    with the ANCF model's tether, end masses, orbit and offsets, run by its compiled RK4
+    at its stable step over ``periods`` pitch periods, saved ``steps_per_period / every``
+    times per period.  A rod chain has no ``formulation``."""
+    if formulation is not None:
+        raise ValueError("tss: the rod-chain model has no formulation (a rod is a "
+                         f"spring); got formulation={formulation!r}")
+    orbit = Orbit(MU_EARTH, R_EARTH + altitude)
+    rods = 3 if elements is None else elements
+    model, x0, v0 = tss_chain(rods, orbit=orbit, end_masses=(MASS, MASS), length=LENGTH,
+                              radius=1e-3, E=1e11, density=1.0, pitch=pitch, roll=roll)
+    period = pitch_period(orbit)
+    parameters = {"model": "rodchain", "rods": rods, "altitude": altitude,
+                  "length": LENGTH, "mass": MASS, "pitch": pitch, "roll": roll,
+                  "mean_motion": orbit.mean_motion}
+    return ChainLibration(model, x0, v0, orbit, periods * period,
+                          period * every / steps_per_period, parameters)
+
+
 #: The models of the scene by name: ``builder(**keywords of scene but model)``.
-MODELS = {"ancf": ancf_scene}
-#: Why a model that is planned but not written yet cannot be built.
-PLANNED = {"rodchain": "the rod-chain model of this scene is not written yet (it is to "
-                       "join tss.MODELS from skfem_cable.rodchain)"}
+MODELS = {"ancf": ancf_scene, "rodchain": rodchain_scene}
 
 
-def scene(model="ancf", elements=8, formulation=None, altitude=ALTITUDE, pitch=PITCH,
+def scene(model="ancf", elements=None, formulation=None, altitude=ALTITUDE, pitch=PITCH,
           roll=ROLL, periods=3.0, steps_per_period=200, every=4):
     """The scene (``skfem-cable sweep tss`` sweeps these keywords) in the ``model`` of
-    ``MODELS``; see ``ancf_scene``."""
+    ``MODELS``; see ``ancf_scene`` and ``rodchain_scene`` (``elements``: the model's
+    default when None)."""
     if model not in MODELS:
-        reason = f": {PLANNED[model]}" if model in PLANNED else ""
         raise ValueError(f"tss: model must be one of {', '.join(map(repr, MODELS))}, got "
-                         f"{model!r}{reason}")
-    return MODELS[model](elements=elements, formulation=formulation, altitude=altitude,
-                         pitch=pitch, roll=roll, periods=periods,
-                         steps_per_period=steps_per_period, every=every)
+                         f"{model!r}")
+    counts = {} if elements is None else {"elements": elements}
+    return MODELS[model](**counts, formulation=formulation, altitude=altitude, pitch=pitch,
+                         roll=roll, periods=periods, steps_per_period=steps_per_period,
+                         every=every)
 
 
 def run(options):
-    """``skfem-cable run tss``: the ANCF model, ``--elements`` per tether (default 8)."""
+    """``skfem-cable run tss``: the ``--model`` (default ANCF), ``--elements`` per tether
+    (default 8 ANCF elements, 3 rods)."""
     options.reject("tss", "alpha")
-    return scene(elements=options.value("elements", 8),
+    return scene(model=options.value("model", "ancf"), elements=options.elements,
                  formulation=options.formulation).run(options)

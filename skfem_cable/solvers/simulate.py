@@ -16,15 +16,15 @@ Examples
 ...                     observers=sc.io.run_observers("runs/a", restart=True))
 """
 
-import contextlib
 import numbers
 import time
 
 import numpy as np
 
-from ..contract import Observer, Run, Step, finish_observers
+from ..contract import Observer, Observers, Run, Step
 from ..kernels import compile_log
-from ..result import FIELDS, SETTINGS, Result, settings_array, step_record
+from ..records import FIELDS, SETTINGS, settings_array, step_record
+from ..result import Result
 from .galpha import GeneralizedAlpha
 
 #: Positions in ``result.SETTINGS`` that must match when a run is resumed (all but t_end).
@@ -224,12 +224,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
         raise ValueError(f"every must be an integer >= 1, got {every!r}")
     _check_steps(t_start, t_end, dt, max_halvings)
-    observers = list(observers or ())
     clock = _Clock()
-    for obs in observers:
-        if not all(callable(getattr(obs, hook, None)) for hook in ("start", "saved",
-                                                                    "finish")):
-            raise TypeError(f"{obs!r} is not an Observer (needs start, saved and finish)")
     integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol,
                              compiled, rtol, atol, tol_local)
     adaptive = integ.rtol is not None
@@ -257,21 +252,15 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         integ.initialize(q, v, t_start)
         start_index = 0
         recorder = _Recorder(system)
-    everyone = [recorder, *observers]
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
+    watch = Observers(run, [recorder, *(observers or ())],
+                      lambda: Result(system, recorder.arrays(), _stats(integ, clock)))
     clock.start()
 
     def save(index):
         """Hand the current state to every observer; returns a stop message or None."""
-        step = Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam, integ.iterations,
-                    integ.energies())
-        stop = None
-        for obs in everyone:
-            answer = obs.saved(run, step)
-            if answer and stop is None:
-                stop = (answer if isinstance(answer, str)
-                        else f"stopped by {type(obs).__name__}")
-        return stop
+        return watch.saved(Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam,
+                                integ.iterations, integ.energies()))
 
     def advance(h, depth):
         ok, msg = integ.step(h)
@@ -322,20 +311,9 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
                 stop = save(i)
         return stop
 
-    started = []
-    try:
-        for obs in everyone:
-            obs.start(run)
-            started.append(obs)
+    with watch:  # whatever stops the run, the steps computed so far travel with the error
         stop = save(0) if start_index == 0 else None
         stop = (adaptive_steps if adaptive else fixed_steps)(start_index, stop)
         system.check_unchanged(integ.lay, "during the run")  # an observer's edit: refused
         run.stop_reason = stop
-    except BaseException as err:
-        # whatever stopped the run, the steps computed so far travel with the error
-        with contextlib.suppress(Exception):
-            err.result = Result(system, recorder.arrays(), _stats(integ, clock))
-        finish_observers(started, run, err)
-        raise
-    finish_observers(started, run, None)
     return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason))

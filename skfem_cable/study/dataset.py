@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..io.atomic import TMP_MARK
-from ..io.store import open_dataset
+from ..atomic import TMP_MARK
+from ..io.reader import open_dataset
 
 #: The study's dataset in its directory.
 STUDY = "study.zarr"

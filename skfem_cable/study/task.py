@@ -25,8 +25,10 @@ from ..io import lock
 from ..io.fingerprint import settings_fingerprint, system_fingerprint
 from ..io.jsonable import jsonable
 from ..io.manifest import StoreMismatch, read_manifest
-from ..io.store import run_info
-from ..runner import SUMMARY, RunOptions, run_files, write_summary
+from ..io.reader import run_info
+from ..runner.directory import SUMMARY, run_files
+from ..runner.options import RunOptions
+from ..runner.summary import write_summary
 
 #: Top-level entries of a summary that become the study's numbers (besides ``outputs``).
 STATS = ("wall_time", "total_wall_time", "steps", "saved_steps", "newton")

@@ -4,10 +4,13 @@ sees either the old or the new content, never a part of it, whatever stops the w
 (``SIGKILL``, a full disk, a power cut after the rename).
 
 ``replacing`` gives the temporary file to write and renames it; ``write_atomic`` writes
-one file of bytes with it; ``AtomicStore`` is the Zarr ``LocalStore`` whose every
-object (chunk or metadata) is written by ``write_atomic``; ``remove_temporaries`` removes
+one file of bytes with it (``io.zarr_store.atomic_store`` is the Zarr store whose every
+object, chunk or metadata, is written by ``write_atomic``); ``remove_temporaries`` removes
 what a killed writer left behind.  All bytes pass through ``_write``: the tests make it
 raise ``OSError(ENOSPC)`` to play a full disk.
+
+A leaf of the package (the standard library only): the compiled kernels' cache
+(``kernels.generated``), the exports and the run store all write through it.
 """
 
 import os
@@ -102,46 +105,3 @@ def remove_temporaries(folder):
             p.unlink(missing_ok=True)
             count += 1
     return count
-
-
-_STORE_CLASS = None
-
-
-def atomic_store(root, read_only=False):
-    """A Zarr store on the folder ``root`` whose writes go through ``write_atomic``
-    (zarr is imported on first use)."""
-    global _STORE_CLASS
-    if _STORE_CLASS is None:
-        _STORE_CLASS = _define_store()
-    return _STORE_CLASS(root, read_only=read_only)
-
-
-def _define_store():
-    import asyncio
-
-    from zarr.storage import LocalStore
-
-    class AtomicStore(LocalStore):
-        """``zarr.storage.LocalStore`` writing every object with ``write_atomic`` (its own
-        writes are atomic too, but neither durable nor cleaned up after
-        ``KeyboardInterrupt``)."""
-
-        def _put(self, key, value, exclusive=False):
-            self._check_writable()
-            write_atomic(self.root / key, value.as_buffer_like(), exclusive=exclusive)
-
-        async def set(self, key, value):
-            if not self._is_open:
-                await self._open()
-            await asyncio.to_thread(self._put, key, value)
-
-        async def set_if_not_exists(self, key, value):
-            if not self._is_open:
-                await self._open()
-            await asyncio.to_thread(self._put, key, value, True)
-
-        def set_sync(self, key, value):
-            self._ensure_open_sync()
-            self._put(key, value)
-
-    return AtomicStore

@@ -1,0 +1,145 @@
+"""What an element type of the cable is: a scalar scikit-fem element on the reference line
+whose functions interpolate nodal derivatives, and what it gives the rest of the library.
+
+An element type is a subclass of ``CableElement`` that states four things:
+
+* ``orders``: the derivative orders of its nodal fields, ``(0,)`` for positions only,
+  ``(0, 1)`` for positions and slopes ``r_x`` (the paper's cable, Eq. 17), ``(0, 1, 2)``
+  with ``r_xx`` too.  Its functions are the Hermite interpolants of those nodal values on
+  ``xi in [0, 1]`` (degree ``2 len(orders) - 1``), derived here once, exactly, for any
+  ``orders``; the function of a derivative of order ``k`` is scaled by ``h^k`` (the element
+  length), so that nodal values are derivatives in the *global* arc length ``x`` and
+  nothing is inverted per element (as ``hermite3`` explains).
+* ``fields``: what a law sees at a point, ``("r_x",)`` or ``("r_x", "r_xx")``; a law with
+  bending (``r_xx``) is refused on an element without it.
+* ``formulations``: the formulations it supports (``formulation``), the first the default.
+* ``intorder``: the default Gauss order of the elastic forces.
+
+Everything else follows and is written once against it: the nodal layout (``3
+len(orders)`` coordinates per node, fields in ``orders``' order, scikit-fem's numbering of
+``ElementVector(element, 3)``), the tables of the kernels, the mass and line loads, the
+recovery of fields and the export.
+"""
+
+import numpy as np
+import sympy as sp
+from skfem.element import Element
+from skfem.element.discrete_field import DiscreteField
+from skfem.refdom import RefLine
+
+#: The name of a nodal field of each derivative order (``Cable.describe_dof``, DOF names).
+FIELD_NAMES = ("r", "r_x", "r_xx")
+
+
+def hermite_coefficients(orders):
+    """Power-basis coefficients ``(n, n)`` on ``xi in [0, 1]`` of the Hermite functions of
+    the nodal derivatives ``orders`` at ``xi = 0`` then ``xi = 1`` (``n = 2 len(orders)``):
+    row ``i`` is the polynomial whose ``orders[k]``-th derivative is 1 at the end and
+    degree of freedom ``i`` and whose other nodal derivatives vanish.  Exact (rational
+    arithmetic), then rounded to floats once."""
+    n = 2 * len(orders)
+    xi = sp.Symbol("xi")
+    monomials = [xi**j for j in range(n)]
+    V = sp.Matrix([[sp.diff(m, xi, k).subs(xi, end) for m in monomials]
+                   for end in (0, 1) for k in orders])
+    return np.array(V.inv().T.tolist(), dtype=float)
+
+
+class CableElement(Element):
+    """A scalar line element of the cable on scikit-fem's reference line (module
+    docstring): subclasses set ``name``, ``orders``, ``fields``, ``formulations`` and
+    ``intorder``; the scikit-fem attributes and the Hermite functions follow from them.
+
+    Use ``ElementVector(element, 3)`` for the 3-D position field; scikit-fem then numbers
+    a node's coordinates field by field, ``r^1, r^2, r^3, r_x^1, ...``, and consecutive
+    nodes consecutively.
+
+    Attributes
+    ----------
+    n_functions : int
+        Functions per element, ``2 len(orders)`` (the element has ``3 n_functions``
+        coordinates).
+    coefficients : ndarray (n_functions, n_functions)
+        Their power-basis coefficients in ``xi`` (``hermite_coefficients``).
+    scaling : int ndarray (n_functions,)
+        The power of ``h`` each function is scaled by (its nodal derivative's order).
+    bending : bool
+        Whether a law may read ``r_xx``.
+    """
+
+    refdom = RefLine
+    name = None
+    orders = (0,)
+    fields = ("r_x",)
+    formulations = ("paper",)
+    intorder = 1
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        cls.nodal_dofs = len(cls.orders)
+        cls.dofnames = ["u" + "_x" * k for k in cls.orders]
+        cls.doflocs = np.array([[0.0]] * cls.nodal_dofs + [[1.0]] * cls.nodal_dofs)
+        cls.coefficients = hermite_coefficients(cls.orders)
+        cls.n_functions = 2 * cls.nodal_dofs
+        cls.maxdeg = cls.n_functions - 1
+        cls.scaling = np.tile(cls.orders, 2)
+        cls.bending = "r_xx" in cls.fields
+
+    @property
+    def node_fields(self):
+        """Names of the nodal fields, e.g. ``("r", "r_x")``."""
+        return tuple(FIELD_NAMES[k] for k in self.orders)
+
+    @property
+    def mass_order(self):
+        """The Gauss order that integrates the mass matrix exactly (degree ``2 maxdeg``),
+        plus one: ``maxdeg + 1`` points."""
+        return 2 * self.maxdeg + 1
+
+    def shape(self, xi, h):
+        """The functions and their first two ``x``-derivatives (``x = h xi``).
+
+        Parameters
+        ----------
+        xi : ndarray
+            Reference coordinates in ``[0, 1]``, any shape.
+        h : ndarray or float
+            Element length (the Jacobian ``dx/dxi``), broadcastable against ``xi``.
+
+        Returns
+        -------
+        s, s_x, s_xx : ndarray
+            Arrays of shape ``(n_functions,) + broadcast(xi, h).shape``.
+        """
+        xi = np.asarray(xi, dtype=float)
+        h = np.asarray(h, dtype=float)
+        ones = np.ones_like(xi * h)
+        C = self.coefficients
+        powers = [np.ones_like(xi)]
+        for _ in range(C.shape[1] - 1):
+            powers.append(powers[-1] * xi)
+        out = []
+        for d in range(3):
+            # sum_j j!/(j-d)! C[:, j] xi^(j-d), in ascending powers as written by hand
+            value = np.zeros((self.n_functions,) + ones.shape)
+            for j in range(d, C.shape[1]):
+                factor = float(np.prod(np.arange(j - d + 1, j + 1)))
+                value = value + (factor * C[:, j]).reshape((-1,) + (1,) * ones.ndim) \
+                    * powers[j - d]
+            power = (self.scaling - d).reshape((-1,) + (1,) * ones.ndim)
+            out.append(np.where(power >= 0, value * ones * h ** np.maximum(power, 0),
+                                value * ones / h ** np.maximum(-power, 0)))
+        return tuple(out)
+
+    def gbasis(self, mapping, X, i, tind=None):
+        if not 0 <= i < self.n_functions:
+            self._index_error()
+        if tind is None:
+            tind = np.arange(mapping.mesh.t.shape[1])
+        h = mapping.A[0, 0, tind]
+        xi = np.broadcast_to(X[0], (len(tind), X.shape[-1]))
+        s, s_x, s_xx = self.shape(xi, h[:, None])
+        return (DiscreteField(value=s[i], grad=s_x[i][None], hess=s_xx[i][None, None]),)
+
+    def __repr__(self):
+        return f"{type(self).__name__}()"

@@ -1,0 +1,69 @@
+"""Zarr under the run store: ``atomic_store``, the Zarr store whose every object (chunk
+or metadata) is written crash-safely (``atomic.write_atomic``), and ``sync``/``gather``,
+which run zarr's coroutines.  zarr is imported on first use.
+"""
+
+import asyncio
+import warnings
+
+from ..atomic import write_atomic
+
+
+def sync(coro):
+    """Run a zarr coroutine on zarr's event loop (consolidated-metadata warnings off:
+    zarr-python reads and writes it; other v3 readers ignore it)."""
+    from zarr.core.sync import sync as zarr_sync
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*[Cc]onsolidated metadata")
+        return zarr_sync(coro)
+
+
+async def gather(coros):
+    """Await all of ``coros`` (none is left running), then raise the first failure."""
+    results = await asyncio.gather(*coros, return_exceptions=True)
+    for r in results:
+        if isinstance(r, BaseException):
+            raise r
+    return results
+
+
+_STORE_CLASS = None
+
+
+def atomic_store(root, read_only=False):
+    """A Zarr store on the folder ``root`` whose writes go through ``write_atomic``
+    (zarr is imported on first use)."""
+    global _STORE_CLASS
+    if _STORE_CLASS is None:
+        _STORE_CLASS = _define_store()
+    return _STORE_CLASS(root, read_only=read_only)
+
+
+def _define_store():
+    from zarr.storage import LocalStore
+
+    class AtomicStore(LocalStore):
+        """``zarr.storage.LocalStore`` writing every object with ``write_atomic`` (its own
+        writes are atomic too, but neither durable nor cleaned up after
+        ``KeyboardInterrupt``)."""
+
+        def _put(self, key, value, exclusive=False):
+            self._check_writable()
+            write_atomic(self.root / key, value.as_buffer_like(), exclusive=exclusive)
+
+        async def set(self, key, value):
+            if not self._is_open:
+                await self._open()
+            await asyncio.to_thread(self._put, key, value)
+
+        async def set_if_not_exists(self, key, value):
+            if not self._is_open:
+                await self._open()
+            await asyncio.to_thread(self._put, key, value, True)
+
+        def set_sync(self, key, value):
+            self._ensure_open_sync()
+            self._put(key, value)
+
+    return AtomicStore

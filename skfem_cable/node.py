@@ -1,0 +1,54 @@
+"""A node of a body, as constraints and loads address it (``cable.node(i)``): a leaf module,
+so that bodies, constraints and the system all depend on it and not on each other."""
+
+
+class Node:
+    """A node of a body, as used by constraints and loads: ``cable.node(i)``.
+
+    Attributes
+    ----------
+    body : Cable
+        The body the node belongs to: its ``node_dofs(index)`` are the node's local
+        coordinates, field by field in the order of its ``element.orders``.
+    index : int
+        Index of the node in the body (non-negative).
+    position_dofs, slope_dofs : int ndarray (3,)
+        The body's local coordinates of the node's position ``r`` and slope ``r_x``; a
+        node without a slope (a linear element's) refuses ``slope_dofs`` with a
+        ``ValueError``.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> tip = cable.node(-1)
+    >>> tip, tip.position_dofs.tolist(), tip.slope_dofs.tolist()
+    (Node(cable, 2), [12, 13, 14], [15, 16, 17])
+    """
+
+    def __init__(self, body, index):
+        self.body = body
+        self.index = index
+
+    @property
+    def position_dofs(self):
+        """Local coordinates of the node's position ``r`` in its body."""
+        return self.body.node_dofs(self.index)[:3]
+
+    @property
+    def has_slope(self):
+        """Whether the node carries a slope ``r_x`` (its element has one)."""
+        return 1 in self.body.element.orders
+
+    @property
+    def slope_dofs(self):
+        """Local coordinates of the node's slope ``r_x`` in its body."""
+        if not self.has_slope:
+            raise ValueError(f"{self!r} has no slope: its element "
+                             f"{self.body.element.name!r} has positions only; a clamp or a "
+                             "slope constraint needs an element with slopes (e.g. "
+                             "element='hermite3')")
+        return self.body.node_dofs(self.index)[3:6]
+
+    def __repr__(self):
+        return f"Node({self.body.name}, {self.index})"

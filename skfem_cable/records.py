@@ -1,0 +1,33 @@
+"""The record of a saved step: what every saved step of a run holds (``FIELDS``, among
+them the ``ENERGIES``) and the settings of a run a checkpoint keeps (``SETTINGS``).
+
+A leaf: the in-memory ``result.Result``, the integrators (``solvers.simulate``) and the
+run store (``io``) all build on these names, none on another for them.
+"""
+
+import numpy as np
+
+#: Energies recorded at every saved step (``contract.Step.energies``).
+ENERGIES = ("kinetic", "axial", "bending", "potential", "dissipated", "external_work")
+
+#: Arrays recorded at every saved step.
+FIELDS = ("t", "q", "v", "a", "lam", "iterations") + ENERGIES
+
+
+#: Settings of a run recorded in a checkpoint (``settings``, an array in this order); all
+#: but ``t_end`` must match when the run is resumed.
+SETTINGS = ("t_start", "t_end", "dt", "rho_inf", "every", "tol", "max_iter")
+
+
+def settings_array(settings):
+    """The ``SETTINGS`` of a run's settings (a dict, ``contract.Run.settings``) as the
+    array a checkpoint stores."""
+    return np.array([settings[k] for k in SETTINGS], dtype=float)
+
+
+def step_record(step):
+    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied."""
+    record = {"t": step.t, "q": step.q.copy(), "v": step.v.copy(), "a": step.a.copy(),
+              "lam": step.lam.copy(), "iterations": step.iterations}
+    record.update({name: step.energies[name] for name in ENERGIES})
+    return record
