@@ -78,9 +78,10 @@ from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anc
 from .scenes import esail as esail
 from .section import Section
 from .solvers.modal import modes
-from .solvers.simulate import SimulationError, simulate
+from .solvers.simulate import simulate
 from .solvers.static import StaticConvergenceError, solve_static
 from .solvers.steady import solve_steady
+from .solvers.step_control import SimulationError
 from .state import State
 from .study import sweep  # parameter studies on Dask distributed
 from .system import System, SystemChanged

@@ -15,8 +15,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from .formulation import DEFAULT, FORMULATIONS
-from .solvers.simulate import SimulationError
 from .solvers.static import StaticConvergenceError
+from .solvers.step_control import SimulationError
 
 EPILOG = """examples:
   skfem-cable run pendulum --out runs/pendulum

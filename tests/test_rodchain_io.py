@@ -12,7 +12,6 @@ import pytest
 import skfem_cable as sc
 from skfem_cable import cli, export, plot, scene_file
 from skfem_cable.rodchain import (
-    ChainSeriesObserver,
     RodChain,
     RodChainDivergence,
     chain_mesh,
@@ -177,10 +176,16 @@ def test_vtu_series_round_trips_positions(tmp_path):
 
 
 def test_series_observer_writes_during_the_run(tmp_path):
-    res, _ = small_run(observers=[ChainSeriesObserver(tmp_path, every=20)])
+    """The one series observer of every model (``io.SeriesObserver``) writes a rod chain's
+    series through its integration's writer; a frame other than the inertial one is
+    refused before any file is written."""
+    res, _ = small_run(observers=[sc.io.SeriesObserver(tmp_path, every=20)])
     entries = export.read_pvd(tmp_path / "series.pvd")
     assert [t for t, _ in entries] == pytest.approx([0.0, 0.02, 0.04, 0.05])
     np.testing.assert_array_equal(meshio.read(tmp_path / entries[-1][1]).points, res.joints[-1])
+    with pytest.raises(ValueError, match="inertial frame, not 'lvlh'"):
+        small_run(observers=[sc.io.SeriesObserver(tmp_path / "lvlh", frame="lvlh")])
+    assert not (tmp_path / "lvlh" / "series.pvd").exists()
 
 
 # --- figures ------------------------------------------------------------------------------

@@ -7,19 +7,20 @@ from ..contract import Observer
 
 
 class SeriesObserver(Observer):
-    """Writes ``run_dir/series.pvd`` and one ``vtu/series_NNNNNN.vtu`` per written step
-    (``export.SeriesWriter``), so that ParaView opens a running or interrupted run up to
-    its last written step.
+    """Writes ``run_dir/series.pvd`` and one ``vtu/series_NNNNNN.vtu`` per written step,
+    so that ParaView opens a running or interrupted run up to its last written step: the
+    one series observer of every model.  The run's integrator gives the writer
+    (``series_writer``: ``export.SeriesWriter`` of a system of bodies, the rod chain's
+    joints for a rod chain), the observer decides which steps it writes.
 
     Parameters
     ----------
     run_dir : path
         Created at the start of the run.
-    system : System, optional
-        Default: the system of the run.
     every : int
         A ``.vtu`` for every ``every``-th saved step (counted from the initial state, also
-        across a resumed run) and for the last one.
+        across a resumed run) and for the last one (also the step at which an observer
+        stopped the run).
     points_per_element : int
         Cable samples per element (``export.system_mesh``).
     append : bool
@@ -31,13 +32,12 @@ class SeriesObserver(Observer):
         orbit).
     """
 
-    def __init__(self, run_dir, system=None, every=1, points_per_element=8, append=False,
+    def __init__(self, run_dir, every=1, points_per_element=8, append=False,
                  frame="inertial"):
-        if int(every) != every or every < 1:
+        if isinstance(every, bool) or int(every) != every or every < 1:
             raise ValueError(f"every must be a positive integer, got {every!r}")
         self.frame = export.frame_name(frame)
         self.dir = Path(run_dir)
-        self.system = system
         self.every = int(every)
         self.points_per_element = points_per_element
         self.append = append
@@ -50,13 +50,12 @@ class SeriesObserver(Observer):
         return self.dir / "series.pvd"
 
     def start(self, run):
-        system = run.system if self.system is None else self.system
-        frame = export.output_frame(system, self.frame)  # refused before any file changes
         append = self.append or run.resumed
+        # the writer refuses a frame the run cannot give before any file changes
+        self.writer = run.integrator.series_writer(self.dir, append=append, frame=self.frame,
+                                                   points_per_element=self.points_per_element)
         if not append:
             self.pvd.unlink(missing_ok=True)  # a series left by an earlier run
-        self.writer = export.SeriesWriter(self.dir, system, self.points_per_element,
-                                          append=append, frame=frame.name)
         self.last = None
 
     def saved(self, run, step):

@@ -22,6 +22,8 @@ low Earth orbit).
 import numpy as np
 from numba import njit
 
+from . import CUBIC
+
 #: In dynamics, a gravity-gradient tangent below this, relative to the mass, is omitted.
 NEGLIGIBLE = 1e-12
 
@@ -73,35 +75,54 @@ def differential_acceleration(mu, R, R2, x, y, z):
 
 
 @njit(cache=True, inline="always")
-def field(mu, k, reference, base, delta, a, T, r, extra):
-    """Differential acceleration ``a`` (3,) at the offset ``delta`` and its tangent ``T``
-    (3, 3); ``base`` holds ``a_J2(R)`` (unused when ``k = 0``); ``r`` and ``extra`` (3,)
-    are scratch."""
+def acceleration(mu, k, reference, base, delta, a, r, extra):
+    """Differential acceleration ``a`` (3,) at the offset ``delta``, with ``r = R +
+    delta`` (3,) into ``r``; returns ``(mu / |r|^3, |r|^2)``.  ``base`` holds ``a_J2(R)``
+    (unused when ``k = 0``); ``extra`` (3,) is scratch."""
     R2 = reference[0] ** 2 + reference[1] ** 2 + reference[2] ** 2
     a[0], a[1], a[2], s, r2 = differential_acceleration(mu, reference, R2, delta[0],
                                                         delta[1], delta[2])
     for i in range(3):
         r[i] = reference[i] + delta[i]
+    if k != 0.0:
+        j2_acceleration(k, r, extra)
+        for i in range(3):
+            a[i] += extra[i] - base[i]
+    return s, r2
+
+
+@njit(cache=True, inline="always")
+def gradient(k, s, r2, r, T):
+    """The tangent ``T = da/d delta`` (3, 3) at ``r``: ``s (3 r r^T / r^2 - I)`` with ``s =
+    mu / |r|^3``, and the J2 part when ``k != 0``."""
     for i in range(3):
         for j in range(3):
             T[i, j] = 3.0 * s * r[i] * r[j] / r2
         T[i, i] -= s
     if k != 0.0:
-        j2_acceleration(k, r, extra)
-        for i in range(3):
-            a[i] += extra[i] - base[i]
         j2_tangent(k, r, T)
 
 
 @njit(cache=True)
 def kernel(pack, index, ev):
+    """``_kernel`` with the number of vectors per point fixed for the cubic element and
+    the rigid body (``kernels.CUBIC``), or read from ``vectors``."""
+    k = pack[0].shape[1]
+    if k == CUBIC:
+        _kernel(pack, index, ev, CUBIC)
+    else:
+        _kernel(pack, index, ev, k)
+
+
+@njit(cache=True, inline="always")
+def _kernel(pack, index, ev, k):
     """The compiled hook of the evaluation contract (``contract.Term.kernels``): the
     generalized forces of the mass points into ``ev``'s external forces and ``-cK m (s
     s^T) (x) T`` into its matrix values at ``index`` (ng, 3 k, 3 k), one block per group
-    of points sharing their vectors, with ``pack = (vectors (np, k), coefficients (np, k),
-    mass (np,), groups (ng + 1,), reference (3,), base (3,), constants = [mu, k_J2])``
-    (``orbit_gravity.MassPoints``: point ``p`` is at ``sum_j s_pj q[v_pj : v_pj + 3]``;
-    ``constants[2]``: a bound of the gravity gradient's norm).
+    of points sharing their ``k`` vectors, with ``pack = (vectors (np, k), coefficients
+    (np, k), mass (np,), groups (ng + 1,), reference (3,), base (3,), constants = [mu,
+    k_J2])`` (``orbit_gravity.MassPoints``: point ``p`` is at ``sum_j s_pj q[v_pj : v_pj +
+    3]``; ``constants[2]``: a bound of the gravity gradient's norm).
 
     In dynamics the tangent is left out when ``cK`` times the gradient is below
     ``NEGLIGIBLE``: beside the unit mass it is added to, it would change Newton's
@@ -112,7 +133,6 @@ def kernel(pack, index, ev):
     q, v, s, f, f_ext, fd, data, energy, power = ev
     vectors, coefficients, mass, groups, reference, base, constants = pack
     n_groups = groups.size - 1
-    k = vectors.shape[1]
     cK = s[1]
     want = data.size > 0 and (s[3] == 0.0 or cK * constants[2] > NEGLIGIBLE)
     mu, k2 = constants[0], constants[1]
@@ -129,7 +149,7 @@ def kernel(pack, index, ev):
                 delta[i] = 0.0
                 for j in range(k):
                     delta[i] += coefficients[p, j] * q[vectors[p, j] + i]
-            field(mu, k2, reference, base, delta, a, T, r, extra)
+            scale, r2 = acceleration(mu, k2, reference, base, delta, a, r, extra)
             m = mass[p]
             for j in range(k):
                 c = m * coefficients[p, j]
@@ -137,6 +157,7 @@ def kernel(pack, index, ev):
                     f_ext[vectors[p, j] + i] += c * a[i]
             if not want:
                 continue
+            gradient(k2, scale, r2, r, T)
             for j in range(k):
                 for l in range(k):
                     w = m * coefficients[p, j] * coefficients[p, l]

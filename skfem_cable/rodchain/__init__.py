@@ -27,11 +27,12 @@ The pieces, one job each:
 * ``integrate``: RK4 (compiled blocks, or Python for callable loads) and the adaptive
   methods, with ``contract.Observer`` observers; ``RodChainDivergence``;
 * ``result``: ``RodChainResult`` (the API of the cable ``Result``) and ``ChainState``;
-* ``export``: the VTU polyline of the joints, series and ``ChainSeriesObserver``;
+* ``export``: the VTU polyline of the joints and its series (written during a run by
+  ``io.SeriesObserver``);
 * ``plots``: figures and renders of a run; ``run``: a run directory (``run_chain``).
 """
 
-from .export import ChainSeriesObserver, ChainSeriesWriter, chain_mesh, write_series, write_vtu
+from .export import ChainSeriesWriter, chain_mesh, write_series, write_vtu
 from .integrate import METHODS, RK4_STABILITY, Integration, RodChainDivergence, rk4_step
 from .model import RodChain
 from .orbiting import OrbitingChain, OrbitingChainResult
@@ -39,7 +40,7 @@ from .problem import Problem, circular_anchor
 from .result import ChainState, RodChainResult
 from .tss import tss_chain
 
-__all__ = ["METHODS", "RK4_STABILITY", "ChainSeriesObserver", "ChainSeriesWriter",
+__all__ = ["METHODS", "RK4_STABILITY", "ChainSeriesWriter",
            "ChainState", "Integration", "OrbitingChain", "OrbitingChainResult", "Problem",
            "RodChain", "RodChainDivergence", "RodChainResult", "chain_mesh", "circular_anchor",
            "rk4_step", "tss_chain", "write_series", "write_vtu"]

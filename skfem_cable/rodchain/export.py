@@ -7,7 +7,7 @@ joint from the anchor) and ``joint_id``, and one ``line`` cell per rod with the 
 m) and ``rod_id``.  meshio, pyvista and ParaView read it; a series is one ``.vtu`` per
 saved step and a ``.pvd`` collection (``export.write_pvd``), written atomically by the
 low-level writers of ``skfem_cable.export``: ``write_series`` after a run,
-``ChainSeriesObserver`` during one.
+``io.SeriesObserver`` during one (through ``Integration.series_writer``).
 """
 
 from pathlib import Path
@@ -15,7 +15,6 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from ..contract import Observer
 from ..export import VtuSeries, _write_atomic
 
 
@@ -63,15 +62,24 @@ class ChainSeriesWriter(VtuSeries):
     chain : RodChain
     append, name
         See ``export.VtuSeries``.
+    anchor : callable, optional
+        ``anchor(t) -> (position, velocity, ...)`` of ``O_0`` (a run's
+        ``Integration.anchor``), for ``write`` without an ``origin``.
     """
 
-    def __init__(self, run_dir, chain, append=False, name="series"):
+    def __init__(self, run_dir, chain, append=False, name="series", anchor=None):
         super().__init__(run_dir, append, name)
         self.chain = chain
+        self.anchor = anchor
 
-    def write(self, t, q, v=None, origin=(0.0, 0.0, 0.0), origin_velocity=(0.0, 0.0, 0.0)):
-        """Write the configuration at time ``t`` (rod vectors ``q``, (n, 3) or flattened);
+    def write(self, t, q, v=None, origin=None, origin_velocity=None):
+        """Write the configuration at time ``t`` (rod vectors ``q``, (n, 3) or flattened)
+        with the anchor at ``origin`` moving with ``origin_velocity`` (default: the
+        writer's ``anchor(t) -> (position, velocity, ...)``, else at rest at the origin);
         entries at or after ``t`` are replaced.  Returns the path of the ``.vtu``."""
+        if origin is None:
+            origin, origin_velocity = (self.anchor(t)[:2] if self.anchor is not None
+                                       else (np.zeros(3), np.zeros(3)))
         return self.add(t, chain_mesh(self.chain, q, v, origin, origin_velocity))
 
 
@@ -89,50 +97,3 @@ def write_series(result, run_dir, every=1, name="series"):
         writer.write(s.t, s.rods, s.rod_velocities, s.origin, s.origin_velocity)
     writer.close()
     return writer.pvd
-
-
-class ChainSeriesObserver(Observer):
-    """The ParaView series of a rod-chain run as it goes (``RodChain.simulate(...,
-    observers=[...])``): ``run_dir/series.pvd`` and a ``.vtu`` for every ``every``-th
-    saved step (counted from the initial state) and the last one (also the step at which
-    an observer stopped the run).  The counterpart of ``io.SeriesObserver``."""
-
-    def __init__(self, run_dir, every=1, append=False, name="series"):
-        if isinstance(every, bool) or int(every) != every or every < 1:
-            raise ValueError(f"every must be a positive integer, got {every!r}")
-        self.dir = Path(run_dir)
-        self.every = int(every)
-        self.append = append
-        self.name = name
-        self.writer = None
-        self.last = None
-
-    @property
-    def pvd(self):
-        """Path of the ``.pvd`` collection."""
-        return self.dir / f"{self.name}.pvd"
-
-    def start(self, run):
-        if not self.append:
-            self.pvd.unlink(missing_ok=True)  # a series left by an earlier run
-        self.writer = ChainSeriesWriter(self.dir, run.system, append=self.append,
-                                        name=self.name)
-        self.last = None
-
-    def _write(self, run, t, q, v):
-        r0, u0, _ = run.integrator.anchor(t)
-        self.writer.write(t, q, v, r0, u0)
-
-    def saved(self, run, step):
-        if (step.index // run.settings["every"]) % self.every == 0:
-            self._write(run, step.t, step.q, step.v)
-            self.last = None
-        else:
-            self.last = (step.t, step.q.copy(), step.v.copy())
-
-    def finish(self, run, error):
-        if error is None and self.last is not None:
-            self._write(run, *self.last)
-        self.last = None
-        if self.writer is not None:
-            self.writer.close()

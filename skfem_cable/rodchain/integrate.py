@@ -24,6 +24,7 @@ from scipy.integrate import DOP853, RK45
 from ..contract import Observers, Run, Step
 from ..kernels import rodchain as kern
 from ..records import ENERGIES
+from .export import ChainSeriesWriter
 from .result import RodChainResult, energies
 
 METHODS = ("rk4", "RK45", "DOP853")
@@ -102,6 +103,15 @@ class Integration:
     def snapshot(self):
         raise NotImplementedError("a rod-chain run has no checkpoint (io.RunStore is for "
                                   "System runs)")
+
+    def series_writer(self, run_dir, append=False, frame="inertial", **detail):
+        """The writer of the run's ParaView series (``io.SeriesObserver``): the chain's
+        joints with the anchor of the run (``rodchain.export.ChainSeriesWriter``), in the
+        inertial frame only."""
+        if frame != "inertial":
+            raise ValueError(f"a rod-chain run is written in the inertial frame, not "
+                             f"{frame!r}")
+        return ChainSeriesWriter(run_dir, self.chain, append=append, anchor=self.anchor)
 
     def outputs(self, Q, V):
         """Fill ``Q[1:], V[1:]`` (saved rod vectors and rates from ``Q[0], V[0]``),

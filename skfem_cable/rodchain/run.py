@@ -1,6 +1,6 @@
 """A rod-chain run into a run directory, as ``skfem-cable run`` makes them for cable
 runs (``runner.run_dynamic``): the VTU series ``series.pvd`` + ``vtu/`` (written during
-the run by ``ChainSeriesObserver``), ``summary.json`` (parameters, wall time, steps, key
+the run by ``io.SeriesObserver``), ``summary.json`` (parameters, wall time, steps, key
 outputs, energy budget) and ``plots/`` (``plots.run_figures``).  A rod-chain run has no
 run store and cannot be resumed; ``SIGTERM`` and ``SIGHUP`` end it like Ctrl-C (its
 frames so far stay listed in ``series.pvd``)."""
@@ -9,9 +9,9 @@ import numpy as np
 
 from ..io import signals
 from ..io.progress import ProgressBar
+from ..io.series import SeriesObserver
 from ..runner.directory import register_files, run_directory
 from ..runner.summary import complete_summary, warn, write_summary
-from .export import ChainSeriesObserver
 from .integrate import rk4_step
 from .plots import run_figures
 
@@ -108,7 +108,7 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
     with run_directory(options, can_resume=False) as out, signals.graceful():
         watch = []
         if out is not None:
-            watch.append(ChainSeriesObserver(out, every=series_every))
+            watch.append(SeriesObserver(out, every=series_every))
         if options.progress is not False:
             watch.append(ProgressBar(options.progress))
         solver = {k: defaults[k] for k in SOLVER_KEYS if k in defaults}

@@ -25,6 +25,7 @@ from ..kernels.books import correct_elastic, step_books
 from ..linalg import PatternSolver, SingularMatrixError
 from .compiled import CompiledNewton, unsupported
 from .guard import EnergyGuard
+from .step_control import StepControl
 
 
 def galpha_parameters(rho_inf):
@@ -39,7 +40,7 @@ def galpha_parameters(rho_inf):
     return alpha_m, alpha_f, gamma, beta
 
 
-class GeneralizedAlpha:
+class GeneralizedAlpha(StepControl):
     """Integrator state and one step of the generalized-alpha method.
 
     Parameters
@@ -352,6 +353,14 @@ class GeneralizedAlpha:
         self.h_factored = h
         self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h,
                             "a": a.copy()}
+
+    def series_writer(self, run_dir, append=False, frame="inertial", **detail):
+        """The writer of the run's ParaView series (``io.SeriesObserver``):
+        ``export.SeriesWriter`` of the system in ``frame`` (``detail``:
+        ``points_per_element``)."""
+        from ..export import SeriesWriter  # meshio only when a series is written
+
+        return SeriesWriter(run_dir, self.system, append=append, frame=frame, **detail)
 
     def energies(self):
         """Kinetic, axial, bending and potential energy, dissipated energy and external

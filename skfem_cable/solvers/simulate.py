@@ -31,15 +31,6 @@ from .galpha import GeneralizedAlpha
 _MATCH = [k for k, name in enumerate(SETTINGS) if name != "t_end"]
 
 
-class SimulationError(RuntimeError):
-    """A step failed below the smallest allowed step size; ``result`` holds the steps
-    computed so far (observers such as ``io.RunStore`` have written them too)."""
-
-    def __init__(self, message, result):
-        super().__init__(message)
-        self.result = result
-
-
 class _Recorder(Observer):
     """Keeps the saved steps in memory (the returned ``Result``)."""
 
@@ -262,50 +253,19 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         return watch.saved(Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam,
                                 integ.iterations, integ.energies()))
 
-    def advance(h, depth):
-        ok, msg = integ.step(h)
-        if ok:
-            return
-        integ.stats["rejected"] += 1
-        if depth >= max_halvings:
-            raise SimulationError(f"step failed at the smallest step size {h:.3g} "
-                                  f"(dt/2^{depth}): {msg}", None)
-        advance(0.5 * h, depth + 1)
-        advance(0.5 * h, depth + 1)
-
     def fixed_steps(i, stop):
         while stop is None and i < n_steps:
             i += 1
             t_target = t_end if i == n_steps else t_start + i * dt
-            advance(t_target - integ.t, 0)
+            integ.advance(t_target - integ.t, max_halvings)
             if i % every == 0 or i == n_steps:
                 stop = save(i)
         return stop
 
     def adaptive_steps(i, stop):
-        h, h_min, last = integ.h_next or dt, dt / 2**max_halvings, False
+        last = False
         while stop is None and not last:
-            remaining = t_end - integ.t
-            last = h >= remaining * (1 - 1e-12)
-            # two equal steps rather than a sliver of a last one
-            h_try = remaining if last else min(h, 0.5 * remaining) if 2 * h > remaining else h
-            ok, msg = integ.step(h_try)
-            ratio = integ.error_ratio
-            if not ok:
-                integ.stats["rejected"] += 1
-                last = False
-                # halved unless the local error was too large (Newton or the guard failed)
-                h = h_try * (0.5 if ratio is None or not ratio > 1.0
-                             else max(0.2, 0.9 * ratio ** (-1 / 3)))
-                if h < h_min:
-                    raise SimulationError(f"step failed below the smallest step size "
-                                          f"{h_min:.3g} (dt/2^{max_halvings}): {msg}", None)
-                continue
-            integ.stats["h_min"] = min(integ.stats.get("h_min", np.inf), h_try)
-            integ.stats["h_max"] = max(integ.stats.get("h_max", 0.0), h_try)
-            grow = min(2.0, 0.9 * ratio ** (-1 / 3)) if ratio > 0 else 2.0
-            h = h_try * grow if not 1.0 <= grow < 1.25 else h_try
-            integ.h_next = h
+            last = integ.adaptive_step(t_end, dt, max_halvings)
             i += 1
             if i % every == 0 or last:
                 stop = save(i)
