@@ -44,31 +44,34 @@ def _fsync_dir(path):
         os.close(fd)
 
 
-def _create_temporary(path):
-    """Create an empty file ``NAME.tmp-<random>`` beside ``path``, a name no other writer
-    uses (48 random bits, and ``O_EXCL``: this call created it), with the permissions
-    ``open`` gives a new file; returns its path."""
-    tmp = path.with_name(f"{path.name}{TMP_MARK}{uuid.uuid4().hex[:12]}")
-    os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
-    return tmp
+def _temporary(path):
+    """The name ``NAME.tmp-<random>`` of a temporary file beside ``path``, one no other
+    writer uses (48 random bits; ``replacing`` creates it with ``O_EXCL``)."""
+    return path.with_name(f"{path.name}{TMP_MARK}{uuid.uuid4().hex[:12]}")
 
 
 @contextmanager
 def replacing(path):
-    """A temporary file beside ``path``, unique (``_create_temporary``), to write inside
-    the block; renamed over ``path`` when the block succeeds.  Whatever interrupts the
-    block (an exception, ``KeyboardInterrupt``), the temporary file is removed and
-    ``path`` keeps its old content."""
+    """A temporary file beside ``path``, unique (``_temporary``, created with the
+    permissions ``open`` gives a new file), to write inside the block; renamed over
+    ``path`` when the block succeeds.  Whatever interrupts the block or its start (an
+    exception, ``KeyboardInterrupt`` or a signal turned into one, even between the
+    file's creation and the block), the temporary file is removed and ``path`` keeps its
+    old content."""
     path = Path(path)
-    tmp = _create_temporary(path)
+    tmp = _temporary(path)
+    creating = True
     try:
+        os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+        creating = False
         yield tmp
         os.replace(tmp, path)
-    except BaseException:
-        try:
-            tmp.unlink(missing_ok=True)
-        except OSError:
-            pass
+    except BaseException as err:
+        if not (creating and isinstance(err, FileExistsError)):  # not another writer's
+            try:
+                tmp.unlink(missing_ok=True)
+            except OSError:
+                pass
         raise
 
 

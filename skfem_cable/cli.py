@@ -14,6 +14,7 @@ import textwrap
 from contextlib import contextmanager
 from pathlib import Path
 
+from .elements import DEFAULT_ELEMENT, ELEMENTS
 from .formulation import DEFAULT, FORMULATIONS
 from .solvers.static import StaticConvergenceError
 from .solvers.step_control import SimulationError
@@ -178,6 +179,10 @@ def build_parser():
                      f"{', '.join(FORMULATIONS)} (default {DEFAULT}: locking-free with the "
                      "paper's accuracy on taut cables; paper: the paper's own, whose "
                      "tension locks in bending; docs/locking.md)")
+    run.add_argument("--element", choices=tuple(ELEMENTS), metavar="NAME",
+                     help="element type of the cables of the cantilever, pendulum and "
+                     f"spinning-tether scenes: {', '.join(ELEMENTS)} (default "
+                     f"{DEFAULT_ELEMENT}; docs/elements.md)")
     run.add_argument("--model", metavar="NAME",
                      help="model of a scene that has several (tss: ancf, the default, or "
                      "rodchain)")
@@ -276,7 +281,7 @@ def cmd_run(args):
                          progress=False if args.no_progress else None,
                          plots=not args.no_plots, animate=args.animate,
                          overwrite=args.overwrite, resume=args.resume, frame=args.frame,
-                         model=args.model)
+                         model=args.model, element=args.element)
     check_run_dir(args.out, args.overwrite, args.resume)  # before any work
     try:
         summary = run_scene(args.scene, options)

@@ -164,3 +164,21 @@ analysis = "static"
     assert summary["outputs"]["cables"]["rope"]["root_tension"] == pytest.approx(weight,
                                                                                  rel=1e-6)
     assert list((tmp_path / "run").glob("*.vtu")) or list((tmp_path / "run").rglob("*.vtu"))
+
+
+def test_builtin_scenes_and_sweeps_take_the_element(tmp_path):
+    """``skfem-cable run pendulum --element hermite5`` and the sweep builders' ``element``
+    parameter; a scene whose cables are fixed refuses ``--element``."""
+    from skfem_cable.runner import RunOptions
+    from skfem_cable.scenes import catalog
+
+    summary = catalog.run_scene("pendulum", RunOptions(element="hermite5", t_end=0.02,
+                                                       progress=False, plots=False))
+    assert summary["parameters"]["element"] == "hermite5"
+    scene = catalog.SCENES["spinning-tether"].builder()(elements=8, element="linear",
+                                                        t_end=0.05)
+    assert scene.system.cables()[0].element.name == "linear"
+    result = scene.run(RunOptions(progress=False, plots=False))
+    assert result["outputs"]["cables"]["cable"]["elements"] == 8
+    with pytest.raises(ValueError, match="scene 'esail' does not take --element"):
+        catalog.run_scene("esail", RunOptions(element="linear"))

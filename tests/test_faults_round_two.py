@@ -346,3 +346,26 @@ def test_rigid_body_mass_edited_after_a_run_is_simulated_as_edited():
     assert first == pytest.approx(0.5 * 0.1**2 / hub.mass, rel=1e-6)
     hub.mass, hub.inertia = 2 * hub.mass, 2 * hub.inertia
     assert travel() == pytest.approx(first / 2, rel=1e-6)
+
+
+def test_interrupt_right_after_the_temporary_is_created_leaves_nothing(tmp_path,
+                                                                       monkeypatch):
+    """A signal turned into an exception between the creation of the temporary file and
+    the block that writes it (the window of the SIGTERM test's leftover
+    ``series.pvd.tmp-*``) leaves no temporary file and the old content."""
+    from skfem_cable import atomic
+
+    target = tmp_path / "series.pvd"
+    target.write_text("old")
+    real_close = atomic.os.close
+
+    def interrupted(fd):
+        real_close(fd)
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(atomic.os, "close", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        atomic.write_atomic(target, b"new")
+    monkeypatch.undo()
+    assert target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["series.pvd"]

@@ -23,6 +23,7 @@ class RunOptions:
     resume: bool = False
     frame: str | None = None
     model: str | None = None
+    element: str | None = None
 
     def reject(self, scene, *names):
         """Raise ``ValueError`` if one of the options ``names`` was given: it has no

@@ -64,7 +64,7 @@ class Entry:
 SCENES = {}
 
 #: Options that only the scenes naming them in ``takes`` accept (the others refuse them).
-OPT_IN = ("model",)
+OPT_IN = ("model", "element")
 
 
 def register(name, target, help, build=None, takes=()):
@@ -118,24 +118,27 @@ def cantilever(options):
     section = classics.ELASTICA_SECTION
     rows, steps = [], []
     for k in (1.0, 2.0, 5.0, 10.0):
-        scene = classics.cantilever(n, k, formulation=options.formulation)
+        scene = classics.cantilever(n, k, formulation=options.formulation,
+                                    element=options.element)
         state = solve_static(scene.system, load_steps=20)
         rows.append(elastica_row(scene.cable, k, state))
         steps.append((k, state))
     parameters = {"elements": n, "EA L^2/EI": section.EA / section.EI,
-                  "formulation": scene.cable.formulation}
+                  "formulation": scene.cable.formulation,
+                  "element": scene.cable.element.name}
     return run_static("cantilever", scene.system, steps, options, parameters,
                       {"elastica": rows}, title="cantilever, k = P L^2/EI = 10")
 
 
-def cantilever_point(elements=16, k=5.0, formulation=None, load_steps=20):
+def cantilever_point(elements=16, k=5.0, formulation=None, load_steps=20, element=None):
     """One point of the cantilever convergence study (``benchmarks/
     cantilever_convergence.py``) as a sweep's scene: ``elements`` elements, tip load
     ``k = P L^2 / EI``, solved in ``load_steps`` steps; run it with
     ``run_cantilever_point``."""
-    scene = classics.cantilever(elements, k, formulation=formulation)
+    scene = classics.cantilever(elements, k, formulation=formulation, element=element)
     return RunScene("cantilever", scene.system, scene.initial, {"load_steps": load_steps},
-                    {"elements": elements, "k": k, "formulation": scene.cable.formulation})
+                    {"elements": elements, "k": k, "formulation": scene.cable.formulation,
+                     "element": scene.cable.element.name})
 
 
 def run_cantilever_point(scene, options):
@@ -148,29 +151,33 @@ def run_cantilever_point(scene, options):
                       row, title=f"cantilever, k = {k:g}")
 
 
-def pendulum_scene(elements=16, formulation=None, t_end=1.0, dt=1e-3, every=10):
-    """The ``pendulum`` scene (``classics.pendulum``) with ``elements`` cable elements,
-    run to ``t_end`` with step ``dt``, every ``every``-th step saved."""
-    scene = classics.pendulum(n_elements=elements, formulation=formulation)
+def pendulum_scene(elements=16, formulation=None, t_end=1.0, dt=1e-3, every=10,
+                   element=None):
+    """The ``pendulum`` scene (``classics.pendulum``) with ``elements`` cable elements of
+    the type ``element`` (the default: None), run to ``t_end`` with step ``dt``, every
+    ``every``-th step saved."""
+    scene = classics.pendulum(n_elements=elements, formulation=formulation, element=element)
     return RunScene("pendulum", scene.system, scene.initial,
                     {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
                     {"elements": scene.cable.n_elements, "length": scene.cable.length,
-                     "formulation": scene.cable.formulation})
+                     "formulation": scene.cable.formulation,
+                     "element": scene.cable.element.name})
 
 
 def pendulum(options):
     """Flexible pendulum released horizontally (``classics.pendulum``)."""
     options.reject("pendulum", "alpha")
-    return pendulum_scene(options.value("elements", 16), options.formulation).run(options)
+    return pendulum_scene(options.value("elements", 16), options.formulation,
+                          element=options.element).run(options)
 
 
 def spinning_tether_scene(elements=10, formulation=None, spin=2.0, tip_mass=0.5, t_end=5.0,
-                          dt=5e-3, every=4):
+                          dt=5e-3, every=4, element=None):
     """Tether with a tip mass spinning about z (``classics.spinning_tether``); its
     outputs compare the mean root tension with the rigid rotating cable
     ``m W^2 L + rho A W^2 L^2 / 2``."""
     scene = classics.spinning_tether(n_elements=elements, spin=spin, tip_mass=tip_mass,
-                                     formulation=formulation)
+                                     formulation=formulation, element=element)
     cable = scene.cable
     L, mu = cable.length, cable.section.mass_per_length
     rigid = tip_mass * spin**2 * L + mu * spin**2 * L**2 / 2
@@ -183,14 +190,15 @@ def spinning_tether_scene(elements=10, formulation=None, spin=2.0, tip_mass=0.5,
     return RunScene("spinning-tether", scene.system, scene.initial,
                     {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
                     {"elements": cable.n_elements, "spin": spin, "tip_mass": tip_mass,
-                     "formulation": cable.formulation}, outputs)
+                     "formulation": cable.formulation, "element": cable.element.name},
+                    outputs)
 
 
 def spinning_tether(options):
     """``spinning_tether_scene`` (2 rad/s, 0.5 kg tip mass) run by ``skfem-cable run``."""
     options.reject("spinning-tether", "alpha")
-    return spinning_tether_scene(options.value("elements", 10),
-                                 options.formulation).run(options)
+    return spinning_tether_scene(options.value("elements", 10), options.formulation,
+                                 element=options.element).run(options)
 
 
 def esail_scene(alpha=10.0, voltage=20e3, elements=5, formulation=None, t_end=None, dt=0.1,
@@ -260,12 +268,13 @@ register("esail", "skfem_cable.scenes.esail:run",
          "E-sail baseline of the paper (12 tethers, 3 spin periods); --alpha sailing angle",
          build=esail_scene)
 register("cantilever", cantilever,
-         "static elastica under tip loads k = PL^2/EI = 1..10 against the exact solution")
+         "static elastica under tip loads k = PL^2/EI = 1..10 against the exact solution",
+         takes=("element",))
 register("pendulum", pendulum, "flexible pendulum released from horizontal under gravity",
-         build=pendulum_scene)
+         build=pendulum_scene, takes=("element",))
 register("spinning-tether", spinning_tether,
          "tether with a tip mass spinning at 2 rad/s, root tension against the rigid value",
-         build=spinning_tether_scene)
+         build=spinning_tether_scene, takes=("element",))
 register("hanging-chain", "skfem_cable.scenes.hanging_chain:run",
          "steel rod chain released from horizontal, against rigid links")
 register("esail-orbit", esail_orbit,

@@ -10,6 +10,7 @@ import numpy as np
 from skfem import MeshLine
 
 from ..cable import Cable
+from ..elements import DEFAULT_ELEMENT
 from ..section import Section
 from ..state import State
 from ..system import System
@@ -33,24 +34,26 @@ def _at_rest(system, q):
 ELASTICA_SECTION = Section(E=1e9, A=1e-4, I=1e-11, rho=7850.0)
 
 
-def cantilever(n_elements=16, k=5.0, length=1.0, section=ELASTICA_SECTION, formulation=None):
+def cantilever(n_elements=16, k=5.0, length=1.0, section=ELASTICA_SECTION, formulation=None,
+               element=None):
     """Cantilever along x clamped at the origin (position and slope direction) with a
     transverse dead load ``P = k EI / L^2`` along -y at its tip (the elastica).
-    ``formulation``: see ``Cable`` (None: the default)."""
+    ``formulation``, ``element``: see ``Cable`` (None: the defaults)."""
     cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, section,
-                           formulation=formulation)
+                           formulation=formulation, element=element or DEFAULT_ELEMENT)
     system = System([cable]).clamp(cable.node(0))
     system.add_point_load(cable.node(-1), [0, -k * section.EI / length**2, 0])
     return Scene(system, cable, _at_rest(system, cable.q0.copy()))
 
 
 def pendulum(n_elements=16, length=1.2, radius=0.01, E=7e10, rho=7800.0, g=9.81,
-             kind="cable", formulation=None, **damping):
+             kind=None, formulation=None, element=None, **damping):
     """Flexible pendulum: a cable pinned (spherical joint) at the origin, released at rest
-    from horizontal (along +x) under gravity along -y."""
+    from horizontal (along +x) under gravity along -y.  ``kind`` (the law),
+    ``formulation``, ``element``: see ``Cable`` (None: the defaults)."""
     sec = Section.circular(radius=radius, E=E, rho=rho, **damping)
     cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, sec, law=kind,
-                           formulation=formulation)
+                           formulation=formulation, element=element or DEFAULT_ELEMENT)
     system = System([cable]).pin(cable.node(0)).add_gravity([0, -g, 0])
     return Scene(system, cable, _at_rest(system, cable.q0.copy()))
 
@@ -94,17 +97,17 @@ def taut_string(n_elements=16, length=1.0, radius=0.001, E=2e11, rho=7800.0, str
 
 
 def spinning_tether(n_elements=10, length=10.0, radius=5e-4, E=7e10, rho=2700.0,
-                    tip_mass=0.5, spin=2.0, kind="cable", formulation=None, **damping):
+                    tip_mass=0.5, spin=2.0, kind=None, formulation=None, element=None,
+                    **damping):
     """Tether pinned at the origin, spinning rigidly about z at ``spin`` (rad/s) with a
-    point mass at its tip: centrifugally stiffened, large rotations."""
+    point mass at its tip: centrifugally stiffened, large rotations.  ``kind`` (the law),
+    ``formulation``, ``element``: see ``Cable`` (None: the defaults)."""
     sec = Section.circular(radius=radius, E=E, rho=rho, **damping)
     cable = Cable.straight([0, 0, 0], [length, 0, 0], n_elements, sec, law=kind,
-                           formulation=formulation)
+                           formulation=formulation, element=element or DEFAULT_ELEMENT)
     system = System([cable]).pin(cable.node(0)).add_point_mass(cable.node(-1), tip_mass)
-    nodes = cable.q0.reshape(-1, 2, 3)
-    omega = np.array([0.0, 0.0, spin])
-    v = np.stack([np.cross(omega, nodes[:, 0]), np.cross(omega, nodes[:, 1])], axis=1)
-    return Scene(system, cable, State(system, cable.q0.copy(), v=v.ravel()))
+    v = system.rigid_motion_velocity(cable.q0, [0.0, 0.0, spin])
+    return Scene(system, cable, State(system, cable.q0.copy(), v=v))
 
 
 def slack_arc(n_elements=20, length=2.0, radius=0.002, E=2e11, rho=7800.0, g=9.81,
