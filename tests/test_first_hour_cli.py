@@ -297,3 +297,33 @@ def test_licence_is_an_spdx_expression():
     assert not any(c.startswith("License ::") for c in project["project"].get(
         "classifiers", []))
     assert "setuptools>=77" in project["build-system"]["requires"]
+
+
+def test_scenes_register_their_files_and_overwrite_removes_only_the_runs(tmp_path,
+                                                                          monkeypatch):
+    """A scene registers the files it writes (``register_files``, listed ``after`` a named
+    one); ``--overwrite`` (``remove_run``) removes the files a run's summary describes
+    even when the scene that registered them is not imported in this process, and never
+    a user's file, the store's lock or a path outside the directory."""
+    import json
+
+    from skfem_cable.runner import directory
+
+    monkeypatch.setattr(directory, "DESCRIPTIONS", dict(directory.DESCRIPTIONS))
+    directory.register_files({"plots/probe.png": "a probe's figure"}, after="summary.json")
+    names = list(directory.DESCRIPTIONS)
+    assert names[names.index("summary.json") + 1] == "plots/probe.png"
+    with pytest.raises(ValueError, match="no run file 'nothing.txt' is registered"):
+        directory.register_files({"x.png": "x"}, after="nothing.txt")
+    out = tmp_path / "run"
+    (out / "plots").mkdir(parents=True)
+    (out / "plots" / "chain.png").write_bytes(b"png")   # a scene not imported here
+    (out / "notes.txt").write_text("mine")
+    (tmp_path / "outside.txt").write_text("not the run's")
+    (out / "summary.json").write_text(json.dumps({"files": {"described": {
+        "plots/chain.png": "figure", "../outside.txt": "escape", "/etc/hosts": "escape",
+        "summary.json": "the summary"}}}))
+    assert [p.name for p in directory.recorded_files(out)] == ["chain.png", "summary.json"]
+    directory.remove_run(out)
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
+    assert (tmp_path / "outside.txt").exists()

@@ -236,6 +236,9 @@ def test_hanging_chain_scene_runs_from_the_package(tmp_path, capsys):
     assert "does not take --every" in capsys.readouterr().err
     with pytest.raises(ValueError, match="cannot be resumed"):
         catalog.run_scene("hanging-chain", RunOptions(out=out, resume=True))
+    # before: --frame lvlh was ignored, the series written in the inertial frame
+    assert cli.main(["run", "hanging-chain", "--frame", "lvlh", "--t-end", "0.01"]) == 2
+    assert "written in the inertial frame: --frame lvlh" in capsys.readouterr().err
 
 
 CHAIN_SCENE = """

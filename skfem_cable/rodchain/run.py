@@ -96,6 +96,9 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
     result : RodChainResult
     """
     options.reject(name, "alpha", "every", "formulation")
+    if options.value("frame", "inertial") != "inertial":
+        raise ValueError(f"scene {name!r} is a rod-chain run, written in the inertial frame: "
+                         f"--frame {options.frame} has no meaning for it")
     if options.resume:
         raise ValueError(f"scene {name!r} is a rod-chain run, which has no checkpoint and "
                          "cannot be resumed: run it again into another --out, or with "
