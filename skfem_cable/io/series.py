@@ -4,6 +4,7 @@ from pathlib import Path
 
 from .. import export
 from ..contract import Observer
+from . import signals
 
 
 class SeriesObserver(Observer):
@@ -11,7 +12,9 @@ class SeriesObserver(Observer):
     so that ParaView opens a running or interrupted run up to its last written step: the
     one series observer of every model.  The run's integrator gives the writer
     (``series_writer``: ``export.SeriesWriter`` of a system of bodies, the rod chain's
-    joints for a rod chain), the observer decides which steps it writes.
+    joints for a rod chain), the observer decides which steps it writes.  A signal
+    (Ctrl-C, ``SIGTERM``) arriving while a step is written waits for it
+    (``signals.deferred``): no half-written series.
 
     Parameters
     ----------
@@ -62,14 +65,16 @@ class SeriesObserver(Observer):
         # the ordinal of this step among the saved ones: saved steps are the multiples of
         # the run's ``every`` (and the last step)
         if (step.index // run.settings["every"]) % self.every == 0:
-            self.writer.write(step.t, step.q, step.v)
+            with signals.deferred():  # a signal waits for the .vtu and the .pvd
+                self.writer.write(step.t, step.q, step.v)
             self.last = None
         else:
             self.last = (step.t, step.q.copy(), step.v.copy())
 
     def finish(self, run, error):
         if error is None and self.last is not None:  # the last step (or the stop step)
-            self.writer.write(*self.last)
+            with signals.deferred():
+                self.writer.write(*self.last)
         self.last = None
         if self.writer is not None:
             self.writer.close()

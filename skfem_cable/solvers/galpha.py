@@ -24,6 +24,7 @@ from ..kernels import step as codes
 from ..kernels.books import correct_elastic, step_books
 from ..linalg import PatternSolver, SingularMatrixError
 from .compiled import CompiledNewton, unsupported
+from .diagnosis import Diagnosis
 from .guard import EnergyGuard
 from .step_control import StepControl
 
@@ -40,7 +41,7 @@ def galpha_parameters(rho_inf):
     return alpha_m, alpha_f, gamma, beta
 
 
-class GeneralizedAlpha(StepControl):
+class GeneralizedAlpha(StepControl, Diagnosis):
     """Integrator state and one step of the generalized-alpha method.
 
     Parameters
@@ -551,40 +552,3 @@ class GeneralizedAlpha(StepControl):
         self.guard.accept(t1)
         self.stats["steps"] += 1
         return True, "converged"
-
-    def _singular(self, t, h, index):
-        """The message of a singular iteration matrix, naming the unknown ``index``
-        (-1: not located)."""
-        where = self.system.describe_dof(index) if index >= 0 else \
-            "an unknown not located (system too large)"
-        return f"t={t:.6g}, h={h:.3g}: singular iteration matrix at {where}"
-
-    def _diagnose_growth(self, t, h, v1, reason):
-        """Where a rejected step put its energy: the body whose kinetic energy grew most,
-        and its fastest coordinate."""
-        system, mass = self.system, self.lay.mass.scipy
-        gains = []
-        for body in system.bodies:
-            d = system.dofs(body)
-            M = mass[d][:, d]
-            gains.append((0.5 * (v1[d] @ (M @ v1[d]) - self.v[d] @ (M @ self.v[d])), body, d))
-        gain, body, d = max(gains, key=lambda g: g[0])
-        fastest = d[int(np.argmax(np.abs(v1[d] - self.v[d])))]
-        return (f"t={t:.6g}, h={h:.3g}: {reason}; {body.name} gained {gain:.4g} J of kinetic "
-                f"energy, fastest at {system.describe_dof(fastest)}; energy balance of the "
-                f"last accepted steps: {self.guard.describe_history()}")
-
-    def _diagnose(self, t, h, history, r, what):
-        system, n = self.system, self.n
-        res = np.abs(r[:n]) * self.res_weight
-        res_c = np.abs(r[n:]) * self.con_weight
-        parts = [f"t={t:.6g}, h={h:.3g}: {what}; scaled residual history "
-                 f"{[float(f'{e:.3e}') for e in history]}"]
-        for label, values, offset in (("dynamic", res, 0), ("constraint", res_c, n)):
-            if not values.size:
-                continue
-            bad = ~np.isfinite(values)
-            i = int(np.argmax(bad)) if bad.any() else int(np.argmax(values))
-            kind = "non-finite" if bad.any() else "largest"
-            parts.append(f"{kind} {label} residual at {system.describe_dof(offset + i)}")
-        return "; ".join(parts)
