@@ -350,7 +350,8 @@ def zero_modes(ns=(1, 2, 12, 40)):
             counts = []
             for rule in rules:
                 cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], n, section, law=law, **rule)
-                eig = np.abs(np.linalg.eigvalsh(cable.assemble(cable.q0)[1].toarray()))
+                K = sc.System([cable]).assemble(cable.q0)[1]
+                eig = np.abs(np.linalg.eigvalsh(K.toarray()))
                 counts.append(int(np.sum(eig < 1e-13 * eig.max())))
             out[law, n] = tuple(counts)
     return out

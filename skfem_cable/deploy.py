@@ -42,7 +42,7 @@ adds ``m_s a_P + m_s' v_P`` at the anchor (the reel's own spin is not modelled).
 With a reel (``reel.Reel``) the length is a coordinate and its equation is Lagrange's for
 the whole system: the inertial terms of ``T`` in ``l`` (``_Inertia``), the wound
 material turning with the drum (``1/2 rho A (capacity - l) l'^2``) and riding with the
-anchor, ``dU/dl`` of the elastic energy on the stretched mesh (``cable._Stretched``) and
+anchor, ``dU/dl`` of the elastic energy on the stretched mesh (``stretched.Stretched``) and
 the weight's potential (``bind_weight``).  In equilibrium the reel then balances the
 configurational force ``T lam - W`` of the material leaving it (``docs/deploy.md``).
 
