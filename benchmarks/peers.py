@@ -41,7 +41,14 @@ catenary
     massless ``Free`` end point, RK4 at CFL 0.2 (its stable step).  Error: the largest tip
     distance from the reference (ours, 96 elements, dt = 5e-5 s; 48 elements, 2.5e-4 s
     with ``--quick``) over samples every 0.02 s; then, for each error level, the cheapest
-    setting of each code that reaches it.
+    setting of each code that reaches it.  A third variant drops the bending (EI = 0 in
+    MoorDyn, the truss law in ours) and adds our linear element, MoorDyn's segment model.
+falling_wire
+    The same wire without bending, pinned at one end and released straight and horizontal
+    at rest: it falls and whips.  Ours: the linear element (10..160 elements) and the cubic
+    one (4..64) with the truss law; MoorDyn: 10..160 segments, EI = 0, RK4 at CFL 0.2,
+    started straight.  Error and fronts as for the catenary; reference: our linear element,
+    640 elements, dt = 2.5e-4 s.
 
 Notes
 -----
@@ -109,7 +116,7 @@ from skfem import MeshLine
 import skfem_cable as sc
 from skfem_cable.scenes import classics, esail
 
-CASES = ("pendulum", "esail_rig", "catenary")
+CASES = ("pendulum", "esail_rig", "catenary", "falling_wire")
 _CACHE = {}  # references computed once per run
 
 
@@ -493,6 +500,8 @@ OUR_ELEMENTS = {"ours": ("hermite3", "elements", "dts"),
 CATENARY_VARIANTS = ((1.0, True), (0.01, True), (1.0, False))
 LINEAR_REFERENCE = {"full": (640, 2.5e-4), "quick": (160, 5e-4)}
 LEVELS = (3e-2, 1e-2, 3e-3, 1e-3)
+#: Error levels (m) of the falling wire, whose whipping end no code resolves as finely.
+FALLING_LEVELS = (3e-1, 1e-1, 3e-2, 1e-2)
 MOORDYN_CFL, MOORDYN_SCHEME = 0.2, "RK4"
 
 
@@ -575,14 +584,16 @@ ID LineType AttachA AttachB UnstrLen NumSegs LineOutputs
 MOORDYN_Z0 = -10.0  # the scene hangs below MoorDyn's water surface z = 0 (no water: rho = 0)
 
 
-def moordyn_input(n_segments, stiffness, bending=True):
-    """The MoorDyn input file of the wire (x-z plane, z up)."""
+def moordyn_input(n_segments, stiffness, bending=True, span=None):
+    """The MoorDyn input file of the wire (x-z plane, z up), its free end ``span`` (default
+    the catenary's) from the anchor."""
     w = WIRE
     area, E = np.pi * w["radius"] ** 2, w["E"] * stiffness
     return MOORDYN_INPUT.format(d=2 * w["radius"], mu=w["rho"] * area, EA=E * area,
                                 EI=E * np.pi * w["radius"] ** 4 / 4 if bending else 0.0,
                                 z0=MOORDYN_Z0,
-                                span=w["span"], L=w["length"], n=n_segments, g=w["g"],
+                                span=w["span"] if span is None else span, L=w["length"],
+                                n=n_segments, g=w["g"],
                                 cfl=MOORDYN_CFL, scheme=MOORDYN_SCHEME)
 
 
@@ -619,14 +630,15 @@ def moordyn_dt(md, system):
     return dt
 
 
-def moordyn_swing(md, n_segments, stiffness, shape, bending=True):
-    """One released swing in MoorDyn from the static ``shape``: ``(wall, tips (x, y),
-    dt)``; raises RuntimeError if it blows up."""
+def moordyn_swing(md, n_segments, stiffness, shape, bending=True, span=None):
+    """One released swing in MoorDyn from the ``shape`` at rest (``s -> (x, y)``, its end
+    at ``span``, default the catenary's): ``(wall, tips (x, y), dt)``; raises
+    RuntimeError if it blows up."""
     p, w = CATENARY_RUN, WIRE
     with tempfile.TemporaryDirectory() as tmp, quiet():
         path = os.path.join(tmp, "wire.txt")
         with open(path, "w") as f:
-            f.write(moordyn_input(n_segments, stiffness, bending))
+            f.write(moordyn_input(n_segments, stiffness, bending, span))
         system = md.Create(path)
         try:
             md.Init_NoIC(system, [], [])
@@ -686,14 +698,14 @@ def cheapest(rows, code, level):
     return min(fits, key=lambda r: r["wall_s"]) if fits else None
 
 
-def catenary_front(rows, label, with_peer):
+def catenary_front(rows, label, with_peer, case="catenary", levels=LEVELS):
     """For each error level the cheapest setting of each code and the ratio."""
     front = []
-    for level in LEVELS:
+    for level in levels:
         ours, peer = cheapest(rows, "ours", level), cheapest(rows, "moordyn", level)
         linear = cheapest(rows, "ours-linear", level)
         front.append(record(
-            "catenary", "front", f"{label}, error <= {level:g} m", None, level,
+            case, "front", f"{label}, error <= {level:g} m", None, level,
             stiffness=label, ours=ours and ours["setting"], ours_wall=ours and ours["wall_s"],
             linear=linear["setting"] if linear else "—",
             linear_wall=linear and linear["wall_s"],
@@ -735,6 +747,68 @@ def catenary(quick=False, repeats=3):
                     front)
         rows += sweep + front
     return rows
+
+
+# --- case 4: falling wire ---------------------------------------------------------------------
+def falling_run_ours(n_elements, dt, element, repeats):
+    """The wire pinned at one end, released straight and horizontal at rest, in ours (the
+    truss law): fastest ``(wall, tip positions (x, y) at the samples)``."""
+    w, p = WIRE, CATENARY_RUN
+    section = sc.Section.circular(radius=w["radius"], E=w["E"], rho=w["rho"])
+    cable = sc.Cable.straight([0, 0, 0], [w["length"], 0, 0], n_elements, section,
+                              element=element, law="truss")
+    system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -w["g"], 0])
+    wall, r = run_ours(system, None, p["t_end"], dt, p["rho_inf"], repeats,
+                       every=int(round(p["sample"] / dt)))
+    return wall, r.position(cable, cable.length)[:, :2]
+
+
+def falling_wire(quick=False, repeats=3):
+    """The catenary's wire without bending, pinned at one end and released straight and
+    horizontal at rest (a falling wire, the whip at its end): our linear and cubic
+    elements against MoorDyn (EI = 0), the reference our linear element, fine
+    (``LINEAR_REFERENCE``); prints the tables, returns the rows."""
+    md = import_peer("moordyn")
+    grade = "quick" if quick else "full"
+    grid = CATENARY_GRID[grade]
+    n_ref, dt_ref = LINEAR_REFERENCE[grade]
+    ref_wall, ref = falling_run_ours(n_ref, dt_ref, "linear", 1)
+    rows = []
+    for code, (element, counts, dts) in OUR_ELEMENTS.items():
+        for n in grid[counts]:
+            for dt in grid[dts]:
+                wall, tips = falling_run_ours(n, dt, element, repeats)
+                rows.append(record("falling_wire", code, f"{n} el, dt={dt:g}", wall,
+                                   float(np.linalg.norm(tips - ref, axis=1).max()),
+                                   elements=n, dt=dt))
+    length = WIRE["length"]
+    for n in grid["segments"] if md is not None else ():
+        try:
+            wall, (tips, dt) = best_of(repeats, lambda n=n: moordyn_swing(
+                md, n, 1.0, lambda s: np.column_stack([s, 0 * s]), False, length))
+            err = float(np.linalg.norm(tips - ref, axis=1).max())
+        except RuntimeError:
+            wall, dt, err = float("nan"), float("nan"), float("inf")
+        rows.append(record("falling_wire", "moordyn", f"{n} seg, {MOORDYN_SCHEME} dt={dt:.2g}",
+                           wall, err, segments=n, dt=dt))
+    notes = ["wire 10 m, r = 1 mm, E = 2e11 Pa, no bending, pinned at one end, released "
+             "straight and horizontal at rest, 2 s in vacuum; wall: the 2 s of dynamics",
+             f"error: max over 0.02 s samples of |tip - reference|; reference: ours, {n_ref} "
+             f"linear elements, dt = {dt_ref:g} s ({ref_wall:.0f} s)",
+             f"ours: the truss law, rho_inf = {CATENARY_RUN['rho_inf']}; MoorDyn: "
+             f"{MOORDYN_SCHEME}, CFL {MOORDYN_CFL}, EI = 0"]
+    print_table("falling wire: every setting", notes,
+                [("code", "code", "s"), ("setting", "setting", "s"),
+                 ("wall [s]", "wall_s", ".3f"), ("max tip err [m]", "error", ".2e")], rows)
+    front = catenary_front(rows, "falling wire", md is not None, case="falling_wire",
+                           levels=FALLING_LEVELS)
+    print_table("falling wire: cheapest setting per error level", [],
+                [("error <=", "error", "g"), ("ours (cubic)", "ours", "s"),
+                 ("wall [s]", "ours_wall", ".3f"), ("ours (linear)", "linear", "s"),
+                 ("wall [s]", "linear_wall", ".3f"), ("MoorDyn", "moordyn", "s"),
+                 ("wall [s]", "moordyn_wall", ".3f"), ("cubic/MoorDyn", "ratio", ".3f"),
+                 ("linear/MoorDyn", "linear_ratio", ".3f")], front)
+    return rows + front
 
 
 # --- driver ---------------------------------------------------------------------------------------
