@@ -89,12 +89,13 @@ def test_inertial_force_is_lagrange_of_the_kinetic_energy():
     assert np.abs(inertial - lagrange).max() < 1e-7 * np.abs(lagrange).max()
 
 
-def test_deployment_tangent_matches_differences():
+@pytest.mark.parametrize("element", ["hermite3", "hermite5", "linear"])
+def test_deployment_tangent_matches_differences(element):
     """The term's tangent blocks ``d/dq``, ``d/dv``, ``d/da`` of its force (with the
     reel's content at a body point) against central differences (1e-7,
-    ``sc.check_tangent``)."""
+    ``sc.check_tangent``), on every element type."""
     hub = sc.RigidBody.cylinder(radius=0.5, height=0.3, density=1000.0)
-    tether = sc.Cable.straight([0, 0.5, 0], [0, 3.5, 0], 3, SECTION)
+    tether = sc.Cable.straight([0, 0.5, 0], [0, 3.5, 0], 3, SECTION, element=element)
     system = sc.System([hub, tether]).deploy(
         tether, hub.point([0, 0.5, 0]), length=lambda t: 3 + t + t**2,
         rate=lambda t: 1 + 2 * t, acceleration=lambda t: 2.0, capacity=50.0)
