@@ -21,8 +21,9 @@ import time
 import numpy as np
 from scipy.integrate import DOP853, RK45
 
-from ..contract import Observers, Run, Step
+from ..contract import Run, Step
 from ..kernels import rodchain as kern
+from ..observing import Observers
 from ..records import ENERGIES
 from .export import ChainSeriesWriter
 from .result import RodChainResult, energies

@@ -21,8 +21,9 @@ import time
 
 import numpy as np
 
-from ..contract import Observer, Observers, Run, Step
+from ..contract import Observer, Run, Step
 from ..kernels import compile_log
+from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
 from ..result import Result
 from .galpha import GeneralizedAlpha
