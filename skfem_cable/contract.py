@@ -377,9 +377,10 @@ class Body(Protocol):
         short arrays."""
 
 
-#: What a ``Body`` provides (``check_body``).
-BODY_HOOKS = ("name", "n_dofs", "q0", "position_mask", "describe_dof", "mass_matrix",
-              "mass_points", "internal_constraints", "bind", "show", "outputs")
+#: What a ``Body`` provides (``check_body``): the protocol's attributes and hooks.
+BODY_HOOKS = (*Body.__annotations__,
+              *(name for name, hook in vars(Body).items()
+                if callable(hook) and not name.startswith("_")))
 
 
 def check_body(body):

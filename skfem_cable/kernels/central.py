@@ -75,11 +75,11 @@ def differential_acceleration(mu, R, R2, x, y, z):
 
 
 @njit(cache=True, inline="always")
-def acceleration(mu, k, reference, base, delta, a, r, extra):
-    """Differential acceleration ``a`` (3,) at the offset ``delta``, with ``r = R +
-    delta`` (3,) into ``r``; returns ``(mu / |r|^3, |r|^2)``.  ``base`` holds ``a_J2(R)``
-    (unused when ``k = 0``); ``extra`` (3,) is scratch."""
-    R2 = reference[0] ** 2 + reference[1] ** 2 + reference[2] ** 2
+def acceleration(mu, k, reference, R2, base, delta, a, r, extra):
+    """Differential acceleration ``a`` (3,) at the offset ``delta`` from the reference
+    point ``R`` (``R2 = |R|^2``), with ``r = R + delta`` (3,) into ``r``; returns ``(mu /
+    |r|^3, |r|^2)``.  ``base`` holds ``a_J2(R)`` (unused when ``k = 0``); ``extra`` (3,) is
+    scratch."""
     a[0], a[1], a[2], s, r2 = differential_acceleration(mu, reference, R2, delta[0],
                                                         delta[1], delta[2])
     for i in range(3):
@@ -136,6 +136,7 @@ def _kernel(pack, index, ev, k):
     cK = s[1]
     want = data.size > 0 and (s[3] == 0.0 or cK * constants[2] > NEGLIGIBLE)
     mu, k2 = constants[0], constants[1]
+    R2 = reference[0] ** 2 + reference[1] ** 2 + reference[2] ** 2
     delta = np.empty(3)
     a = np.empty(3)
     T = np.empty((3, 3))
@@ -149,7 +150,7 @@ def _kernel(pack, index, ev, k):
                 delta[i] = 0.0
                 for j in range(k):
                     delta[i] += coefficients[p, j] * q[vectors[p, j] + i]
-            scale, r2 = acceleration(mu, k2, reference, base, delta, a, r, extra)
+            scale, r2 = acceleration(mu, k2, reference, R2, base, delta, a, r, extra)
             m = mass[p]
             for j in range(k):
                 c = m * coefficients[p, j]

@@ -198,7 +198,8 @@ def rodchain_scene(elements=None, formulation=None, altitude=ALTITUDE, pitch=PIT
     orbit = Orbit(MU_EARTH, R_EARTH + altitude)
     rods = 3 if elements is None else elements
     model, x0, v0 = tss_chain(rods, orbit=orbit, end_masses=(MASS, MASS), length=LENGTH,
-                              radius=1e-3, E=1e11, density=1.0, pitch=pitch, roll=roll)
+                              radius=float(np.sqrt(SECTION.A / np.pi)), E=SECTION.E,
+                              density=SECTION.rho, pitch=pitch, roll=roll)
     period = pitch_period(orbit)
     parameters = {"model": "rodchain", "rods": rods, "altitude": altitude,
                   "length": LENGTH, "mass": MASS, "pitch": pitch, "roll": roll,
