@@ -327,3 +327,14 @@ def test_scenes_register_their_files_and_overwrite_removes_only_the_runs(tmp_pat
     directory.remove_run(out)
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"]
     assert (tmp_path / "outside.txt").exists()
+
+
+def test_printed_summary_keeps_a_matrix_on_its_line():
+    """Before: a rigid body's rotation printed its rows on lines of their own, out of the
+    summary's indentation."""
+    from skfem_cable.runner import format_summary
+
+    text = format_summary({"scene": "s", "outputs": {"bodies": {"hub": {
+        "rotation": [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]}}}})
+    line = next(row for row in text.splitlines() if "rotation" in row)
+    assert line.strip() == "rotation: [[1. 0. 0.] [0. 1. 0.] [0. 0. 1.]]"

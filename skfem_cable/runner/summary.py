@@ -146,9 +146,12 @@ def format_summary(summary):
 
 
 def _format_value(value):
+    """One line for a number or an array (a matrix's rows side by side)."""
     value = np.asarray(value)
+    if value.ndim > 1:
+        return "[" + " ".join(_format_value(row) for row in value) + "]"
     if value.ndim:
-        return np.array2string(value, precision=6)
+        return np.array2string(value, precision=6, max_line_width=10**6)
     return f"{value.item():.6g}" if value.dtype.kind == "f" else str(value)
 
 
