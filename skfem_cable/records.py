@@ -21,8 +21,9 @@ SETTINGS = ("t_start", "t_end", "dt", "rho_inf", "every", "tol", "max_iter")
 
 def settings_array(settings):
     """The ``SETTINGS`` of a run's settings (a dict, ``contract.Run.settings``) as the
-    array a checkpoint stores."""
-    return np.array([settings[k] for k in SETTINGS], dtype=float)
+    array a checkpoint stores; NaN for a setting the integrator has not (the rod chain's
+    RK4 has no ``rho_inf``)."""
+    return np.array([settings.get(k, np.nan) for k in SETTINGS], dtype=float)
 
 
 def step_record(step):

@@ -17,6 +17,7 @@ import threading
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -393,8 +394,9 @@ def test_ctrl_c_on_a_sweep_writes_the_finished_points(tmp_path, monkeypatch, cap
 @pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
 def test_sigterm_ends_a_rod_chain_run_saying_what_it_left(tmp_path):
     """Before: ``hanging-chain`` ended silently on SIGTERM, and said "nothing was stored"
-    on SIGINT while hundreds of frames existed.  Now both end through Ctrl-C's path and
-    name the frames kept."""
+    on SIGINT while hundreds of frames existed; then it named the frames kept but could
+    not be continued.  Now its run store commits the steps so far and the run continues
+    from them with the command it prints."""
     out = tmp_path / "chain"
     proc = _spawn("run", "hanging-chain", *QUIET, "--t-end", "20", "--out", str(out),
                   cwd=tmp_path)
@@ -405,9 +407,18 @@ def test_sigterm_ends_a_rod_chain_run_saying_what_it_left(tmp_path):
     finally:
         proc.kill()
     assert proc.returncode == 143, err
-    frames = len(export.read_pvd(out / "series.pvd"))
-    assert f"interrupted by SIGTERM; {out} holds {frames} ParaView frames" in err
-    assert "cannot be continued" in err and "another --out" in err
+    manifest = json.loads((out / "manifest.json").read_text())
+    last = manifest["last"]["t"]
+    assert manifest["status"] == "interrupted" and manifest["saved"] > 50
+    assert (f"interrupted by SIGTERM; {out} holds {manifest['saved']} saved steps up to "
+            f"t = {last:.6g} s" in err)
+    assert "--resume" in err.splitlines()[-1]
+    t_end = f"{last + 0.01:.4f}"
+    assert cli.main(["run", "hanging-chain", *QUIET, "--t-end", t_end, "--out", str(out),
+                     "--resume"]) == 0
+    times = xr.open_zarr(out / "results.zarr")["time"].values
+    assert times[-1] == pytest.approx(float(t_end)) and len(times) == manifest["saved"] + 100
+    np.testing.assert_allclose(np.diff(times), 1e-4, rtol=1e-9)  # no gap, no repeat
 
 
 def test_zero_clamp_direction_names_the_key(tmp_path, capsys):

@@ -14,6 +14,14 @@ and about 4e6 rod-steps, a fraction of a second); the Python RK4 and the adaptiv
 call them as each saved step is reached.  A stop ends the result at the stop step.  With
 observers every saved step costs one evaluation of the accelerations and of the energies
 (some 30 us for a short chain): save sparsely when the chain is short and the step small.
+
+A run continues from any of its saved steps bit for bit (``resume``): the run's
+``system`` (a ``stored.ChainSystem``) is what ``io.RunStore`` labels and fingerprints,
+and ``Integration.snapshot`` is the checkpoint of the saved step being handed out (rod
+vectors, rates, the work so far and, for an adaptive method, the state of scipy's
+stepper).  RK4 steps are counted from the start of the run, so the loads' time table and
+hence every step are those of the uninterrupted run; the work adds up step by step in the
+same order.
 """
 
 import time
@@ -22,17 +30,22 @@ import numpy as np
 from scipy.integrate import DOP853, RK45
 
 from ..contract import Run, Step
+from ..io.fingerprint import check_fingerprint
 from ..kernels import rodchain as kern
 from ..observing import Observers
 from ..records import ENERGIES
 from .export import ChainSeriesWriter
 from .result import RodChainResult, energies
+from .stored import ChainSystem
 
 METHODS = ("rk4", "RK45", "DOP853")
 RK4_STABILITY = 2.0 * np.sqrt(2.0)  # RK4 is stable on the imaginary axis for |h w| <= 2 sqrt 2
 _BLOCK_STEPS = 1 << 15  # RK4 steps per compiled call (bounds the anchor-field table)
 _BLOCK_WORK = 1 << 22  # rod-steps per compiled call (observers hear of every block)
 _ADAPTIVE = {"RK45": RK45, "DOP853": DOP853}
+#: The state of a scipy Runge-Kutta stepper after a step (``K_extended``: DOP853's
+#: stages, of which ``K`` is a view; RK45 has ``K`` only).
+_STEPPER = ("t", "y", "f", "h_abs", "h_previous", "t_old", "y_old", "nfev")
 
 
 def rk4_step(chain, output_dt, safety=0.7):
@@ -86,13 +99,21 @@ class Integration:
         Time of the last state computed; ``q``, ``v`` (n, 3) that state.
     stats : dict
         ``method``, ``dt``, ``steps``, ``nfev``, ``saved``; adaptive: ``rtol``, ``atol``.
+    saved : (Q, V, work, power)
+        The saved rod vectors, rates (nt, n, 3), the work of the run and the power of its
+        loads (nt,).
+    at : int
+        The saved step being handed to the observers (``snapshot`` is its checkpoint).
     """
 
-    def __init__(self, chain, problem, method, dt, every, times, rtol=None, atol=None):
+    def __init__(self, chain, problem, method, dt, every, times, saved, rtol=None,
+                 atol=None):
         self.chain, self.problem = chain, problem
         self.method, self.dt, self.every, self.times = method, dt, every, times
+        self.saved, self.at = saved, 0
         self.rtol, self.atol = rtol, atol
         self.t, self.q, self.v = 0.0, None, None
+        self.stepper, self._stepper_state = None, None
         self.stats = {"method": method, "dt": dt, "steps": 0, "nfev": 0, "saved": 0}
         if method != "rk4":
             self.stats.update(rtol=rtol, atol=atol)
@@ -102,8 +123,45 @@ class Integration:
         return tuple(x[0] for x in self.problem.anchor(np.array([float(t)])))
 
     def snapshot(self):
-        raise NotImplementedError("a rod-chain run has no checkpoint (io.RunStore is for "
-                                  "System runs)")
+        """The checkpoint of the saved step ``at``: its time ``t``, rod vectors ``q``,
+        rates ``v``, the ``work`` so far, the loads' ``power`` and, once an adaptive
+        method has stepped, the stepper's state (``stepper_*``; the step that reached
+        ``at`` also covers the saved steps up to the next step's start)."""
+        Q, V, work, power = self.saved
+        k = self.at
+        snap = {"t": np.float64(self.times[k]), "q": Q[k].copy(), "v": V[k].copy(),
+                "work": np.float64(work[k]), "power": np.float64(power[k])}
+        if self.stepper is not None and self.stepper.t_old is not None:
+            arrays = ("K_extended",) if hasattr(self.stepper, "K_extended") else ("K",)
+            snap.update({"stepper_" + a: np.copy(getattr(self.stepper, a))
+                         for a in _STEPPER + arrays})
+        return snap
+
+    def restore(self, resume):
+        """Continue from the checkpoint and saved steps of ``resume`` (``io.Resume``):
+        fill the saved steps so far and return the index of the last one."""
+        snap, records = resume.snapshot, resume.records
+        Q, V, work, power = self.saved
+        index = int(snap["index"])
+        k = index // self.every
+        if k * self.every != index or len(records["t"]) != k + 1 or k >= self.times.size:
+            raise ValueError(f"resume: the checkpoint is at step {index} with "
+                             f"{len(records['t'])} saved steps, which is not a saved step of "
+                             f"this run (every {self.every} steps, up to saved step "
+                             f"{self.times.size - 1})")
+        self.times[:k + 1] = records["t"]
+        Q[:k + 1] = np.asarray(records["q"]).reshape(k + 1, self.chain.n, 3)
+        V[:k + 1] = np.asarray(records["v"]).reshape(k + 1, self.chain.n, 3)
+        work[:k + 1] = records["external_work"]
+        Q[k], V[k] = snap["q"], snap["v"]  # also when the store left them out
+        work[k], power[k] = snap["work"], snap["power"]
+        self.t, self.q, self.v, self.at = float(snap["t"]), Q[k], V[k], k
+        self.stats.update(steps=int(snap["stat_steps"]), nfev=int(snap["stat_nfev"]),
+                          saved=k + 1)
+        if "stepper_t" in snap:
+            self._stepper_state = {key[8:]: snap[key] for key in snap
+                                   if key.startswith("stepper_")}
+        return k
 
     def series_writer(self, run_dir, append=False, frame="inertial", **detail):
         """The writer of the run's ParaView series (``io.SeriesObserver``): the chain's
@@ -114,25 +172,26 @@ class Integration:
                              f"{frame!r}")
         return ChainSeriesWriter(run_dir, self.chain, append=append, anchor=self.anchor)
 
-    def outputs(self, Q, V):
-        """Fill ``Q[1:], V[1:]`` (saved rod vectors and rates from ``Q[0], V[0]``),
-        yielding the ranges ``(k0, k1)`` of saved steps filled and checked."""
+    def outputs(self, Q, V, start=0):
+        """Fill ``Q[start + 1:], V[start + 1:]`` (saved rod vectors and rates from those
+        of the saved step ``start``), yielding the ranges ``(k0, k1)`` of saved steps
+        filled and checked."""
         if self.method == "rk4":
             run = self._rk4_python if self.problem.line_callable else self._rk4_compiled
         else:
             run = self._adaptive
-        yield from run(Q, V)
+        yield from run(Q, V, start)
 
     def _count(self, steps, nfev_per_step=4):
         self.stats["steps"] += steps
         self.stats["nfev"] += nfev_per_step * steps
 
-    def _rk4_compiled(self, Q, V):
+    def _rk4_compiled(self, Q, V, start):
         c, p, dt, every = self.chain, self.problem, self.dt, self.every
         nout = Q.shape[0] - 1
-        q, v = Q[0].copy(), V[0].copy()
+        q, v = Q[start].copy(), V[start].copy()
         per_block = max(1, min(_BLOCK_STEPS, _BLOCK_WORK // c.n) // every)
-        j = 0
+        j = start
         while j < nout:
             m = min(per_block, nout - j)
             s0, steps = j * every, m * every
@@ -152,14 +211,14 @@ class Integration:
             yield j + 1, j + 1 + m
             j += m
 
-    def _rk4_python(self, Q, V):
+    def _rk4_python(self, Q, V, start):
         """Classical RK4 with the right-hand side evaluated in Python (callable loads)."""
         c, p, dt, every = self.chain, self.problem, self.dt, self.every
         nsteps = (Q.shape[0] - 1) * every
-        q, v = Q[0].copy(), V[0].copy()
+        q, v = Q[start].copy(), V[start].copy()
         h = 0.5 * dt
         pending = None  # a saved step is handed out once the next step has checked it
-        for s in range(nsteps):
+        for s in range(start * every, nsteps):
             t = s * dt
             a1, bad = p.acceleration(t, q, v)
             if bad >= 0:
@@ -188,7 +247,7 @@ class Integration:
         if pending is not None:
             yield pending, pending + 1
 
-    def _adaptive(self, Q, V):
+    def _adaptive(self, Q, V, start):
         """``scipy.integrate.RK45`` / ``DOP853`` stepped as ``solve_ivp`` does, the saved
         steps from the dense output of the step that reaches them."""
         c, p, times = self.chain, self.problem, self.times
@@ -199,12 +258,15 @@ class Integration:
             v = y[n3:].reshape(n, 3)
             return np.concatenate([y[n3:], p.acceleration(t, q, v)[0].ravel()])
 
-        y0 = np.concatenate([Q[0].ravel(), V[0].ravel()])
+        y0 = np.concatenate([Q[start].ravel(), V[start].ravel()])
         limit = (1 + p.max_strain) * c.lengths
         with np.errstate(all="ignore"):  # trial stages may overflow; the result is checked
-            solver = _ADAPTIVE[self.method](rhs, 0.0, y0, times[-1], rtol=self.rtol,
-                                            atol=self.atol)
-        k = 1
+            solver = _ADAPTIVE[self.method](rhs, times[start], y0, times[-1],
+                                            rtol=self.rtol, atol=self.atol)
+        if self._stepper_state is not None:
+            _set_stepper(solver, self._stepper_state)
+        self.stepper = solver
+        k = start + 1
         while k < times.size:
             with np.errstate(all="ignore"):
                 message = solver.step()
@@ -235,35 +297,57 @@ class Integration:
                 k = k1
 
 
+def _set_stepper(solver, state):
+    """Put a scipy Runge-Kutta ``solver`` in the ``state`` of ``Integration.snapshot``
+    (the stage arrays in place: DOP853's ``K`` is a view of ``K_extended``)."""
+    for name, value in state.items():
+        if name in ("K", "K_extended"):
+            getattr(solver, name)[...] = value
+        elif name in ("y", "f", "y_old"):
+            setattr(solver, name, np.array(value))
+        else:
+            setattr(solver, name, value.item())
+
+
 def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=None, atol=None,
-              observers=()):
+              observers=(), resume=None):
     """Integrate ``problem`` from ``q0, v0`` (checked by ``RodChain.simulate``) over
     ``nsteps`` steps of ``dt`` (RK4) or grid intervals (adaptive), saving every
-    ``every``-th; returns a ``RodChainResult``.  See the module docstring for observers."""
+    ``every``-th; returns a ``RodChainResult``.  See the module docstring for observers.
+    ``resume`` (``io.resume(path)``) continues a stored run of the same system and
+    settings (``io.fingerprint.check_fingerprint``) from its last checkpoint; observers
+    then hear of the steps after it only."""
     times = dt * every * np.arange(nsteps // every + 1)
     times[-1] = t_end
     Q = np.empty((times.size, chain.n, 3))
     V = np.empty_like(Q)
     Q[0], V[0] = q0, v0
     power, work = np.zeros(times.size), np.zeros(times.size)
-    integ = Integration(chain, problem, method, dt, every, times, rtol, atol)
+    integ = Integration(chain, problem, method, dt, every, times, (Q, V, work, power), rtol,
+                        atol)
     integ.q, integ.v = Q[0], V[0]
     settings = {"t_start": 0.0, "t_end": t_end, "dt": dt, "every": every, "method": method,
                 "n_steps": nsteps, "rtol": rtol, "atol": atol,
                 "max_strain": problem.max_strain}
-    run = Run(chain, integ, settings, integ.stats)
+    system = ChainSystem(chain, problem, q0)
+    start = 0
+    if resume is not None:
+        if resume.manifest:
+            check_fingerprint(resume.path, resume.manifest, system, settings)
+        start = integ.restore(resume)
+    run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
     wall0 = time.perf_counter()
-    count = 1
+    count = start + 1
     watch = Observers(run, observers, lambda: result(count))
 
     def book(k0, k1):
         """The work of the loads without potential up to the saved steps k0..k1-1
-        (trapezoidal rule)."""
+        (trapezoidal rule, added step by step: the same sums in any batches)."""
         if problem.does_work:
             power[k0:k1] = problem.power(times[k0:k1], Q[k0:k1], V[k0:k1])
             j = max(k0, 1)
             steps = 0.5 * (power[j:k1] + power[j - 1:k1 - 1]) * np.diff(times[j - 1:k1])
-            work[j:k1] = work[j - 1] + np.cumsum(steps)
+            work[j - 1:k1] = np.cumsum(np.concatenate(([work[j - 1]], steps)))
         integ.stats["saved"] = k1
 
     def notify(k0, k1):
@@ -272,6 +356,7 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
             return None, None
         E = energies(chain, problem, times[k0:k1], Q[k0:k1], V[k0:k1], work[k0:k1])
         for k in range(k0, k1):
+            integ.at = k
             a = problem.acceleration(times[k], Q[k], V[k])[0]
             stop = watch.saved(Step(k * every, float(times[k]), Q[k].reshape(-1),
                                     V[k].reshape(-1), a.reshape(-1), np.zeros(0), 0,
@@ -287,10 +372,12 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
         return RodChainResult(chain, problem, cut(times), cut(Q), cut(V), cut(work), stats)
 
     with watch:
-        book(0, 1)
-        stop, at = notify(0, 1)
+        stop = at = None
+        if resume is None:
+            book(0, 1)
+            stop, at = notify(0, 1)
         if stop is None:
-            batches = integ.outputs(Q, V)
+            batches = integ.outputs(Q, V, start)
             try:
                 for k0, k1 in batches:
                     book(k0, k1)

@@ -34,6 +34,9 @@ class RodChain:
     frictionless, so without damping the energy is conserved for conservative loads.
     """
 
+    #: Values derived from the others (not in a run's fingerprint, ``io.fingerprint``).
+    caches = ("_max_frequency",)
+
     def __init__(self, masses, lengths, EA, compression=True):
         self.masses = positive_array("masses", masses)
         n = self.masses.size
@@ -240,7 +243,8 @@ class RodChain:
     # --- time integration ----------------------------------------------------------------------
     def simulate(self, q0, v0, t_end, dt, *, gravity=(0.0, 0.0, 0.0), method="rk4",
                  line_load=None, tip_force=None, anchor=None, quadrature=3, output_every=1,
-                 rtol=1e-8, atol=1e-10, max_strain=1.0, check_stability=True, observers=()):
+                 rtol=1e-8, atol=1e-10, max_strain=1.0, check_stability=True, observers=(),
+                 resume=None):
         """Integrate Eq. 21 from rod vectors ``q0`` and velocities ``v0`` over ``[0, t_end]``.
 
         Parameters
@@ -293,7 +297,13 @@ class RodChain:
             and accelerations flattened to (3 n,); ``energies``); a true return value stops
             the run cleanly after that step (``stats["stopped"]``); ``finish`` at the end,
             also after a failure.  The compiled RK4 runs in blocks and calls ``saved`` for
-            the saved steps of a block after the block (see ``integrate``).
+            the saved steps of a block after the block (see ``integrate``).  ``run.system``
+            is the chain's ``stored.ChainSystem``: ``io.RunStore`` stores the run.
+        resume : io.Resume, optional
+            Continue the run stored by an ``io.RunStore`` (``io.resume(path)``) from its
+            last checkpoint, bit for bit: the same chain, ``q0``, loads and settings (all
+            but ``t_end``), else ``io.StoreMismatch``.  Observers are not called at the
+            steps before it; the result holds the whole run.
 
         Returns
         -------
@@ -317,4 +327,4 @@ class RodChain:
                              "smaller dt, an adaptive method, or check_stability=False")
         return integrate(self, problem, q0, v0, t_end, dt, nsteps, every, method,
                          None if method == "rk4" else rtol, None if method == "rk4" else atol,
-                         observers)
+                         observers, resume)

@@ -1,19 +1,22 @@
 """A rod-chain run into a run directory, as ``skfem-cable run`` makes them for cable
-runs (``runner.run_dynamic``): the VTU series ``series.pvd`` + ``vtu/`` (written during
+runs (``runner.run_dynamic``): the run store (``io.RunStore``: ``results.zarr``, the
+checkpoint and the manifest), the VTU series ``series.pvd`` + ``vtu/`` (written during
 the run by ``io.SeriesObserver``), ``summary.json`` (parameters, wall time, steps, key
-outputs, energy budget) and ``plots/`` (``plots.run_figures``).  A rod-chain run has no
-run store and cannot be resumed; ``SIGTERM`` and ``SIGHUP`` end it like Ctrl-C (its
-frames so far stay listed in ``series.pvd``)."""
+outputs, energy budget, the store) and ``plots/`` (``plots.run_figures``).  ``--resume``
+continues an interrupted run bit for bit; ``SIGTERM`` and ``SIGHUP`` end it like Ctrl-C
+(the store commits its pending steps)."""
 
 import numpy as np
 
-from ..io import signals
-from ..io.progress import ProgressBar
-from ..io.series import SeriesObserver
+from ..io import run_observers
+from ..io.schema import STORE
+from ..runner.continued import resume_checked
 from ..runner.directory import register_files, run_directory
+from ..runner.drive import store_summary
 from ..runner.summary import complete_summary, warn, write_summary
 from .integrate import rk4_step
 from .plots import run_figures
+from .stored import ChainSystem
 
 # the rod chain's own figure (``plots.run_figures``), for the summary of its runs
 register_files({"plots/chain.png": "rod-chain tip, tensions and energies against time"},
@@ -74,12 +77,13 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
         Rod vectors and their rates (n, 3).
     options : runner.RunOptions
         ``t_end`` and ``dt`` (the spacing of the saved steps) override ``defaults``;
-        ``--every``, ``--alpha`` and ``--resume`` are refused.
+        ``--every`` and ``--alpha`` are refused; ``--resume`` continues the stored run
+        (the same scene parameters, chain, loads and settings, ``runner.resume_checked``).
     defaults : dict
         ``t_end``, ``dt`` (saved-step spacing), and optionally ``method``, ``step`` (the
         RK4 step, default ``rk4_step(chain, dt)``), ``series_every`` (a ``.vtu`` for every
         ``series_every``-th saved step and the last, default 1), ``rtol``, ``atol``,
-        ``max_strain``.
+        ``max_strain``, ``chunk`` (saved steps per commit of the store, default 200).
     loads : dict, optional
         ``RodChain.simulate`` keywords: ``gravity``, ``tip_force``, ``line_load``,
         ``anchor``, ``quadrature``.
@@ -99,36 +103,42 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
     if options.value("frame", "inertial") != "inertial":
         raise ValueError(f"scene {name!r} is a rod-chain run, written in the inertial frame: "
                          f"--frame {options.frame} has no meaning for it")
-    if options.resume:
-        raise ValueError(f"scene {name!r} is a rod-chain run, which has no checkpoint and "
-                         "cannot be resumed: run it again into another --out, or with "
-                         "--overwrite (which replaces its frames)")
     t_end = options.value("t_end", defaults["t_end"])
     dt = options.value("dt", defaults["dt"])
     method = defaults.get("method", "rk4")
     step, every = time_grid(chain, t_end, dt, method, defaults.get("step"))
     series_every = defaults.get("series_every", 1)
-    with run_directory(options, can_resume=False) as out, signals.graceful():
-        watch = []
-        if out is not None:
-            watch.append(SeriesObserver(out, every=series_every))
-        if options.progress is not False:
-            watch.append(ProgressBar(options.progress))
-        solver = {k: defaults[k] for k in SOLVER_KEYS if k in defaults}
-        result = chain.simulate(*initial, t_end, step, output_every=every, **solver,
-                                **(loads or {}), observers=[*watch, *observers])
+    solver = {k: defaults[k] for k in SOLVER_KEYS if k in defaults}
+    loads = dict(loads or {})
+    scene = dict(parameters or {})
+    parameters = {**scene, "t_end": t_end, "dt": dt, "method": method,
+                  "series_every": series_every}
+    with run_directory(options) as out:
+        resume, before = None, 0.0
+        if options.resume:
+            system = ChainSystem.of(chain, initial[0], **loads,
+                                    **{k: solver[k] for k in ("max_strain",) if k in solver})
+            resume = resume_checked(out, system, scene, "inertial",
+                                    {**solver, "dt": step, "every": every})
+            before = resume.manifest.get("wall_time", 0.0)
+        watch = run_observers(out, options.progress, series_every, restart=options.resume,
+                              chunk=defaults.get("chunk", 200), overwrite=options.overwrite,
+                              attrs={"scene": name, "parameters": scene})
+        result = chain.simulate(*initial, t_end, step, output_every=every, **solver, **loads,
+                                observers=[*watch, *observers], resume=resume)
         stats = result.stats
-        summary = {"scene": name,
-                   "parameters": {**(parameters or {}), "t_end": t_end, "dt": dt,
-                                  "method": method, "series_every": series_every},
-                   "wall_time": stats["wall_time"], "saved_steps": len(result),
+        summary = {"scene": name, "parameters": parameters,
+                   "wall_time": before + stats["wall_time"],
+                   "session_wall_time": stats["wall_time"], "saved_steps": len(result),
                    "integration": {"method": method, "step": step, "steps": stats["steps"],
                                    "nfev": stats["nfev"], "stable_dt": chain.stable_dt(),
                                    "stopped": stats["stopped"]},
                    "outputs": chain_outputs(result)}
         complete_summary(summary, result, outputs)
         if out is not None:
-            files = {"series": "series.pvd"}
+            summary["store"] = store_summary(out)
+            files = {"store": STORE, "manifest": "manifest.json",
+                     "checkpoint": summary["store"]["checkpoint"], "series": "series.pvd"}
             if options.plots:
                 paths, skipped = run_figures(out, result)
                 if skipped:
