@@ -10,9 +10,17 @@ vectors whose difference must not be formed by subtraction.  :func:`differential
 uses Battin's cancellation-free form (Battin, *An Introduction to the Mathematics and
 Methods of Astrodynamics*, AIAA 1999: the function ``f(q)`` of Encke's method).
 
+A long run with thrust carries its system away from the reference point; Encke's
+*rectification* (``solvers.rectify``) then re-bases the reference on the osculating orbit
+of the centre of mass (``Orbit.rebase``).  The reference becomes a chain of Keplerian
+arcs, each in force from its rebase time on, and ``position``, ``velocity``, ``lvlh``
+and the other functions of time evaluate the arc in force at each time: the offsets a
+run saved at any time read against the reference they were computed in.
+
 Angles are in radians, lengths in metres, times in seconds, ``mu`` in m^3/s^2.
 """
 
+import bisect
 import math
 
 import numpy as np
@@ -100,6 +108,11 @@ class Orbit:
     ``t = t0`` the local vertical (radial) is ``+x``, along-track ``+y`` and the orbit
     normal ``+z``.
 
+    The elements given are the orbit's, and what a run's fingerprint records; the arcs
+    that ``rebase`` adds (Encke's rectification, a run's state) are not (``caches``).
+    The functions of time follow the arc in force at each time; the elements, the
+    ``mean_motion`` and the ``period`` are those given.
+
     Examples
     --------
     >>> import skfem_cable as sc
@@ -108,8 +121,9 @@ class Orbit:
     92.56
     """
 
-    #: Memos left out of a system's fingerprint (``io.fingerprint``).
-    caches = ("_last",)
+    #: Memos and the rectification's arcs, left out of a system's fingerprint
+    #: (``io.fingerprint``).
+    caches = ("_last", "_arcs", "_starts")
 
     def __init__(self, mu, a, e=0.0, inclination=0.0, raan=0.0, argp=0.0, anomaly=0.0,
                  t0=0.0):
@@ -133,6 +147,7 @@ class Orbit:
                                 np.sqrt(1.0 + self.e) * np.cos(half))
         self.mean_anomaly0 = ecc0 - self.e * np.sin(ecc0)
         self._last = None
+        self._arcs, self._starts = [], []  # (rebase row (t, r, v), Orbit); their times
 
     @classmethod
     def from_state(cls, mu, r, v, t0=0.0):
@@ -180,12 +195,64 @@ class Orbit:
         """Orbital period ``2 pi / n`` (s)."""
         return 2 * np.pi / self.mean_motion
 
-    def _perifocal(self, t):
-        """Position and velocity in the perifocal axes (P, Q), shape ``t.shape + (2,)``."""
-        if isinstance(t, float):
-            return self._one(t)[3:]
-        return self._perifocal_at(np.asarray(t, dtype=float))
+    # --- the arcs of a rectified reference -------------------------------------------------
+    def rebase(self, r, v, t):
+        """Encke's rectification: from time ``t`` on, the reference is the orbit through
+        the absolute position ``r`` (m) and velocity ``v`` (m/s), ``from_state(mu, r, v,
+        t)``; before ``t`` the arcs in force stay.  Times of rebases must increase."""
+        t = float(t)
+        if self._starts and not t > self._starts[-1]:
+            raise ValueError(f"Orbit.rebase: t = {t!r} s is not after the last rebase at "
+                             f"{self._starts[-1]!r} s")
+        row = np.concatenate([[t], np.asarray(r, dtype=float), np.asarray(v, dtype=float)])
+        self._arcs.append((row, Orbit.from_state(self.mu, row[1:4], row[4:], t)))
+        self._starts.append(t)
+        self._last = None
 
+    def keplerian(self):
+        """The orbit as given, without the rebases: the Keplerian orbit a rectified
+        run departs from."""
+        return Orbit(self.mu, self.a, self.e, self.inclination, self.raan, self.argp,
+                     self.anomaly, self.t0)
+
+    @property
+    def rebases(self):
+        """The rebases so far, one row ``(t, r, v)`` (7,) each: shape (k, 7)."""
+        return np.array([row for row, _ in self._arcs]).reshape(-1, 7)
+
+    def restore(self, rebases=None):
+        """Drop the rebases, then make those of ``rebases`` (rows of ``rebases``) again:
+        the same arcs, to the last bit."""
+        self._arcs, self._starts, self._last = [], [], None
+        rows = np.asarray([] if rebases is None else rebases, dtype=float).reshape(-1, 7)
+        for row in rows:
+            self.rebase(row[1:4], row[4:7], row[0])
+
+    def arc(self, t):
+        """The Keplerian orbit in force at the time ``t`` (a float): this one before the
+        first rebase, else that of the latest rebase at or before ``t``."""
+        if not self._starts or t < self._starts[0]:
+            return self
+        return self._arcs[bisect.bisect_right(self._starts, t) - 1][1]
+
+    def _each_arc(self, t, function):
+        """``function(arc, times)`` over the times ``t`` (array_like) in force on each
+        arc, gathered in the shape of ``t`` (leading axes)."""
+        t = np.asarray(t, dtype=float)
+        if not self._starts:
+            return function(self, t)
+        flat = t.reshape(-1)
+        index = np.searchsorted(self._starts, flat, side="right")
+        out = None
+        for k in np.unique(index):
+            where = index == k
+            part = function(self if k == 0 else self._arcs[k - 1][1], flat[where])
+            if out is None:
+                out = np.empty((flat.size, *part.shape[1:]))
+            out[where] = part
+        return out.reshape(t.shape + out.shape[1:])
+
+    # --- functions of time ---------------------------------------------------------------
     def _one(self, t):
         """``(t, position, velocity, perifocal position, perifocal velocity)`` at one
         time ``t`` (a float), in scalar arithmetic and remembered: the loads of a time
@@ -205,6 +272,8 @@ class Orbit:
         return self._last
 
     def _perifocal_at(self, t):
+        """Position and velocity of this arc in its perifocal axes (P, Q) at the times
+        ``t`` (array), shape ``t.shape + (2,)``."""
         ecc = eccentric_anomaly(self.mean_anomaly0 + self.mean_motion * (t - self.t0),
                                 self.e)
         c, s = np.cos(ecc), np.sin(ecc)
@@ -218,26 +287,32 @@ class Orbit:
     def position(self, t):
         """Absolute position of the reference point (m): shape (3,) or ``t.shape + (3,)``."""
         if isinstance(t, float):
-            return self._one(t)[1].copy()
-        return self._perifocal(t)[0] @ self.axes[:, :2].T
+            return self.arc(t)._one(t)[1].copy()
+        return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[0] @ arc.axes[:, :2].T)
 
     def velocity(self, t):
         """Absolute velocity of the reference point (m/s)."""
         if isinstance(t, float):
-            return self._one(t)[2].copy()
-        return self._perifocal(t)[1] @ self.axes[:, :2].T
+            return self.arc(t)._one(t)[2].copy()
+        return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[1] @ arc.axes[:, :2].T)
 
     def true_anomaly(self, t):
-        """True anomaly (rad) at ``t``, continuous in time (not wrapped)."""
-        pos = self._perifocal(t)[0]
+        """True anomaly (rad) at ``t``, continuous in time on each arc (not wrapped)."""
+        return self._each_arc(t, Orbit._true_anomaly)
+
+    def _true_anomaly(self, t):
+        pos = self._perifocal_at(t)[0]
         angle = np.arctan2(pos[..., 1], pos[..., 0])
-        mean = self.mean_anomaly0 + self.mean_motion * (np.asarray(t, float) - self.t0)
+        mean = self.mean_anomaly0 + self.mean_motion * (t - self.t0)
         return angle + 2 * np.pi * np.round((mean - angle) / (2 * np.pi))
 
     def lvlh(self, t):
         """The orbiting frame at ``t``: rows radial, along-track, orbit normal, in the
         system's axes; shape (3, 3) or ``t.shape + (3, 3)``."""
-        pos = self._perifocal(t)[0]
+        return self._each_arc(t, Orbit._lvlh)
+
+    def _lvlh(self, t):
+        pos = self._perifocal_at(t)[0]
         radial = pos / np.linalg.norm(pos, axis=-1, keepdims=True)
         along = np.stack([-radial[..., 1], radial[..., 0]], axis=-1)
         plane = self.axes[:, :2].T
@@ -247,7 +322,10 @@ class Orbit:
     def angular_velocity(self, t):
         """Angular velocity of the orbiting frame (rad/s, a vector along the orbit normal
         in the system's axes): ``h / |R|^2``."""
-        pos = self._perifocal(t)[0]
+        return self._each_arc(t, Orbit._angular_velocity)
+
+    def _angular_velocity(self, t):
+        pos = self._perifocal_at(t)[0]
         h = np.sqrt(self.mu * self.a * (1.0 - self.e**2))
         rate = h / np.sum(pos**2, axis=-1)
         return rate[..., None] * self.axes[:, 2]

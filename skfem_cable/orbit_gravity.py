@@ -13,6 +13,7 @@ import numpy as np
 
 from .contract import Term
 from .kernels import central
+from .orbit import differential_gravity
 
 
 @dataclass(frozen=True)
@@ -141,6 +142,20 @@ class DifferentialGravity:
         if self.j2 is None:
             return 0.0
         return 1.5 * self.orbit.mu * self.j2 * self.body_radius**2
+
+    def frame_change(self, old, new):
+        """``g(new) - g(old)`` (m/s^2, (3,)): how much faster the reference point falls
+        at the absolute position ``new`` than at ``old`` (Encke's rectification moves it,
+        ``solvers.rectify``); the central term free of cancellation
+        (``orbit.differential_gravity``), J2's by difference."""
+        old, new = np.asarray(old, dtype=float), np.asarray(new, dtype=float)
+        change = differential_gravity(self.orbit.mu, old, new - old)
+        if self.j2 is not None:
+            at_old, at_new = np.zeros(3), np.zeros(3)
+            central.j2_acceleration(self.k, old, at_old)
+            central.j2_acceleration(self.k, new, at_new)
+            change += at_new - at_old
+        return change
 
     def bind(self, system):
         if system.deployments:

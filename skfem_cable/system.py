@@ -115,7 +115,7 @@ class System(SystemMotion):
         self.loads = []
         self.point_masses = []
         self.deployments = {}
-        self.orbit = None
+        self.orbit = self.orbit_gravity = None
         self._layout = None
 
     # --- building -------------------------------------------------------------------------
@@ -368,7 +368,8 @@ class System(SystemMotion):
             raise ValueError("add_orbit: the system has uniform gravity (add_gravity); in "
                              "orbit the central body's gravity replaces it")
         self.orbit = orbit
-        return self.add_load(DifferentialGravity(orbit, j2, body_radius))
+        self.orbit_gravity = DifferentialGravity(orbit, j2, body_radius)
+        return self.add_load(self.orbit_gravity)
 
     def add_line_load(self, cable, force_per_length):
         """Uniform distributed load (N/m, fixed in space) along a cable; for loads that

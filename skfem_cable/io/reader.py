@@ -257,7 +257,10 @@ def read_result(path, system, check=True):
     otherwise ``StoreMismatch`` (``check=False`` skips the test; the sizes must still
     match).  Fields the store left out are NaN (``iterations``: -1).  ``stats``: the
     solver counters at the last saved step, ``status`` and ``stopped``.  Old run
-    directories (``chunk_*.npz``) are read too."""
+    directories (``chunk_*.npz``) are read too.  A system in orbit takes the rebases of
+    the run's reference (Encke's rectification, ``solvers.rectify``) from the checkpoint,
+    so that its orbit's functions of time are those the saved offsets were computed
+    against."""
     path = Path(path)
     manifest = read_manifest(path)
     if manifest is None:
@@ -272,6 +275,8 @@ def read_result(path, system, check=True):
                             f"{manifest.get('n_constraints')} multipliers; the given system "
                             f"has {system.n_dofs} and {system.n_constraints}")
     records = read_records(path, system, manifest)
+    if system.orbit is not None and manifest.get("checkpoint"):
+        system.orbit.restore(read_checkpoint(path, manifest).get("orbit_rebases"))
     stats = {"status": manifest.get("status"),
              "stopped": manifest.get("message") if manifest.get("status") == "stopped"
              else None}

@@ -115,6 +115,8 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
     summary["frame"] = frame
     if system.orbit is not None:
         summary["orbit"] = orbit_summary(system, result.state(0), result.state(len(result) - 1))
+        summary["orbit"].update(rectification=stats["rectification"],
+                                rectifications=stats["rectifications"])
     complete_summary(summary, result, outputs,
                      tension_warnings(result.system, result.q, result.t))
     if out is not None:

@@ -207,6 +207,33 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         self.iterations, self.newton_rate = 0, 1.0
         self.guard.reset(self.t, self.energies())
 
+    def shift(self, dq, dv, da):
+        """Change the frame of the state at the current time: coordinates ``q + dq``,
+        velocities ``v + dv``, accelerations ``a + da`` (Encke's rectification moves the
+        reference point, ``solvers.rectify``); the pseudo-acceleration ``abar`` and the
+        last step's ``a`` move with ``a``, so the algorithm's memory of the motion, which
+        damps the unresolved modes, is kept.  (Starting again from the shifted state as
+        from an initial one re-excited a stiff tether's axial modes for tens of steps
+        after every rebase: the consistent accelerations differ from the algorithm's by
+        its damping of those modes.)  The iteration matrix is made again at the next
+        step.  The books stay open: the jump of the kinetic, stored and potential energy
+        that a change of frame makes is booked as external work, so the balance stays
+        closed, and the guard takes the new state as its reference."""
+        before = self.energies()
+        self.q, self.v, self.a = self.q + dq, self.v + dv, self.a + da
+        self.abar = self.abar + da
+        if self.a_prev is not None:
+            self.a_prev = self.a_prev + da
+        self.h_factored = None
+        _, info = self.system.evaluate(self.q, self.v, self.t, self.lam, scale=self.mbar,
+                                       a=self.a)
+        books = self._booked(info, self.q, self.v, self.t, start=True)
+        after = self._energies(books)
+        jump = sum(after[k] - before[k] for k in ("kinetic", "axial", "bending", "potential"))
+        books.update(dissipated=self.dissipated, external_work=self.external_work + jump)
+        self.__dict__.update(books)
+        self.guard.reset(self.t, self.energies())
+
     def _consistent(self, q, v, t):
         """``(v, a, lambda)`` of the state ``(q, v, t)``: ``v`` projected onto
         ``C_q v = -C_t`` (mass-orthogonally), ``a`` and ``lambda`` from Eq. 3 with
@@ -293,9 +320,13 @@ class GeneralizedAlpha(StepControl, Diagnosis):
 
     def snapshot(self):
         """Everything a continuation needs to be bit-for-bit identical, including the
-        state at which the current iteration matrix was factored (it is rebuilt from it)
-        and the instability guard's references."""
-        return self._snapshot()
+        state at which the current iteration matrix was factored (it is rebuilt from it),
+        the instability guard's references and, in orbit, the rebases of the reference
+        (``orbit_rebases``, ``Orbit.rebases``)."""
+        snap = self._snapshot()
+        if self.system.orbit is not None:
+            snap["orbit_rebases"] = self.system.orbit.rebases
+        return snap
 
     def _snapshot(self):
         snap = {k: np.copy(getattr(self, k)) for k in self.STATE}

@@ -27,6 +27,7 @@ from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
 from ..result import Result
 from .galpha import GeneralizedAlpha
+from .rectify import Rectification
 
 #: Positions in ``result.SETTINGS`` that must match when a run is resumed (all but t_end).
 _MATCH = [k for k, name in enumerate(SETTINGS) if name != "t_end"]
@@ -129,7 +130,7 @@ def _stats(integ, clock, stopped=None):
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
              max_halvings=10, method="auto", energy_tol=0.05, compiled=None, rtol=None,
-             atol=None, tol_local=None):
+             atol=None, tol_local=None, rectify=1e-4):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -180,6 +181,14 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         (halved after a Newton failure), down to ``dt / 2**max_halvings``.  ``every``
         then counts accepted steps.  Without them the steps are fixed: bit-for-bit
         reproducible, and each one ends on ``t_start + i dt``.
+    rectify : float or None
+        A system in orbit: Encke's rectification (``solvers.rectify``) re-bases the
+        reference orbit on the osculating orbit of the centre of mass after any step
+        that leaves the centre of mass further than ``rectify |R|`` from the reference
+        point, or faster than ``rectify |V|`` relative to it; None: never.  Off (and
+        said in ``stats["rectification"]``) when a constraint ties the system to the
+        reference point.  A fresh run starts on the orbit as given, dropping the
+        rebases of an earlier run; a continued one takes them from its checkpoint.
 
     Returns
     -------
@@ -192,7 +201,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         ``path`` (``GeneralizedAlpha.step_path``: the compiled or the Python Newton step,
         and why), ``stopped`` (the message of the observer that stopped the run, or None)
         and, with ``rtol``/``atol``, ``h_min`` and ``h_max``, the smallest and largest
-        accepted steps.
+        accepted steps; in orbit ``rectification`` (``"on"``, ``"none"`` or why it is
+        off) and ``rectifications`` (how many rebases).
 
     Raises
     ------
@@ -229,6 +239,15 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings.update(rtol=rtol, atol=atol)
     if tol_local is not None:
         settings["tol_local"] = tol_local
+    orbit, rectifier = system.orbit, None
+    if orbit is not None:
+        settings["rectify"] = rectify
+        orbit.restore(resume.snapshot.get("orbit_rebases") if resume is not None else None)
+        rectifier = None if rectify is None else Rectification(system, rectify, t_start)
+        integ.stats.update(rectifications=0, rectification="none" if rectifier is None
+                           else rectifier.reason or "on")
+        if rectifier is not None and rectifier.reason is not None:
+            rectifier = None
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],
@@ -236,7 +255,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
             raise ValueError("resume: t_start, dt, rho_inf, every, tol and max_iter must "
                              "match the interrupted run")
         integ.restore(snap)
-        integ.stats.update({k: int(snap["stat_" + k]) for k in integ.stats})
+        integ.stats.update({k: int(snap["stat_" + k]) for k, v in integ.stats.items()
+                            if "stat_" + k in snap and not isinstance(v, str)})
         start_index = int(snap["index"])
         recorder = _Recorder(system, resume.records)
     else:
@@ -259,6 +279,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
             i += 1
             t_target = t_end if i == n_steps else t_start + i * dt
             integ.advance(t_target - integ.t, max_halvings)
+            if rectifier is not None:
+                rectifier(integ)
             if i % every == 0 or i == n_steps:
                 stop = save(i)
         return stop
@@ -267,6 +289,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         last = False
         while stop is None and not last:
             last = integ.adaptive_step(t_end, dt, max_halvings)
+            if rectifier is not None:
+                rectifier(integ)
             i += 1
             if i % every == 0 or last:
                 stop = save(i)

@@ -1,0 +1,100 @@
+"""Encke's rectification of a system in orbit: when the centre of mass has moved away from
+the reference point (thrust), the reference is re-based on the osculating orbit of the
+centre of mass, so that the coordinates stay small offsets.
+
+A system in orbit (``System.add_orbit``) integrates offsets ``delta`` from a reference
+point on a Keplerian orbit ``R(t)``.  Without thrust the centre of mass stays near it; an
+E-sail's thrust carries it away by ``a t^2 / 2`` (some 1e8 m in a week at 1 mm/s^2), and
+large offsets cost the precision that the translated frame was there to keep (the E-sail
+paper, Sect. 2).  After every step, when the offset ``x`` of the centre of mass exceeds
+``tolerance |R|`` or its velocity ``u`` exceeds ``tolerance |V|``, the reference becomes
+the orbit through ``R + x, V + u`` from that time on (``Orbit.rebase``: Battin,
+*An Introduction to the Mathematics and Methods of Astrodynamics*, AIAA 1999, on
+Encke's method), and every position coordinate moves by ``-(R_new(t) - R(t))``, every
+velocity of a position by ``-(V_new(t) - V(t))`` and every acceleration of a position by
+``-(g(R_new) - g(R))``, the change of the reference point's fall
+(``DifferentialGravity.frame_change``); slopes and scalar coordinates do not change.  The
+difference of the two reference points is formed once, from the two arcs themselves, so
+the absolute positions ``R + delta`` stay what they were to the rounding of ``delta``.
+The integrator goes on from the shifted state with its memory and its books
+(``GeneralizedAlpha.shift``).
+
+A constraint that ties the system to the reference point (a pin to a fixed point of the
+orbiting frame) would move with it: the rectification is then off, and the reason is in
+the run's ``stats["rectification"]``.  The arcs are part of the checkpoint, so a
+rectified run continues bit for bit.
+"""
+
+import numpy as np
+
+
+class Rectification:
+    """Encke's rectification of the run of ``system`` (in orbit) with ``tolerance``
+    (module docstring); ``reason`` is None when it is on, else why it is off.
+
+    Parameters
+    ----------
+    system : System
+        In orbit (``system.orbit``).
+    tolerance : float
+        Relative offset of the centre of mass (position to ``|R|``, velocity to ``|V|``)
+        beyond which the reference is re-based, > 0.
+    t : float
+        The run's start time (s): where the constraints are checked.
+    """
+
+    def __init__(self, system, tolerance, t):
+        if not (np.isfinite(tolerance) and tolerance > 0):
+            raise ValueError(f"rectify must be a finite number > 0 (a relative offset of "
+                             f"the centre of mass) or None, got {tolerance!r}")
+        self.orbit, self.tolerance = system.orbit, float(tolerance)
+        self.gravity = system.orbit_gravity
+        n = system.n_dofs
+        self.positions = system.vectors[system.vector_is_position]  # (k, 3) coordinates
+        M = system.mass_matrix()
+        unit = np.zeros((3, n))
+        for i in range(3):
+            unit[i, self.positions[:, i]] = 1.0
+        mass = unit[0] @ (M @ unit[0])
+        self.weights = np.asarray(M @ unit.T).T / mass  # centre of mass: weights @ q
+        self.reason = _tied(system, self.positions, t, self.orbit)
+
+    def shift(self, delta):
+        """The coordinate change ``(n,)`` that moves every position by ``delta`` (3,)."""
+        out = np.zeros(self.weights.shape[1])
+        out[self.positions] = delta
+        return out
+
+    def __call__(self, integrator):
+        """After a step: re-base the reference when the centre of mass of the
+        integrator's state is past the tolerance; returns whether it did."""
+        if self.reason is not None:
+            return False
+        t, orbit = integrator.t, self.orbit
+        x, u = self.weights @ integrator.q, self.weights @ integrator.v
+        R, V = orbit.position(t), orbit.velocity(t)
+        limit = self.tolerance
+        if x @ x <= limit**2 * (R @ R) and u @ u <= limit**2 * (V @ V):
+            return False
+        orbit.rebase(R + x, V + u, t)
+        new = orbit.position(t)
+        integrator.shift(self.shift(R - new), self.shift(V - orbit.velocity(t)),
+                         self.shift(-self.gravity.frame_change(R, new)))
+        integrator.stats["rectifications"] = integrator.stats.get("rectifications", 0) + 1
+        return True
+
+
+def _tied(system, positions, t, orbit):
+    """Why the rectification must stay off for ``system`` (a constraint that a
+    translation of all positions violates, named), or None."""
+    if not system.n_constraints:
+        return None
+    q = system.q0
+    step = np.zeros(system.n_dofs)
+    step[positions] = 1e-3 * np.linalg.norm(orbit.position(float(t))) * np.array([1, 1, 1])
+    moved = system.constraint_values(q + step, t) - system.constraint_values(q, t)
+    if np.max(np.abs(moved)) <= 1e-9 * np.max(np.abs(step)):
+        return None
+    k = int(np.argmax(np.abs(moved)))
+    return (f"off: {system.describe_dof(system.n_dofs + k)} ties the system to the "
+            "reference point, which a rectification would move")
