@@ -77,6 +77,21 @@ def solve_kepler(mean_anomaly, e):
     return ecc + (mean_anomaly - m)
 
 
+@njit(cache=True)
+def kepler_state(mu, a, e, mean_anomaly0, mean_motion, t0, axes, t, out):
+    """Position and velocity at time ``t`` of the orbit of these elements (``axes``: the
+    perifocal axes P, Q, W as columns) into ``out`` (6,), in scalar arithmetic."""
+    ecc = solve_kepler(mean_anomaly0 + mean_motion * (t - t0), e)
+    c, s = math.cos(ecc), math.sin(ecc)
+    root = math.sqrt(1.0 - e * e)
+    speed = math.sqrt(mu * a) / (a * (1.0 - e * c))
+    x, y = a * (c - e), a * root * s
+    u, w = -speed * s, speed * root * c
+    for i in range(3):
+        out[i] = x * axes[i, 0] + y * axes[i, 1]
+        out[3 + i] = u * axes[i, 0] + w * axes[i, 1]
+
+
 @vectorize(["float64(float64, float64)"], cache=True)
 def eccentric_anomaly(mean_anomaly, e):
     """``solve_kepler`` as a numba ufunc, for arrays of mean anomalies."""
@@ -123,7 +138,7 @@ class Orbit:
 
     #: Memos and the rectification's arcs, left out of a system's fingerprint
     #: (``io.fingerprint``).
-    caches = ("_last", "_arcs", "_starts")
+    caches = ("_last", "_state", "_arcs", "_starts")
 
     def __init__(self, mu, a, e=0.0, inclination=0.0, raan=0.0, argp=0.0, anomaly=0.0,
                  t0=0.0):
@@ -146,7 +161,7 @@ class Orbit:
         ecc0 = 2.0 * np.arctan2(np.sqrt(1.0 - self.e) * np.sin(half),
                                 np.sqrt(1.0 + self.e) * np.cos(half))
         self.mean_anomaly0 = ecc0 - self.e * np.sin(ecc0)
-        self._last = None
+        self._last, self._state = None, np.empty(6)  # memo of _one
         self._arcs, self._starts = [], []  # (rebase row (t, r, v), Orbit); their times
 
     @classmethod
@@ -207,7 +222,6 @@ class Orbit:
         row = np.concatenate([[t], np.asarray(r, dtype=float), np.asarray(v, dtype=float)])
         self._arcs.append((row, Orbit.from_state(self.mu, row[1:4], row[4:], t)))
         self._starts.append(t)
-        self._last = None
 
     def keplerian(self):
         """The orbit as given, without the rebases: the Keplerian orbit a rectified
@@ -223,7 +237,7 @@ class Orbit:
     def restore(self, rebases=None):
         """Drop the rebases, then make those of ``rebases`` (rows of ``rebases``) again:
         the same arcs, to the last bit."""
-        self._arcs, self._starts, self._last = [], [], None
+        self._arcs, self._starts = [], []
         rows = np.asarray([] if rebases is None else rebases, dtype=float).reshape(-1, 7)
         for row in rows:
             self.rebase(row[1:4], row[4:7], row[0])
@@ -254,22 +268,14 @@ class Orbit:
 
     # --- functions of time ---------------------------------------------------------------
     def _one(self, t):
-        """``(t, position, velocity, perifocal position, perifocal velocity)`` at one
-        time ``t`` (a float), in scalar arithmetic and remembered: the loads of a time
-        step ask for the same time (a step's Python cost in orbit: some 5 us, against
-        60 us through the arrays)."""
-        if self._last is None or self._last[0] != t:
-            ecc = solve_kepler(self.mean_anomaly0 + self.mean_motion * (t - self.t0),
-                               self.e)
-            c, s = math.cos(ecc), math.sin(ecc)
-            root = math.sqrt(1.0 - self.e**2)
-            speed = math.sqrt(self.mu * self.a) / (self.a * (1.0 - self.e * c))
-            x, y = self.a * (c - self.e), self.a * root * s
-            u, w = -speed * s, speed * root * c
-            P, Q = self.axes[:, 0], self.axes[:, 1]
-            self._last = (t, x * P + y * Q, u * P + w * Q, np.array([x, y]),
-                          np.array([u, w]))
-        return self._last
+        """Position and velocity (6,) of this arc at one time ``t`` (a float), compiled
+        (``kepler_state``) and remembered: the loads of a time step ask for the same
+        time (a step's Python cost in orbit: a few microseconds)."""
+        if self._last != t:
+            kepler_state(self.mu, self.a, self.e, self.mean_anomaly0, self.mean_motion,
+                         self.t0, self.axes, t, self._state)
+            self._last = t
+        return self._state
 
     def _perifocal_at(self, t):
         """Position and velocity of this arc in its perifocal axes (P, Q) at the times
@@ -287,13 +293,13 @@ class Orbit:
     def position(self, t):
         """Absolute position of the reference point (m): shape (3,) or ``t.shape + (3,)``."""
         if isinstance(t, float):
-            return self.arc(t)._one(t)[1].copy()
+            return self.arc(t)._one(t)[:3].copy()
         return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[0] @ arc.axes[:, :2].T)
 
     def velocity(self, t):
         """Absolute velocity of the reference point (m/s)."""
         if isinstance(t, float):
-            return self.arc(t)._one(t)[2].copy()
+            return self.arc(t)._one(t)[3:].copy()
         return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[1] @ arc.axes[:, :2].T)
 
     def true_anomaly(self, t):

@@ -75,20 +75,14 @@ def differential_acceleration(mu, R, R2, x, y, z):
 
 
 @njit(cache=True, inline="always")
-def acceleration(mu, k, reference, R2, base, delta, a, r, extra):
-    """Differential acceleration ``a`` (3,) at the offset ``delta`` from the reference
-    point ``R`` (``R2 = |R|^2``), with ``r = R + delta`` (3,) into ``r``; returns ``(mu /
-    |r|^3, |r|^2)``.  ``base`` holds ``a_J2(R)`` (unused when ``k = 0``); ``extra`` (3,) is
-    scratch."""
-    a[0], a[1], a[2], s, r2 = differential_acceleration(mu, reference, R2, delta[0],
-                                                        delta[1], delta[2])
+def add_j2(k, reference, base, delta, a, r, extra):
+    """Add J2's difference ``a_J2(R + delta) - a_J2(R)`` to ``a`` (3,), ``base`` holding
+    ``a_J2(R)``; ``r`` and ``extra`` (3,) are scratch."""
     for i in range(3):
         r[i] = reference[i] + delta[i]
-    if k != 0.0:
-        j2_acceleration(k, r, extra)
-        for i in range(3):
-            a[i] += extra[i] - base[i]
-    return s, r2
+    j2_acceleration(k, r, extra)
+    for i in range(3):
+        a[i] += extra[i] - base[i]
 
 
 @njit(cache=True, inline="always")
@@ -144,13 +138,17 @@ def _kernel(pack, index, ev, k):
     extra = np.empty(3)
     K = np.empty((3 * k, 3 * k))
     for g in range(n_groups):
-        K[:] = 0.0
+        if want:
+            K[:] = 0.0
         for p in range(groups[g], groups[g + 1]):
             for i in range(3):
                 delta[i] = 0.0
                 for j in range(k):
                     delta[i] += coefficients[p, j] * q[vectors[p, j] + i]
-            scale, r2 = acceleration(mu, k2, reference, R2, base, delta, a, r, extra)
+            a[0], a[1], a[2], scale, r2 = differential_acceleration(
+                mu, reference, R2, delta[0], delta[1], delta[2])
+            if k2 != 0.0:
+                add_j2(k2, reference, base, delta, a, r, extra)
             m = mass[p]
             for j in range(k):
                 c = m * coefficients[p, j]
@@ -158,6 +156,8 @@ def _kernel(pack, index, ev, k):
                     f_ext[vectors[p, j] + i] += c * a[i]
             if not want:
                 continue
+            for i in range(3):
+                r[i] = reference[i] + delta[i]
             gradient(k2, scale, r2, r, T)
             for j in range(k):
                 for l in range(k):

@@ -7,7 +7,9 @@ point on a Keplerian orbit ``R(t)``.  Without thrust the centre of mass stays ne
 E-sail's thrust carries it away by ``a t^2 / 2`` (some 1e8 m in a week at 1 mm/s^2), and
 large offsets cost the precision that the translated frame was there to keep (the E-sail
 paper, Sect. 2).  After every step, when the offset ``x`` of the centre of mass exceeds
-``tolerance |R|`` or its velocity ``u`` exceeds ``tolerance |V|``, the reference becomes
+``tolerance |R|`` or its velocity ``u`` exceeds ``tolerance |V|`` (``|R|`` and ``|V|``
+taken at their smallest on the arc in force: periapsis distance, apoapsis speed), the
+reference becomes
 the orbit through ``R + x, V + u`` from that time on (``Orbit.rebase``: Battin,
 *An Introduction to the Mathematics and Methods of Astrodynamics*, AIAA 1999, on
 Encke's method), and every position coordinate moves by ``-(R_new(t) - R(t))``, every
@@ -58,6 +60,16 @@ class Rectification:
         mass = unit[0] @ (M @ unit[0])
         self.weights = np.asarray(M @ unit.T).T / mass  # centre of mass: weights @ q
         self.reason = _tied(system, self.positions, t, self.orbit)
+        self._bounds(t)
+
+    def _bounds(self, t):
+        """The squared limits of the offset and the velocity of the centre of mass on
+        the arc in force at ``t``: ``tolerance`` times its smallest distance ``a (1 -
+        e)`` and smallest speed (at apoapsis), so that no step asks the orbit."""
+        arc = self.orbit.arc(float(t))
+        slowest = arc.mu / arc.a * (1.0 - arc.e) / (1.0 + arc.e)
+        self.limits = (self.tolerance**2 * (arc.a * (1.0 - arc.e)) ** 2,
+                       self.tolerance**2 * slowest)
 
     def shift(self, delta):
         """The coordinate change ``(n,)`` that moves every position by ``delta`` (3,)."""
@@ -70,13 +82,13 @@ class Rectification:
         integrator's state is past the tolerance; returns whether it did."""
         if self.reason is not None:
             return False
-        t, orbit = integrator.t, self.orbit
         x, u = self.weights @ integrator.q, self.weights @ integrator.v
-        R, V = orbit.position(t), orbit.velocity(t)
-        limit = self.tolerance
-        if x @ x <= limit**2 * (R @ R) and u @ u <= limit**2 * (V @ V):
+        if x @ x <= self.limits[0] and u @ u <= self.limits[1]:
             return False
+        t, orbit = integrator.t, self.orbit
+        R, V = orbit.position(t), orbit.velocity(t)
         orbit.rebase(R + x, V + u, t)
+        self._bounds(t)
         new = orbit.position(t)
         integrator.shift(self.shift(R - new), self.shift(V - orbit.velocity(t)),
                          self.shift(-self.gravity.frame_change(R, new)))
