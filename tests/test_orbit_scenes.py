@@ -304,3 +304,18 @@ def test_esail_orbit_scene_reports_its_orbit():
     assert summary["orbit"]["reference"]["a"] == sc.AU
     assert summary["orbit"]["end"]["a"] == pytest.approx(sc.AU, rel=1e-8)
     assert summary["outputs"]["thrust_mean_N"] > 0
+
+
+@pytest.mark.parametrize(("line", "expected"), [("", None), ("rectify = 1e-3", 1e-3),
+                                                ("rectify = 0", None)])
+def test_solver_table_takes_the_rectification(line, expected):
+    """``[solver] rectify``: the tolerance of Encke's rectification (``simulate``'s
+    default when left out), 0 to switch it off; more than 0.1 is refused."""
+    spec = scene_file.loads_text(SCENE.replace("dt = 10.0", f"dt = 10.0\n{line}"),
+                                 "orbit.toml")
+    assert spec.solver.get("rectify", "default") == ("default" if not line else expected)
+    result = sc.simulate(spec.system, initial=spec.initial, **spec.solver)
+    assert result.stats["rectification"] == ("none" if line == "rectify = 0" else "on")
+    with pytest.raises(scene_file.SceneFileError, match=r"solver.rectify.*\[0.0, 0.1\]"):
+        scene_file.loads_text(SCENE.replace("dt = 10.0", "dt = 10.0\nrectify = 0.5"),
+                              "orbit.toml")

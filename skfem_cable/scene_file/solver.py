@@ -16,8 +16,8 @@ def read_analysis(t):
 
 
 def read_solver(t, analysis):
-    """The rest of ``[solver]``: ``simulate`` keywords (dynamic), ``solve_static``
-    keywords (static) or ``solve_steady`` keywords (steady: ``omega`` required,
+    """The rest of ``[solver]``: ``simulate`` keywords (dynamic; ``rectify = 0`` switches
+    the rectification of an orbit off), ``solve_static`` keywords (static) or ``solve_steady`` keywords (steady: ``omega`` required,
     ``center``); keys left out are left to the solver's defaults."""
     common = {"tol": t.get("tol", interval(1e-16, 0.1), None),
               "max_iter": t.get("max_iter", count, None)}
@@ -26,13 +26,16 @@ def read_solver(t, analysis):
              "rho_inf": t.get("rho_inf", interval(0.0, 1.0), 0.8),
              "every": t.get("every", count, 1),
              "newton": t.get("newton", choice("full", "modified"), None)}
+        rectify = t.get("rectify", interval(0.0, 0.1), None)
+        if rectify is not None:  # 0: off (simulate's None)
+            s["rectify"] = rectify or None
     else:
         s = {"load_steps": t.get("load_steps", count, 1)}
         if analysis == "steady":
             s["omega"] = t.get("omega", vector3)
             s["center"] = t.get("center", vector3, np.zeros(3))
     t.finish()
-    return {k: v for k, v in {**s, **common}.items() if v is not None}
+    return {k: v for k, v in {**s, **common}.items() if v is not None or k == "rectify"}
 
 
 def read_initial(t, system, analysis):
