@@ -227,6 +227,9 @@ class Cable(CableFields):
     0.0
     """
 
+    #: ``contract.Body.energy_parts``: the law's stretching and bending energy.
+    energy_parts = ("axial", "bending")
+
     def __init__(self, mesh, section, positions, slopes=None, law=None, intorder=None,
                  name="cable", formulation=None, locking_free=None, element=DEFAULT_ELEMENT,
                  curvatures=None):

@@ -336,8 +336,11 @@ class Shape:
 class Body(Protocol):
     """A body of a ``System``: coordinates, mass, internal forces, and what it shows.
 
-    ``name``, ``n_dofs``, ``q0`` (its initial coordinates) and ``position_mask`` (True for
-    coordinates that are lengths: scales for convergence tests); optionally
+    ``name``, ``n_dofs``, ``q0`` (its initial coordinates), ``position_mask`` (True for
+    coordinates that are lengths: scales for convergence tests) and ``energy_parts``
+    (the names of the stored energy its term books in the two slots of
+    ``Evaluation.energy``, e.g. a cable's ``("axial", "bending")``; ``()`` for a body that
+    stores none: ``System.energy_parts`` reports them by these names); optionally
     ``vector_mask`` (True for coordinates that are parts of 3-vectors in space, which
     rigid motions move; all True by default).
     """
@@ -346,6 +349,7 @@ class Body(Protocol):
     n_dofs: int
     q0: np.ndarray
     position_mask: np.ndarray
+    energy_parts: tuple
 
     def describe_dof(self, index):
         """Which coordinate ``index`` (local) is, for messages: ``"node 3 r_x[1]"``."""

@@ -50,6 +50,32 @@ class SystemMotion:
             p += deployment.momentum(self, q, v, t)
         return p
 
+    def energy_parts(self, q, v, t=0.0):
+        """The energy (J) of each body at ``(q, v, t)``, keyed by its label
+        (``io.labels.body_labels``): ``kinetic``, ``v_b^T M_b v_b / 2`` with its own mass
+        matrix, and its stored energy under the names of its ``energy_parts``
+        (``contract.Body``), its term evaluated alone; ``point masses``: their kinetic
+        energy, when the system has any.  The kinetic parts add up to ``v^T M v / 2``,
+        the stored ones to the run's books (``axial`` + ``bending``)."""
+        from .io.labels import body_labels
+
+        v = np.zeros(self.n_dofs) if v is None else np.asarray(v, dtype=float)
+        q = np.asarray(q, dtype=float)
+        out, kinetic = {}, 0.0
+        for label, body in zip(body_labels(self), self.bodies):
+            d = self.dofs(body)
+            parts = {"kinetic": 0.5 * float(v[d] @ (body.mass_matrix() @ v[d]))}
+            kinetic += parts["kinetic"]
+            if body.energy_parts:
+                alone = type(self)([body])
+                _, info = alone.evaluate(q[d], v[d], t, np.zeros(alone.n_constraints))
+                parts.update(zip(body.energy_parts, map(float, info["energy"])))
+            out[label] = parts
+        if self.point_masses:
+            out["point masses"] = {"kinetic": 0.5 * float(v @ (self.mass_matrix() @ v))
+                                   - kinetic}
+        return out
+
     def energy_rate(self, q, t):
         """Explicit time derivative (W) of the stored energy at fixed coordinates: the sum
         of the terms' ``energy_rate`` (``contract.Term``; 0 when no energy depends on

@@ -67,6 +67,9 @@ class Reel:
     position_mask = np.array([True])
     vector_mask = np.array([False])
 
+    #: ``contract.Body.energy_parts``: none (its drive's work is external).
+    energy_parts = ()
+
     def __init__(self, length, radius, inertia=0.0, drive=None, name="reel"):
         self.q0 = np.array([check_positive("length", length)])
         self.radius = check_positive("radius", radius)

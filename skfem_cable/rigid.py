@@ -111,6 +111,9 @@ class RigidBody:
     (array([0., 0., 1.]), 3.0)
     """
 
+    #: ``contract.Body.energy_parts``: none (rigid).
+    energy_parts = ()
+
     def __init__(self, mass, center_of_mass, inertia, base_points, position=(0, 0, 0),
                  rotation=None, name="body"):
         self.mass = check_positive("mass", mass)

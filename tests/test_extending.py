@@ -183,6 +183,7 @@ class Bead:
     name = "bead"
     n_dofs = 3
     position_mask = np.ones(3, dtype=bool)
+    energy_parts = ("spring",)
 
     def __init__(self, m, k, anchor):
         self.m, self.k, self.anchor = m, k, np.asarray(anchor, dtype=float)
@@ -263,12 +264,22 @@ def test_user_body_appears_in_paraview_and_the_summary(tmp_path):
     assert summary["bodies"]["bead"]["stretch"] == pytest.approx(
         np.linalg.norm(result.q[-1, -3:] - bead.anchor))
     assert set(summary["cables"]) == {"cable"}
+    # its energy under its own name, beside the cable's; the parts add up to the books
+    parts = summary["energy"]["bodies_final"]
+    u = result.q[-1, -3:] - bead.anchor
+    assert parts["bead"]["spring"] == pytest.approx(0.5 * bead.k * u @ u, rel=1e-12)
+    assert set(parts["cable"]) == {"kinetic", "axial", "bending"}
+    kinetic = sum(p["kinetic"] for p in parts.values())
+    assert kinetic == pytest.approx(result.kinetic[-1], rel=1e-12)
+    stored = parts["cable"]["axial"] + parts["bead"]["spring"]  # both in the first slot
+    assert stored == pytest.approx(result.axial[-1], rel=1e-12)
 
     class Lump:
         name, n_dofs, q0, position_mask = "lump", 3, np.zeros(3), np.ones(3, bool)
 
-    with pytest.raises(TypeError, match="lacks bind, describe_dof, internal_constraints, "
-                                        "mass_matrix, mass_points, outputs, show"):
+    with pytest.raises(TypeError, match="lacks bind, describe_dof, energy_parts, "
+                                        "internal_constraints, mass_matrix, mass_points, "
+                                        "outputs, show"):
         sc.System([Lump()])
 
 

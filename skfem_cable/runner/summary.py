@@ -84,7 +84,9 @@ def run_outputs(result):
     out["energy"] = {"total_initial": E["total"][0], "total_final": E["total"][-1],
                      "dissipated": E["dissipated"][-1],
                      "external_work": E["external_work"][-1],
-                     "max_abs_balance_relative": np.abs(E["balance"]).max() / scale}
+                     "max_abs_balance_relative": np.abs(E["balance"]).max() / scale,
+                     "bodies_final": system.energy_parts(result.q[-1], result.v[-1],
+                                                         result.t[-1])}
     return out
 
 

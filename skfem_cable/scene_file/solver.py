@@ -17,8 +17,9 @@ def read_analysis(t):
 
 def read_solver(t, analysis):
     """The rest of ``[solver]``: ``simulate`` keywords (dynamic; ``rectify = 0`` switches
-    the rectification of an orbit off), ``solve_static`` keywords (static) or ``solve_steady`` keywords (steady: ``omega`` required,
-    ``center``); keys left out are left to the solver's defaults."""
+    the rectification of an orbit off), ``solve_static`` keywords (static) or
+    ``solve_steady`` keywords (steady: ``omega`` required, ``center``); keys left out are
+    left to the solver's defaults."""
     common = {"tol": t.get("tol", interval(1e-16, 0.1), None),
               "max_iter": t.get("max_iter", count, None)}
     if analysis == "dynamic":
