@@ -54,8 +54,10 @@ from . import forms as forms  # scikit-fem forms of the element laws
 from . import io as io  # observers: run store, ParaView series, progress bar
 from . import laws as laws  # element laws: energy densities -> compiled kernels
 from . import plot as plot  # renders and figures
+from . import sensors as sensors  # what a controller measures
 from .cable import Cable
 from .contract import Evaluation, Observer, Term
+from .control import ControlError, Controller
 from .coulomb import SolarWind, SolarWindForce
 from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from .electrodynamic import ElectrodynamicForce, MagneticDipole
@@ -67,6 +69,7 @@ from .elements import (
     ElementLineCableLinear,
 )
 from .formulation import FORMULATIONS
+from .inputs import Input
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
 from .node import Node
@@ -98,12 +101,15 @@ __all__ = [
     "Buoyancy",
     "Cable",
     "CableLaw",
+    "ControlError",
+    "Controller",
     "Centrifugal",
     "CurrentProfile",
     "ElectrodynamicForce",
     "Evaluation",
     "FreeMolecularDrag",
     "Gravity",
+    "Input",
     "LineLoad",
     "MagneticDipole",
     "MorisonDrag",

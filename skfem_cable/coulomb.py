@@ -101,6 +101,16 @@ class SunAtFocus:
         return -self.orbit.position(t)
 
 
+class _Component:
+    """Voltage ``k`` of a callable returning the voltages of all the cables."""
+
+    def __init__(self, source, k):
+        self.source, self.k = source, k
+
+    def __call__(self, t):
+        return float(np.asarray(self.source(t))[self.k])
+
+
 class SolarWindForce:
     """Coulomb drag of the solar wind on a set of cables, a load for ``System.add_load``.
 
@@ -108,7 +118,9 @@ class SolarWindForce:
     ----------
     cables : sequence of Cable
     voltage : float, callable, or sequence of them (one per cable)
-        Tether voltage ``V0`` (V); a callable ``V0(t)`` modulates it in time.
+        Tether voltage ``V0`` (V); a callable ``V0(t)`` modulates it in time, and one
+        callable may return the voltages of all the cables at once (an array, e.g. an
+        ``Input`` of one value per tether that a controller sets).
     wind : SolarWind
     sun_position : array_like (3,) or callable
         Position of the Sun in the system's coordinates: fixed (the frame I of the paper,
@@ -144,7 +156,9 @@ class SolarWindForce:
     def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0),
                  exponent=THRUST_EXPONENT):
         self.cables = list(cables)
-        if callable(voltage) or np.ndim(voltage) == 0:
+        if callable(voltage) and np.ndim(voltage(0.0)) == 1:
+            voltage = [_Component(voltage, k) for k in range(len(self.cables))]
+        elif callable(voltage) or np.ndim(voltage) == 0:
             voltage = [voltage] * len(self.cables)
         if len(voltage) != len(self.cables):
             raise ValueError(f"voltage needs one value per cable ({len(self.cables)}), "
@@ -170,7 +184,13 @@ class SolarWindForce:
         """Tether voltages (V) at time ``t``; a voltage callable returning a negative or
         non-finite value is an error naming the tether (this model has one polarity:
         a positive tether repels the solar-wind protons)."""
-        out = np.array([v(t) if callable(v) else v for v in self.voltage], dtype=float)
+        if isinstance(self.voltage[0], _Component):
+            out = np.asarray(self.voltage[0].source(t), dtype=float)
+            if out.shape != (len(self.cables),):
+                raise ValueError(f"voltage(t) must return {len(self.cables)} voltages, one "
+                                 f"per cable, got shape {out.shape}")
+        else:
+            out = np.array([v(t) if callable(v) else v for v in self.voltage], dtype=float)
         bad = ~(np.isfinite(out) & (out >= 0))
         if bad.any():
             k = int(np.argmax(bad))

@@ -25,6 +25,7 @@ from dataclasses import replace
 import numpy as np
 
 from .contract import Term, combined
+from .kernels import drives
 
 
 def vector3(v, name):
@@ -73,11 +74,14 @@ class PointLoad:
         dofs, G = system.position_map(self.point)
         if self.fn is None:
             return Term(force=(dofs, G.T @ self.value), name=f"point load {self.point!r}")
+        force = self.force(0.0)
 
-        def add(ev, index):
-            ev.f_ext[dofs] += G.T @ self.force(ev.t)
+        def prepare(t):
+            force[:] = self.force(t)
 
-        return Term(add=add, name=f"point load {self.point!r}")
+        pack = (np.ascontiguousarray(dofs, dtype=np.int64), np.ascontiguousarray(G), force)
+        return Term(kernels=((drives.point_force, pack),), prepare=prepare,
+                    name=f"point load {self.point!r}")
 
 
 class PointMoment:

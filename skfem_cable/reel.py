@@ -23,6 +23,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contract import Term
+from .kernels import drives
 from .section import check_positive
 
 
@@ -108,21 +109,33 @@ class Reel:
         external work (a brake's is negative); None for a free reel."""
         if self.drive is None:
             return None
-        dof = system.dofs(self)
-        R = self.radius
+        dof = np.ascontiguousarray(system.dofs(self), dtype=np.int64)
+        c = np.array(self.drive.coefficients(0.0), dtype=float)
 
-        def add(ev, index):
-            tau, d_length, d_rate = self.drive.torque(ev.t, ev.q[dof[0]], ev.v[dof[0]])
-            ev.f_ext[dof] += tau / R
-            if ev.dynamic:
-                ev.add_tangent(index, d_length / R, d_rate / R, sign=-1.0)
-            else:
-                ev.add_tangent(index, d_length / R, sign=-1.0)
+        def prepare(t):
+            c[:] = self.drive.coefficients(t)
 
-        return Term(add=add, rows=dof, cols=dof, name=f"{self.name} torque")
+        pack = (dof, c, np.array([1.0 / self.radius]))
+        return Term(kernels=((drives.reel_torque, pack),), prepare=prepare,
+                    rows=dof[:, None], cols=dof[None, :], name=f"{self.name} torque")
 
 
-class Brake:
+class Drive:
+    """A reel's drive: a torque ``c0(t) + c1 l + c2 l'`` (N m) linear in the free length
+    ``l`` and its rate, given by ``coefficients(t) -> (c0, c1, c2)`` (its one hook; the
+    reel's compiled term refreshes them once per step).  Any of its functions of time
+    may be an ``Input`` that a controller sets."""
+
+    def coefficients(self, t):
+        raise NotImplementedError
+
+    def torque(self, t, length, rate):
+        """``(torque, d torque / d l, d torque / d l')`` at time ``t``."""
+        c0, c1, c2 = self.coefficients(t)
+        return c0 + c1 * length + c2 * rate, c1, c2
+
+
+class Brake(Drive):
     """A viscous brake: torque ``-damping l'`` (N m), ``damping`` in N m s/m, >= 0."""
 
     def __init__(self, damping):
@@ -130,21 +143,22 @@ class Brake:
             raise ValueError(f"damping must be >= 0 (N m s/m), got {damping!r}")
         self.damping = float(damping)
 
-    def torque(self, t, length, rate):
-        return -self.damping * rate, 0.0, -self.damping
+    def coefficients(self, t):
+        return 0.0, 0.0, -self.damping
 
 
-class Motor:
-    """A prescribed torque ``torque(t)`` (N m; a number for a constant one)."""
+class Motor(Drive):
+    """A prescribed torque ``torque(t)`` (N m; a number for a constant one, or an
+    ``Input``)."""
 
     def __init__(self, torque):
         self.value = torque if callable(torque) else (lambda t, c=float(torque): c)
 
-    def torque(self, t, length, rate):
+    def coefficients(self, t):
         return float(self.value(t)), 0.0, 0.0
 
 
-class Servo:
+class Servo(Drive):
     """A motor and brake holding the free length on a reference:
     ``torque = -stiffness (l - length(t)) - damping (l' - rate(t))``.
 
@@ -167,8 +181,7 @@ class Servo:
             raise ValueError(f"damping must be >= 0 (N m s/m), got {damping!r}")
         self.damping = float(damping)
 
-    def torque(self, t, length, rate):
+    def coefficients(self, t):
         target_rate = 0.0 if self.rate is None else float(self.rate(t))
-        tau = (-self.stiffness * (length - float(self.length(t)))
-               - self.damping * (rate - target_rate))
-        return tau, -self.stiffness, -self.damping
+        return (self.stiffness * float(self.length(t)) + self.damping * target_rate,
+                -self.stiffness, -self.damping)

@@ -72,14 +72,41 @@ def test_full_newton_is_compiled_too():
     assert runs[0].stats["factorizations"] == runs[0].stats["newton"] + 1
 
 
+class _Push:
+    """A user load with a Python hook: a force along y on the tip, sin(t)."""
+
+    def __init__(self, cable):
+        self.cable = cable
+
+    def bind(self, system):
+        tip = system.dofs(self.cable.node(-1))[1]
+
+        def add(ev, index):
+            ev.f_ext[tip] += np.sin(ev.t)
+
+        return sc.Term(add=add, name="push")
+
+
+def test_a_force_of_time_stays_on_the_compiled_step():
+    """Before: a point load given as a function of time had a Python hook and made the
+    Python step.  Now it is a compiled kernel refreshed once per step, with the Python
+    step's iterates."""
+    runs = []
+    for compiled in (None, False):
+        scene = _damped_pendulum()
+        scene.system.add_point_load(scene.cable.node(-1), lambda t: [0.0, np.sin(t), 0.0])
+        runs.append(sc.simulate(scene.system, t_end=0.02, dt=1e-3, compiled=compiled))
+    assert runs[0].stats["path"] == "compiled" and runs[1].stats["path"].startswith("python")
+    np.testing.assert_allclose(runs[0].q, runs[1].q, rtol=0, atol=1e-14)
+
+
 def test_systems_outside_the_compiled_step_say_why():
-    """A load with a Python hook (a force given as a function of time) makes the Python
-    step, named with its reason; requiring the compiled step then fails with that
-    reason."""
+    """A load with a Python hook makes the Python step, named with its reason; requiring
+    the compiled step then fails with that reason."""
     scene = _damped_pendulum()
-    scene.system.add_point_load(scene.cable.node(-1), lambda t: [0.0, np.sin(t), 0.0])
+    scene.system.add_load(_Push(scene.cable))
     r = sc.simulate(scene.system, t_end=2e-3, dt=1e-3)
-    assert r.stats["path"].startswith("python (term 'point load")
+    assert r.stats["path"].startswith("python (term 'push'")
     with pytest.raises(ValueError, match="compiled=True.*Python add hook"):
         sc.simulate(scene.system, t_end=2e-3, dt=1e-3, compiled=True)
     with pytest.raises(ValueError, match="compiled must be None, True or False"):

@@ -187,7 +187,7 @@ def test_simulate_module_does_no_io():
             module = "." * node.level + (node.module or "")
             imported.setdefault(module, set()).update(a.name for a in node.names)
     assert set(imported) <= {"contextlib", "numbers", "time", "numpy", "..contract", "..result",
-                             "..records", "..observing", ".galpha", ".rectify",
+                             "..records", "..observing", ".galpha", ".rectify", "..control",
                              "..kernels"}, imported
     assert imported.get("..kernels", set()) <= {"compile_log"}  # its clock, no output
     assert imported[".galpha"] <= {"GeneralizedAlpha", "galpha_parameters"}

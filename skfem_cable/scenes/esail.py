@@ -149,21 +149,25 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     return np.interp(s, grid, r), np.interp(s, grid, lam)
 
 
-def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
+def build(config, alpha_deg, n_elements, kind="cable", formulation=None, voltage=None):
     """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
     ``n_elements`` elements per tether of ``kind`` ("cable" or "truss") in the
     ``formulation`` of ``Cable`` (None: the default; ``"paper"`` is the paper's own).
+    ``voltage``: the tethers' voltages as ``SolarWindForce`` takes them (functions of
+    time, or an ``Input`` of one value per tether that a controller sets); None:
+    ``config.voltage``.
 
     The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
     rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
     rigid rotation (Eqs. 79-82).  The frame I is fixed, the Sun at ``-R0``.
     """
-    return _build(config.validate(), alpha_deg, n_elements, kind, formulation)
+    return _build(config.validate(), alpha_deg, n_elements, kind, formulation,
+                  voltage=voltage)
 
 
 def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
-                exponent=THRUST_EXPONENT):
+                exponent=THRUST_EXPONENT, voltage=None):
     """The sail of ``build`` on a heliocentric orbit (``System.add_orbit``): the system's
     coordinates are offsets from the orbit's reference point ``R(t)``, the Sun's
     differential gravity acts on every mass, and the solar wind is evaluated at each Gauss
@@ -174,14 +178,15 @@ def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, o
     AU)``; its central body must be the Sun.  The sail starts at the reference point at
     t = 0, at rest relative to it apart from its spin: ``config.R0`` is replaced by
     ``orbit.position(0)`` (the sailing angle is set against the Sun line there).
+    ``voltage`` as for ``build``.
     """
     orbit = Orbit(MU_SUN, AU) if orbit is None else orbit
     cfg = replace(config, R0=tuple(orbit.position(0.0))).validate()
-    return _build(cfg, alpha_deg, n_elements, kind, formulation, orbit, exponent)
+    return _build(cfg, alpha_deg, n_elements, kind, formulation, orbit, exponent, voltage)
 
 
 def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
-           exponent=THRUST_EXPONENT):
+           exponent=THRUST_EXPONENT, voltage=None):
     """``build`` of a validated config; with ``orbit``, the system is put on it and the Sun
     sits at its focus."""
     if int(n_elements) != n_elements or n_elements < 1:
@@ -215,7 +220,8 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
         system.pin(cable.node(0), hub.point(x))
         system.add_point_mass(cable.node(-1), cfg.remote_mass)
     sun = -R0 if orbit is None else SunAtFocus(orbit)
-    wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=sun,
+    wind_force = SolarWindForce(tethers, cfg.voltage if voltage is None else voltage,
+                                cfg.wind, sun_position=sun,
                                 exponent=exponent)
     system.add_load(wind_force)
     if orbit is not None:

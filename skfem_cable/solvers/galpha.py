@@ -151,6 +151,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             term.energy_rate is not None for term, _ in lay.body_terms + lay.load_terms)
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
+        self.hooks = []  # simulate's step hooks (their state joins the snapshot)
         self.compiled = self._compiled_newton(compiled)
 
     def _error_control(self, rtol, atol):
@@ -321,11 +322,11 @@ class GeneralizedAlpha(StepControl, Diagnosis):
     def snapshot(self):
         """Everything a continuation needs to be bit-for-bit identical, including the
         state at which the current iteration matrix was factored (it is rebuilt from it),
-        the instability guard's references and, in orbit, the rebases of the reference
-        (``orbit_rebases``, ``Orbit.rebases``)."""
+        the instability guard's references and the state of the run's step hooks
+        (``hooks``, set by ``simulate``: the rectification's rebases, the controllers')."""
         snap = self._snapshot()
-        if self.system.orbit is not None:
-            snap["orbit_rebases"] = self.system.orbit.rebases
+        for hook in self.hooks:
+            snap.update(hook.snapshot())
         return snap
 
     def _snapshot(self):

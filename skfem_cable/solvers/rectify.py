@@ -77,11 +77,26 @@ class Rectification:
         out[self.positions] = delta
         return out
 
-    def __call__(self, integrator):
+    # --- the step hook (``simulate``) ---------------------------------------------------
+    def start(self, integrator):
+        """A fresh run: nothing to do (``simulate`` starts it on the orbit as given)."""
+
+    def next_event(self, t):
+        """No time a step must end on."""
+        return np.inf
+
+    def snapshot(self):
+        """The rebases so far, for a checkpoint (``Orbit.rebases``)."""
+        return {"orbit_rebases": self.orbit.rebases}
+
+    def restore(self, snap):
+        """The rebases of a checkpoint back on the orbit."""
+        self.orbit.restore(snap.get("orbit_rebases"))
+        self._bounds(float(snap["t"]))
+
+    def after_step(self, integrator):
         """After a step: re-base the reference when the centre of mass of the
         integrator's state is past the tolerance; returns whether it did."""
-        if self.reason is not None:
-            return False
         x, u = self.weights @ integrator.q, self.weights @ integrator.v
         if x @ x <= self.limits[0] and u @ u <= self.limits[1]:
             return False

@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 from ..contract import Observer, Run, Step
+from ..control import ControlLoop
 from ..kernels import compile_log
 from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
@@ -127,10 +128,32 @@ def _stats(integ, clock, stopped=None):
     return stats
 
 
+def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
+    """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
+    ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
+    loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
+    counters; a fresh run of a system in orbit starts on the orbit as given."""
+    hooks = []
+    if system.orbit is not None:
+        settings["rectify"] = rectify
+        system.orbit.restore()
+        rectifier = None if rectify is None else Rectification(system, rectify, t_start)
+        integ.stats.update(rectifications=0, rectification="none" if rectifier is None
+                           else rectifier.reason or "on")
+        if rectifier is not None and rectifier.reason is None:
+            hooks.append(rectifier)
+    if controllers:
+        hooks.append(ControlLoop(system, controllers, t_start, dt))
+        settings["controllers"] = [f"{c.name}: every {c.sample_time:g} s, delay "
+                                   f"{getattr(c, 'delay', 0.0):g} s" for c in controllers]
+        integ.stats["control_updates"] = 0
+    return hooks
+
+
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
              max_halvings=10, method="auto", energy_tol=0.05, compiled=None, rtol=None,
-             atol=None, tol_local=None, rectify=1e-4):
+             atol=None, tol_local=None, rectify=1e-4, controllers=()):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -189,6 +212,14 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         said in ``stats["rectification"]``) when a constraint ties the system to the
         reference point.  A fresh run starts on the orbit as given, dropping the
         rebases of an earlier run; a continued one takes them from its checkpoint.
+    controllers : sequence of control.Controller
+        Closed-loop control (``control``): each controller's ``update(t, state)`` is
+        called at ``t_start + k sample_time`` and the inputs (``inputs.Input``) it names
+        hold its outputs from ``t + delay`` on.  With fixed steps, sample times and
+        delays are multiples of ``dt``; adaptive steps end on them.  At ``t_start`` the
+        first outputs apply before the run's consistent initial state is solved.  The
+        held inputs, the controllers' ``memory`` and the delayed outputs are in the
+        checkpoints: a controlled run continues bit for bit.
 
     Returns
     -------
@@ -202,7 +233,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         and why), ``stopped`` (the message of the observer that stopped the run, or None)
         and, with ``rtol``/``atol``, ``h_min`` and ``h_max``, the smallest and largest
         accepted steps; in orbit ``rectification`` (``"on"``, ``"none"`` or why it is
-        off) and ``rectifications`` (how many rebases).
+        off) and ``rectifications`` (how many rebases); with controllers
+        ``control_updates`` (their calls).
 
     Raises
     ------
@@ -239,21 +271,16 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings.update(rtol=rtol, atol=atol)
     if tol_local is not None:
         settings["tol_local"] = tol_local
-    orbit, rectifier = system.orbit, None
-    if orbit is not None:
-        settings["rectify"] = rectify
-        orbit.restore(resume.snapshot.get("orbit_rebases") if resume is not None else None)
-        rectifier = None if rectify is None else Rectification(system, rectify, t_start)
-        integ.stats.update(rectifications=0, rectification="none" if rectifier is None
-                           else rectifier.reason or "on")
-        if rectifier is not None and rectifier.reason is not None:
-            rectifier = None
+    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers,
+                                      t_start, None if adaptive else dt)
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],
                            settings_array(settings)[_MATCH]):
             raise ValueError("resume: t_start, dt, rho_inf, every, tol and max_iter must "
                              "match the interrupted run")
+        for hook in hooks:
+            hook.restore(snap)
         integ.restore(snap)
         integ.stats.update({k: int(snap["stat_" + k]) for k, v in integ.stats.items()
                             if "stat_" + k in snap and not isinstance(v, str)})
@@ -262,6 +289,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     else:
         q, v = _initial_arrays(system, initial)
         integ.initialize(q, v, t_start)
+        for hook in hooks:
+            hook.start(integ)
         start_index = 0
         recorder = _Recorder(system)
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
@@ -279,8 +308,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
             i += 1
             t_target = t_end if i == n_steps else t_start + i * dt
             integ.advance(t_target - integ.t, max_halvings)
-            if rectifier is not None:
-                rectifier(integ)
+            for hook in hooks:
+                hook.after_step(integ)
             if i % every == 0 or i == n_steps:
                 stop = save(i)
         return stop
@@ -288,9 +317,10 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     def adaptive_steps(i, stop):
         last = False
         while stop is None and not last:
-            last = integ.adaptive_step(t_end, dt, max_halvings)
-            if rectifier is not None:
-                rectifier(integ)
+            target = min([t_end, *(hook.next_event(integ.t) for hook in hooks)])
+            last = integ.adaptive_step(target, dt, max_halvings) and target == t_end
+            for hook in hooks:
+                hook.after_step(integ)
             i += 1
             if i % every == 0 or last:
                 stop = save(i)
