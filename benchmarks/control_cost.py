@@ -16,6 +16,7 @@ a controller sampling every step costs at most ``GOAL`` times the open-loop run 
 """
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -37,7 +38,7 @@ class PhaseModulation(sc.Controller):
 
     def __init__(self, scene, sample_time):
         super().__init__(sample_time)
-        self.scene, self.v0 = scene, scene.config.voltage
+        self.scene, self.v0 = scene, esail.BaselineConfig().voltage
 
     def update(self, t, state):
         phase = sc.sensors.tether_phase(state, self.scene.tethers, self.scene.hub)
@@ -46,7 +47,7 @@ class PhaseModulation(sc.Controller):
 
 def build(voltages):
     config = esail.BaselineConfig()
-    return esail.build(config, ALPHA, ELEMENTS, voltage=voltages(config))
+    return esail.build(replace(config, voltage=voltages(config)), ALPHA, ELEMENTS)
 
 
 def open_loop(config):

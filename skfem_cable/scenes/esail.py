@@ -24,6 +24,7 @@ import numpy as np
 from ..cable import Cable
 from ..coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce, SunAtFocus
 from ..frames import R1, dcm_321, euler_321, euler_323, orbit_frame
+from ..inputs import system_inputs
 from ..orbit import MU_SUN, Orbit
 from ..rigid import RigidBody
 from ..runner.directory import register_files
@@ -48,7 +49,8 @@ class BaselineConfig:
     """Table 1 of the paper and Sect. 4.1 (SI units); every field is editable.
 
     ``voltage`` is one value for all tethers, a sequence with one per tether, or callables
-    ``V(t)`` (voltage modulation).
+    ``V(t)`` (voltage modulation); one callable may return all the voltages (an
+    ``Input`` of one value per tether that a controller sets, ``control``).
     """
 
     n_tethers: int = 12
@@ -149,25 +151,21 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     return np.interp(s, grid, r), np.interp(s, grid, lam)
 
 
-def build(config, alpha_deg, n_elements, kind="cable", formulation=None, voltage=None):
+def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
     """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
     ``n_elements`` elements per tether of ``kind`` ("cable" or "truss") in the
     ``formulation`` of ``Cable`` (None: the default; ``"paper"`` is the paper's own).
-    ``voltage``: the tethers' voltages as ``SolarWindForce`` takes them (functions of
-    time, or an ``Input`` of one value per tether that a controller sets); None:
-    ``config.voltage``.
 
     The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
     rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
     rigid rotation (Eqs. 79-82).  The frame I is fixed, the Sun at ``-R0``.
     """
-    return _build(config.validate(), alpha_deg, n_elements, kind, formulation,
-                  voltage=voltage)
+    return _build(config.validate(), alpha_deg, n_elements, kind, formulation)
 
 
 def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
-                exponent=THRUST_EXPONENT, voltage=None):
+                exponent=THRUST_EXPONENT):
     """The sail of ``build`` on a heliocentric orbit (``System.add_orbit``): the system's
     coordinates are offsets from the orbit's reference point ``R(t)``, the Sun's
     differential gravity acts on every mass, and the solar wind is evaluated at each Gauss
@@ -178,15 +176,14 @@ def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, o
     AU)``; its central body must be the Sun.  The sail starts at the reference point at
     t = 0, at rest relative to it apart from its spin: ``config.R0`` is replaced by
     ``orbit.position(0)`` (the sailing angle is set against the Sun line there).
-    ``voltage`` as for ``build``.
     """
     orbit = Orbit(MU_SUN, AU) if orbit is None else orbit
     cfg = replace(config, R0=tuple(orbit.position(0.0))).validate()
-    return _build(cfg, alpha_deg, n_elements, kind, formulation, orbit, exponent, voltage)
+    return _build(cfg, alpha_deg, n_elements, kind, formulation, orbit, exponent)
 
 
 def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
-           exponent=THRUST_EXPONENT, voltage=None):
+           exponent=THRUST_EXPONENT):
     """``build`` of a validated config; with ``orbit``, the system is put on it and the Sun
     sits at its focus."""
     if int(n_elements) != n_elements or n_elements < 1:
@@ -220,8 +217,7 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
         system.pin(cable.node(0), hub.point(x))
         system.add_point_mass(cable.node(-1), cfg.remote_mass)
     sun = -R0 if orbit is None else SunAtFocus(orbit)
-    wind_force = SolarWindForce(tethers, cfg.voltage if voltage is None else voltage,
-                                cfg.wind, sun_position=sun,
+    wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=sun,
                                 exponent=exponent)
     system.add_load(wind_force)
     if orbit is not None:
@@ -316,6 +312,12 @@ def _angle_from_z(F_O):
 def _coulomb_resultants(scene, result, C_I_B):
     """Per-tether Coulomb force ``int f dx`` and moment ``int (r - r_anchor) x f dx`` about
     the anchor, in the body frame, (nt, p, 3) each."""
+    if system_inputs(scene.system):
+        raise ValueError("outputs: the tether voltages are inputs that a controller sets "
+                         "(control): the voltages of past saved steps are not in the "
+                         "result, so the thrust and the Coulomb moments cannot be "
+                         "recomputed; record them during the run with an observer (as "
+                         "scenes.esail_vectoring does)")
     wf, system = scene.wind_force, scene.system
     nt, p = len(result.t), len(scene.tethers)
     force = np.zeros((nt, p, 3))

@@ -1,0 +1,85 @@
+"""Thrust vectoring by voltage modulation (``scenes.esail_vectoring``): the paper's
+12-tether sail at 10 and 20 deg, constant voltages against the on-off modulation of
+Toivanen, Janhunen and Envall (2015), each against a rigid flat-sail model written here.
+
+Measured (2 elements per tether, dt = 1 s, mean thrust over rotations 3 to 5), the
+thrust's angle from the wind in deg, the flat-sail model in brackets:
+
+| alpha | constant | on-off, arcs of +-45 deg | ratio | on-off, +-20 deg |
+|---|---|---|---|---|
+| 10 deg | 4.959 (4.962) | 8.158 (8.165) | 1.645 | 9.600 (9.600) |
+| 20 deg | 9.682 (9.686) | 16.205 (16.217) | 1.674 | |
+"""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import skfem_cable as sc
+from skfem_cable.scenes import esail
+from skfem_cable.scenes.esail_vectoring import thrust_vectoring
+
+
+def flat_sail_angle(alpha_deg, half_width_deg=None):
+    """Angle (deg) between the wind and the spin-averaged thrust of a rigid flat sail:
+    each tether, a straight line at azimuth ``phi`` in the spin plane, feels the wind's
+    component perpendicular to it, ``u - (u . t) t``, summed over the azimuths where its
+    voltage is on (all of them, or within ``half_width_deg`` of the plane of the wind and
+    the normal).  Quadrature over 3600 azimuths."""
+    a = np.deg2rad(alpha_deg)
+    normal = np.array([0.0, 0.0, 1.0])
+    wind = np.array([-np.sin(a), 0.0, np.cos(a)])  # tilted by alpha from the normal
+    phi = (np.arange(3600) + 0.5) * 2 * np.pi / 3600
+    t = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1)
+    if half_width_deg is not None:
+        t = t[np.abs(np.cos(phi)) >= np.cos(np.deg2rad(half_width_deg))]
+    force = (wind - (t @ wind)[:, None] * t).sum(axis=0)
+    cos = force @ wind / np.linalg.norm(force)
+    assert force @ normal > 0
+    return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def test_the_flat_sail_model_gives_half_the_angle_and_the_angle():
+    """The model's limits: constant voltage, ``atan(sin a cos a / (1 + cos^2 a))``
+    (4.96 deg at 10 deg); narrow on-arcs, the sailing angle itself."""
+    a = np.deg2rad(10.0)
+    assert flat_sail_angle(10.0) == pytest.approx(
+        np.degrees(np.arctan(np.sin(a) * np.cos(a) / (1 + np.cos(a) ** 2))), rel=1e-6)
+    assert flat_sail_angle(10.0, 1.0) == pytest.approx(10.0, rel=1e-3)
+
+
+@pytest.mark.parametrize("alpha", [10.0, 20.0])
+def test_on_off_modulation_leans_the_thrust_by_the_sailing_angle(alpha):
+    constant = thrust_vectoring(alpha, "constant")
+    on_off = thrust_vectoring(alpha, "on-off")
+    assert on_off["result"].stats["path"] == "compiled"
+    model_constant, model_on_off = flat_sail_angle(alpha), flat_sail_angle(alpha, 45.0)
+    print(f"alpha {alpha}: constant {constant['thrust_angle_deg']:.3f} "
+          f"(model {model_constant:.3f}), on-off {on_off['thrust_angle_deg']:.3f} "
+          f"(model {model_on_off:.3f}), ratio "
+          f"{on_off['thrust_angle_deg'] / constant['thrust_angle_deg']:.3f}, duty "
+          f"{on_off['duty']:.3f}, thrust {constant['thrust_N']:.4f} / {on_off['thrust_N']:.4f}")
+    assert constant["thrust_angle_deg"] == pytest.approx(model_constant, rel=0.05)
+    assert on_off["thrust_angle_deg"] == pytest.approx(model_on_off, rel=0.05)
+    assert on_off["thrust_angle_deg"] / constant["thrust_angle_deg"] > 1.5
+    assert on_off["duty"] == pytest.approx(0.5, abs=0.05)  # two arcs of 90 deg
+
+
+def test_narrow_arcs_lean_the_thrust_by_nearly_the_sailing_angle():
+    narrow = thrust_vectoring(10.0, "on-off", half_width_deg=20.0)
+    print(f"arcs +-20 deg: {narrow['thrust_angle_deg']:.3f} (model "
+          f"{flat_sail_angle(10.0, 20.0):.3f}), duty {narrow['duty']:.3f}")
+    assert narrow["thrust_angle_deg"] == pytest.approx(flat_sail_angle(10.0, 20.0), rel=0.05)
+    assert narrow["thrust_angle_deg"] > 9.0
+
+
+def test_outputs_refuse_voltages_they_cannot_know():
+    """Before: ``esail.outputs`` recomputed the thrust with the voltages the inputs held at
+    the end of the run, for every saved step: with a controller that was silently wrong
+    (the on-off sail read as the constant one).  Now it refuses, and says what to do."""
+    voltages = sc.Input("voltages", np.full(12, 20e3))
+    scene = esail.build(replace(esail.BaselineConfig(), voltage=voltages), 10.0, 2)
+    result = sc.simulate(scene.system, 1.0, 0.5, initial=scene.initial, rho_inf=0.25)
+    with pytest.raises(ValueError, match="voltages are inputs that a controller sets"):
+        esail.outputs(scene, result)
