@@ -300,6 +300,9 @@ class Step:
     energies : dict
         ``kinetic``, ``axial``, ``bending``, ``potential``, ``dissipated``,
         ``external_work`` (J).
+    inputs : dict
+        The values the system's inputs hold (``inputs.Input``, by name) for the steps
+        after this one: what a controller set (empty without inputs).
     """
 
     index: int
@@ -310,6 +313,7 @@ class Step:
     lam: np.ndarray
     iterations: int
     energies: dict = field(default_factory=dict)
+    inputs: dict = field(default_factory=dict)
 
 
 #: Values of a ``Shape``'s ``part`` (the cell data ``part`` of the ParaView output).

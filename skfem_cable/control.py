@@ -110,11 +110,9 @@ class ControlLoop:
 
     # --- the step hook (``simulate``) ---------------------------------------------------
     def start(self, integrator):
-        """A fresh run: the inputs hold their initial values, then the controllers'
-        first samples at ``t_start``; when their outputs change inputs at once, the
-        initial state is solved again with them (consistent accelerations)."""
-        for x in self.inputs.values():
-            x.reset()
+        """A fresh run (its inputs at their initial values): the controllers' first
+        samples at ``t_start``; when their outputs change inputs at once, the initial
+        state is solved again with them (consistent accelerations)."""
         self.samples[:] = 0
         self.pending = []
         before = {name: x.value for name, x in self.inputs.items()}

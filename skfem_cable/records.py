@@ -26,9 +26,21 @@ def settings_array(settings):
     return np.array([settings.get(k, np.nan) for k in SETTINGS], dtype=float)
 
 
+#: Prefix of the records (and store variables) of the inputs: ``input_<name>``.
+INPUT = "input_"
+
+
 def step_record(step):
-    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied."""
+    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied, and
+    its inputs' values under ``input_<name>``."""
     record = {"t": step.t, "q": step.q.copy(), "v": step.v.copy(), "a": step.a.copy(),
               "lam": step.lam.copy(), "iterations": step.iterations}
     record.update({name: step.energies[name] for name in ENERGIES})
+    record.update({INPUT + name: np.array(value) for name, value in step.inputs.items()})
     return record
+
+
+def input_records(records):
+    """The inputs' histories among ``records`` (a dict of arrays): ``{name: array}``."""
+    return {key[len(INPUT):]: np.asarray(value) for key, value in records.items()
+            if key.startswith(INPUT)}

@@ -7,7 +7,7 @@ with ``Result.load`` (``io.load_result``; xarray users open its store directly, 
 
 import numpy as np
 
-from .records import FIELDS
+from .records import FIELDS, input_records
 from .state import State
 
 
@@ -40,6 +40,9 @@ class Result:
     stats : dict
         Solver counters: ``steps``, ``newton``, ``rejected``, ``wall_time``,
         ``compile_time`` and ``integration_time`` (``simulate``), ...
+    inputs : dict
+        The values the system's inputs (``inputs.Input``) held at each saved step, by
+        name (``(nt, *shape)``; what controllers set: ``control``).
 
     See Also
     --------
@@ -69,6 +72,7 @@ class Result:
         self.system = system
         for name in FIELDS:
             setattr(self, name, np.asarray(records[name]))
+        self.inputs = input_records(records)
         self.stats = dict(stats or {})
 
     @property

@@ -4,6 +4,7 @@ and failures that name the controller and keep the steps."""
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import skfem_cable as sc
 from skfem_cable import io
@@ -50,6 +51,7 @@ def held_values(controller, t_end=0.05):
 def test_outputs_hold_between_samples_on_the_compiled_step():
     result, values = held_values(Ramp(SAMPLE))
     assert result.stats["path"] == "compiled" and result.stats["control_updates"] == 6
+    np.testing.assert_array_equal(result.inputs["push"][:, 1], values[:, 1])  # recorded
     t, held = values.T
     # zero-order hold: the value set at the last sample at or before t
     np.testing.assert_allclose(held, np.floor(t / SAMPLE + 1e-9) * SAMPLE, atol=1e-12)
@@ -108,7 +110,14 @@ def test_a_controlled_run_continues_bit_for_bit(tmp_path):
                           resume=io.resume(tmp_path), observers=[io.RunStore(tmp_path)])
     np.testing.assert_array_equal(resumed.q, full.q)
     np.testing.assert_array_equal(resumed.v, full.v)
+    np.testing.assert_array_equal(resumed.inputs["push"], full.inputs["push"])
     assert control.memory["integral"] == integral
+    # the store holds the inputs' history: a variable per input, read back by Result.load
+    stored = xr.open_zarr(tmp_path / "results.zarr")["input_push"]
+    assert stored.dims == ("time", "input_push_0")
+    np.testing.assert_array_equal(stored.values, full.inputs["push"])
+    np.testing.assert_array_equal(sc.Result.load(tmp_path, pendulum()[0]).inputs["push"],
+                                  full.inputs["push"])
     assert resumed.stats["control_updates"] == full.stats["control_updates"] == 11
     # the control works: the tip falls 6 mm instead of 65 mm
     assert np.abs(full.position(first, 1.0)[:, 1]).max() < 0.01

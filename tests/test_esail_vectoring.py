@@ -74,12 +74,26 @@ def test_narrow_arcs_lean_the_thrust_by_nearly_the_sailing_angle():
     assert narrow["thrust_angle_deg"] > 9.0
 
 
-def test_outputs_refuse_voltages_they_cannot_know():
-    """Before: ``esail.outputs`` recomputed the thrust with the voltages the inputs held at
-    the end of the run, for every saved step: with a controller that was silently wrong
-    (the on-off sail read as the constant one).  Now it refuses, and says what to do."""
+def test_outputs_read_the_recorded_voltages():
+    """Before: ``esail.outputs`` recomputed the thrust of every saved step with the
+    voltages the inputs held at the end of the run: with a controller that was silently
+    wrong (the on-off sail read as the constant one).  Now it takes each step's voltages
+    from the result (``Result.inputs``), and refuses a result without them."""
     voltages = sc.Input("voltages", np.full(12, 20e3))
     scene = esail.build(replace(esail.BaselineConfig(), voltage=voltages), 10.0, 2)
-    result = sc.simulate(scene.system, 1.0, 0.5, initial=scene.initial, rho_inf=0.25)
-    with pytest.raises(ValueError, match="voltages are inputs that a controller sets"):
+
+    class Half(sc.Controller):
+        def update(self, t, state):
+            return {"voltages": np.full(12, 20e3 if t < 1.0 else 10e3)}
+
+    result = sc.simulate(scene.system, 2.0, 0.5, initial=scene.initial, rho_inf=0.25,
+                         controllers=[Half(0.5)])
+    np.testing.assert_array_equal(result.inputs["voltages"][:, 0],
+                                  [20e3, 20e3, 10e3, 10e3, 10e3])
+    thrust = np.linalg.norm(esail.outputs(scene, result)["thrust"], axis=1)
+    per_volt = sc.SolarWind().force_per_length
+    assert thrust[-1] / thrust[0] == pytest.approx(per_volt(10e3) / per_volt(20e3), rel=1e-3)
+    assert voltages.value[0] == 10e3  # the inputs hold their values again
+    result.inputs.clear()
+    with pytest.raises(ValueError, match="no history of the inputs 'voltages'"):
         esail.outputs(scene, result)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..records import FIELDS
+from ..records import FIELDS, INPUT
 from . import lock
 from .fingerprint import check_fingerprint
 from .legacy import is_legacy, read_legacy
@@ -164,7 +164,8 @@ def _manifest_or_raise(path):
 
 
 def read_records(path, system, manifest):
-    """The committed steps of the store in ``path`` as arrays keyed by ``FIELDS``."""
+    """The committed steps of the store in ``path`` as arrays keyed by ``FIELDS`` and
+    the inputs' values by ``input_<name>``."""
     path = Path(path)
     n = int(manifest["saved"])
     stored = [FIELD.get(v, v) for v in manifest["variables"]]
@@ -176,7 +177,7 @@ def read_records(path, system, manifest):
     except Exception as err:
         raise _unopenable(root, err) from err
     records = {}
-    for name in FIELDS:
+    for name in [*FIELDS, *(v for v in stored if v.startswith(INPUT))]:
         if name not in stored:
             continue
         var = VARIABLE.get(name, name)
@@ -194,7 +195,8 @@ def read_records(path, system, manifest):
                                "completely; run again (--overwrite), or continue the run "
                                "(--resume) if its checkpoint is intact", bad[0])
         records[name] = values
-    return fill_records(system, records, stored, n)
+    inputs = {k: v for k, v in records.items() if k.startswith(INPUT)}
+    return {**fill_records(system, records, stored, n), **inputs}
 
 
 def checkpoint_bytes(path, manifest):

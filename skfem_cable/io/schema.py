@@ -7,8 +7,9 @@ A run directory's store is three things (``docs/output.md``):
     A Zarr (v3) group that xarray opens as a Dataset (``xarray.open_zarr``): ``time``
     is the dimension of the saved steps and a coordinate; ``q``, ``v`` (``time, dof``),
     ``lam`` (``time, multiplier``), ``iterations``, the energies, the step numbers
-    ``step`` and the solver counters ``stat_*`` are variables (``a`` on request: the
-    ``fields`` option); the attributes hold the scene parameters, the settings, the
+    ``step``, the solver counters ``stat_*`` and the values of the system's inputs
+    ``input_<name>`` (``inputs.Input``: what controllers set) are variables (``a`` on
+    request: the ``fields`` option); the attributes hold the scene parameters, the settings, the
     bodies' coordinate ranges and the constraints' labels.  Chunks of ``chunk`` saved
     steps, float64, compressed (Blosc/Zstandard after a transpose that puts each
     coordinate's history together) and checksummed (CRC32C).
@@ -43,7 +44,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..records import ENERGIES, FIELDS
+from ..inputs import system_inputs
+from ..records import ENERGIES, FIELDS, INPUT
 from .labels import POSITION, Points, dof_labels, multiplier_labels
 
 #: The Zarr group of a run directory.
@@ -167,6 +169,10 @@ def variables(system, fields):
             spec[f] = Variable(f, ("time",), (), "int64")
         elif f != "t":
             spec[f] = Variable(f, ("time",), (), "float64")
+    for name, x in system_inputs(system).items():
+        key = INPUT + name
+        spec[key] = Variable(key, ("time", *(f"{key}_{k}" for k in range(x.initial.ndim))),
+                             x.initial.shape, "float64")
     points = Points(system)
     if "q" in fields and points:  # q's positions again: level 1, a third of the time
         spec["r"] = Variable("q", ("time", "body", "node", "component"),

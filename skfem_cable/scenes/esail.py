@@ -312,17 +312,30 @@ def _angle_from_z(F_O):
 def _coulomb_resultants(scene, result, C_I_B):
     """Per-tether Coulomb force ``int f dx`` and moment ``int (r - r_anchor) x f dx`` about
     the anchor, in the body frame, (nt, p, 3) each."""
-    if system_inputs(scene.system):
-        raise ValueError("outputs: the tether voltages are inputs that a controller sets "
-                         "(control): the voltages of past saved steps are not in the "
-                         "result, so the thrust and the Coulomb moments cannot be "
-                         "recomputed; record them during the run with an observer (as "
-                         "scenes.esail_vectoring does)")
+    inputs = system_inputs(scene.system)
+    missing = sorted(set(inputs) - set(result.inputs))
+    if missing:
+        raise ValueError(f"outputs: the result holds no history of the inputs "
+                         f"{', '.join(map(repr, missing))} (set by controllers): the "
+                         "Coulomb force of past saved steps cannot be recomputed")
+    held = {name: x.value for name, x in inputs.items()}
+    try:
+        return _resultants(scene, result, C_I_B, inputs)
+    finally:
+        for name, x in inputs.items():
+            x.value = held[name]
+
+
+def _resultants(scene, result, C_I_B, inputs):
+    """``_coulomb_resultants`` with the ``inputs`` set, at each saved step, to the values
+    the result recorded."""
     wf, system = scene.wind_force, scene.system
     nt, p = len(result.t), len(scene.tethers)
     force = np.zeros((nt, p, 3))
     moment = np.zeros((nt, p, 3))
     for k, t in enumerate(result.t):
+        for name, x in inputs.items():
+            x.value = result.inputs[name][k]
         coef = wf.coefficients(t)
         start = 0
         for i, cable in enumerate(scene.tethers):

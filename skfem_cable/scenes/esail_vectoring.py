@@ -95,38 +95,12 @@ def thrust_vectoring(alpha_deg, mode, half_width_deg=45.0, n_elements=2, dt=1.0,
     steps = int(np.ceil((settle + rotations) * period / dt))
     every = max(1, int(round(10.0 / dt)))
     steps = int(np.ceil(steps / every)) * every
-    meter = _ThrustMeter(scene, voltages, config.voltage)
     result = simulate(scene.system, steps * dt, dt, initial=scene.initial, rho_inf=0.25,
-                      every=every, controllers=controllers, observers=[meter])
-    last = np.asarray(meter.t) >= result.t[-1] - rotations * period
-    thrust = np.mean(np.asarray(meter.thrust)[last], axis=0)
-    wind = -scene.wind_force.sun_at(0.0)
-    cos = thrust @ wind / (np.linalg.norm(thrust) * np.linalg.norm(wind))
-    return {"thrust_angle_deg": float(np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))),
-            "thrust_N": float(np.linalg.norm(thrust)),
-            "duty": float(np.mean(np.asarray(meter.duty)[last])), "result": result}
-
-
-class _ThrustMeter:
-    """At every saved step, the Coulomb thrust (N, the resultant of ``SolarWindForce``)
-    with the voltages the inputs hold, and the fraction of the voltage ``full`` they hold
-    (an observer: a run's ``Result`` does not keep the inputs' history)."""
-
-    def __init__(self, scene, voltages, full):
-        self.scene, self.voltages, self.full = scene, voltages, full
-        self.t, self.thrust, self.duty = [], [], []
-
-    def start(self, run):
-        system = self.scene.system
-        self.edofs = np.concatenate([c.global_element_dofs(system)
-                                     for c in self.scene.tethers])
-        self.scratch = np.zeros(system.n_dofs)
-
-    def saved(self, run, step):
-        force = self.scene.wind_force.add_force(self.edofs, step.q, step.t, self.scratch)
-        self.t.append(step.t)
-        self.thrust.append(force)
-        self.duty.append(float(np.mean(self.voltages.value)) / self.full)
-
-    def finish(self, run, error):
-        pass
+                      every=every, controllers=controllers)
+    thrust_O = esail.outputs(scene, result)["thrust_O"]  # with the recorded voltages
+    last = result.t >= result.t[-1] - rotations * period
+    thrust = thrust_O[last].mean(axis=0)
+    angle = np.degrees(np.arctan2(np.hypot(thrust[0], thrust[1]), thrust[2]))
+    return {"thrust_angle_deg": float(angle), "thrust_N": float(np.linalg.norm(thrust)),
+            "duty": float(result.inputs["voltages"][last].mean() / config.voltage),
+            "result": result}

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..contract import Observer, Run, Step
 from ..control import ControlLoop
+from ..inputs import system_inputs
 from ..kernels import compile_log
 from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
@@ -35,24 +36,24 @@ _MATCH = [k for k, name in enumerate(SETTINGS) if name != "t_end"]
 
 
 class _Recorder(Observer):
-    """Keeps the saved steps in memory (the returned ``Result``)."""
+    """Keeps the saved steps in memory (the returned ``Result``), with the inputs'
+    values (``records.INPUT``)."""
 
     def __init__(self, system, records=None):
         n, n_c = system.n_dofs, system.n_constraints
         self.shapes = {"q": (0, n), "v": (0, n), "a": (0, n), "lam": (0, n_c)}
         self.records = {name: [] for name in FIELDS}
         if records is not None:
-            for name in FIELDS:
+            for name in records:
                 self.records[name] = list(records[name])
 
     def saved(self, run, step):
-        values = step_record(step)
-        for name in FIELDS:
-            self.records[name].append(values[name])
+        for name, value in step_record(step).items():
+            self.records.setdefault(name, []).append(value)
 
     def arrays(self):
-        return {name: np.asarray(self.records[name]) if self.records[name]
-                else np.zeros(self.shapes.get(name, (0,))) for name in FIELDS}
+        return {name: np.asarray(values) if values else np.zeros(self.shapes.get(name, (0,)))
+                for name, values in self.records.items()}
 
 
 def _initial_arrays(system, initial):
@@ -273,6 +274,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings["tol_local"] = tol_local
     hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers,
                                       t_start, None if adaptive else dt)
+    inputs = system_inputs(system)
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],
@@ -288,6 +290,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         recorder = _Recorder(system, resume.records)
     else:
         q, v = _initial_arrays(system, initial)
+        for x in inputs.values():  # a fresh run starts from the inputs' initial values
+            x.reset()
         integ.initialize(q, v, t_start)
         for hook in hooks:
             hook.start(integ)
@@ -301,7 +305,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     def save(index):
         """Hand the current state to every observer; returns a stop message or None."""
         return watch.saved(Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam,
-                                integ.iterations, integ.energies()))
+                                integ.iterations, integ.energies(),
+                                {name: x.value for name, x in inputs.items()}))
 
     def fixed_steps(i, stop):
         while stop is None and i < n_steps:
