@@ -65,3 +65,11 @@ def test_esail_orbit_demo(tmp_path):
     t = 0.05 * 86400.0
     assert out["departure_km"] * 1e3 == pytest.approx(
         0.5 * out["thrust_mean_N"] / 5576.27 * t**2, rel=0.02)
+
+
+def test_esail_thrust_vectoring_demo():
+    """At 10 deg the on-off sail with arcs of +-20 deg leans its thrust by 9.6 deg, the
+    flat-sail model's angle to 1e-3."""
+    table = load_demo("esail_thrust_vectoring").main(angles=(10.0,), figure=False)["table"]
+    (_, angle, model, _), = table["on-off, arcs +-20 deg"]
+    assert angle == pytest.approx(model, rel=1e-3) and angle > 9.5
