@@ -91,6 +91,18 @@ def plot(table, path):
     return str(path)
 
 
+def gallery_figure(path, out=None):
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: the figure of
+    ``main`` (21 runs, about a minute) run into ``out`` (default
+    ``runs/esail_thrust_vectoring`` of the repository)."""
+    import shutil
+
+    out = (Path(out) if out else Path(__file__).resolve().parents[1] / "runs"
+           / "esail_thrust_vectoring")
+    main(out=str(out))
+    shutil.copyfile(out / "esail_thrust_vectoring.png", path)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--angles", type=float, nargs="+",

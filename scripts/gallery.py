@@ -170,6 +170,14 @@ ENTRIES = (
           "1e-5 of the departure", "tests/test_demos.py::test_esail_orbit_demo",
           "A week around the Sun (2 elements per tether, 1 s steps): departure from the "
           "Keplerian orbit against the point mass, spin rate and sailing angle."),
+    Entry("esail_thrust_vectoring.py",
+          "thrust angle of the on-off sail (arcs of +-20 deg) at 10 deg against the rigid "
+          "flat-sail model, 12 tethers, 2 elements each",
+          "1e-3", "tests/test_demos.py::test_esail_thrust_vectoring_demo",
+          "Thrust angle from the wind and thrust against the sailing angle: constant "
+          "voltage leans the thrust by about half the sailing angle, the on-off modulation "
+          "of Toivanen, Janhunen and Envall (2015) by nearly all of it (crosses: the rigid "
+          "flat sail)."),
     Entry("slack_catenary.py",
           "largest position error of the catenary found from the straight 12 m start, "
           "against the elastic catenary, 16 elements",

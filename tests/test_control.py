@@ -205,3 +205,85 @@ def test_sensors_on_the_spinning_sail():
     np.testing.assert_allclose(np.diff(np.unwrap(phases)), np.radians(30.0), atol=1e-9)
     noisy = sc.sensors.noisy(sc.sensors.spin_rate, 1e-3, seed=7)
     assert noisy(state, hub) == noisy(state, hub) != sc.sensors.spin_rate(state, hub)
+
+
+SCENE = """
+title = "held pendulum"
+
+[sections.steel]
+radius = 1e-3
+E = 2e11
+rho = 7850.0
+
+[[cables]]
+name = "cable"
+section = "steel"
+start = [0, 0, 0]
+end = [1, 0, 0]
+elements = 4
+
+[[constraints]]
+type = "pin"
+node = { cable = "cable", index = 0 }
+
+[loads]
+gravity = [0, -9.81, 0]
+
+[[loads.point]]
+at = { cable = "cable", index = -1 }
+force = { input = "push", value = [0.0, 0.0, 0.0] }
+
+[[controllers]]
+callable = "hold.py:make"
+parameters = { target = 0.0 }
+
+[solver]
+t_end = 0.1
+dt = 1e-3
+every = 5
+"""
+
+CONTROLLER = '''
+import skfem_cable as sc
+
+
+class Hold(sc.Controller):
+    def __init__(self, cable, target):
+        super().__init__(sample_time=0.01)
+        self.cable, self.target = cable, target
+        self.memory["integral"] = 0.0
+
+    def update(self, t, state):
+        error = self.target - state.position(self.cable, 1.0)[1]
+        self.memory["integral"] += error * self.sample_time
+        return {"push": [0.0, 20.0 * error + 200.0 * self.memory["integral"], 0.0]}
+
+
+def make(system, target):
+    return Hold(system.cables()[0], target)
+'''
+
+
+def test_a_scene_file_names_its_inputs_and_controllers(tmp_path):
+    """``{input = ..., value = ...}`` makes an input, ``[[controllers]]`` names the code
+    that controls it (a file beside the scene); the run holds the tip as the API run
+    does, and a bad name is refused naming the key."""
+    from skfem_cable import cli, scene_file
+
+    (tmp_path / "hold.py").write_text(CONTROLLER)
+    path = tmp_path / "held.toml"
+    path.write_text(SCENE)
+    spec = scene_file.load(path)
+    assert [type(c).__name__ for c in spec.controllers] == ["Hold"]
+    assert sc.inputs.system_inputs(spec.system)["push"].initial.tolist() == [0, 0, 0]
+    out = tmp_path / "run"
+    assert cli.main(["run", str(path), "--out", str(out), "--no-progress", "--no-plots"]) == 0
+    result = sc.Result.load(out, scene_file.load(path).system)
+    system, cable, _ = pendulum()
+    api = sc.simulate(system, 0.1, DT, every=5, controllers=[PI(cable, 0.0)])
+    np.testing.assert_allclose(result.q, api.q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(result.inputs["push"], api.inputs["push"], atol=1e-9)
+    path.write_text(SCENE.replace("hold.py:make", "hold.py:missing"))
+    with pytest.raises(scene_file.SceneFileError, match=r"controllers\[0\].callable cannot be "
+                                                        r"loaded \(AttributeError"):
+        scene_file.load(path)

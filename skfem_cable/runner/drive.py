@@ -27,7 +27,7 @@ from .summary import (
 
 
 def run_dynamic(name, system, initial, options, defaults, parameters=None, outputs=None,
-                points_per_element=8):
+                points_per_element=8, controllers=()):
     """Simulate ``system`` from ``initial`` and fill the run directory ``options.out``.
 
     Parameters
@@ -53,6 +53,8 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
         ``outputs(result) -> dict`` of scene-specific key numbers, added to the summary.
     points_per_element : int
         Cable samples per element in the VTU series.
+    controllers : sequence of control.Controller
+        Closed-loop control of the system's inputs (``simulate``).
 
     Returns
     -------
@@ -76,11 +78,11 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
     export.output_frame(system, options.value("frame", "inertial"))  # before any file
     with run_directory(options) as out:
         return _run_dynamic(out, name, system, initial, options, settings, parameters,
-                            outputs, points_per_element)
+                            outputs, points_per_element, controllers)
 
 
 def _run_dynamic(out, name, system, initial, options, settings, parameters, outputs,
-                 points_per_element):
+                 points_per_element, controllers):
     """``run_dynamic`` once the run directory ``out`` is held."""
     wall0 = time.perf_counter()
     solver = dict(settings)
@@ -98,7 +100,8 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
     observers = run_observers(out, options.progress, points_per_element=points_per_element,
                               restart=options.resume, overwrite=options.overwrite,
                               attrs=attrs, frame=frame, **storage)
-    result = simulate(system, initial=initial, observers=observers, resume=resume, **solver)
+    result = simulate(system, initial=initial, observers=observers, resume=resume,
+                      controllers=controllers, **solver)
     stats = result.stats
     summary = {"scene": name,
                "parameters": {**(parameters or {}), **settings},

@@ -5,7 +5,7 @@ law (``reel``)."""
 from ..cable import Cable
 from ..deploy import constant_rate, smooth_profile
 from ..reel import Brake, Motor, Reel, Servo
-from .schema import number, positive, vector3
+from .schema import input_or, number, positive, vector3
 
 
 def read_profile(t, key):
@@ -29,8 +29,9 @@ def read_reel(t, bodies):
     """The ``Reel`` body of a ``[[deploy]]`` table's ``reel = {radius, inertia, brake |
     motor | servo}`` (registered in ``bodies`` as ``"<cable> reel"``; it must exist
     before the system is built), or None without ``reel``.  ``brake``: N m s/m; ``motor``:
-    a torque (N m); ``servo``: ``{length, stiffness, damping}`` with ``length`` as the
-    prescribed length."""
+    a torque (N m, or ``{input = "name", value = ...}`` that a controller sets);
+    ``servo``: ``{length, stiffness, damping}`` with ``length`` as the prescribed
+    length."""
     if not t.has("reel"):
         return None
     cable = bodies.body(t, "cable", Cable)
@@ -42,7 +43,7 @@ def read_reel(t, bodies):
     if "brake" in r.data:
         law = Brake(r.get("brake", number))
     elif "motor" in r.data:
-        law = Motor(r.get("motor", number))
+        law = Motor(r.get("motor", input_or(number)))
     elif "servo" in r.data:
         s = r.inline("servo")
         length, rate, _ = read_profile(s, "length")

@@ -6,7 +6,7 @@ of load tables to its reader; a new kind of load is one more entry."""
 from ..cable import Cable
 from ..drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from ..loads import PointMoment
-from .schema import non_negative, number, positive, vector3
+from .schema import input_or, non_negative, number, positive, vector3
 
 
 def read_point_mass(t, bodies, system):
@@ -16,8 +16,10 @@ def read_point_mass(t, bodies, system):
 
 
 def point_load(p, bodies, system):
-    """``[[loads.point]]``: a dead ``force`` at a cable node."""
-    system.add_point_load(bodies.point(p, "at", body_points=False), p.get("force", vector3))
+    """``[[loads.point]]``: a dead ``force`` at a cable node, or an input
+    (``{input = "name", value = [...]}``) that a controller sets."""
+    system.add_point_load(bodies.point(p, "at", body_points=False),
+                          p.get("force", input_or(vector3)))
 
 
 def line_load(p, bodies, system):

@@ -59,6 +59,21 @@ def vector3(v):
     return np.array([number(x) for x in v])
 
 
+def input_or(check):
+    """A value checked by ``check``, or ``{input = "name", value = ...}``: an ``Input`` of
+    that name holding the checked value until a controller sets it (``[[controllers]]``)."""
+    from ..inputs import Input
+
+    def read(v):
+        if not isinstance(v, dict):
+            return check(v)
+        if set(v) != {"input", "value"} or not isinstance(v["input"], str):
+            raise ValueError('must be a value or a table {input = "name", value = ...}')
+        return Input(v["input"], check(v["value"]))
+
+    return read
+
+
 def direction3(v):
     """A vector that gives a direction: three numbers, not all zero."""
     x = vector3(v)

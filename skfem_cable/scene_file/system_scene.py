@@ -1,6 +1,6 @@
 """A scene of cables and rigid bodies (``System``) from a scene file: the tables are read
 in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loads``,
-``orbit`` and ``solver``;
+``orbit``, ``controllers`` and ``solver``;
 ``run`` simulates (``runner.run_dynamic``) or solves it (``runner.run_static``)."""
 
 from dataclasses import dataclass
@@ -13,6 +13,7 @@ from ..state import State
 from ..system import System
 from .bodies import Bodies, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
+from .controllers import read_controllers
 from .deploy import read_deploy, read_reel
 from .loads import read_loads, read_point_mass
 from .orbit import place_in_orbit, read_orbit
@@ -34,6 +35,7 @@ class SceneSpec:
     solver: dict
     points_per_element: int
     motion: dict
+    controllers: list
 
 
 def build(root, elements=None):
@@ -63,11 +65,13 @@ def build(root, elements=None):
     if root.has("orbit"):
         place_in_orbit(root, read_orbit(root.table("orbit")), system)
     read_loads(root.table("loads"), bodies, system, analysis)
+    controllers = read_controllers(root, system)
     motion = root.table("initial")
     initial = read_initial(motion, system, analysis)
     ppe = read_output(root.table("output"))
     root.finish()
-    return SceneSpec(title, system, initial, analysis, settings, ppe, motion.data)
+    return SceneSpec(title, system, initial, analysis, settings, ppe, motion.data,
+                     controllers)
 
 
 def run(path, spec, options):
@@ -78,7 +82,8 @@ def run(path, spec, options):
     parameters = {"file": str(path), "title": spec.title, "initial": spec.motion}
     if spec.analysis == "dynamic":
         return run_dynamic(name, spec.system, spec.initial, options, spec.solver, parameters,
-                           points_per_element=spec.points_per_element)[0]
+                           points_per_element=spec.points_per_element,
+                           controllers=spec.controllers)[0]
     options.reject(Path(path).name, "t_end", "dt", "every")
     settings = {k: v.tolist() if hasattr(v, "tolist") else v for k, v in spec.solver.items()}
     outputs = None

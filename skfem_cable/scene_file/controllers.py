@@ -1,0 +1,53 @@
+"""The ``[[controllers]]`` tables of a system scene: each names a Python callable,
+``callable = "module:function"`` (an importable module) or ``"file.py:function"`` (a file
+beside the scene file), which is called as ``function(system, **parameters)`` with the
+table's ``parameters`` and returns a ``control.Controller``.  The controllers set the
+scene's inputs, the values written ``{input = "name", value = ...}`` (``schema.input_or``).
+A scene file that names code runs that code: read it before you run a file you did not
+write."""
+
+import importlib
+import importlib.util
+from pathlib import Path
+
+from .schema import text
+
+
+def read_controllers(root, system):
+    """The controllers of the ``[[controllers]]`` tables of ``root`` for ``system``."""
+    controllers = []
+    for t in root.tables("controllers"):
+        target = t.get("callable", text)
+        parameters = t.table("parameters").data
+        function = _load(t, target)
+        try:
+            controller = function(system, **parameters)
+        except Exception as err:
+            t.fail("callable", f"{target} failed: {type(err).__name__}: {err}")
+        if not callable(getattr(controller, "update", None)) \
+                or not hasattr(controller, "sample_time"):
+            t.fail("callable", f"{target} must return a Controller (update(t, state), "
+                   f"sample_time), got {type(controller).__name__}")
+        t.finish()
+        controllers.append(controller)
+    return controllers
+
+
+def _load(t, target):
+    """The function ``target`` (``"module:function"`` or ``"file.py:function"``)."""
+    where, _, name = target.rpartition(":")
+    if not where or not name:
+        t.fail("callable", 'must be "module:function" or "file.py:function"', target)
+    try:
+        if where.endswith(".py"):
+            path = Path(where)
+            if not path.is_absolute():
+                path = Path(str(t.source)).resolve().parent / path
+            spec = importlib.util.spec_from_file_location(path.stem, path)
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+        else:
+            module = importlib.import_module(where)
+        return getattr(module, name)
+    except (ImportError, FileNotFoundError, AttributeError, OSError) as err:
+        t.fail("callable", f"cannot be loaded ({type(err).__name__}: {err})", target)
