@@ -73,3 +73,11 @@ def test_esail_thrust_vectoring_demo():
     table = load_demo("esail_thrust_vectoring").main(angles=(10.0,), figure=False)["table"]
     (_, angle, model, _), = table["on-off, arcs +-20 deg"]
     assert angle == pytest.approx(model, rel=1e-3) and angle > 9.5
+
+
+def test_esail_attitude_hold_demo(tmp_path):
+    """A tenth of a day: the controlled sail stays within half of the free sail's
+    drift from the commanded 30 deg."""
+    out = load_demo("esail_attitude_hold").main(days=0.1, out=tmp_path, figure=False)
+    drift = out["free"]["max_error_deg"]
+    assert drift > 0.08 and out["controlled"]["max_error_deg"] < 0.5 * drift
