@@ -135,7 +135,8 @@ class ControlLoop:
             self.samples[k] += 1
             integrator.stats["control_updates"] += 1
             self.pending.append([t + getattr(c, "delay", 0.0), k, outputs])
-            self.pending.sort(key=lambda item: item[0])
+            if len(self.pending) > 1:
+                self.pending.sort(key=lambda item: item[0])
         while self.pending and t >= self.pending[0][0] - TIME_TOL * max(abs(t), 1.0):
             _, k, outputs = self.pending.pop(0)
             for name, value in outputs.items():

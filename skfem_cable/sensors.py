@@ -32,6 +32,13 @@ def _hub_frame(state, hub):
 
 
 @functools.lru_cache(maxsize=256)
+def _centre_coefficients(hub):
+    """The coefficients (4,) of the hub's centre of mass in its natural coordinates
+    (``RigidBody.coefficients``; its geometry does not change)."""
+    return hub.coefficients(hub.center_of_mass)
+
+
+@functools.lru_cache(maxsize=256)
 def _body_index(layout, body):
     """The coordinates of ``body`` in the system of ``layout`` (looked up once)."""
     return layout.system.dofs(body)
@@ -95,7 +102,7 @@ def tether_phase(state, cable, hub):
     cables, their phases (an array)."""
     d, _ = _hub_frame(state, hub)
     axes = hub.rotation(d)
-    centre = hub.coefficients(hub.center_of_mass) @ d.reshape(4, 3)
+    centre = _centre_coefficients(hub) @ d.reshape(4, 3)
     single = not isinstance(cable, (list, tuple))
     arms = _tips(state, [cable] if single else cable) - centre
     phase = np.arctan2(arms @ axes[:, 2], arms @ axes[:, 1])
