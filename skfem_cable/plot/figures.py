@@ -75,7 +75,7 @@ def _plain_numbers(ax):
         ax.ticklabel_format(axis="y", useOffset=False)
 
 
-def histories(t, panels, path=None, title=None, xlabel="t [s]"):
+def histories(t, panels, path=None, title=None, xlabel="t [s]", drawstyle="default"):
     """Time histories, one panel per entry (as the E-sail paper's figures of coning and
     lagging angles, hub rates, thrust and reactions), with plain tick labels (no offset).
 
@@ -89,6 +89,9 @@ def histories(t, panels, path=None, title=None, xlabel="t [s]"):
     path : path, optional
         Save the figure there (``.png``, ``.pdf``, ``.svg``).
     title : str, optional
+    drawstyle : str
+        Matplotlib's ``drawstyle`` of the curves (``"steps-post"`` for values held from
+        each time to the next).
 
     Returns
     -------
@@ -100,7 +103,7 @@ def histories(t, panels, path=None, title=None, xlabel="t [s]"):
             curves = {None: curves}
         colours = curve_colours(len(curves))
         for (label, y), colour in zip(curves.items(), colours):
-            ax.plot(t, np.asarray(y), label=label, lw=1.0, color=colour)
+            ax.plot(t, np.asarray(y), label=label, lw=1.0, color=colour, drawstyle=drawstyle)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
         _plain_numbers(ax)

@@ -6,6 +6,8 @@ here (``directory.register_files``)."""
 
 from pathlib import Path
 
+import numpy as np
+
 from .. import export, plot
 from ..atomic import is_temporary
 from .directory import register_files
@@ -18,6 +20,7 @@ register_files({
     "plots/cables.png": "tip displacements (spinning: in the spinning frame) and root and "
                         "peak tensions of the cables against time",
     "plots/tension_psd.png": "power spectral density of the root tensions",
+    "plots/inputs.png": "the inputs controllers set (sc.Input) against time",
     "plots/final.png": "3-D render of the final state",
 })
 
@@ -44,9 +47,10 @@ def framed_title(title, frame):
 
 def run_figures(out, result, animate=False, title=None, frame="inertial"):
     """The standard figures of a dynamic run in ``out/plots`` (energies, cable histories,
-    root-tension spectra, final snapshot) and ``out/animation.gif`` if ``animate``; the
-    snapshot and the animation show ``title`` (a scene file's) above the time and are
-    drawn in the output ``frame`` (``export.FRAMES``; ``"lvlh"`` says so on them).
+    root-tension spectra, the inputs' histories when the system has any, final snapshot)
+    and ``out/animation.gif`` if ``animate``; the snapshot and the animation show
+    ``title`` (a scene file's) above the time and are drawn in the output ``frame``
+    (``export.FRAMES``; ``"lvlh"`` says so on them).
     Returns the paths written."""
     plots = Path(out) / "plots"
     plots.mkdir(parents=True, exist_ok=True)
@@ -57,6 +61,12 @@ def run_figures(out, result, animate=False, title=None, frame="inertial"):
         signals = {c.name: result.tension(c, 0.0) for c in result.system.cables()}
         paths.append(plots / "tension_psd.png")
         plot.psd(result.t, signals, paths[-1], title="root tension", units="N")
+    if result.inputs:
+        paths.append(plots / "inputs.png")
+        plot.histories(result.t, {name: _components(name, values)
+                                  for name, values in result.inputs.items()},
+                       paths[-1], title="inputs (held from each saved step to the next)",
+                       drawstyle="steps-post")
     title = framed_title(title, frame)
     final = snapshot(out, result.system, result.state(len(result) - 1),
                      title="\n".join(filter(None, [title, f"t = {result.t[-1]:.4g} s"])),
@@ -69,6 +79,16 @@ def run_figures(out, result, animate=False, title=None, frame="inertial"):
     elif animate:
         warn("skipping the animation (no off-screen rendering)")
     return paths
+
+
+def _components(name, values):
+    """The curves of an input's history ``values`` (nt, ...): itself for a number, one
+    per component (``name[k]``) for a vector."""
+    values = np.asarray(values)
+    if values.ndim == 1:
+        return values
+    flat = values.reshape(len(values), -1)
+    return {f"{name}[{k}]": flat[:, k] for k in range(flat.shape[1])}
 
 
 def plot_files(out, written=()):
