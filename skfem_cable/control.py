@@ -89,11 +89,14 @@ class ControlLoop:
     dt : float or None
         The fixed step (samples and delays must be multiples of it); None for adaptive
         steps (which end on the samples, ``next_event``).
+    inputs : dict, optional
+        The system's inputs by name (``inputs.system_inputs``, looked up when not
+        given: ``simulate`` passes the ones it records).
     """
 
-    def __init__(self, system, controllers, t_start, dt=None):
+    def __init__(self, system, controllers, t_start, dt=None, inputs=None):
         self.system, self.controllers = system, list(controllers)
-        self.inputs = system_inputs(system)
+        self.inputs = system_inputs(system) if inputs is None else inputs
         for c in self.controllers:
             if not callable(getattr(c, "update", None)) or not hasattr(c, "sample_time"):
                 raise TypeError(f"{c!r} is not a Controller (needs update(t, state) and "

@@ -8,6 +8,8 @@ own maps, in the system's axes:
   (the E-sail paper's Sect. 3, Eqs. 67-70), oriented along the spin;
 * ``sail_angle(state, tips, sun_direction)``: the angle between that normal and the
   direction of the wind;
+* ``tether_arms(state, cables, hub)``: the vectors from the hub's centre to the tethers'
+  tips;
 * ``tether_phase(state, cable, hub)``: the angle of a tether's tip about the hub's axis,
   from the hub's second axis (its rotation phase);
 * ``libration(state, cable, orbit)``: pitch and roll of the line through a cable's ends
@@ -96,15 +98,20 @@ def sail_angle(state, tips, sun_direction, hub=None):
     return float(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
+def tether_arms(state, cables, hub):
+    """The vectors (k, 3) from the hub's centre of mass to the tips of ``cables`` (their
+    last nodes)."""
+    d, _ = _hub_frame(state, hub)
+    return _tips(state, cables) - _centre_coefficients(hub) @ d.reshape(4, 3)
+
+
 def tether_phase(state, cable, hub):
     """Rotation phase (rad, in ``(-pi, pi]``) of the tip of ``cable`` about the hub's
     spin axis ``x_B``, measured from its axis ``y_B`` towards ``z_B``; for a sequence of
     cables, their phases (an array)."""
-    d, _ = _hub_frame(state, hub)
-    axes = hub.rotation(d)
-    centre = _centre_coefficients(hub) @ d.reshape(4, 3)
+    axes = hub.rotation(_hub_frame(state, hub)[0])
     single = not isinstance(cable, (list, tuple))
-    arms = _tips(state, [cable] if single else cable) - centre
+    arms = tether_arms(state, [cable] if single else cable, hub)
     phase = np.arctan2(arms @ axes[:, 2], arms @ axes[:, 1])
     return float(phase[0]) if single else phase
 

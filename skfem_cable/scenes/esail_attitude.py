@@ -54,33 +54,26 @@ class AttitudeHold(Controller):
         arm = 0.5 * config.tether_length
         force = config.wind.force_per_length(self.voltage) * config.tether_length
         self.per_torque = 1.0 / (0.5 * config.n_tethers * force * arm)  # g of the docstring
+        # the moment of inertia about the spin axis (kg m^2): remote units, and tethers as
+        # straight rods from the hub's rim
+        L, R = config.tether_length, config.hub_radius
+        tether = config.section.mass_per_length * L
+        self.inertia = config.n_tethers * (config.remote_mass * (R + L) ** 2
+                                           + tether * (R**2 + R * L + L**2 / 3))
 
     def update(self, t, state):
         scene, hub, orbit = self.scene, self.scene.hub, self.scene.orbit
-        d = state.q[state.system.dofs(hub)]
-        v = state.v[state.system.dofs(hub)]
         normal = sensors.sail_normal(state, scene.tethers, hub)
-        spin = float(hub.angular_velocity(d, v)[0])
-        h = spin * self._inertia(state)
+        h = sensors.spin_rate(state, hub) * self.inertia
         target = orbit.from_lvlh(float(t), self.target)
         rate = orbit.angular_velocity(float(t))
         torque = h * (np.cross(rate, target) + self.gain * (target - (normal @ target) * normal))
         torque -= (torque @ normal) * normal  # in the spin plane
-        tips = sensors._tips(state, scene.tethers)
-        centre = hub.coefficients(hub.center_of_mass) @ d.reshape(4, 3)
-        radial = tips - centre
+        radial = sensors.tether_arms(state, scene.tethers, hub)
         radial -= np.outer(radial @ normal, normal)
         radial /= np.linalg.norm(radial, axis=1, keepdims=True)
         fraction = self.per_torque * (np.cross(radial, normal) @ torque)
         return {"voltages": self.voltage * np.clip(1.0 + fraction, 0.0, 2.0)}
-
-    def _inertia(self, state):
-        """The sail's moment of inertia about its spin axis (kg m^2): remote units and
-        tethers as straight rods from the hub's rim."""
-        c = self.scene.config
-        L, R, p = c.tether_length, c.hub_radius, c.n_tethers
-        tether = c.section.mass_per_length * L
-        return p * (c.remote_mass * (R + L) ** 2 + tether * (R**2 + R * L + L**2 / 3))
 
 
 def hold_sail_angle(alpha_deg=30.0, days=5.0, controlled=True, n_elements=2, dt=1.0,

@@ -129,7 +129,7 @@ def _stats(integ, clock, stopped=None):
     return stats
 
 
-def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
+def _step_hooks(system, integ, settings, rectify, controllers, inputs, t_start, dt):
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
     loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
@@ -144,7 +144,7 @@ def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
         if rectifier is not None and rectifier.reason is None:
             hooks.append(rectifier)
     if controllers:
-        hooks.append(ControlLoop(system, controllers, t_start, dt))
+        hooks.append(ControlLoop(system, controllers, t_start, dt, inputs))
         settings["controllers"] = [f"{c.name}: every {c.sample_time:g} s, delay "
                                    f"{getattr(c, 'delay', 0.0):g} s" for c in controllers]
         integ.stats["control_updates"] = 0
@@ -272,9 +272,9 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings.update(rtol=rtol, atol=atol)
     if tol_local is not None:
         settings["tol_local"] = tol_local
-    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers,
-                                      t_start, None if adaptive else dt)
     inputs = system_inputs(system)
+    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers, inputs,
+                                      t_start, None if adaptive else dt)
     if resume is not None:
         snap = resume.snapshot
         if not np.allclose(np.asarray(snap["settings"])[_MATCH],
