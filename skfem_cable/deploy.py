@@ -145,6 +145,29 @@ class Deployment:
                               f"must {bound}")
         return values
 
+    def paying_out(self, system, q, rate, t=0.0):
+        """The velocities (n_dofs) of paying out at ``rate`` (m/s) from the shape at ``q``
+        (time ``t``): the cable's mesh stretching about the anchor, positions at ``(rate /
+        l) (r - r_P)`` and slopes (and higher derivatives) at ``(rate / l) r_x`` (``l`` the
+        free length at ``t``, or ``q``'s with a reel, whose length gets ``rate``), so that
+        the material of a straight tether moves at ``rate`` along it (the module
+        docstring's ``v = S q' + c S_x q``); zero elsewhere.  Add it to the velocities of
+        the rest of the motion (the anchor's)."""
+        if self.anchor is None:
+            anchor = self.exit_point
+        else:
+            pdofs, G = system.position_map(self.anchor)
+            anchor = G @ q[pdofs]
+        ell = self.state(t, q)[0]
+        dofs = system.dofs(self.cable)
+        nodes = np.asarray(q, dtype=float)[dofs].reshape(self.cable.n_nodes, -1)
+        v = np.zeros(system.n_dofs)
+        v[dofs] = (rate / ell) * (nodes - np.concatenate([anchor, np.zeros(nodes.shape[1] - 3)])
+                                  ).ravel()
+        if self.reel is not None:
+            v[self.reel] = rate
+        return v
+
     def stretch(self, t, q=None):
         """Stretch of the mesh ``lam = l / L0`` at ``t`` (and ``q`` for a reel)."""
         return self.state(t, q)[0] / self.L0
@@ -170,7 +193,7 @@ class Deployment:
                   np.einsum("eg,egA,egB->eAB", mu * w * arm**2, Sx, Sx))
         return tuple(_assemble(cable, b) for b in blocks)
 
-    def _stowed(self, system):
+    def stowed(self, system):
         """``(mu, capacity, dofs, G^T G)`` of the material on the reel at a body anchor
         (``dofs`` None at a reel fixed in space), or None without a ``capacity``."""
         if self.capacity is None:
@@ -192,7 +215,7 @@ class Deployment:
         qc, vc = q[dofs], v[dofs]
         p = np.zeros(system.n_dofs)
         p[dofs] = (ell / self.L0 - 1.0) * (M0 @ vc) + (rate / self.L0) * (G0 @ qc)
-        stowed = self._stowed(system)
+        stowed = self.stowed(system)
         if stowed is not None and stowed[2] is not None:
             mu, capacity, pdofs, GG = stowed
             p[pdofs] += mu * (capacity - ell) * (GG @ v[pdofs])
@@ -222,7 +245,7 @@ class Deployment:
         u = np.zeros((self.cable.n_nodes, 6))
         u[:, :3] = g
         on_cable = M0 @ u.ravel()
-        stowed = self._stowed(system)
+        stowed = self.stowed(system)
         at_anchor = stowed is not None and stowed[2] is not None
         if at_anchor:
             mu, capacity, pdofs, _ = stowed
@@ -273,7 +296,7 @@ class _Inertia:
         pattern = (M0 + G0 + K0).tocoo()
         self.blocks = [_on(pattern, m) for m in (M0, self.Mv, G0, K0)]
         rows, cols = [self.dofs[pattern.row]], [self.dofs[pattern.col]]
-        self.stowed = deployment._stowed(system)
+        self.stowed = deployment.stowed(system)
         anchor = self.stowed is not None and self.stowed[2] is not None
         if anchor:
             pdofs = self.stowed[2]

@@ -7,11 +7,11 @@ gravity ``g(R + delta) - g(R)`` (``orbit.differential_gravity``, optional J2) ov
 points in one compiled kernel (``kernels.central``), with its exact tangent.
 """
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .contract import Term
+from .contract import Term, combined
 from .kernels import central
 from .orbit import differential_gravity
 
@@ -158,10 +158,31 @@ class DifferentialGravity:
         return change
 
     def bind(self, system):
-        if system.deployments:
-            raise ValueError("add_orbit: deploying cables (System.deploy) are not "
-                             "supported in orbit yet: their mass points move with the "
-                             "free length")
+        """The compiled term of the constant mass (``kernels.central``), combined with the
+        Python terms of the mass each deployment moves (``DeployedMass``) if any."""
+        term = self._constant_mass(system)
+        deployed = [DeployedMass(self, d, system).term()
+                    for d in system.deployments.values()]
+        if not deployed:
+            return term
+        return combined([replace(term, add=term.evaluate, kernels=()), *deployed],
+                        "differential gravity")
+
+    def field(self, t, delta):
+        """``(a, phi, T)``: the differential acceleration (np, 3), the potential energy per
+        unit mass (np,) and the acceleration's tangent (np, 3, 3) at the offsets ``delta``
+        (np, 3) at time ``t`` (``kernels.central.field``)."""
+        reference = self.orbit.position(t)
+        base = np.zeros(3)
+        if self.j2 is not None:
+            central.j2_acceleration(self.k, reference, base)
+        delta = np.ascontiguousarray(np.reshape(delta, (-1, 3)), dtype=float)
+        a, phi, T = np.empty_like(delta), np.empty(len(delta)), np.empty((len(delta), 3, 3))
+        central.field(self.orbit.mu, self.k, reference, base, delta, a, phi, T)
+        return a, phi, T
+
+    def _constant_mass(self, system):
+        """The compiled term of the bodies' and point masses' constant mass."""
         points = system_mass_points(system)
         dofs = points.group_dofs()
         reference = np.zeros(3)
@@ -183,6 +204,99 @@ class DifferentialGravity:
                     cols=dofs[:, None, :], prepare=prepare, name="differential gravity")
 
 
+class DeployedMass:
+    """The differential gravity on the mass a deployment (``deploy.Deployment``) adds to
+    the constant mass the compiled term sees, as ``Deployment.bind_weight`` does in a
+    uniform field: the cable's mass points weigh ``lam m_p`` (the material length element
+    ``lam dx``, ``lam = l / L0``) instead of ``m_p``, and the material still on the reel,
+    ``m_s = mu (capacity - l)``, rides at the anchor.  With ``phi`` the potential energy
+    per unit mass of the differential field (``DifferentialGravity.field``) the potential
+    of this mass is
+
+        V_d = (lam - 1) sum_p m_p phi(delta_p) + m_s phi(r_P),
+
+    whose forces are ``(lam - 1) m_p a_p`` on the cable's points and ``m_s a_P`` at a body
+    anchor.  When the length is a reel's coordinate, ``-dV_d/dl = -sum_p m_p phi_p / L0 +
+    mu phi(r_P)`` acts on it: the difference of the potential along the tether and at the
+    reel (the constant of ``phi`` drops out as the material only moves between them), and
+    the derivatives in ``l`` enter the tangent symmetrically (a potential).
+
+    Parameters
+    ----------
+    gravity : DifferentialGravity
+    deployment : deploy.Deployment
+    system : System
+    """
+
+    def __init__(self, gravity, deployment, system):
+        self.gravity, self.deployment = gravity, deployment
+        cable = deployment.cable
+        vectors, self.coefficients, self.mass = cable.mass_points()
+        n, k = self.coefficients.shape
+        self.dofs = (np.asarray(vectors)[:, :, None] + system.dofs(cable)[0]
+                     + np.arange(3)).reshape(n, 3 * k)
+        self.stowed = deployment.stowed(system)
+        self.anchor = None if self.stowed is None or self.stowed[2] is None else \
+            (self.stowed[2], system.position_map(deployment.anchor)[1])
+        self.reel = deployment.reel
+
+    def entries(self):
+        """``(rows, cols)`` of the tangent, 1-D, in the order ``add`` fills them: the
+        cable's points, the anchor, then with a reel the column and the row of its
+        length."""
+        rows = [np.broadcast_to(self.dofs[:, :, None], self.dofs.shape + (self.dofs.shape[1],))]
+        cols = [np.broadcast_to(self.dofs[:, None, :], rows[0].shape)]
+        line = [self.dofs.ravel()]
+        if self.anchor is not None:
+            pdofs = self.anchor[0]
+            r, c = np.meshgrid(pdofs, pdofs, indexing="ij")
+            rows.append(r)
+            cols.append(c)
+            line.append(pdofs)
+        if self.reel is not None:
+            line = np.concatenate(line)
+            rows += [line, np.full(line.size, self.reel)]
+            cols += [np.full(line.size, self.reel), line]
+        return (np.concatenate([r.ravel() for r in rows]),
+                np.concatenate([c.ravel() for c in cols]))
+
+    def term(self):
+        rows, cols = self.entries()
+        return Term(add=self.add, rows=rows, cols=cols,
+                    name=f"differential gravity of {self.deployment.cable.name}'s deployment")
+
+    def add(self, ev, index):
+        d = self.deployment
+        ell = d.state(ev.t, ev.q)[0]
+        lam = ell / d.L0
+        c, m = self.coefficients, self.mass
+        n, k = c.shape
+        nodal = ev.q[self.dofs].reshape(n, k, 3)
+        a, phi, T = self.gravity.field(ev.t, np.einsum("pk,pki->pi", c, nodal))
+        per_point = np.einsum("p,pk,pi->pki", m, c, a).reshape(n, 3 * k)
+        np.add.at(ev.f_ext, self.dofs, (lam - 1.0) * per_point)
+        values = [np.einsum("p,pj,pl,pab->pjalb", (lam - 1.0) * m, c, c, T).ravel()]
+        column = [per_point.ravel() / d.L0]
+        on_length = -(m @ phi) / d.L0
+        if self.stowed is not None:
+            mu, capacity = self.stowed[:2]
+            if self.anchor is None:
+                on_length += mu * self.gravity.field(ev.t, d.exit_point)[1][0]
+            else:
+                pdofs, G = self.anchor
+                aP, phiP, TP = (x[0] for x in self.gravity.field(ev.t, G @ ev.q[pdofs]))
+                ev.f_ext[pdofs] += mu * (capacity - ell) * (G.T @ aP)
+                values.append(mu * (capacity - ell) * (G.T @ TP @ G).ravel())
+                column.append(-mu * (G.T @ aP))
+                on_length += mu * phiP
+        if self.reel is not None:
+            ev.f_ext[self.reel] += on_length
+            column = np.concatenate(column)
+            values += [column, column]
+        if ev.want_tangent:
+            ev.add_tangent(index, np.concatenate(values), sign=-1.0)
+
+
 def orbital_energy(system, q, v, t):
     """Kinetic plus potential energy (J) in the central field of the system in orbit at
     ``(q, v, t)``, less that of its mass moving with the reference point:
@@ -200,6 +314,10 @@ def orbital_energy(system, q, v, t):
     orbit = system.orbit
     if orbit is None:
         raise ValueError("orbital_energy: the system is not in orbit (System.add_orbit)")
+    if system.deployments:
+        raise ValueError("orbital_energy: the system deploys a cable (System.deploy), "
+                         "whose mass moves between the reel and the tether; its "
+                         "gravity is booked as external work (Result.energy)")
     points = system_mass_points(system)
     delta, speed = points.positions(q), points.positions(v)
     R, V = orbit.position(t), orbit.velocity(t)

@@ -14,6 +14,7 @@ own maps, in the system's axes:
   from the hub's second axis (its rotation phase);
 * ``libration(state, cable, orbit)``: pitch and roll of the line through a cable's ends
   in the orbiting frame;
+* ``reel_length(state, reel)``: a reel's free length and its rate (its encoder);
 * ``noisy(sensor, sigma, seed)``: a sensor with Gaussian noise of standard deviation
   ``sigma`` that is the same in every run with the same ``seed`` (drawn per call from
   ``seed`` and the call's time, so a continued run reads the same noise).
@@ -123,6 +124,13 @@ def libration(state, cable, orbit):
     axis = _tips(state, [cable])[0] - _point(state, cable.node(0))
     y = orbit.to_lvlh(float(state.t), axis)
     return float(np.arctan2(y[1], y[0])), float(np.arcsin(-y[2] / np.linalg.norm(y)))
+
+
+def reel_length(state, reel):
+    """``(length, rate)``: the free length (m) a ``Reel`` has paid out and its rate (m/s;
+    0 in a state without velocities)."""
+    i = _body_index(state.system.layout, reel)[0]
+    return float(state.q[i]), 0.0 if state.v is None else float(state.v[i])
 
 
 def noisy(sensor, sigma, seed):

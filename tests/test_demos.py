@@ -75,6 +75,15 @@ def test_esail_thrust_vectoring_demo():
     assert angle == pytest.approx(model, rel=1e-3) and angle > 9.5
 
 
+def test_tss_deployment_control_demo(tmp_path):
+    """Half an orbit on a coarse model: the Coriolis force swings the deploying tether
+    back by more than the quasi-steady 11.8 deg, and both runs pay out."""
+    out = load_demo("tss_deployment_control").main(orbits=0.5, out=tmp_path, dt=30.0,
+                                                   elements=4, figure=False)
+    assert 11.8 < out["largest_pitch_deg"] < 16.0
+    assert out["final_length_m"] > 20.0 and out["brake_final_rate_m_s"] > 0
+
+
 def test_esail_attitude_hold_demo(tmp_path):
     """A tenth of a day: the controlled sail stays within half of the free sail's
     drift from the commanded 30 deg."""

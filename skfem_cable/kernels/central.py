@@ -169,3 +169,48 @@ def _kernel(pack, index, ev, k):
             for row in range(3 * k):
                 for col in range(3 * k):
                     data[index[g, row, col]] -= cK * K[row, col]
+
+
+@njit(cache=True)
+def j2_potential(k, r):
+    """J2's potential energy per unit mass at ``r``, ``k (z^2 / r^5 - 1 / (3 r^3))``
+    (``k = 3/2 mu J2 R_e^2``), whose negative gradient is ``j2_acceleration``."""
+    r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
+    return k * (r[2] * r[2] * r2 ** -2.5 - r2 ** -1.5 / 3.0)
+
+
+@njit(cache=True)
+def field(mu, k2, reference, base, delta, a, phi, T):
+    """The differential field at the offsets ``delta`` (np, 3) from ``reference``: the
+    acceleration ``a`` (np, 3), its tangent ``T`` (np, 3, 3) and the potential energy per
+    unit mass ``phi`` (np,) of which ``a`` is the negative gradient, zero at the reference
+    point: ``phi = V(R + delta) - V(R) + a_V(R) . delta`` with ``V`` the central body's
+    potential (the point mass's part ``mu / |R| q / (sqrt(1 + q) (1 + sqrt(1 + q)))``
+    free of cancellation, as ``orbit_gravity.orbital_energy``) and ``a_V(R)`` its
+    acceleration at the reference point (``base`` holds J2's, ``k2 = 3/2 mu J2 R_e^2``,
+    0 without J2).  For the mass a deployment moves between the reel and the tether
+    (``orbit_gravity``)."""
+    R2 = reference[0] ** 2 + reference[1] ** 2 + reference[2] ** 2
+    R = np.sqrt(R2)
+    r = np.empty(3)
+    extra = np.empty(3)
+    row = np.empty(3)
+    for p in range(delta.shape[0]):
+        x, y, z = delta[p, 0], delta[p, 1], delta[p, 2]
+        a[p, 0], a[p, 1], a[p, 2], scale, r2 = differential_acceleration(
+            mu, reference, R2, x, y, z)
+        q = (x * (2.0 * reference[0] + x) + y * (2.0 * reference[1] + y)
+             + z * (2.0 * reference[2] + z)) / R2
+        root = np.sqrt(1.0 + q)
+        phi[p] = mu / R * q / (root * (1.0 + root)) \
+            - mu * (reference[0] * x + reference[1] * y + reference[2] * z) / (R2 * R)
+        if k2 != 0.0:
+            row[:] = 0.0
+            add_j2(k2, reference, base, delta[p], row, r, extra)
+            for i in range(3):
+                a[p, i] += row[i]
+            phi[p] += j2_potential(k2, r) - j2_potential(k2, reference) \
+                + base[0] * x + base[1] * y + base[2] * z
+        for i in range(3):
+            r[i] = reference[i] + delta[p, i]
+        gradient(k2, scale, r2, r, T[p])

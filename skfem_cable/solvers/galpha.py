@@ -18,6 +18,7 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 """
 
 import numpy as np
+import scipy.sparse as sp
 
 from ..contract import OutOfDomain
 from ..kernels import step as codes
@@ -237,17 +238,20 @@ class GeneralizedAlpha(StepControl, Diagnosis):
 
     def _consistent(self, q, v, t):
         """``(v, a, lambda)`` of the state ``(q, v, t)``: ``v`` projected onto
-        ``C_q v = -C_t`` (mass-orthogonally), ``a`` and ``lambda`` from Eq. 3 with
-        ``C_q a = -((C_q v)_q v + 2 C_qt v + C_tt)``."""
+        ``C_q v = -C_t`` (mass-orthogonally, in the whole mass matrix: the constant one and
+        a deployment's inertia, whose reel row and column move the length with the
+        tether), ``a`` and ``lambda`` from Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v +
+        C_tt)``."""
         system, lay, n = self.system, self.lay, self.n
         data = self.base.copy()
         rest = np.zeros(n)  # accelerations: the unknowns of this solve
         system.evaluate(q, v, t, np.zeros(lay.n_c), cK=0.0, cC=0.0, scale=self.mbar,
                         data=data, a=rest, cM=1.0)
+        rhs = np.zeros(lay.N)
+        kkt = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
+        rhs[:n] = kkt[:n, :n] @ v
         self.solver.factor(data)
         self.stats["factorizations"] += 1
-        rhs = np.zeros(lay.N)
-        rhs[:n] = lay.mass @ v
         rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t)
         v = self.solver.solve(rhs)[:n]
         r, _ = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar, a=rest)
