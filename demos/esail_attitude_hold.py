@@ -4,8 +4,14 @@ fixed in inertial space and the sailing angle drifts with the orbit's turn, abou
 day) and with the phase-synchronous voltage modulation of
 ``scenes.esail_attitude.AttitudeHold`` (sampling every 10 s).
 
-The spin rate drifts too (the orbital Coriolis effect); the rigid flat-sail estimate of the
-drift is ``(1/omega) d omega/dt = Omega tan(alpha)`` with ``Omega`` the orbital rate.
+The spin rate drifts too.  The rigid flat-sail estimate of the drift,
+``(1/omega) d omega/dt = Omega tan(alpha)`` with ``Omega`` the orbital rate, follows from
+the modulation that turns the spin plane: the tethers whose voltage it raises feel the
+wind's in-plane component too, along their direction of rotation, and for a flat sail
+that spin torque is ``tan(alpha)`` times the turning torque (``docs/control.md``).  The
+turning torque is ``h`` times the rate at which the normal actually turns, the orbit's
+``Omega`` plus the rate of change of the sailing angle, so ``rigid_drift`` integrates
+``tan(alpha) (Omega + alpha')`` along the run.
 
 Run ``python demos/esail_attitude_hold.py [--days D] [--out DIR]``: writes
 ``esail_attitude_hold.png`` and ``esail_attitude_hold.npz`` into ``DIR`` and prints the
@@ -24,9 +30,20 @@ ALPHA = 30.0
 
 
 def drift_rate(t_days, spin):
-    """Relative spin-rate drift (1/s): the slope of ``omega / omega_0`` against time by
-    least squares (the spin's swing of a few per cent averages out over days)."""
-    return float(np.polyfit(t_days * 86400.0, spin / spin[0], 1)[0])
+    """Relative spin-rate drift ``(1/omega) d omega/dt`` (1/s): the slope of ``ln(omega /
+    omega_0)`` against time by least squares (the spin's swing of a few per cent averages
+    out over days)."""
+    return float(np.polyfit(t_days * 86400.0, np.log(spin / spin[0]), 1)[0])
+
+
+def rigid_drift(t_days, angle_deg, orbital_rate):
+    """The rigid flat-sail drift (1/s) for the normal turning as it did: ``ln(omega /
+    omega_0) = int tan(alpha) (Omega + alpha') dt`` along the run, fitted as
+    ``drift_rate`` fits the measured spin."""
+    t, alpha = t_days * 86400.0, np.radians(angle_deg)
+    rate = np.tan(alpha) * (orbital_rate + np.gradient(alpha, t))
+    growth = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+    return float(np.polyfit(t, growth, 1)[0])
 
 
 def main(days=5.0, out="runs/esail_attitude_hold", figure=True, every=600):
@@ -40,6 +57,8 @@ def main(days=5.0, out="runs/esail_attitude_hold", figure=True, every=600):
         summary[name] = {"final_angle_deg": float(angle[-1]),
                          "max_error_deg": float(np.abs(angle - ALPHA).max()),
                          "spin_drift_per_s": drift_rate(run["t"], run["spin_rate"]),
+                         "rigid_drift_as_turned_per_s": rigid_drift(run["t"], angle,
+                                                                    orbital_rate),
                          "control_updates": run["result"].stats.get("control_updates", 0)}
     Path(out).mkdir(parents=True, exist_ok=True)
     np.savez(Path(out) / "esail_attitude_hold.npz",

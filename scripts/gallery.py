@@ -175,9 +175,9 @@ ENTRIES = (
           "flat-sail model, 12 tethers, 2 elements each",
           "1e-3", "tests/test_demos.py::test_esail_thrust_vectoring_demo",
           "Thrust angle from the wind and thrust against the sailing angle: constant "
-          "voltage leans the thrust by about half the sailing angle, the on-off modulation "
-          "of Toivanen, Janhunen and Envall (2015) by nearly all of it (crosses: the rigid "
-          "flat sail)."),
+          "voltage leans the thrust by about half the sailing angle, a smooth `cos^2` "
+          "modulation by three quarters, the on-off modulation of Toivanen, Janhunen and "
+          "Envall (2015) by nearly all of it (crosses: the rigid flat sail)."),
     Entry("esail_attitude_hold.py",
           "largest departure of the sailing angle from the commanded 30 deg over a tenth "
           "of a day, controlled against free",

@@ -1,6 +1,7 @@
 """Each demo imported at reduced size, checking one number (scikit-fem's habit)."""
 
 
+import numpy as np
 import pytest
 from demo_modules import load_demo
 
@@ -90,3 +91,22 @@ def test_esail_attitude_hold_demo(tmp_path):
     out = load_demo("esail_attitude_hold").main(days=0.1, out=tmp_path, figure=False)
     drift = out["free"]["max_error_deg"]
     assert drift > 0.08 and out["controlled"]["max_error_deg"] < 0.5 * drift
+    # the free sail's normal does not turn, so the rigid estimate of its spin drift is
+    # near zero; the held one's is near Omega tan(alpha)
+    rigid = out["rigid_drift_per_s"]
+    assert abs(out["free"]["rigid_drift_as_turned_per_s"]) < 0.2 * rigid
+    assert out["controlled"]["rigid_drift_as_turned_per_s"] > 0.6 * rigid
+
+
+def test_rigid_drift_integrates_the_turn_rate():
+    """``rigid_drift``: ``Omega tan(alpha)`` for a sail held at 30 deg, none for one whose
+    angle falls with the orbit's turn, and in between for one that lags."""
+    demo = load_demo("esail_attitude_hold")
+    days = np.linspace(0.0, 5.0, 721)
+    omega = 2e-7
+    turned = np.degrees(omega * days * 86400.0)
+    held = demo.rigid_drift(days, np.full_like(days, 30.0), omega)
+    assert held == pytest.approx(omega * np.tan(np.radians(30.0)), rel=1e-3)
+    assert abs(demo.rigid_drift(days, 30.0 - turned, omega)) < 1e-3 * held
+    lagging = demo.rigid_drift(days, 30.0 - 0.06 * turned, omega)
+    assert 0.9 * held < lagging < 0.96 * held

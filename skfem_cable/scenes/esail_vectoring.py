@@ -14,11 +14,17 @@ mode for amplified transverse thrust", Acta Astronautica 106 (2015) 111-119,
 doi:10.1016/j.actaastro.2014.10.031, the paper's Ref. 19) applies the full voltage only
 over two thrusting arcs of the rotation, where most of the transverse thrust is produced
 (here: within ``half_width`` of ``phi = 0`` and ``pi``), and the thrust then leans by about
-the sailing angle.
+the sailing angle.  (The E-sail paper calls the unmodulated operation "continuous
+modulation": our constant voltages.)  Between the two, a *smooth modulation* weights each
+tether's force by ``cos(phi)^2``, the continuous counterpart of the arcs: the spin then
+averages ``sin^2`` under that weight to 1/4, and the thrust leans from the normal by
+``atan(tan(alpha) / 4)`` (7.48 deg from the wind at 10 deg).
 
-``OnOffModulation`` is that controller, sampling the tethers' phases (``sensors``);
-``thrust_vectoring`` runs the sail with it (or with constant voltages) and returns the
-mean thrust over whole rotations.
+``PhaseModulation`` is the controller of such modulations (its hook ``weight(phi)``, the
+fraction of the full force a tether at azimuth ``phi`` gets), sampling the tethers'
+phases (``sensors``); ``OnOffModulation`` and ``SmoothModulation`` are the two above.
+``thrust_vectoring`` runs the sail with one of them (or with constant voltages) and
+returns the mean thrust over whole rotations.
 """
 
 from dataclasses import replace
@@ -32,30 +38,34 @@ from ..solvers.simulate import simulate
 from . import esail
 
 #: Mode names of ``thrust_vectoring``.
-MODES = ("constant", "on-off")
+MODES = ("constant", "smooth", "on-off")
 
 
-class OnOffModulation(Controller):
-    """Full voltage ``voltage`` on the tethers within ``half_width`` (rad) of the plane of
-    the wind and the sail's normal, none on the others; sets the input ``voltages``.
+class PhaseModulation(Controller):
+    """Modulates each tether's voltage with its azimuth ``phi`` from the plane of the wind
+    and the sail's normal, sampled from the state: the voltage giving the fraction
+    ``weight(phi)`` in [0, 1] of the full force of ``voltage`` (the force grows linearly
+    above the threshold ``V1``, Eq. 29: ``V1 + (voltage - V1) weight``), and none where
+    the weight is 0.  Sets the input ``voltages``; subclasses give ``weight``.
 
     Parameters
     ----------
     scene : esail.ESailScene
         The sail (its hub, tethers and the Sun's position).
     voltage : float
-        The voltage (V) of a tether that is on.
-    half_width : float
-        Half width (rad) of each of the two thrusting arcs, in (0, pi / 2].
+        The voltage (V) of a tether at full force.
     sample_time : float
         Seconds between samples.
     """
 
-    def __init__(self, scene, voltage, half_width, sample_time):
+    def __init__(self, scene, voltage, sample_time):
         super().__init__(sample_time)
-        if not 0.0 < half_width <= np.pi / 2:
-            raise ValueError(f"half_width must lie in (0, pi/2] rad, got {half_width!r}")
-        self.scene, self.voltage, self.half_width = scene, float(voltage), float(half_width)
+        self.scene, self.voltage = scene, float(voltage)
+        self.threshold = scene.wind_force.wind.V1
+
+    def weight(self, phi):
+        """The hook: the fraction of the full force (array like ``phi``, in [0, 1])."""
+        raise NotImplementedError(f"{type(self).__name__} must define weight(phi)")
 
     def update(self, t, state):
         hub = self.scene.hub
@@ -63,24 +73,46 @@ class OnOffModulation(Controller):
         wind = -self.scene.wind_force.sun_at(t)  # from the Sun to the sail's origin
         in_plane = wind - (wind @ axes[:, 0]) * axes[:, 0]
         phase_p = np.arctan2(in_plane @ axes[:, 2], in_plane @ axes[:, 1])
-        phi = sensors.tether_phase(state, self.scene.tethers, hub) - phase_p
-        on = np.abs(np.cos(phi)) >= np.cos(self.half_width)
-        return {"voltages": np.where(on, self.voltage, 0.0)}
+        w = self.weight(sensors.tether_phase(state, self.scene.tethers, hub) - phase_p)
+        return {"voltages": np.where(w > 0, self.threshold + (self.voltage - self.threshold) * w,
+                                     0.0)}
+
+
+class OnOffModulation(PhaseModulation):
+    """Full voltage on the tethers within ``half_width`` (rad, in (0, pi / 2]) of the
+    plane of the wind and the sail's normal, none on the others."""
+
+    def __init__(self, scene, voltage, half_width, sample_time):
+        super().__init__(scene, voltage, sample_time)
+        if not 0.0 < half_width <= np.pi / 2:
+            raise ValueError(f"half_width must lie in (0, pi/2] rad, got {half_width!r}")
+        self.half_width = float(half_width)
+
+    def weight(self, phi):
+        return (np.abs(np.cos(phi)) >= np.cos(self.half_width)).astype(float)
+
+
+class SmoothModulation(PhaseModulation):
+    """The force of each tether weighted by ``cos(phi)^2``: full in the plane of the wind
+    and the normal, none across it."""
+
+    def weight(self, phi):
+        return np.cos(phi) ** 2
 
 
 def thrust_vectoring(alpha_deg, mode, half_width_deg=45.0, n_elements=2, dt=1.0,
                      rotations=3, settle=2):
     """The sail at sailing angle ``alpha_deg`` (deg) with its voltages ``mode``
-    (``"constant"``: 20 kV on every tether; ``"on-off"``: ``OnOffModulation`` with arcs of
-    half width ``half_width_deg``, sampling every step) for ``settle + rotations`` spin
-    periods.
+    (``"constant"``: 20 kV on every tether; ``"smooth"``: ``SmoothModulation``;
+    ``"on-off"``: ``OnOffModulation`` with arcs of half width ``half_width_deg``; both
+    sampling every step) for ``settle + rotations`` spin periods.
 
     Returns
     -------
     dict
         ``thrust_angle_deg``: angle between the mean thrust over the last ``rotations``
-        periods and the wind; ``thrust_N``: its magnitude; ``duty``: the mean fraction of
-        tethers on; ``result``: the run.
+        periods and the wind; ``thrust_N``: its magnitude; ``duty``: the mean voltage over
+        the full one; ``result``: the run.
     """
     if mode not in MODES:
         raise ValueError(f"mode must be one of {MODES}, got {mode!r}")
@@ -88,7 +120,9 @@ def thrust_vectoring(alpha_deg, mode, half_width_deg=45.0, n_elements=2, dt=1.0,
     voltages = Input("voltages", np.full(config.n_tethers, config.voltage))
     scene = esail.build(replace(config, voltage=voltages), alpha_deg, n_elements)
     controllers = []
-    if mode == "on-off":
+    if mode == "smooth":
+        controllers.append(SmoothModulation(scene, config.voltage, dt))
+    elif mode == "on-off":
         controllers.append(OnOffModulation(scene, config.voltage,
                                            np.deg2rad(half_width_deg), dt))
     period = config.spin_period
