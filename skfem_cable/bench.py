@@ -39,6 +39,8 @@ RESULTS = BENCHMARKS / "results"
 #: why: their quick variants take from 25 s to 3 minutes on 2 cores.
 NOT_QUICK = {
     "commit_compare": "about 30 s quick: a git worktree of another commit, fresh processes",
+    "esail_full": "about 15 s quick: the full-size sail (100 tethers) built and run five "
+                  "times over 300 s",
     "esail_report": "about 2 minutes quick: E-sail runs over a spin period",
     "laws": "about 3 minutes quick: a git worktree, fresh processes with cold caches",
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",

@@ -14,6 +14,7 @@ import textwrap
 from contextlib import contextmanager
 from pathlib import Path
 
+from . import durations
 from .elements import DEFAULT_ELEMENT, ELEMENTS
 from .formulation import DEFAULT, FORMULATIONS
 from .solvers.static import StaticConvergenceError
@@ -52,6 +53,20 @@ def _positive_float(text):
     value = _number(text)
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text}")
+    return value
+
+
+def _duration(text):
+    """``text`` as a duration > 0 in seconds (``durations.parse``: ``30d``, ``12h``,
+    ``90min``, ``0.5s`` or a number of seconds), or the ``argparse`` error that says so."""
+    forms = "seconds, or a number with a suffix s, min, h or d (30d)"
+    try:
+        value = durations.parse(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a finite number of {forms}, got "
+                                         f"{text}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number > 0 of {forms}, got {text}")
     return value
 
 
@@ -168,9 +183,10 @@ def build_parser():
         epilog=f"scenes:\n{scenes}\n  FILE.toml        a scene file (schema: docs/scene_files.md)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scene", metavar="SCENE", help="built-in scene name or path of a .toml file")
-    run.add_argument("--t-end", type=_positive_float, metavar="T",
-                     help="end time in s (default: the scene's)")
-    run.add_argument("--dt", type=_positive_float, metavar="DT",
+    run.add_argument("--t-end", type=_duration, metavar="T",
+                     help="end time: seconds, or with a suffix s, min, h, d (30d) "
+                          "(default: the scene's)")
+    run.add_argument("--dt", type=_duration, metavar="DT",
                      help="time step in s (hanging-chain: output spacing; default: the scene's)")
     run.add_argument("--elements", type=_positive_int, metavar="N",
                      help="elements per cable (hanging-chain: number of rods)")
@@ -225,8 +241,9 @@ def build_parser():
     sweep.add_argument("--param", action="append", required=True, metavar="NAME=V1,V2",
                        help="a swept parameter of the scene's build function and its values "
                        "(repeat for more dimensions), e.g. alpha=0,10,20")
-    sweep.add_argument("--t-end", type=_positive_float, metavar="T",
-                       help="end time in s of every run (default: the scene's)")
+    sweep.add_argument("--t-end", type=_duration, metavar="T",
+                       help="end time of every run: seconds, or with a suffix s, min, h, d "
+                            "(default: the scene's)")
     sweep.add_argument("--out", type=_directory, metavar="DIR", required=True,
                        help="study directory to write")
     where = sweep.add_mutually_exclusive_group()

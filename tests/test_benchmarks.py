@@ -94,6 +94,17 @@ def test_esail_report_newton_per_step():
 
 
 @pytest.mark.slow
+def test_esail_full_parts_of_a_step():
+    """The full-size sail's factorization, solve and evaluation are timed on its own
+    pattern: the bordered band of 6918 unknowns, half-width 13, border 18."""
+    from skfem_cable.scenes import esail
+
+    scene = esail.build(esail.FULL_SIZE, 10.0, 10)
+    parts = load(BENCH / "esail_full.py").parts(scene, repeats=1)
+    assert (parts["unknowns"], parts["band"], parts["border"]) == (6918, 13, 18)
+    assert all(parts[k] > 0 for k in ("factor", "solve", "evaluate"))
+
+
 def test_commit_compare_against_head():
     """Against HEAD itself (a git worktree): the same Newton iterations per step (the
     pendulum only: the E-sail's setup would double the test's time)."""

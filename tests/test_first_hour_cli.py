@@ -43,7 +43,7 @@ def _numeric_options():
     checked by one of the command's number types."""
     parser = cli.build_parser()
     commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    checks = (cli._positive_float, cli._positive_int, cli._finite_float)
+    checks = (cli._positive_float, cli._positive_int, cli._finite_float, cli._duration)
     return [(name, action.option_strings[0], action.type)
             for name, sub in commands.choices.items() for action in sub._actions
             if action.type in checks]

@@ -4,15 +4,17 @@ the observer ``ProgressBar``."""
 import sys
 import time
 
+from .. import durations
 from ..contract import Observer
 
 
 def eta(elapsed, frac):
-    """The remaining time after ``elapsed`` s for the part ``frac`` done, as shown: ``--``
-    until a rate is known (nothing done yet, or no time measured)."""
+    """The remaining time after ``elapsed`` s for the part ``frac`` done, as shown
+    (``durations.format``): ``--`` until a rate is known (nothing done yet, or no time
+    measured)."""
     if not (frac > 0 and elapsed > 0):
         return f"{'--':>7}"
-    return f"{elapsed * (1 - frac) / frac:6.1f}s"
+    return f"{durations.format(elapsed * (1 - frac) / frac):>7}"
 
 
 class Progress:
@@ -40,9 +42,21 @@ class Progress:
         frac = self.fraction(t)
         elapsed = now - self.wall0
         bar = "#" * int(frac * self.width)
-        self.stream.write(f"\r[{bar:<{self.width}}] {100 * frac:5.1f}%  {self.label}={t:.6g}  "
-                          f"elapsed {elapsed:6.1f}s  ETA {eta(elapsed, frac)} {note}")
+        self.stream.write(f"\r[{bar:<{self.width}}] {100 * frac:5.1f}%  {self.label}="
+                          f"{self.show(t)}{self.speed(t, elapsed)}  elapsed "
+                          f"{durations.format(elapsed):>8}  ETA {eta(elapsed, frac)} {note}")
         self.stream.flush()
+
+    def show(self, t):
+        """``t`` as shown: a duration (``durations.format``) for the time, a count
+        otherwise."""
+        return durations.format(t) if self.label == "t" else f"{t:.6g}"
+
+    def speed(self, t, elapsed):
+        """The simulated time per wall second (``, 2.5 h/s``), for the time only."""
+        if self.label != "t" or not elapsed > 0:
+            return ""
+        return f", {durations.format((t - self.t0) / elapsed)}/s"
 
     def fraction(self, t):
         """The part of the span done at ``t``, in [0, 1] (1 for an empty span)."""

@@ -8,6 +8,8 @@ import math
 
 import numpy as np
 
+from .. import durations
+
 
 class SceneFileError(ValueError):
     """A scene file that does not follow the schema."""
@@ -33,6 +35,19 @@ def positive(v):
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v > 0):
         raise ValueError("must be a number > 0")
     return float(v)
+
+
+def duration(v):
+    """A time span > 0: a number of seconds (``positive``), or a string with a suffix
+    ``s``, ``min``, ``h``, ``d`` (``durations.parse``: ``t_end = "30d"``)."""
+    if not isinstance(v, str):
+        return positive(v)
+    try:
+        seconds = durations.parse(v)
+    except ValueError:
+        raise ValueError("must be a number > 0 of seconds, or a string of one with a "
+                         "suffix s, min, h or d (\"30d\")") from None
+    return positive(seconds)
 
 
 def non_negative(v):

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..solvers.steady import solve_steady
 from ..state import State
-from .schema import boolean, choice, count, interval, positive, vector3
+from .schema import boolean, choice, count, duration, interval, vector3
 
 
 def read_analysis(t):
@@ -23,7 +23,7 @@ def read_solver(t, analysis):
     common = {"tol": t.get("tol", interval(1e-16, 0.1), None),
               "max_iter": t.get("max_iter", count, None)}
     if analysis == "dynamic":
-        s = {"t_end": t.get("t_end", positive), "dt": t.get("dt", positive),
+        s = {"t_end": t.get("t_end", duration), "dt": t.get("dt", duration),
              "rho_inf": t.get("rho_inf", interval(0.0, 1.0), 0.8),
              "every": t.get("every", count, 1),
              "newton": t.get("newton", choice("full", "modified"), None)}

@@ -246,6 +246,33 @@ def esail_orbit(options):
                              formulation=options.formulation).run(options)
 
 
+def esail_full_scene(alpha=10.0, elements=10, t_end=None, rtol=None, every=50):
+    """The full-size E-sail (``esail.FULL_SIZE``: 100 tethers of 20 km, ``elements`` each)
+    on the circular heliocentric orbit of 1 AU at sailing angle ``alpha`` (deg), run to
+    ``t_end`` (default one spin period, 87 min) with adaptive steps of relative tolerance
+    ``rtol`` (default ``esail.MISSION_RTOL``; ``atol`` 1e-3 m, first step 1 s, rho_inf =
+    0.25), every ``every``-th step saved; outputs ``esail_numbers``'."""
+    from . import esail
+
+    cfg = esail.FULL_SIZE
+    scene = esail.build_orbit(cfg, alpha, elements)
+    settings = {"t_end": cfg.spin_period if t_end is None else t_end, "dt": 1.0,
+                "rtol": esail.MISSION_RTOL if rtol is None else rtol, "atol": 1e-3,
+                "every": every, "rho_inf": 0.25, "series_every": 10}
+    parameters = {"alpha_deg": alpha, "elements_per_tether": elements,
+                  "tethers": cfg.n_tethers, "tether_length": cfg.tether_length,
+                  "spin_rate": cfg.spin_rate, "centrifugal_ratio": cfg.centrifugal_ratio}
+    return RunScene("esail-full", scene.system, scene.initial, settings, parameters,
+                    lambda result: esail_numbers(scene, result))
+
+
+def esail_full(options):
+    """``esail_full_scene`` run by ``skfem-cable run esail-full`` (``--alpha``,
+    ``--elements``, ``--t-end 30d``)."""
+    return esail_full_scene(options.value("alpha", 10.0),
+                            options.value("elements", 10)).run(options)
+
+
 def esail_numbers(scene, result):
     """Key numbers of an E-sail run (``esail.outputs`` averaged over the saved steps):
     ``thrust_mean_O`` (the mean thrust vector in the orbit frame, N), ``thrust_mean_N``
@@ -280,6 +307,9 @@ register("hanging-chain", "skfem_cable.scenes.hanging_chain:run",
 register("esail-orbit", esail_orbit,
          "E-sail baseline on the circular orbit of 1 AU for a day; --alpha sailing angle",
          build=esail_orbit_scene)
+register("esail-full", esail_full,
+         "full-size E-sail (100 tethers of 20 km) at 1 AU, adaptive steps; --alpha, "
+         "--t-end 30d", build=esail_full_scene)
 register("tss", "skfem_cable.scenes.tss:run",
          "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations; "
          "--model ancf (default) or rodchain",

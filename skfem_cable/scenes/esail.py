@@ -91,10 +91,35 @@ class BaselineConfig:
         return 2 * np.pi / self.spin_rate
 
     @property
+    def centrifugal_ratio(self):
+        """The centrifugal tension at a tether's root, ``omega_0^2 L (m_u + m_t / 2)``
+        (remote unit ``m_u``, tether ``m_t``), over the Coulomb force on the tether
+        perpendicular to the wind at the voltage (20 kV when it is modulated), ``f L``:
+        Janhunen and Toivanen's criterion for the spin rate asks for at least 5 (the
+        E-sail paper's Ref. 18)."""
+        tether = self.tether_density * self.tether_area * self.tether_length
+        nominal = self.voltage if np.isscalar(self.voltage) else BaselineConfig.voltage
+        return self.spin_rate**2 * (self.remote_mass + tether / 2) \
+            / self.wind.force_per_length(nominal)
+
+    @property
     def section(self):
         return Section(E=self.tether_E, A=self.tether_area, I=self.tether_inertia,
                        rho=self.tether_density, gamma_axial=self.gamma_axial,
                        gamma_bending=self.gamma_bending)
+
+
+#: A full-size sail: 100 tethers of 20 km (the paper's section and remote units; about
+#: 0.9 N at 1 AU), spinning at 1.2e-3 rad/s (period 87 min) so that the centrifugal
+#: ratio (``BaselineConfig.centrifugal_ratio``) is 5.85, above the 5 of Janhunen and
+#: Toivanen, "An intrinsic way to control E-sail spin" (2014, arXiv:1406.6847).
+FULL_SIZE = BaselineConfig(n_tethers=100, tether_length=20e3, spin_rate=1.2e-3)
+
+#: The relative tolerance of adaptive steps (``simulate(rtol=...)``, with ``atol`` 1e-3 m)
+#: that keeps the thrust, the coning and the hub's spin rate of ``FULL_SIZE`` within 1e-3
+#: of a fixed 0.5 s run over an hour (measured: spin rate 2.6e-4, coning 2.5e-7, thrust
+#: 1e-8; 1e-4 leaves the spin rate 9e-3 off; ``docs/benchmarks.md``).
+MISSION_RTOL = 1e-5
 
 
 @dataclass

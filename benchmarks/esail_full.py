@@ -1,0 +1,99 @@
+"""Where a full-size E-sail's step goes (``esail.FULL_SIZE``: 100 tethers of 20 km, 10
+elements each, 6612 coordinates), and what adaptive steps buy over an hour.
+
+1. The parts of one Newton iteration at the start: the factorization of the iteration
+   matrix (the bordered band LU, ``linalg``), a solve, and an evaluation of the forces
+   and the tangent (Python path; the compiled step's is cheaper).
+2. Fixed steps of 0.5 s and 5 s, and adaptive steps at ``rtol`` 1e-4 and
+   ``esail.MISSION_RTOL``: steps, Newton iterations and factorizations per step, ms per
+   step, the projected wall time of a day, and the errors at the end against the fixed
+   0.5 s run (the hub's spin rate, the mean coning and the thrust).
+
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/esail_full.py [--quick]
+"""
+
+import time
+
+import numpy as np
+
+import skfem_cable as sc
+from skfem_cable.bench import arguments
+from skfem_cable.linalg import PatternSolver
+from skfem_cable.scenes import esail
+
+SETTINGS = {"full": {"t_end": 3600.0, "repeats": 10}, "quick": {"t_end": 300.0, "repeats": 5}}
+
+CASES = {"fixed 0.5 s": {"dt": 0.5}, "fixed 5 s": {"dt": 5.0},
+         "adaptive, rtol 1e-4": {"dt": 1.0, "rtol": 1e-4, "atol": 1e-2},
+         f"adaptive, rtol {esail.MISSION_RTOL:g}": {"dt": 1.0, "rtol": esail.MISSION_RTOL,
+                                                    "atol": 1e-3}}
+
+
+def fastest(function, repeats):
+    """The least wall time (s) of ``repeats`` calls."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def parts(scene, repeats):
+    """Milliseconds of a factorization, a solve and an evaluation at the initial state."""
+    system, initial = scene.system, scene.initial
+    lay = system.current_layout()
+    solver = PatternSolver(lay.indptr, lay.indices, border=lay.border)
+    data = lay.mass_data + lay.linear_data
+    lam = np.zeros(lay.n_c)
+    system.evaluate(initial.q, initial.v, 0.0, lam, cK=1e-3, data=data)
+    rhs = np.random.default_rng(0).standard_normal(lay.N)
+    solver.factor(data)
+
+    def evaluate():
+        system.evaluate(initial.q, initial.v, 0.0, lam, cK=1e-3, data=data.copy())
+
+    return {"factor": 1e3 * fastest(lambda: solver.factor(data), repeats),
+            "solve": 1e3 * fastest(lambda: solver.solve(rhs), repeats),
+            "evaluate": 1e3 * fastest(evaluate, repeats),
+            "unknowns": lay.N, "band": solver.band, "border": solver.border}
+
+
+def outputs(scene, result):
+    """The hub's spin rate, the mean coning (deg) and the thrust (N) at the end."""
+    out = esail.outputs(scene, result)
+    return np.array([out["omega_B"][-1, 0], np.degrees(out["coning"][-1]).mean(),
+                     np.linalg.norm(out["thrust"][-1])])
+
+
+def main(quick=False):
+    s = SETTINGS["quick" if quick else "full"]
+    scene = esail.build(esail.FULL_SIZE, 10.0, 10)
+    p = parts(scene, s["repeats"])
+    print(f"full-size sail: {p['unknowns']} unknowns, band {p['band']}, border "
+          f"{p['border']}; one factorization {p['factor']:.2f} ms, solve "
+          f"{p['solve']:.2f} ms, evaluation (Python path) {p['evaluate']:.2f} ms")
+    print(f"\n{s['t_end']:g} s of the sail from its steady spin (rho_inf = 0.25), errors at "
+          "the end against fixed 0.5 s\n")
+    print("| case | steps | Newton/step | factorizations/step | ms/step | wall [s] | a day "
+          "[min] | spin rate | coning | thrust |\n|---|---|---|---|---|---|---|---|---|---|")
+    rows, reference = {}, None
+    for name, settings in CASES.items():
+        start = time.perf_counter()
+        result = sc.simulate(scene.system, s["t_end"], initial=scene.initial, rho_inf=0.25,
+                             every=10**9, **settings)
+        wall = time.perf_counter() - start
+        values = outputs(scene, result)
+        reference = values if reference is None else reference
+        error = np.abs(values / reference - 1)
+        st = result.stats
+        rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist()}
+        print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
+              f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
+              f"{wall:.1f} | {wall * 86400.0 / s['t_end'] / 60:.1f} | {error[0]:.1e} | "
+              f"{error[1]:.1e} | {error[2]:.1e} |")
+    return {"parts": p, "cases": rows}
+
+
+if __name__ == "__main__":
+    main(**vars(arguments(__doc__, "300 s instead of an hour, 5 repeats")))
