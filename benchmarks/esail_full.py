@@ -4,7 +4,10 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
 1. The parts of one Newton iteration at the start: the factorization of the iteration
    matrix (the bordered band LU, ``linalg``), a solve, and an evaluation of the forces
    and the tangent (Python path; the compiled step's is cheaper).
-2. Fixed steps of 0.5 s and 5 s, and adaptive steps at ``rtol`` 1e-4 and
+2. Threads: the factorization, the solve and a run of fixed 5 s steps on one thread
+   and on all of numba's (``SKFEM_CABLE_THREADS``: the blocks of the bordered LU,
+   ``kernels.bordered``, the tethers, run in parallel), side by side.
+3. Fixed steps of 0.5 s and 5 s, and adaptive steps at ``rtol`` 1e-4 and
    ``esail.MISSION_RTOL``: steps, Newton iterations and factorizations per step, ms per
    step, the projected wall time of a day, and the errors at the end against the fixed
    0.5 s run (the hub's spin rate, the mean coning and the thrust).
@@ -12,13 +15,15 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/esail_full.py [--quick]
 """
 
+import os
 import time
 
+import numba
 import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.bench import arguments
-from skfem_cable.linalg import PatternSolver
+from skfem_cable.linalg import THREADS, PatternSolver
 from skfem_cable.scenes import esail
 
 SETTINGS = {"full": {"t_end": 3600.0, "repeats": 10}, "quick": {"t_end": 300.0, "repeats": 5}}
@@ -39,11 +44,12 @@ def fastest(function, repeats):
     return min(times)
 
 
-def parts(scene, repeats):
-    """Milliseconds of a factorization, a solve and an evaluation at the initial state."""
+def parts(scene, repeats, threads=1):
+    """Milliseconds of a factorization (on ``threads``), a solve and an evaluation at the
+    initial state."""
     system, initial = scene.system, scene.initial
     lay = system.current_layout()
-    solver = PatternSolver(lay.indptr, lay.indices, border=lay.border)
+    solver = PatternSolver(lay.indptr, lay.indices, border=lay.border, threads=threads)
     data = lay.mass_data + lay.linear_data
     lam = np.zeros(lay.n_c)
     system.evaluate(initial.q, initial.v, 0.0, lam, cK=1e-3, data=data)
@@ -57,6 +63,27 @@ def parts(scene, repeats):
             "solve": 1e3 * fastest(lambda: solver.solve(rhs), repeats),
             "evaluate": 1e3 * fastest(evaluate, repeats),
             "unknowns": lay.N, "band": solver.band, "border": solver.border}
+
+
+def threads(scene, t_end, repeats):
+    """Milliseconds of a factorization, a solve and a step of fixed 5 s steps over
+    ``t_end`` on one thread and on all of numba's (``SKFEM_CABLE_THREADS``)."""
+    rows, previous = {}, os.environ.get(THREADS)
+    for count in sorted({1, numba.config.NUMBA_NUM_THREADS}):
+        os.environ[THREADS] = str(count)
+        p = parts(scene, repeats, count)
+
+        def run():
+            sc.simulate(scene.system, t_end, 5.0, initial=scene.initial, rho_inf=0.25,
+                        every=10**9)
+
+        rows[count] = {"factor": p["factor"], "solve": p["solve"],
+                       "step": 1e3 * fastest(run, max(1, repeats // 5)) / (t_end / 5.0)}
+    if previous is None:
+        os.environ.pop(THREADS)
+    else:
+        os.environ[THREADS] = previous
+    return rows
 
 
 def outputs(scene, result):
@@ -73,11 +100,20 @@ def main(quick=False):
     print(f"full-size sail: {p['unknowns']} unknowns, band {p['band']}, border "
           f"{p['border']}; one factorization {p['factor']:.2f} ms, solve "
           f"{p['solve']:.2f} ms, evaluation (Python path) {p['evaluate']:.2f} ms")
+    sc.simulate(scene.system, 2.0, 1.0, initial=scene.initial, rho_inf=0.25)  # compiles
+    rows = threads(scene, min(s["t_end"], 600.0), s["repeats"])
+    print("\n| threads | factorization [ms] | solve [ms] | step of 5 s [ms] |\n|---|---|---|---|")
+    for count, row in rows.items():
+        print(f"| {count} | {row['factor']:.2f} | {row['solve']:.3f} | {row['step']:.2f} |")
+    if len(rows) > 1:
+        one, many = rows[1], rows[max(rows)]
+        print(f"{max(rows)} threads / 1: factorization {many['factor'] / one['factor']:.2f}, "
+              f"solve {many['solve'] / one['solve']:.2f}, step {many['step'] / one['step']:.2f}")
     print(f"\n{s['t_end']:g} s of the sail from its steady spin (rho_inf = 0.25), errors at "
           "the end against fixed 0.5 s\n")
     print("| case | steps | Newton/step | factorizations/step | ms/step | wall [s] | a day "
           "[min] | spin rate | coning | thrust |\n|---|---|---|---|---|---|---|---|---|---|")
-    rows, reference = {}, None
+    cases, reference = {}, None
     for name, settings in CASES.items():
         start = time.perf_counter()
         result = sc.simulate(scene.system, s["t_end"], initial=scene.initial, rho_inf=0.25,
@@ -87,12 +123,12 @@ def main(quick=False):
         reference = values if reference is None else reference
         error = np.abs(values / reference - 1)
         st = result.stats
-        rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist()}
+        cases[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist()}
         print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
               f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
               f"{wall:.1f} | {wall * 86400.0 / s['t_end'] / 60:.1f} | {error[0]:.1e} | "
               f"{error[1]:.1e} | {error[2]:.1e} |")
-    return {"parts": p, "cases": rows}
+    return {"parts": p, "threads": rows, "cases": cases}
 
 
 if __name__ == "__main__":

@@ -5,10 +5,14 @@ multipliers interleaved by the ordering) is a band of half-width about 13, facto
 LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
 uses the same factor) in O(n).  A hub joined to many cables (the E-sail's) is ordered last
 as a dense border eliminated by its Schur complement (``kernels.bordered``), so the band
-stays that of one cable; patterns no band fits fall back to SuperLU.  All index maps from
+stays that of one cable, and each cable is a block of its own, factored apart (on threads
+with ``SKFEM_CABLE_THREADS``); patterns no band fits fall back to SuperLU.  All index maps from
 the CSR data array into the factor's storage, and the storage itself, are made once.
 """
 
+import os
+
+import numba
 import numpy as np
 import scipy.sparse as sp
 from numba import njit
@@ -18,12 +22,34 @@ from scipy.sparse.linalg import splu
 from .kernels import bordered as bordered_lu
 from .kernels.lapack import ADDRESSES
 
+#: The environment variable of the number of threads of the bordered LU's blocks
+#: (``threads`` of ``PatternSolver``).
+THREADS = "SKFEM_CABLE_THREADS"
+
 #: Banded LU is used while the band half-width stays below this.
 MAX_BANDWIDTH = 64
 
 #: Largest band storage (entries) used to locate where a sparse factorization found the
 #: matrix singular (160 MB).
 MAX_LOCATE_ENTRIES = 2e7
+
+
+def thread_count(threads=None):
+    """The threads of the bordered LU: ``threads``, else ``SKFEM_CABLE_THREADS``, else 1,
+    at most numba's ``NUMBA_NUM_THREADS`` (numba is told, for the calling thread);
+    ``ValueError`` naming the source for anything but an integer >= 1."""
+    source = "threads" if threads is not None else THREADS
+    value = threads if threads is not None else os.environ.get(THREADS, "1")
+    try:
+        count = int(value)
+    except (TypeError, ValueError):
+        count = 0
+    if count < 1 or str(count) != str(value).strip():
+        raise ValueError(f"{source} must be an integer >= 1, got {value!r}")
+    count = min(count, numba.config.NUMBA_NUM_THREADS)
+    if count > 1:
+        numba.set_num_threads(count)
+    return count
 
 
 class SingularMatrixError(np.linalg.LinAlgError):
@@ -50,6 +76,14 @@ class PatternSolver:
         Unknowns coupled to many others (a hub's coordinates and its own constraints'
         multipliers, ``Layout.border``): ordered last, they keep the band of the rest
         narrow; used when they make the band narrower.
+    threads : int, optional
+        Threads on which the independent blocks of the band (an E-sail's tethers) are
+        factored and solved (``kernels.bordered``; numba's, at most
+        ``NUMBA_NUM_THREADS``); the results are the same for any number.  Default: the
+        environment variable ``SKFEM_CABLE_THREADS``, else 1.  Give a process more than
+        one only where it has the cores to itself: numba's OpenMP threads wait by
+        spinning, and beside other busy processes (test workers, a Dask cluster on the
+        same cores) each factorization can wait for a time slice.
 
     Attributes
     ----------
@@ -60,9 +94,10 @@ class PatternSolver:
         Number of border unknowns (0: a plain band).
     """
 
-    def __init__(self, indptr, indices, method="auto", border=None):
+    def __init__(self, indptr, indices, method="auto", border=None, threads=None):
         if method not in ("auto", "banded", "sparse"):
             raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
+        self.threads = thread_count(threads)
         n = len(indptr) - 1
         self.n = n
         self.pattern = sp.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))
@@ -78,7 +113,7 @@ class PatternSolver:
         self.perm, self.band, self.border = perm, band, n - nb
         if method == "banded":
             self.lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm,
-                                          nb, band)
+                                          nb, band, self.threads)
         self.factorizations = 0
         self._lu = None
 

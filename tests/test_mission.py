@@ -5,10 +5,14 @@ import io
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
+import scipy.sparse as sp
+from scipy.sparse.linalg import spsolve
 
-from skfem_cable import cli, durations
+from skfem_cable import cli, durations, simulate
 from skfem_cable.io.progress import Progress
+from skfem_cable.linalg import THREADS, PatternSolver, thread_count
 from skfem_cable.scene_file import loads_text
 from skfem_cable.scenes import catalog, esail
 
@@ -66,9 +70,54 @@ def test_the_esail_full_scene_runs_with_adaptive_steps():
     scene = catalog.esail_full_scene(elements=2, t_end=5.0)
     assert scene.settings["rtol"] == esail.MISSION_RTOL
     assert len(scene.system.cables()) == 100
-    from skfem_cable import simulate
-
     settings = {k: v for k, v in scene.settings.items() if k != "series_every"}
     result = simulate(scene.system, initial=scene.initial, **settings)
     assert result.t[-1] == 5.0 and result.stats["path"] == "compiled"
     assert scene.outputs(result)["thrust_mean_N"] == pytest.approx(0.89, rel=0.02)  # 1 AU
+
+
+def baseline_matrix():
+    """The 12-tether sail's iteration matrix at its initial state, its layout and a
+    right-hand side."""
+    scene = esail.build(esail.BaselineConfig(), 10.0, 3)
+    system = scene.system
+    lay = system.current_layout()
+    data = lay.mass_data + lay.linear_data
+    system.evaluate(scene.initial.q, scene.initial.v, 0.0, np.zeros(lay.n_c), cK=1e-3,
+                    data=data)
+    return scene, lay, data, np.random.default_rng(0).standard_normal(lay.N)
+
+
+def test_the_bordered_lu_factors_each_tether_as_a_block_on_any_number_of_threads():
+    """Each tether (with its pin's multipliers) is a block of the band, coupled to the
+    hub through its three pin rows; factors and solves agree bit for bit on one and on
+    two threads, and with SuperLU to round-off."""
+    _, lay, data, rhs = baseline_matrix()
+    A = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
+    solutions = []
+    for threads in (1, 2):
+        solver = PatternSolver(lay.indptr, lay.indices, border=lay.border, threads=threads)
+        starts, rows_ptr = solver.lu[14], solver.lu[15]
+        assert starts.size - 1 == 12 and np.all(np.diff(rows_ptr) == 3)
+        solver.factor(data)
+        solutions.append(solver.solve(rhs))
+    assert np.array_equal(solutions[0], solutions[1])
+    exact = spsolve(A.tocsc(), rhs)
+    assert np.abs(solutions[0] - exact).max() < 1e-10 * np.abs(exact).max()
+
+
+def test_a_run_is_the_same_on_one_and_on_two_threads(monkeypatch):
+    scene = baseline_matrix()[0]
+    runs = []
+    for threads in ("1", "2"):
+        monkeypatch.setenv(THREADS, threads)
+        runs.append(simulate(scene.system, 1.0, 0.1, initial=scene.initial, rho_inf=0.25))
+    assert np.array_equal(runs[0].q, runs[1].q) and np.array_equal(runs[0].v, runs[1].v)
+
+
+@pytest.mark.parametrize("value", ["0", "two", "1.5"])
+def test_a_bad_thread_count_is_named(monkeypatch, value):
+    monkeypatch.setenv(THREADS, value)
+    with pytest.raises(ValueError, match=f"SKFEM_CABLE_THREADS must be an integer >= 1, "
+                                         f"got '{value}'"):
+        thread_count()

@@ -1,38 +1,97 @@
-"""Bordered band LU: a band plus a few dense border rows and columns (an arrowhead), for
-numba-compiled code and Python alike.
+"""Bordered band LU: independent bands plus a few dense border rows and columns (an
+arrowhead), for numba-compiled code and Python alike, its blocks on threads on request.
 
 In the ordering ``perm`` the matrix is ``[[B, E], [F, D]]``: ``B`` (``nb x nb``) a band of
 half-width ``band``, ``k`` border unknowns last (the coordinates of a hub joined to many
-bodies, and the multipliers of its own constraints).  The factorisation is LAPACK's banded
-LU of ``B``, ``W = B^{-1} E`` and the dense LU of the Schur complement ``S = D - F W``;
-a solve is one banded solve, two products with the border and one dense solve:
+bodies, and the multipliers of its own constraints).  ``B`` falls apart into *blocks*,
+diagonal blocks ``B_j`` that no entry couples (the tethers of an E-sail, each with its
+pin's multipliers), and each block touches the border through a few *coupling* rows
+``R_j`` (where ``E`` has entries) and columns ``C_j`` (where ``F`` has).  The
+factorisation is, for every block (at once on numba's threads when the storage is made
+with ``threads > 1``: ``prange``),
+
+* LAPACK's banded LU of ``B_j`` (``dgbtrf``),
+* ``X_j = B_j^{-1} P_j`` for the unit columns ``P_j`` of its coupling rows (a few band
+  solves, not one per border column),
+* ``W_j = B_j^{-1} E_j = X_j E[R_j]`` and the block's part ``F_j W_j`` of the Schur
+  complement, from the coupling columns alone;
+
+then, in the order of the blocks (so that the sum, and every result, is the same whatever
+the number of threads), ``S = D - sum_j F_j W_j`` and its dense LU.  A solve is one banded
+solve per block, the border's dense solve, and ``x_B' = y - W x_D'``:
 
     y = B^{-1} x_B,   x_D' = S^{-1} (x_D - F y),   x_B' = y - W x_D'.
 
-With ``k = 0`` it is the banded LU alone.  All storage is made once (``linalg``):
-
-``lu = (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints,
-work)``: LAPACK addresses; the band (``kernels.lapack`` layout) and its pivots; ``E``
-and ``F`` column-major, as ``(k, nb)`` and ``(nb, k)`` arrays whose rows are the blocks'
-columns (the products of a solve run along them); ``W`` like ``E``; ``S`` column-major
-``(k, k)`` and its pivots; for every CSR value of the matrix its block (int8; 0: band,
-1: E, 2: F, 3: D) and flat position there (int32: the factor's scatter reads them at every
-factorization); the ordering; the half-width; int32 scratch (8) and
-float scratch (n).
+With ``k = 0`` it is the banded LU of the blocks alone.  All storage is made once
+(``storage``, for ``linalg``): ``lu = (addresses, ab, ipiv, E, F, W, S, ipiv_s, target,
+position, perm, band, ints, work, starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr,
+parts, infos)``: LAPACK addresses; the band (``kernels.lapack`` layout) and its pivots
+(1-based within each block); ``E`` and ``F`` as ``(k, nb)`` and ``(nb, k)`` arrays whose
+rows are the blocks' columns; ``W`` like ``E``; ``S`` column-major ``(k, k)`` and its
+pivots; for every CSR value of the matrix its block (int8; 0: band, 1: E, 2: F, 3: D) and
+flat position there; the ordering; the half-width; int32 scratch, a row per block and
+one for ``S``; float scratch (n); the blocks' first band unknowns (``nblocks + 1``); the
+coupling rows and columns of each block (CSR-like, band indices); the ``X_j``, each
+``(|R_j|, n_j)``, flat at ``x_ptr``; each block's part of ``F W`` ``(nblocks, k, k)``;
+each block's LAPACK ``info``; whether the blocks run on threads.
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
-from .lapack import band_factor, band_solve, dense_factor, dense_solve
+from .lapack import band_factor, dense_factor, dense_solve
 
 
 @njit(cache=True)
 def factor(lu, data):
     """Factor the matrix with CSR values ``data``; returns the (original) unknown of a
-    zero pivot, or -1."""
-    addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work = lu
-    nb, k = ab.shape[0], S.shape[0]
+    zero pivot (the first block's, in the ordering), or -1."""
+    (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
+    k = S.shape[0]
+    nblocks = starts.size - 1
+    _scatter(data, target, position, ab, E, F, S)
+    if parallel[0]:
+        _factor_blocks_parallel(lu)
+    else:
+        for j in range(nblocks):
+            _factor_one(lu, j)
+    for j in range(nblocks):
+        if infos[j] > 0:
+            return perm[starts[j] + infos[j] - 1]
+    if k == 0:
+        return -1
+    for j in range(nblocks):  # S = D - sum_j F_j W_j, in the order of the blocks
+        for c in range(k):
+            for r in range(k):
+                S[c, r] -= parts[j, c, r]
+    info = dense_factor(addresses, S, ipiv_s, ints[nblocks])
+    if info > 0:
+        return perm[ab.shape[0] + info - 1]
+    return -1
+
+
+@njit(cache=True, parallel=True)
+def _factor_blocks_parallel(lu):
+    """``_factor_one`` of every block, on numba's threads."""
+    for j in prange(lu[14].size - 1):
+        _factor_one(lu, j)
+
+
+@njit(cache=True)
+def _factor_one(lu, j):
+    """Factor block ``j`` (``_factor_block``), its ``info`` into ``infos[j]``."""
+    (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
+    infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], starts[j],
+                             starts[j + 1], rows[rows_ptr[j]:rows_ptr[j + 1]],
+                             cols[cols_ptr[j]:cols_ptr[j + 1]], X[x_ptr[j]:x_ptr[j + 1]],
+                             parts[j])
+
+
+@njit(cache=True)
+def _scatter(data, target, position, ab, E, F, S):
+    """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``)."""
     ab[:] = 0.0
     E[:] = 0.0
     F[:] = 0.0
@@ -48,49 +107,94 @@ def factor(lu, data):
             flat_f[position[p]] = data[p]
         else:
             flat_s[position[p]] = data[p]
-    info = band_factor(addresses, ab, band, band, ipiv, ints)
-    if info > 0:
-        return perm[info - 1]
-    if k == 0:
-        return -1
-    for c in range(k):  # W = E (a loop: numba compiles a formatted error for a slice copy)
-        for p in range(nb):
-            W[c, p] = E[c, p]
-    band_solve(addresses, ab, band, band, ipiv, W, ints)
-    for c in range(k):  # S = D - F W, column c (row c of the column-major storage)
-        for r in range(k):
-            acc = 0.0
-            for p in range(nb):
-                acc += F[p, r] * W[c, p]
-            S[c, r] -= acc
-    info = dense_factor(addresses, S, ipiv_s, ints)
-    if info > 0:
-        return perm[nb + info - 1]
-    return -1
+
+
+@njit(cache=True)
+def _factor_block(addresses, ab, ipiv, E, F, W, band, ints, start, end, rows, cols, X, part):
+    """The banded LU of the block ``start:end``, its ``W`` columns and its part of ``F W``
+    (``part``, ``(k, k)``); returns LAPACK's ``info``."""
+    n = end - start
+    block, pivots = ab[start:end], ipiv[start:end]
+    info = band_factor(addresses, block, band, band, pivots, ints)
+    part[:] = 0.0
+    if info > 0 or rows.size == 0:
+        return info
+    k = E.shape[0]
+    x = X.reshape((rows.size, n))
+    for b in range(rows.size):  # X = B_j^{-1} P_j: unit columns at the coupling rows
+        x[b, :] = 0.0
+        x[b, rows[b] - start] = 1.0
+        band_substitute(block, band, pivots, x[b])
+    for c in range(k):  # W = X E[R_j]
+        w = W[c, start:end]
+        w[:] = 0.0
+        for b in range(rows.size):
+            e = E[c, rows[b]]
+            if e != 0.0:
+                for p in range(n):
+                    w[p] += x[b, p] * e
+    for c in range(k):  # F_j W_j over the coupling columns
+        for i in range(cols.size):
+            p = cols[i]
+            wp = W[c, p]
+            for r in range(k):
+                part[c, r] += F[p, r] * wp
+    return info
 
 
 @njit(cache=True)
 def solve(lu, rhs, out):
     """``out = A^{-1} rhs`` with the last factorisation (original ordering)."""
-    addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work = lu
+    (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
     nb, k = ab.shape[0], S.shape[0]
     for i in range(perm.size):
         work[i] = rhs[perm[i]]
-    y = work[:nb]
-    band_substitute(ab, band, ipiv, y)
+    _blocks(lu, 0, parallel[0])
     if k:
-        g = work[nb:]
-        for p in range(nb):
+        y, g = work[:nb], work[nb:]
+        for i in range(cols.size):  # g = x_D - F y, over the coupling columns
+            p = cols[i]
             yp = y[p]
-            row = F[p]
             for r in range(k):
-                g[r] -= row[r] * yp
-        dense_solve(addresses, S, ipiv_s, g, ints)
-        for c in range(k):
-            for p in range(nb):
-                y[p] -= W[c, p] * g[c]
+                g[r] -= F[p, r] * yp
+        dense_solve(addresses, S, ipiv_s, g, ints[starts.size - 1])
+        _blocks(lu, 1, parallel[0])
     for i in range(perm.size):
         out[perm[i]] = work[i]
+
+
+@njit(cache=True)
+def _blocks(lu, stage, parallel):
+    """``_solve_one`` of every block at ``stage``, on numba's threads if ``parallel``."""
+    if parallel:
+        _blocks_parallel(lu, stage)
+    else:
+        for j in range(lu[14].size - 1):
+            _solve_one(lu, j, stage)
+
+
+@njit(cache=True, parallel=True)
+def _blocks_parallel(lu, stage):
+    for j in prange(lu[14].size - 1):
+        _solve_one(lu, j, stage)
+
+
+@njit(cache=True)
+def _solve_one(lu, j, stage):
+    """Block ``j`` of a solve: its banded substitution ``y_j = B_j^{-1} x_j`` (stage 0),
+    or ``y_j -= W_j x_D'`` (stage 1, ``x_D'`` the border's part of ``work``)."""
+    (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
+    start, end = starts[j], starts[j + 1]
+    if stage == 0:
+        band_substitute(ab[start:end], band, ipiv[start:end], work[start:end])
+        return
+    nb = ab.shape[0]
+    for c in range(S.shape[0]):
+        gc = work[nb + c]
+        for p in range(start, end):
+            work[p] -= W[c, p] * gc
 
 
 @njit(cache=True)
@@ -123,10 +227,29 @@ def band_substitute(ab, band, ipiv, b):
             above[i] -= column[i] * bj
 
 
-def storage(addresses, rows, cols, perm, nb, band):
+def blocks(pr, pc, nb):
+    """The first unknowns of the independent diagonal blocks of the band (``nblocks +
+    1``, ending with ``nb``): a block ends at ``p`` when no entry ``(pr, pc)`` of the band
+    joins an unknown up to ``p`` with one after it."""
+    reach = np.arange(nb)
+    inside = (pr < nb) & (pc < nb)
+    low, high = np.minimum(pr, pc)[inside], np.maximum(pr, pc)[inside]
+    np.maximum.at(reach, low, high)
+    ends = np.flatnonzero(np.maximum.accumulate(reach) == np.arange(nb)) + 1
+    return np.concatenate([[0], ends]).astype(np.int64)
+
+
+def _grouped(indices, starts):
+    """``(ptr, sorted unique indices)`` of band indices grouped by their block."""
+    unique = np.unique(indices)
+    return np.searchsorted(unique, starts).astype(np.int64), unique.astype(np.int64)
+
+
+def storage(addresses, rows, cols, perm, nb, band, threads=1):
     """The ``lu`` tuple for the CSR entries ``(rows, cols)`` (original indices) of an
     ``n x n`` matrix ordered by ``perm`` with ``nb`` band unknowns of half-width
-    ``band``."""
+    ``band``; with ``threads > 1`` and more than one block, the blocks are factored and
+    solved on numba's threads."""
     n = perm.size
     k = n - nb
     ldab = 3 * band + 1
@@ -143,7 +266,17 @@ def storage(addresses, rows, cols, perm, nb, band):
     position[out_r] = (pc * k + (pr - nb))[out_r]
     both = out_r & out_c
     position[both] = ((pc - nb) * k + (pr - nb))[both]
+    starts = blocks(pr, pc, nb)
+    rows_ptr, coupling_rows = _grouped(pr[(target == 1)], starts)
+    cols_ptr, coupling_cols = _grouped(pc[(target == 2)], starts)
+    sizes = np.diff(rows_ptr) * np.diff(starts)
+    x_ptr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+    nblocks = starts.size - 1
     return (addresses, np.zeros((nb, ldab)), np.zeros(nb, dtype=np.int32),
             np.zeros((k, nb)), np.zeros((nb, k)), np.zeros((k, nb)), np.zeros((k, k)),
             np.zeros(k, dtype=np.int32), target, position.astype(np.int32),
-            perm.astype(np.int64), int(band), np.zeros(8, dtype=np.int32), np.zeros(n))
+            perm.astype(np.int64), int(band), np.zeros((nblocks + 1, 8), dtype=np.int32),
+            np.zeros(n), starts, rows_ptr, coupling_rows, cols_ptr, coupling_cols,
+            np.zeros(x_ptr[-1]), x_ptr, np.zeros((nblocks, k, k)),
+            np.zeros(nblocks, dtype=np.int64),
+            np.array([threads > 1 and nblocks > 1], dtype=np.bool_))
