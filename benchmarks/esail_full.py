@@ -22,7 +22,7 @@ import numba
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.bench import arguments, timings
 from skfem_cable.linalg import THREADS, PatternSolver
 from skfem_cable.scenes import esail
 
@@ -36,12 +36,7 @@ CASES = {"fixed 0.5 s": {"dt": 0.5}, "fixed 5 s": {"dt": 5.0},
 
 def fastest(function, repeats):
     """The least wall time (s) of ``repeats`` calls."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
+    return min(timings(function, repeats))
 
 
 def parts(scene, repeats, threads=1):

@@ -5,24 +5,18 @@ about 1 (linear cost).  Run ``python benchmarks/kernel_cost.py [--quick]`` (``--
 100 to 10,000 elements).
 """
 
-import time
 
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.bench import arguments, timings
 from skfem_cable.linalg import PatternSolver
 
 SIZES = {"full": (10, 30, 100, 300, 1000, 3000, 10000), "quick": (100, 300, 1000, 3000, 10000)}
 
 
 def median_time(fn, repeat):
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - start)
-    return float(np.median(times))
+    return float(np.median(timings(fn, repeat)))
 
 
 def measure(n_elements, repeat=7):

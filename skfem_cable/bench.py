@@ -273,6 +273,16 @@ if __name__ == "__main__":
     sys.exit(_child(sys.argv[1:]))
 
 
+def timings(function, repeats):
+    """The wall times (s) of ``repeats`` calls of ``function()``, in order."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return times
+
+
 def arguments(doc, quick_help, argv=None):
     """The command line of a benchmark script whose only option is ``--quick``
     (described by ``quick_help``); ``doc`` is the script's docstring.  Returns the parsed
