@@ -39,6 +39,8 @@ RESULTS = BENCHMARKS / "results"
 #: why: their quick variants take from 25 s to 3 minutes on 2 cores.
 NOT_QUICK = {
     "commit_compare": "about 30 s quick: a git worktree of another commit, fresh processes",
+    "adaptive_fronts": "about 40 s quick: a fixed 0.025 s reference and eight runs of the "
+                       "12-tether sail",
     "esail_full": "about 15 s quick: the full-size sail (100 tethers) built and run five "
                   "times over 300 s",
     "esail_report": "about 2 minutes quick: E-sail runs over a spin period",
