@@ -231,10 +231,11 @@ class DeployedMass:
     def __init__(self, gravity, deployment, system):
         self.gravity, self.deployment = gravity, deployment
         cable = deployment.cable
-        vectors, self.coefficients, self.mass = cable.mass_points()
-        n, k = self.coefficients.shape
-        self.dofs = (np.asarray(vectors)[:, :, None] + system.dofs(cable)[0]
-                     + np.arange(3)).reshape(n, 3 * k)
+        vectors, coefficients, mass = cable.mass_points()
+        n, k = coefficients.shape
+        vectors = np.asarray(vectors) + system.dofs(cable)[0]
+        self.points = MassPoints(vectors, coefficients, mass, np.array([0, n]))
+        self.dofs = (vectors[:, :, None] + np.arange(3)).reshape(n, 3 * k)
         self.stowed = deployment.stowed(system)
         self.anchor = None if self.stowed is None or self.stowed[2] is None else \
             (self.stowed[2], system.position_map(deployment.anchor)[1])
@@ -269,26 +270,26 @@ class DeployedMass:
         d = self.deployment
         ell = d.state(ev.t, ev.q)[0]
         lam = ell / d.L0
-        c, m = self.coefficients, self.mass
+        c, m = self.points.coefficients, self.points.mass
         n, k = c.shape
-        nodal = ev.q[self.dofs].reshape(n, k, 3)
-        a, phi, T = self.gravity.field(ev.t, np.einsum("pk,pki->pi", c, nodal))
-        per_point = np.einsum("p,pk,pi->pki", m, c, a).reshape(n, 3 * k)
+        where = [self.points.positions(ev.q)]
+        if self.stowed is not None:  # the material on the reel, in the same evaluation
+            where.append(d.exit_point if self.anchor is None else
+                         self.anchor[1] @ ev.q[self.anchor[0]])
+        a, phi, T = self.gravity.field(ev.t, np.vstack(where))
+        per_point = np.einsum("p,pk,pi->pki", m, c, a[:n]).reshape(n, 3 * k)
         np.add.at(ev.f_ext, self.dofs, (lam - 1.0) * per_point)
-        values = [np.einsum("p,pj,pl,pab->pjalb", (lam - 1.0) * m, c, c, T).ravel()]
+        values = [np.einsum("p,pj,pl,pab->pjalb", (lam - 1.0) * m, c, c, T[:n]).ravel()]
         column = [per_point.ravel() / d.L0]
-        on_length = -(m @ phi) / d.L0
+        on_length = -(m @ phi[:n]) / d.L0
         if self.stowed is not None:
             mu, capacity = self.stowed[:2]
-            if self.anchor is None:
-                on_length += mu * self.gravity.field(ev.t, d.exit_point)[1][0]
-            else:
+            on_length += mu * phi[n]
+            if self.anchor is not None:
                 pdofs, G = self.anchor
-                aP, phiP, TP = (x[0] for x in self.gravity.field(ev.t, G @ ev.q[pdofs]))
-                ev.f_ext[pdofs] += mu * (capacity - ell) * (G.T @ aP)
-                values.append(mu * (capacity - ell) * (G.T @ TP @ G).ravel())
-                column.append(-mu * (G.T @ aP))
-                on_length += mu * phiP
+                ev.f_ext[pdofs] += mu * (capacity - ell) * (G.T @ a[n])
+                values.append(mu * (capacity - ell) * (G.T @ T[n] @ G).ravel())
+                column.append(-mu * (G.T @ a[n]))
         if self.reel is not None:
             ev.f_ext[self.reel] += on_length
             column = np.concatenate(column)
