@@ -41,6 +41,9 @@ from numba import njit, prange
 
 from .lapack import band_factor, dense_factor, dense_solve
 
+#: The stages of a block (``_block``).
+FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
+
 
 @njit(cache=True)
 def factor(lu, data):
@@ -51,11 +54,7 @@ def factor(lu, data):
     k = S.shape[0]
     nblocks = starts.size - 1
     _scatter(data, target, position, ab, E, F, S)
-    if parallel[0]:
-        _factor_blocks_parallel(lu)
-    else:
-        for j in range(nblocks):
-            _factor_one(lu, j)
+    _blocks(lu, FACTOR, parallel[0])
     for j in range(nblocks):
         if infos[j] > 0:
             return perm[starts[j] + infos[j] - 1]
@@ -69,24 +68,6 @@ def factor(lu, data):
     if info > 0:
         return perm[ab.shape[0] + info - 1]
     return -1
-
-
-@njit(cache=True, parallel=True)
-def _factor_blocks_parallel(lu):
-    """``_factor_one`` of every block, on numba's threads."""
-    for j in prange(lu[14].size - 1):
-        _factor_one(lu, j)
-
-
-@njit(cache=True)
-def _factor_one(lu, j):
-    """Factor block ``j`` (``_factor_block``), its ``info`` into ``infos[j]``."""
-    (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
-    infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], starts[j],
-                             starts[j + 1], rows[rows_ptr[j]:rows_ptr[j + 1]],
-                             cols[cols_ptr[j]:cols_ptr[j + 1]], X[x_ptr[j]:x_ptr[j + 1]],
-                             parts[j])
 
 
 @njit(cache=True)
@@ -150,7 +131,7 @@ def solve(lu, rhs, out):
     nb, k = ab.shape[0], S.shape[0]
     for i in range(perm.size):
         work[i] = rhs[perm[i]]
-    _blocks(lu, 0, parallel[0])
+    _blocks(lu, SUBSTITUTE, parallel[0])
     if k:
         y, g = work[:nb], work[nb:]
         for i in range(cols.size):  # g = x_D - F y, over the coupling columns
@@ -159,42 +140,48 @@ def solve(lu, rhs, out):
             for r in range(k):
                 g[r] -= F[p, r] * yp
         dense_solve(addresses, S, ipiv_s, g, ints[starts.size - 1])
-        _blocks(lu, 1, parallel[0])
+        _blocks(lu, CORRECT, parallel[0])
     for i in range(perm.size):
         out[perm[i]] = work[i]
 
 
 @njit(cache=True)
 def _blocks(lu, stage, parallel):
-    """``_solve_one`` of every block at ``stage``, on numba's threads if ``parallel``."""
+    """``_block`` of every block at ``stage``, on numba's threads if ``parallel``."""
     if parallel:
         _blocks_parallel(lu, stage)
     else:
         for j in range(lu[14].size - 1):
-            _solve_one(lu, j, stage)
+            _block(lu, j, stage)
 
 
 @njit(cache=True, parallel=True)
 def _blocks_parallel(lu, stage):
     for j in prange(lu[14].size - 1):
-        _solve_one(lu, j, stage)
+        _block(lu, j, stage)
 
 
 @njit(cache=True)
-def _solve_one(lu, j, stage):
-    """Block ``j`` of a solve: its banded substitution ``y_j = B_j^{-1} x_j`` (stage 0),
-    or ``y_j -= W_j x_D'`` (stage 1, ``x_D'`` the border's part of ``work``)."""
+def _block(lu, j, stage):
+    """Block ``j`` at ``stage``: ``FACTOR`` (``_factor_block``, its ``info`` into
+    ``infos[j]``), ``SUBSTITUTE`` (a solve's ``y_j = B_j^{-1} x_j``) or ``CORRECT``
+    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``)."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
      starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
     start, end = starts[j], starts[j + 1]
-    if stage == 0:
+    if stage == FACTOR:
+        infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], start, end,
+                                 rows[rows_ptr[j]:rows_ptr[j + 1]],
+                                 cols[cols_ptr[j]:cols_ptr[j + 1]], X[x_ptr[j]:x_ptr[j + 1]],
+                                 parts[j])
+    elif stage == SUBSTITUTE:
         band_substitute(ab[start:end], band, ipiv[start:end], work[start:end])
-        return
-    nb = ab.shape[0]
-    for c in range(S.shape[0]):
-        gc = work[nb + c]
-        for p in range(start, end):
-            work[p] -= W[c, p] * gc
+    else:
+        nb = ab.shape[0]
+        for c in range(S.shape[0]):
+            gc = work[nb + c]
+            for p in range(start, end):
+                work[p] -= W[c, p] * gc
 
 
 @njit(cache=True)
