@@ -48,6 +48,8 @@ NOT_QUICK = {
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",
     "mooring_moordyn": "a peer code (optional extra), transient runs of both codes",
     "peers": "about 25 s quick: peer codes (optional extra), reference runs",
+    "peer_suites": "about 10 s: the peers' own test cases in the peer codes (optional "
+                   "extra) and ours",
     "sweep_efficiency": "about 3 minutes quick: 8 E-sail runs serial, on a new and on a "
                         "running 2-worker cluster",
 }

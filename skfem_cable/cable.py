@@ -25,6 +25,7 @@ from .laws import BUILTIN, CableLaw
 from .node import Node
 from .section import Section
 from .stretched import Stretched
+from .varying import Varying
 
 
 def cable_term(edofs, passes, key, name):
@@ -157,6 +158,17 @@ class Cable(CableFields):
         by the others); by default those of the cubic Hermite interpolant of
         ``positions`` and ``slopes`` (the mean of its two one-sided values at an interior
         node; ``Cable.straight`` gives zeros).
+    quadrature : dict, optional
+        Gauss points per element for each part of the law, ``{"axial": na, "bending":
+        nb}`` (either key may be left out: the rule of ``intorder`` then serves that
+        part): the axial part (the law's terms without ``r_xx``) and the bending part on
+        rules of their own, as Exudyn (5 and 3 points) and Chrono do.  A ``"paper"``
+        formulation (the default when ``quadrature`` is given): the others choose their
+        own rules.
+
+    The initial coordinates need not be the reference configuration: the mesh's arc
+    length is the unstretched length, and ``positions``/``slopes`` may stretch, bend or
+    slacken the cable (``Cable.between``).
 
     Attributes
     ----------
@@ -189,6 +201,9 @@ class Cable(CableFields):
         Local coordinates of each element (``n_functions`` 3-vectors: the element's).
     intorder : int
         Order of the Gauss rule of the elastic forces.
+    quadrature : dict or None
+        ``{"axial": na, "bending": nb}``, the Gauss points of the two parts of the law
+        (both keys filled in), or None: one rule for the whole law.
     formulation : str
         The formulation's name (see above).
     xi : ndarray (n_points,)
@@ -232,7 +247,7 @@ class Cable(CableFields):
 
     def __init__(self, mesh, section, positions, slopes=None, law=None, intorder=None,
                  name="cable", formulation=None, locking_free=None, element=DEFAULT_ELEMENT,
-                 curvatures=None):
+                 curvatures=None, quadrature=None):
         if not isinstance(mesh, MeshLine):
             raise TypeError(f"mesh must be a skfem.MeshLine, got {type(mesh).__name__}")
         if not isinstance(section, Section):
@@ -241,12 +256,15 @@ class Cable(CableFields):
         law = _law(law, element)
         law.parameter_values(section)  # every parameter has a value
         law.symbolic  # noqa: B018 (the law is well formed: errors now, not at the first step)
+        if quadrature is not None and formulation is None and locking_free is None:
+            formulation = "paper"
         formulation = _formulation(formulation, locking_free, element)
         if formulation == "assumed-strain":
             law.check_strain()
         intorder = element.intorder if intorder is None else intorder
         if not _is_count(intorder):
             raise ValueError(f"intorder must be a positive integer, got {intorder!r}")
+        self.quadrature = _quadrature(quadrature, formulation, intorder)
         x = mesh.p[0]
         if np.any(np.diff(x) <= 0) or np.any(mesh.t[1] != mesh.t[0] + 1):
             raise ValueError("mesh nodes must be sorted along the arc length "
@@ -330,7 +348,7 @@ class Cable(CableFields):
             See ``Cable``.
         **kwargs
             The other parameters of ``Cable`` (``element``, ``intorder``, ``name``,
-            ``formulation``).
+            ``formulation``, ``quadrature``).
 
         Returns
         -------
@@ -358,6 +376,77 @@ class Cable(CableFields):
         positions = start + s[:, None] * t
         return cls(MeshLine(s), section, positions, np.tile(t, (len(s), 1)), law=law,
                    curvatures=np.zeros_like(positions), **kwargs)
+
+    @classmethod
+    def between(cls, start, end, length, n_elements, section, sag=None, law=None, **kwargs):
+        """A cable of unstretched ``length`` from ``start`` to ``end``, whatever their
+        distance: stretched straight when ``length`` is at most the distance, else hanging
+        as the inextensible catenary of that length through both points, sagging along
+        ``sag`` (a start that ``solve_static`` converges from under the weight).
+
+        Parameters
+        ----------
+        start, end : array_like (3,)
+            End points (m), distinct.
+        length : float
+            Unstretched length (m), > 0: the mesh's arc length.
+        n_elements : int
+            Number of equal elements, >= 1.
+        section : Section
+        sag : array_like (3,), optional
+            The direction the slack cable sags to (the direction of its weight), not
+            parallel to ``end - start``; default ``(0, 0, -1)``.  Not used by a cable that
+            is stretched straight.
+        law : CableLaw or str
+            See ``Cable``.
+        **kwargs
+            The other parameters of ``Cable`` (``element``, ``quadrature``, ``name``, ...).
+
+        Returns
+        -------
+        Cable
+            Nodes equally spaced in the unstretched arc length; straight: slopes
+            ``(end - start) / length`` (``|r_x| >= 1``, the uniform stretch); slack: the
+            catenary's unit tangents (and curvatures on an element that has them).
+
+        Examples
+        --------
+        MoorDyn's pendulum line, 100.5 m long between points 100.499 m apart, and the
+        same line stretched between points 101 m apart:
+
+        >>> import numpy as np, skfem_cable as sc
+        >>> sec = sc.Section.circular(0.05, 1e9 / (np.pi * 0.05**2), 1000.0)
+        >>> slack = sc.Cable.between([0, 0, 0], [10, 0, -100], 100.5, 20, sec, sag=[0, 0, -1])
+        >>> slack.length, bool(np.allclose(slack.q0[-6:-3], [10, 0, -100]))
+        (100.5, True)
+        >>> taut = sc.Cable.between([0, 0, 0], [0, 0, -101], 100.0, 4, sec)
+        >>> taut.q0[3:6].tolist()
+        [0.0, 0.0, -1.01]
+        """
+        if not _is_count(n_elements):
+            raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
+        check_memory(int(n_elements))
+        start, end = _point("start", start), _point("end", end)
+        try:
+            length = float(length)
+        except (TypeError, ValueError):
+            length = np.nan
+        if not (np.isfinite(length) and length > 0):
+            raise ValueError(f"length must be a finite unstretched length > 0 (m), got "
+                             f"{length!r}")
+        chord = end - start
+        distance = np.linalg.norm(chord)
+        if not distance > 0:
+            raise ValueError(f"start and end must differ, got {start.tolist()} for both")
+        s = np.linspace(0.0, length, int(n_elements) + 1)
+        if length <= distance:
+            positions = start + s[:, None] / length * chord
+            return cls(MeshLine(s), section, positions, np.tile(chord / length, (len(s), 1)),
+                       law=law, curvatures=np.zeros_like(positions), **kwargs)
+        fields = _catenary(chord, length, s, (0.0, 0.0, -1.0) if sag is None else sag)
+        positions, slopes, curvatures = fields
+        return cls(MeshLine(s), section, start + positions, slopes, law=law,
+                   curvatures=curvatures, **kwargs)
 
     # --- layout -------------------------------------------------------------------------
     @property
@@ -458,11 +547,15 @@ class Cable(CableFields):
         formulation and quadrature."""
         values = self.law.parameter_values(self.section)
         deployment = system.deployment(self)
+        if deployment is not None and self.law.varies:
+            raise ValueError(f"cable {self.name!r} deploys and its law's parameters "
+                             f"{', '.join(self.law.varies)} vary in time: a deploying "
+                             "cable takes a law with constant parameters")
         passes, key = [], []
         for piece, kind, tables in FORMULATIONS[self.formulation].passes(self):
             if piece.vanishes:
                 continue
-            damped = piece.damped and piece.dissipates(values)
+            damped = piece.damped and (bool(self.law.varies) or piece.dissipates(values))
             if deployment is not None and damped:
                 raise ValueError(
                     f"cable {self.name!r} deploys and its law dissipates (e.g. the "
@@ -475,9 +568,38 @@ class Cable(CableFields):
             key.append((piece.key, kind, damped, tables[0].shape[1]))
         term = cable_term(self.global_element_dofs(system), passes,
                           ("ancf-cable", self.element.name, values, *key), self.name)
+        if self.law.varies:
+            return Varying(self.law, self.section, term).term(term)
         if deployment is None:
             return term
         return Stretched(deployment, term, passes).term(system, term)
+
+
+def _catenary(chord, length, s, sag):
+    """Positions (from the start), unit tangents and their arc-length derivatives at the
+    arc lengths ``s`` of the inextensible catenary of ``length`` spanning ``chord`` and
+    sagging along ``sag`` (``Cable.between``), each (len(s), 3)."""
+    from .analytic import catenary_xz, solve_catenary
+
+    down = _point("sag", sag)
+    if not np.linalg.norm(down) > 0:
+        raise ValueError(f"sag must be a non-zero direction, got {sag!r}")
+    up = -down / np.linalg.norm(down)
+    across = chord - (chord @ up) * up
+    span = np.linalg.norm(across)
+    if not span > 1e-9 * np.linalg.norm(chord):
+        raise ValueError(f"sag {np.asarray(sag).tolist()} is parallel to end - start: a "
+                         "slack cable needs a sag direction across the line between its "
+                         "ends")
+    across /= span
+    H, VA, _ = solve_catenary(span, chord @ up, length, 1.0)
+    xz = catenary_xz(s, H, VA, 1.0)
+    V = s - VA
+    T = np.hypot(H, V)
+    tangent = np.column_stack([H / T, V / T])
+    bend = np.column_stack([-H * V / T**3, H**2 / T**3])
+    basis = np.stack([across, up])
+    return xz @ basis, tangent @ basis, bend @ basis
 
 
 def _law(law, element):
@@ -500,6 +622,34 @@ def _law(law, element):
                          f"{', '.join(element.fields)} only): use an axial law such as "
                          "law='truss', or an element with bending, e.g. element='hermite3'")
     return law
+
+
+#: Most Gauss points a part of the law may take (``quadrature``).
+MAX_GAUSS_POINTS = 20
+
+
+def _quadrature(quadrature, formulation, intorder):
+    """``Cable``'s ``quadrature`` checked and completed (``{"axial": na, "bending": nb}``,
+    a missing key taking the points of ``intorder``), or None."""
+    if quadrature is None:
+        return None
+    if not isinstance(quadrature, dict) or not quadrature \
+            or set(quadrature) - {"axial", "bending"}:
+        raise ValueError("quadrature must be a dict with the keys 'axial' and/or 'bending' "
+                         f"(Gauss points per element), got {quadrature!r}")
+    if formulation != "paper":
+        raise ValueError(f"quadrature is for formulation='paper' (Gauss rules for the "
+                         f"axial and the bending part); formulation {formulation!r} "
+                         "chooses its own rules: leave one of the two out")
+    default = (int(intorder) + 2) // 2  # the points of the Gauss rule of order intorder
+    rules = {}
+    for part in ("axial", "bending"):
+        n = quadrature.get(part, default)
+        if not (_is_count(n) and n <= MAX_GAUSS_POINTS):
+            raise ValueError(f"quadrature[{part!r}] must be a whole number of Gauss points "
+                             f"in [1, {MAX_GAUSS_POINTS}], got {n!r}")
+        rules[part] = int(n)
+    return rules
 
 
 def _formulation(formulation, locking_free, element):

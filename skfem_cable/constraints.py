@@ -245,13 +245,18 @@ class SlopeDirection:
                 + time_derivatives(self.normals, t, 2) @ qc)
 
 
-def clamp(node, direction=None, position=None, velocity=None, acceleration=None):
-    """Clamp ``node``: its position and the *direction* of its slope are fixed, follow
-    prescribed motions, or are carried by a rigid body.
+def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
+          slope="direction"):
+    """Clamp ``node``: its position and the *direction* of its slope (or, with
+    ``slope="full"``, the whole slope vector) are fixed, follow prescribed motions, or
+    are carried by a rigid body.
 
     Fixing the slope's direction (two equations ``n_k . r_x = 0`` with ``n_k`` orthogonal to
     ``direction``) rather than the whole slope vector leaves the axial stretch at the root
     free.  Five equations: ``r - position = 0`` and the two slope-direction equations.
+    ``slope="full"`` fixes the slope vector itself, ``r_x - direction = 0`` (Exudyn's
+    node constraint ``[1, 1, 1, 1]``, a welded root whose stretch is held too): six
+    equations.
 
     Parameters
     ----------
@@ -266,18 +271,26 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
         hub), see ``BodySlope``.
     velocity, acceleration : callable, optional
         Exact derivatives of a driven ``position`` (None with a body point).
+    slope : {"direction", "full"}
+        What of the slope is fixed: its direction (default) or the whole vector.  With
+        ``"full"``, ``direction`` is the slope vector ``r_x`` itself (not normalized;
+        default the node's initial slope) or a callable ``direction(t)`` (a driven slope,
+        derivatives by ``time_derivatives``); a body point is refused.
 
     Returns
     -------
     list of constraints
         One ``LinearConstraint`` of five equations (labels ``Fx, Fy, Fz, M1, M2``); with a
         callable ``direction``, the position (three) and a ``SlopeDirection`` (two); with a
-        body point, its ``pin`` (three) and a ``BodySlope`` (two).
+        body point, its ``pin`` (three) and a ``BodySlope`` (two); with ``slope="full"``,
+        one ``LinearConstraint`` of six equations (``Fx, Fy, Fz, Mx, My, Mz``: ``-lambda``
+        of the last three is the generalized force on the slope).
 
     Raises
     ------
     ValueError
-        A zero ``direction``, or ``velocity``/``acceleration`` given with a body point.
+        A zero ``direction``, ``velocity``/``acceleration`` given with a body point, a
+        ``slope`` other than ``"direction"`` and ``"full"``, or ``"full"`` with a body point.
 
     See Also
     --------
@@ -298,13 +311,23 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
     """
     if not isinstance(node, Node):
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
+    if slope not in ("direction", "full"):
+        raise ValueError(f"slope must be 'direction' or 'full', got {slope!r}")
     q0 = node.body.q0[np.concatenate([node.position_dofs, node.slope_dofs])]
     if isinstance(position, BodyPoint):
+        if slope == "full":
+            raise ValueError("slope='full' clamps to ground or to prescribed motions; a "
+                             "clamp to a body point fixes the slope's direction in the body")
         return _body_clamp(node, position, direction, velocity, acceleration)
     labels = ["Fx", "Fy", "Fz"]
     p = q0[:3] if position is None else position
-    place = LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3),
-                             Motion(p, velocity, acceleration, "position"),
+    place = Motion(p, velocity, acceleration, "position")
+    if slope == "full":
+        r_x = Motion(q0[3:] if direction is None else direction, name="direction")
+        return [LinearConstraint(lambda s: s.dofs(node)[:6], np.eye(6),
+                                 _stacked(place, r_x), f"clamp {node!r}",
+                                 labels + ["Mx", "My", "Mz"])]
+    place = LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3), place,
                              f"clamp {node!r}", labels)
     if callable(direction):
         return [place, SlopeDirection(node, direction)]
@@ -314,12 +337,28 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None)
     J[:3, :3] = np.eye(3)
     J[3, 3:] = n1
     J[4, 3:] = n2
-    c = Motion(lambda t: np.append(place.offset(t), [0.0, 0.0]),
-               lambda t: np.append(place.offset(t, 1), [0.0, 0.0]),
-               lambda t: np.append(place.offset(t, 2), [0.0, 0.0]), "position", size=5) \
-        if place.driven else np.append(place.offset(0.0), [0.0, 0.0])
-    return [LinearConstraint(lambda s: s.dofs(node)[:6], J, c, f"clamp {node!r}",
-                             labels + ["M1", "M2"])]
+    return [LinearConstraint(lambda s: s.dofs(node)[:6], J,
+                             _stacked(place.motion, Motion(np.zeros(2), size=2)),
+                             f"clamp {node!r}", labels + ["M1", "M2"])]
+
+
+def _stacked(*motions):
+    """The motions one after the other as one ``Motion`` (a constant vector when none is
+    driven)."""
+    if not any(m.driven for m in motions):
+        return np.concatenate([m(0.0) for m in motions])
+    return Motion(*(lambda t, k=k: np.concatenate([m(t, k) for m in motions])
+                    for k in range(3)), name=motions[0].name,
+                  size=sum(m.size for m in motions))
+
+
+def _projected(motion, D):
+    """``D x(t)`` of the ``Motion`` ``x``: a ``Motion`` (or a constant vector) of the
+    components along the rows of ``D``."""
+    if not motion.driven:
+        return D @ motion(0.0)
+    return Motion(*(lambda t, k=k: D @ motion(t, k) for k in range(3)), name=motion.name,
+                  size=D.shape[0])
 
 
 def _body_clamp(node, point, direction, velocity, acceleration):
@@ -399,14 +438,18 @@ class BodySlope(QuadraticConstraints):
         return np.concatenate([system.dofs(self.node)[3:6], system.dofs(self.body)])
 
 
-def pin(node, target=None, velocity=None, acceleration=None):
-    """Spherical joint (Eq. 53): the position of ``node`` equals ``target``.
+def pin(node, target=None, velocity=None, acceleration=None, directions=None):
+    """Spherical joint (Eq. 53): the position of ``node`` equals ``target`` (or, with
+    ``directions``, equals it along those directions only).
 
     ``target`` is ``None`` (ground at the node's initial position), a 3-vector (a ground
     point), a callable ``target(t)`` (a ground point moving on a prescribed path, with
     optional exact ``velocity(t)`` and ``acceleration(t)``), another ``Node``, or a
     rigid-body point (``RigidBody.point``): all linear in the coordinates,
-    ``C = r_node - G(x) d`` or ``C = r_node - target(t)``.
+    ``C = r_node - G(x) d`` or ``C = r_node - target(t)``.  With ``directions`` (rows
+    ``D``, orthonormalized) the equations are ``D C = 0``: one direction keeps the node
+    on a plane through the target (normal to it), two on a line (a roller, a slider);
+    the node moves freely in the others.
 
     Parameters
     ----------
@@ -414,17 +457,23 @@ def pin(node, target=None, velocity=None, acceleration=None):
     target : None, array_like (3,), callable, Node or body point, optional
     velocity, acceleration : callable, optional
         Exact derivatives of a callable ``target``.
+    directions : array_like (k, 3) or (3,), optional
+        ``k`` = 1 or 2 independent directions (fixed in space) along which the node is
+        held; default all three.
 
     Returns
     -------
     LinearConstraint
         Three equations, labels ``Fx, Fy, Fz``: ``-lambda`` is the force of the joint on
-        the node.
+        the node; with ``directions``, ``k`` equations (labels ``F1``, ``F2``): ``-lambda_j``
+        is the force along the ``j``-th orthonormalized direction (``Gram-Schmidt`` of
+        the rows, in order).
 
     Raises
     ------
     ValueError
-        ``target`` is ``node`` itself (its equations would vanish), or not a finite point.
+        ``target`` is ``node`` itself (its equations would vanish), or not a finite point;
+        ``directions`` not 1 or 2 independent finite 3-vectors.
 
     Examples
     --------
@@ -442,7 +491,9 @@ def pin(node, target=None, velocity=None, acceleration=None):
                          "(of this or another cable), a rigid-body point, a ground point "
                          "(3-vector), a callable of time or None (the ground at the node's "
                          "initial position)")
-    labels = ["Fx", "Fy", "Fz"]
+    D = np.eye(3) if directions is None else _directions(directions)
+    labels = ["Fx", "Fy", "Fz"] if directions is None else [f"F{k + 1}" for k in range(len(D))]
+    kind = "pin" if directions is None else "sliding pin"
     if target is None or callable(target) or not hasattr(target, "body"):
         if target is None:
             target = node.body.q0[node.body.node_dofs(node.index)[:3]]
@@ -451,16 +502,29 @@ def pin(node, target=None, velocity=None, acceleration=None):
             if target.shape != (3,) or not np.all(np.isfinite(target)):
                 raise ValueError("pin target must be a finite 3-vector, a callable of time, "
                                  f"a Node, a body point or None, got {target!r}")
-        return LinearConstraint(lambda s: s.dofs(node)[:3], np.eye(3),
-                                Motion(target, velocity, acceleration, "target"),
-                                f"pin {node!r}", labels)
+        return LinearConstraint(lambda s: s.dofs(node)[:3], D,
+                                _projected(Motion(target, velocity, acceleration, "target"), D),
+                                f"{kind} {node!r}", labels)
     G = np.eye(3) if isinstance(target, Node) else target.position_matrix
-    J = np.hstack([np.eye(3), -G])
+    J = D @ np.hstack([np.eye(3), -G])
 
     def dofs(s):
         return np.concatenate([s.position_map(node)[0], s.position_map(target)[0]])
 
-    return LinearConstraint(dofs, J, np.zeros(3), f"pin {node!r}-{target!r}", labels)
+    return LinearConstraint(dofs, J, np.zeros(len(D)), f"{kind} {node!r}-{target!r}",
+                            labels)
+
+
+def _directions(directions):
+    """``pin``'s ``directions`` as orthonormal rows (Gram-Schmidt, in order)."""
+    D = np.atleast_2d(np.asarray(directions, dtype=float))
+    if D.ndim != 2 or D.shape[1] != 3 or not 1 <= len(D) <= 2 or not np.all(np.isfinite(D)):
+        raise ValueError("directions must be one or two finite 3-vectors (k, 3), k in [1, 2] "
+                         f"(three directions: leave directions out), got {directions!r}")
+    Q, R = np.linalg.qr(D.T)
+    if np.min(np.abs(np.diag(R))) <= 1e-12 * np.max(np.abs(D)):
+        raise ValueError(f"directions must be independent, got {D.tolist()}")
+    return (Q * np.sign(np.diag(R))).T
 
 
 def check_independent(system, constraint):

@@ -209,6 +209,12 @@ class Term:
         energy at fixed coordinates, for energies that depend on time (a deploying
         cable's elastic energy: the work of its reel); the integrator books its time
         integral as external work.
+    energy_change : callable or None
+        ``energy_change(q0, q1, t0, t1)``: the work done on the term over a step from
+        ``(q0, t0)`` to ``(q1, t1)`` by the change of its data in time (what
+        ``prepare(t1)`` does at the start of the step: a law parameter that varies in
+        time), the change of its stored energy at fixed coordinates, averaged over the
+        step's ends; the integrator books it as external work at every step.
     """
 
     add: Callable[..., None] | None = None
@@ -222,6 +228,7 @@ class Term:
     name: str = ""
     prepare: Callable[[float], None] | None = None
     energy_rate: Callable[[Any, float], float] | None = None
+    energy_change: Callable[[Any, Any, float, float], float] | None = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:

@@ -15,7 +15,7 @@ class CableFields:
     """The fields of a cable at arc lengths ``s`` (module docstring), and what the cable
     shows (``show``) and reports (``outputs``) of them (the hooks of ``contract.Body``)."""
 
-    def sample(self, q, v=None, points_per_element=8, stretch=1.0):
+    def sample(self, q, v=None, points_per_element=8, stretch=1.0, t=0.0):
         """Fields at ``points_per_element`` equally spaced points of each element.
 
         Parameters
@@ -49,7 +49,7 @@ class CableFields:
                 "element_id": np.append(np.repeat(np.arange(ne), m), ne - 1),
                 "position": self.interpolate(q, s)[0],
                 "velocity": velocity,
-                "tension": self.tension(q, s, stretch),
+                "tension": self.tension(q, s, stretch, t),
                 "axial_strain": self.strain(q, s, stretch),
                 "curvature": self.curvature(q, s, stretch)}
 
@@ -57,7 +57,7 @@ class CableFields:
         """``Body.show``: the curve sampled at ``points_per_element`` points per element
         (``sample``), ``line`` cells, with its fields as point data."""
         dofs = system.dofs(self)
-        f = self.sample(q[dofs], v[dofs], points_per_element, system.stretch(self, t, q))
+        f = self.sample(q[dofs], v[dofs], points_per_element, system.stretch(self, t, q), t)
         n = len(f["arc_length"])
         return Shape(f.pop("position"), f.pop("velocity"), "line",
                      np.column_stack([np.arange(n - 1), np.arange(1, n)]), PART_CABLE, f)
@@ -66,7 +66,7 @@ class CableFields:
         """``Body.outputs``: tip position, root and peak tension (at the nodes), (free)
         length and number of elements."""
         qc, stretch = q[system.dofs(self)], system.stretch(self, t, q)
-        tension = self.tension(qc, self.mesh.p[0], stretch)
+        tension = self.tension(qc, self.mesh.p[0], stretch, t)
         return {"tip_position": self.interpolate(qc, self.length)[0],
                 "root_tension": tension[0], "max_tension": tension.max(),
                 "length": self.length * stretch, "elements": self.n_elements}
@@ -129,7 +129,7 @@ class CableFields:
         deploying cable (``_fields``)."""
         return FORMULATIONS[self.formulation].strain(self, q, s, stretch)
 
-    def tension(self, q, s, stretch=1.0):
+    def tension(self, q, s, stretch=1.0, t=0.0):
         """Axial force in the section (N) at arc lengths ``s``, the elastic part (at rest).
 
         The axial force of a law ``W(a, b)`` is ``N = t . W_a + t' . W_b`` with ``t =
@@ -145,11 +145,13 @@ class CableFields:
         of ``P``, root included); on a ``"lobatto"`` cable the values at the nodes and
         midpoints, interpolated; on a ``"paper"`` cable the raw strain of the cubic field,
         which membrane locking makes useless in bending (stripes of tens of times the
-        load).  ``stretch``: the mesh stretch of a deploying cable (``_fields``).
+        load).  ``stretch``: the mesh stretch of a deploying cable (``_fields``); ``t``:
+        the time (s; scalar, or one per leading index of ``q``), which only a law whose
+        parameters vary in time reads (``CableLaw.values_at``).
         """
-        return FORMULATIONS[self.formulation].tension(self, q, s, stretch)
+        return FORMULATIONS[self.formulation].tension(self, q, s, stretch, t)
 
-    def section_force(self, q, e, xi, stretch=1.0, law=None):
+    def section_force(self, q, e, xi, stretch=1.0, law=None, t=0.0):
         """``N = t . W_a + t' . W_b`` of ``law`` (default the cable's) evaluated on the
         cubic field in elements ``e`` at reference coordinates ``xi``: the axial component
         ``t . (W_a - (W_b)')`` of the law's section force, exact when ``W`` depends on
@@ -159,7 +161,7 @@ class CableFields:
         x = np.moveaxis(np.concatenate([a, b], axis=-1), -1, 0)
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(self.h[e] * lam, x.shape[1:])
-        G = self.densities(x, np.zeros_like(x), h, law)["G"]
+        G = self.densities(x, np.zeros_like(x), h, law, t)["G"]
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         lam = np.sqrt(p)[..., None]
         t = a / lam
@@ -167,13 +169,15 @@ class CableFields:
         return (np.einsum("...i,i...->...", t, G[:3])
                 + np.einsum("...i,i...->...", t_x, G[3:]))
 
-    def densities(self, x, xd, h, law=None):
+    def densities(self, x, xd, h, law=None, t=0.0):
         """The densities of ``law`` (default the cable's) at points ``x = (a, b)``, ``xd``
-        (6, ...) of elements of length ``h`` (...) (its generated ``numpy_point``): energy
+        (6, ...) of elements of length ``h`` (...) at time ``t`` (scalar, or an array that
+        leads the points' shape) (its generated ``numpy_point``): energy
         ``ea``/``eb`` and power ``pa``/``pb`` (axial, bending), ``G = W_x + D_xd`` and
         ``Gd = D_xd`` (6, ...), ``H = W_xx + D_xd,x`` and ``Hc = D_xd,xd`` (6, 6, ...)."""
         law = self.law if law is None else law
-        out = law.compiled().numpy_point(x, xd, law.parameter_values(self.section), h)
+        out = law.compiled().numpy_point(x, xd, law.values_at(self.section, t, x.ndim - 1),
+                                         h)
         out["G"] = np.stack([out.pop(f"G_{i}") for i in range(6)])
         out["Gd"] = np.stack([out.pop(f"Gd_{i}") for i in range(6)])
         for k in ("H", "Hc"):

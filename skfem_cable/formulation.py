@@ -12,8 +12,9 @@ them (``docs/locking.md`` measures the three).
     (``CableLaw.check_strain``).
 ``"paper"``
     The paper's formulation: every term on the Gauss rule of ``Cable.intorder`` (5
-    points).  Membrane locking in bending-dominated states: tension stripes of tens of
-    times the load.
+    points), or, with ``Cable.quadrature``, the axial and the bending part each on a
+    Gauss rule of its own (Exudyn's 5 and 3 points).  Membrane locking in
+    bending-dominated states: tension stripes of tens of times the load.
 ``"lobatto"``
     The axial part on the 3-point Gauss-Lobatto rule (``LOBATTO``: nodes and midpoint,
     Simpson's weights), the bending part on the 3-point Gauss rule; strain and tension
@@ -45,19 +46,30 @@ LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
 BENDING_RULE = (assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)
 
 
+def gauss(points):
+    """The Gauss-Legendre rule of ``points`` points on [0, 1]: coordinates and weights."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    return (x + 1) / 2, w / 2
+
+
 class Paper:
-    """Every term of the law on the Gauss rule ``cable.intorder``; fields where asked."""
+    """Every term of the law on the Gauss rule ``cable.intorder``, or, with
+    ``cable.quadrature``, the axial and the bending part each on a Gauss rule of its own;
+    fields where asked."""
 
     name = "paper"
 
     def passes(self, cable):
-        return [(cable.law, "gauss", (cable.Sx, cable.Sxx, cable.weights, cable.h))]
+        if cable.quadrature is None:
+            return [(cable.law, "gauss", (cable.Sx, cable.Sxx, cable.weights, cable.h))]
+        return [(cable.law.part(k), "gauss", cable.tables_at(*gauss(cable.quadrature[part])))
+                for k, part in enumerate(("axial", "bending"))]
 
     def strain(self, cable, q, s, stretch=1.0):
         return cable.green(q, *cable.locate(s), stretch)
 
-    def tension(self, cable, q, s, stretch=1.0):
-        return cable.section_force(q, *cable.locate(s), stretch)
+    def tension(self, cable, q, s, stretch=1.0, t=0.0):
+        return cable.section_force(q, *cable.locate(s), stretch, t=t)
 
 
 def _element_values(value, n_elements):
@@ -90,9 +102,9 @@ class _Recovered:
     def strain(self, cable, q, s, stretch=1.0):
         return self._recovered(cable, lambda e, xi: cable.green(q, e, xi, stretch), s)
 
-    def tension(self, cable, q, s, stretch=1.0):
-        return self._recovered(cable, lambda e, xi: cable.section_force(q, e, xi, stretch),
-                               s)
+    def tension(self, cable, q, s, stretch=1.0, t=0.0):
+        return self._recovered(
+            cable, lambda e, xi: cable.section_force(q, e, xi, stretch, t=t), s)
 
 
 class Lobatto(_Recovered):
@@ -135,13 +147,13 @@ class AssumedStrain:
     def strain(self, cable, q, s, stretch=1.0):
         return self.recovered(cable, *self.assumed(cable, q, stretch), s)
 
-    def tension(self, cable, q, s, stretch=1.0):
+    def tension(self, cable, q, s, stretch=1.0, t=0.0):
         e = np.arange(cable.n_elements)
-        force = [self.axial_force(cable, eps, e, stretch)
+        force = [self.axial_force(cable, eps, e, stretch, t)
                  for eps in self.assumed(cable, q, stretch)]
         bending = cable.law.part(1)
         if not bending.vanishes:
-            force = [f + cable.section_force(q, e, np.full(e.size, xi), stretch, bending)
+            force = [f + cable.section_force(q, e, np.full(e.size, xi), stretch, bending, t)
                      for f, xi in zip(force, self.POINTS)]
         return self.recovered(cable, *force, s)
 
@@ -154,15 +166,15 @@ class AssumedStrain:
         return tuple(np.moveaxis(raw @ assumed_strain.assumed_map(self.POINTS).T, -1, 0))
 
     @staticmethod
-    def axial_force(cable, eps, e, stretch=1.0):
+    def axial_force(cable, eps, e, stretch=1.0, t=0.0):
         """``W'(eps) sqrt(1 + 2 eps)``: the axial force ``t . W_a = W'(eps) |a|`` of the
         axial energy ``W(eps)`` of the law (``CableLaw.strain``) at the strains ``eps`` of
-        elements ``e``."""
+        elements ``e`` at time ``t``."""
         law = cable.law
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(cable.h[e] * lam, np.shape(eps))
         sigma = law.compiled("assumed-strain").numpy_strain(
-            eps, law.parameter_values(cable.section), h)["s"]
+            eps, law.values_at(cable.section, t, np.ndim(eps)), h)["s"]
         return sigma * np.sqrt(np.maximum(1 + 2 * eps, 0.0))
 
     @staticmethod

@@ -84,6 +84,15 @@ class SystemMotion:
         return float(sum(term.energy_rate(q, t) for term, _ in lay.body_terms + lay.load_terms
                          if term.energy_rate is not None))
 
+    def energy_change(self, q0, q1, t0, t1):
+        """The work (J) done over a step from ``(q0, t0)`` to ``(q1, t1)`` by the change of
+        the terms' data in time: the sum of the terms' ``energy_change``
+        (``contract.Term``; a law parameter that varies in time)."""
+        lay = self.layout
+        return float(sum(term.energy_change(q0, q1, t0, t1)
+                         for term, _ in lay.body_terms + lay.load_terms
+                         if term.energy_change is not None))
+
     def centre_of_mass(self, x):
         """The centre of mass of the coordinates ``x`` (n_dofs,) or (..., n_dofs): ``U_i^T
         M x / m`` over the unit translations ``U_i`` (of velocities: its velocity), exact

@@ -106,7 +106,7 @@ class Result:
         """Axial forces (N) ``(nt,) + s.shape`` at reference arc lengths ``s``
         (``Cable.tension``)."""
         return cable.tension(self.q[:, self.system.dofs(cable)], s,
-                             self.system.stretch(cable, self.t, self.q))
+                             self.system.stretch(cable, self.t, self.q), self.t)
 
     def curvature(self, cable, s):
         """Curvatures (1/m) ``(nt,) + s.shape`` at reference arc lengths ``s``."""

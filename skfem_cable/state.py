@@ -91,7 +91,8 @@ class State:
 
     def tension(self, cable, s):
         """Axial force (N) at arc lengths ``s`` (``Cable.tension``)."""
-        return cable.tension(self._q(cable), s, self.system.stretch(cable, self.t, self.q))
+        return cable.tension(self._q(cable), s, self.system.stretch(cable, self.t, self.q),
+                             self.t)
 
     def curvature(self, cable, s):
         """Curvature (1/m) at arc lengths ``s`` (``Cable.curvature``)."""

@@ -149,14 +149,17 @@ class System(SystemMotion):
         self.constraints.append(constraint)
         return self._changed()
 
-    def clamp(self, node, direction=None, position=None, velocity=None, acceleration=None):
+    def clamp(self, node, direction=None, position=None, velocity=None, acceleration=None,
+              slope="direction"):
         """Clamp a node: position and slope direction fixed, driven (callables of time), or
         carried by a rigid body (see ``constraints.clamp``). Returns the system.
 
         Five equations: the position (three) and the direction of the slope (two); the
-        axial stretch at the clamp stays free.  With a body point ``position`` the node is
-        pinned to it and its slope keeps a direction fixed in the body
-        (``constraints.BodySlope``): a tether leaving a spinning hub through an exit guide.
+        axial stretch at the clamp stays free.  ``slope="full"`` fixes the whole slope
+        vector instead (six equations; Exudyn's ``[1, 1, 1, 1]`` node constraint).  With
+        a body point ``position`` the node is pinned to it and its slope keeps a
+        direction fixed in the body (``constraints.BodySlope``): a tether leaving a
+        spinning hub through an exit guide.
 
         Parameters
         ----------
@@ -171,6 +174,9 @@ class System(SystemMotion):
             clamp, or a rigid-body point (``RigidBody.point``).
         velocity, acceleration : callable, optional
             Exact time derivatives of a driven ``position`` (None with a body point).
+        slope : {"direction", "full"}
+            Fix the slope's direction (default) or the whole slope vector (then
+            ``direction`` is the slope vector, default the node's initial slope).
 
         Returns
         -------
@@ -199,14 +205,15 @@ class System(SystemMotion):
         >>> float(np.abs(system.constraint_values(system.q0)).max())
         0.0
         """
-        for c in cons.clamp(node, direction, position, velocity, acceleration):
+        for c in cons.clamp(node, direction, position, velocity, acceleration, slope):
             self.add_constraint(c)
         return self
 
-    def pin(self, node, target=None, velocity=None, acceleration=None):
+    def pin(self, node, target=None, velocity=None, acceleration=None, directions=None):
         """Spherical joint of a node to ground (``target`` None, a point, or a callable
         ``target(t)`` with optional exact ``velocity(t)``, ``acceleration(t)``) or to
-        another node/body point. Returns the system.
+        another node/body point, in all directions or along the given ``directions``
+        only (a node sliding on a plane or a line). Returns the system.
 
         Parameters
         ----------
@@ -218,11 +225,16 @@ class System(SystemMotion):
             (``RigidBody.point``); see ``constraints.pin``.
         velocity, acceleration : callable, optional
             Exact derivatives of a callable ``target`` (else by differences).
+        directions : array_like (k, 3), optional
+            One direction (the node slides on the plane through the target normal to it)
+            or two (on the line through the target along their normal); default all
+            three.
 
         Returns
         -------
         System
-            ``self``; three constraint equations (multipliers ``Fx, Fy, Fz``) are added.
+            ``self``; three constraint equations (multipliers ``Fx, Fy, Fz``) are added,
+            or one per direction (``F1``, ``F2``).
 
         Examples
         --------
@@ -235,7 +247,8 @@ class System(SystemMotion):
         >>> system.n_constraints, system.constraints[1].name
         (6, 'pin Node(b, 0)-Node(a, 2)')
         """
-        return self.add_constraint(cons.pin(node, target, velocity, acceleration))
+        return self.add_constraint(cons.pin(node, target, velocity, acceleration,
+                                            directions))
 
     def deploy(self, cable, anchor=None, length=None, rate=None, acceleration=None,
                direction=None, capacity=None, reel=None):

@@ -68,7 +68,7 @@ def tension_warnings(system, q, t=None):
         worst = {"sign": (0.0, None), "stripes": (0.0, None)}
         for k in range(0, len(q), CHUNK):
             rows, times = q[k:k + CHUNK], t[k:k + CHUNK]
-            N = cable.tension(rows[:, dofs], s, system.stretch(cable, times, rows))
+            N = cable.tension(rows[:, dofs], s, system.stretch(cable, times, rows), times)
             mean = N.mean(axis=1)
             taut = mean > floor
             low = np.where(taut, -N.min(axis=1) / np.where(taut, mean, 1.0), 0.0)

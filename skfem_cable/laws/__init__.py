@@ -9,18 +9,29 @@ and scikit-fem forms (``docs/extending.md``, "Write your own law").
 ...     return EA * e**2 / 2 + EI * laws.kappa2(a, b) / 2
 
 The vocabulary (``norm``, ``dot``, ``cross``, ``kappa2``, ``green_strain``, ``rate``,
-``curvature_rate``, ``ramp``, ``where``, ``sqrt``, ``exp``, ``log``, ``tanh``, ``Abs``) is
-in ``laws.symbolic``; ``CableLaw`` and ``cable_law`` in ``laws.law``; the derivation and
-compilation in ``laws.codegen``; the built-in laws ``green`` (the paper's cable, name
-``"cable"``), ``truss`` and their damping ``kelvin_voigt`` in ``laws.builtin``.
+``curvature_rate``, ``ramp``, ``where``, ``sqrt``, ``exp``, ``log``, ``tanh``, ``atan``,
+``Abs``) is in ``laws.symbolic``; ``CableLaw`` and ``cable_law`` in ``laws.law``; the
+derivation and compilation in ``laws.codegen``; the built-in laws ``green`` (the paper's
+cable, name ``"cable"``), ``truss``, Exudyn's ``exudyn`` (with ``curvature_vector``) and
+their damping ``kelvin_voigt``, ``exudyn_damping`` in ``laws.builtin``.
 """
 
-from .builtin import BUILTIN, axial_kelvin_voigt, green, kelvin_voigt, truss
+from .builtin import (
+    BUILTIN,
+    axial_kelvin_voigt,
+    curvature_vector,
+    exudyn,
+    exudyn_damping,
+    green,
+    kelvin_voigt,
+    truss,
+)
 from .law import CableLaw, cable_law
 from .symbolic import (
     CURVATURE_RATE_DELTA,
     SLOPE_FLOOR,
     Abs,
+    atan,
     cross,
     curvature_rate,
     dot,
@@ -36,7 +47,7 @@ from .symbolic import (
     where,
 )
 
-__all__ = ["BUILTIN", "CURVATURE_RATE_DELTA", "SLOPE_FLOOR", "Abs", "CableLaw",
-           "axial_kelvin_voigt", "cable_law", "cross", "curvature_rate", "dot", "exp",
-           "green", "green_strain", "kappa2", "kelvin_voigt", "log", "norm", "ramp", "rate",
-           "sqrt", "tanh", "truss", "where"]
+__all__ = ["BUILTIN", "CURVATURE_RATE_DELTA", "SLOPE_FLOOR", "Abs", "CableLaw", "atan",
+           "axial_kelvin_voigt", "cable_law", "cross", "curvature_rate", "curvature_vector", "dot",
+           "exp", "exudyn", "exudyn_damping", "green", "green_strain", "kappa2", "kelvin_voigt",
+           "log", "norm", "ramp", "rate", "sqrt", "tanh", "truss", "where"]

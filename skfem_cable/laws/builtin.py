@@ -1,8 +1,10 @@
 """The built-in element laws: the paper's ANCF cable (Green strain and squared curvature,
-Eqs. 23-26, with the Kelvin-Voigt damping of Eqs. 36-38) and its truss (no bending)."""
+Eqs. 23-26, with the Kelvin-Voigt damping of Eqs. 36-38), its truss (no bending), and
+Exudyn's cable (engineering strain, curvature per reference length), to reproduce that
+code's numbers (``docs/peers.md``)."""
 
 from .law import cable_law
-from .symbolic import curvature_rate, dot, green_strain, kappa2
+from .symbolic import cross, curvature_rate, dot, floored, green_strain, kappa2, norm, rate
 
 
 # --8<-- [start:green]
@@ -35,5 +37,36 @@ def truss(a, b, EA):
 # --8<-- [end:truss]
 
 
+# --8<-- [start:exudyn]
+def curvature_vector(a, b):
+    """Exudyn's curvature as a vector, ``k = (a x b) / |a|^2`` (its 2-D cable's signed
+    curvature ``(a x b)_z / |a|^2`` times the plane's normal): curvature per reference
+    length, where ``kappa2`` is per current length (``|k| = |a| kappa``)."""
+    return cross(a, b) / floored(dot(a, a))
+
+
+def exudyn_damping(a, b, ad, bd, EA, EI, gamma_axial, gamma_bending):
+    """Exudyn's cable damping: ``N = gamma_x EA eps_dot`` and ``M = gamma_b EI k_dot``
+    (its ``physicsAxialDamping``, ``physicsBendingDamping``), i.e. ``D = gamma_x EA
+    eps_dot^2 / 2 + gamma_b EI |k_dot|^2 / 2`` with ``eps_dot = a . ad / |a|``; smooth at
+    zero curvature, where the rate of ``|k|`` is not."""
+    eps_dot = dot(a, ad) / floored(dot(a, a)) ** 0.5
+    k = curvature_vector(a, b)
+    k_dot2 = sum(rate(k[i], a, b, ad, bd) ** 2 for i in range(3))
+    return gamma_axial * EA * eps_dot**2 / 2 + gamma_bending * EI * k_dot2 / 2
+
+
+@cable_law(dissipation=exudyn_damping, name="exudyn")
+def exudyn(a, b, EA, EI):
+    """Exudyn's cable (``ObjectANCFCable2D``, ``ObjectANCFCable``): engineering strain
+    ``eps = |a| - 1`` and curvature ``|a x b| / |a|^2``, ``W = EA eps^2 / 2 + EI |k|^2 /
+    2``.  The same stiffness as ``green`` about a straight unstretched cable; in bending
+    its curvature has no ``1/|a|`` (bending stiffness ``EI`` where ``green`` has ``EI /
+    |a|^2``, about twice the axial strain apart)."""
+    k = curvature_vector(a, b)
+    return EA * (norm(a) - 1) ** 2 / 2 + EI * dot(k, k) / 2
+# --8<-- [end:exudyn]
+
+
 #: Built-in laws by name (``Cable(..., law="truss")``).
-BUILTIN = {"cable": green, "truss": truss}
+BUILTIN = {"cable": green, "truss": truss, "exudyn": exudyn}

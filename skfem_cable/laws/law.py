@@ -154,8 +154,24 @@ class CableLaw:
         return CableLaw(self.energy, dissipation, self.name, self.values)
 
     def with_parameters(self, **values):
-        """The same law with some parameters fixed (they then ignore the section)."""
+        """The same law with some parameters given (they then ignore the section): numbers,
+        or callables of time ``f(t)`` (a stiffness that softens, a damping switched on),
+        which a time integration refreshes once per step (at the step's end time) and
+        whose change of the stored energy it books as external work (``varying``).
+
+        Examples
+        --------
+        >>> from skfem_cable import laws
+        >>> softening = laws.exudyn.with_parameters(EA=lambda t: 1e5 * max(0.02, 2 - t**0.5))
+        >>> softening.varies
+        ('EA',)
+        """
         return CableLaw(self.energy, self.dissipation, self.name, {**self.values, **values})
+
+    @property
+    def varies(self):
+        """The names of the parameters given as callables of time."""
+        return tuple(k for k in self.parameters if callable(self.values.get(k)))
 
     def part(self, which):
         """The axial (``which = 0``) or bending (1) part of the law alone: the terms of
@@ -296,25 +312,43 @@ class CableLaw:
         return self._key
 
     # --- values ---------------------------------------------------------------------------
-    def parameter_values(self, section):
-        """The parameters' values, in the order of ``parameters``: the law's own, else the
-        ``section``'s attribute of the same name."""
+    def parameter_values(self, section, t=0.0):
+        """The parameters' values at time ``t`` (s), in the order of ``parameters``: the
+        law's own (a callable evaluated at ``t``), else the ``section``'s attribute of the
+        same name."""
         out = []
         for k in self.parameters:
             if k in self.values:
                 value = self.values[k]
+                if callable(value):
+                    value = value(t)
             elif hasattr(section, k):
                 value = getattr(section, k)
             else:
                 raise ValueError(f"law {self.name!r}: parameter {k!r} is neither a Section "
                                  f"attribute nor has a value; give it with "
                                  f"{self.name}.with_parameters({k}=...)")
-            value = float(value)
+            try:
+                value = float(value)
+            except (TypeError, ValueError):
+                value = np.nan
             if not np.isfinite(value):
-                raise ValueError(f"law {self.name!r}: parameter {k} must be finite, "
-                                 f"got {value}")
+                raise ValueError(f"law {self.name!r}: parameter {k} must be a finite "
+                                 f"number, got {value} at t = {t}")
             out.append(value)
         return tuple(out)
+
+    def values_at(self, section, t, ndim):
+        """``parameter_values`` for fields of ``ndim`` dimensions at the times ``t``: a
+        scalar ``t``, or an array of them leading the fields' shape (a result's rows), for
+        which a parameter that varies in time is an array broadcasting against the
+        fields (``t.shape`` then ones)."""
+        if not self.varies or np.ndim(t) == 0:
+            return self.parameter_values(section, float(np.ravel(t)[0]) if np.ndim(t) else t)
+        t = np.asarray(t, dtype=float)
+        rows = np.array([self.parameter_values(section, ti) for ti in t.ravel()])
+        shape = t.shape + (1,) * (ndim - t.ndim)
+        return tuple(column.reshape(shape) for column in rows.T)
 
     def dissipates(self, values):
         """False if the dissipation density vanishes for these parameter values (e.g. zero

@@ -3,7 +3,7 @@
 A law receives ``a = r_x`` and ``b = r_xx`` (and, for a dissipation density, their rates
 ``ad``, ``bd``) as symbolic 3-vectors (``sympy.Matrix``) and its parameters as symbols; it
 returns one scalar expression built from these helpers, ordinary arithmetic and the
-functions re-exported here (``sqrt``, ``exp``, ``log``, ``tanh``, ``Abs``).  The framework
+functions re-exported here (``sqrt``, ``exp``, ``log``, ``tanh``, ``atan``, ``Abs``).  The framework
 derives the gradient and Hessian from the expression exactly (``laws.law``) and prints
 them as compiled code (``laws.codegen``).
 """
@@ -18,7 +18,7 @@ SLOPE_FLOOR = 1e-12
 #: ``kappa_dot = d(kappa^2)/dt / (2 sqrt(kappa^2 + delta^2))``, ``delta = 1e-6 / h``.
 CURVATURE_RATE_DELTA = 1e-6
 
-sqrt, exp, log, tanh, Abs = sp.sqrt, sp.exp, sp.log, sp.tanh, sp.Abs
+sqrt, exp, log, tanh, atan, Abs = sp.sqrt, sp.exp, sp.log, sp.tanh, sp.atan, sp.Abs
 
 
 class floored(sp.Function):

@@ -7,6 +7,7 @@ import numpy as np
 from ..cable import Cable
 from ..elements import DEFAULT_ELEMENT, ELEMENTS
 from ..formulation import FORMULATIONS
+from ..laws import BUILTIN
 from ..rigid import RigidBody
 from ..section import Section
 from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
@@ -89,8 +90,17 @@ def read_sections(t, bodies):
     t.finish()
 
 
+def read_quadrature(t):
+    """``quadrature = {axial = 5, bending = 3}``: Gauss points per part of the law."""
+    q = t.inline("quadrature")
+    rules = {part: q.get(part, count, None) for part in ("axial", "bending")}
+    q.finish()
+    return {part: n for part, n in rules.items() if n is not None}
+
+
 def read_cable(t, bodies):
-    """A ``[[cables]]`` table: a straight, stress-free cable."""
+    """A ``[[cables]]`` table: a straight, stress-free cable, or, with ``length``, a cable of
+    that unstretched length between ``start`` and ``end`` (``Cable.between``)."""
     name = t.get("name", text)
     section = t.get("section", text)
     if section not in bodies.sections:
@@ -105,14 +115,24 @@ def read_cable(t, bodies):
     if n is None:
         t.fail("elements", "is required")
     element = t.get("element", choice(*ELEMENTS), DEFAULT_ELEMENT)
-    kind = t.get("kind", choice("cable", "truss"), None)
+    kind = t.get("kind", choice(*BUILTIN), None)
     formulation = t.get("formulation", choice(*FORMULATIONS), None)
+    length = t.get("length", positive, None)
+    sag = t.get("sag", vector3, None)
+    if sag is not None and length is None:
+        t.fail("sag", "needs length (the unstretched length of a cable that may sag)")
+    quadrature = read_quadrature(t) if "quadrature" in t.data else None
     t.finish()
+    options = dict(law=kind, name=name, formulation=formulation, element=element,
+                   quadrature=quadrature)
+    n = bodies.elements or n
     try:
-        cable = Cable.straight(start, end, bodies.elements or n, bodies.sections[section],
-                               law=kind, name=name, formulation=formulation, element=element)
-    except ValueError as err:  # a law or formulation the element does not have
-        t.fail("element", f"does not take this cable: {err}", element)
+        cable = Cable.straight(start, end, n, bodies.sections[section], **options) \
+            if length is None else \
+            Cable.between(start, end, length, n, bodies.sections[section], sag, **options)
+    except ValueError as err:  # a law, formulation or rule the element does not have
+        t.fail("quadrature" if quadrature and "quadrature" in str(err) else
+               "sag" if "sag" in str(err) else "element", f"does not take this cable: {err}")
     bodies.add(t, cable)
 
 

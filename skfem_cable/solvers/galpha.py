@@ -97,6 +97,19 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         to choose the next step.  Newton then stops at a hundredth of the requested
         accuracy (``tol`` is a floor): iterating further cannot make the step more
         accurate.
+    initial_acceleration : {"consistent", "zero"}
+        The accelerations of the initial state: solved from the equations of motion and
+        the constraints (default; the pseudo-acceleration then fitted to the first step,
+        ``_fit_abar``), or zero, with zero pseudo-acceleration and multipliers, as Exudyn
+        starts when ``computeInitialAccelerations`` is off (its test suite's setting):
+        the first steps then carry the start-up error of a wrong initial acceleration,
+        which the algorithm's damping removes.
+    pseudo_acceleration : {"fitted", "initial"}
+        The pseudo-acceleration of a consistent start: fitted to the first step
+        (default, ``_fit_abar``: second order from the first step), or the initial
+        acceleration itself, ``abar_0 = a_0`` (Arnold & Bruls' plain start, which Exudyn
+        takes: first order in the first step).  With ``initial_acceleration="zero"`` it
+        starts at zero.
     compiled : bool or None
         Newton iteration in one compiled call (``solvers.compiled``: same iterates, no
         Python per iteration).  None (default) uses it when the system allows it, True
@@ -106,9 +119,18 @@ class GeneralizedAlpha(StepControl, Diagnosis):
 
     def __init__(self, system, rho_inf=0.8, tol=1e-11, max_iter=12, newton="modified",
                  method="auto", energy_tol=0.05, compiled=None, rtol=None, atol=None,
-                 tol_local=None):
+                 tol_local=None, initial_acceleration="consistent",
+                 pseudo_acceleration="fitted"):
         if newton not in ("modified", "full"):
             raise ValueError(f"newton must be 'modified' or 'full', got {newton!r}")
+        if initial_acceleration not in ("consistent", "zero"):
+            raise ValueError("initial_acceleration must be 'consistent' or 'zero', got "
+                             f"{initial_acceleration!r}")
+        if pseudo_acceleration not in ("fitted", "initial"):
+            raise ValueError("pseudo_acceleration must be 'fitted' or 'initial', got "
+                             f"{pseudo_acceleration!r}")
+        self.zero_start = initial_acceleration == "zero"
+        self.fit_start = not self.zero_start and pseudo_acceleration == "fitted"
         if not 0 < tol < 1:
             raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
         if int(max_iter) != max_iter or max_iter < 1:
@@ -150,6 +172,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         self.newton_rate = 1.0  # Newton's contraction estimate of the last step
         self.energy_depends_on_time = any(
             term.energy_rate is not None for term, _ in lay.body_terms + lay.load_terms)
+        self.energy_changes = any(
+            term.energy_change is not None for term, _ in lay.body_terms + lay.load_terms)
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
         self.hooks = []  # simulate's step hooks (their state joins the snapshot)
@@ -190,7 +214,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
     def initialize(self, q, v, t):
         """Consistent initial state: checks ``C(q, t) = 0``, projects ``v`` onto
         ``C_q v = -C_t`` (mass-orthogonally), and solves for ``a`` and ``lambda`` from
-        Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v + C_tt)``."""
+        Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v + C_tt)`` (or, with
+        ``initial_acceleration="zero"``, takes ``a = 0`` and ``lambda = 0``)."""
         system, n = self.system, self.n
         C = system.constraint_values(q, t)
         if C.size and np.max(np.abs(C)) > 1e-8 * self.L_ref:
@@ -198,6 +223,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             raise ValueError(f"initial positions violate {system.describe_dof(n + k)} by "
                              f"{C[k]:.3e}; start from positions that satisfy the constraints")
         v, self.a, self.lam = self._consistent(q, v, t)
+        if self.zero_start:
+            self.a, self.lam = np.zeros_like(self.a), np.zeros_like(self.lam)
         self.h_factored = None
         self.t, self.q, self.v = float(t), q.copy(), v.copy()
         self.abar, self.abar_h = self.a.copy(), None  # set by the first step (_fit_abar)
@@ -272,6 +299,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         With ``abar_0 = a_0`` a spinning body's kinetic energy dropped by about ``0.36
         (omega h)^2`` of itself in the first steps, and moved again at a shortened last
         step."""
+        if self.abar_h is None and not self.fit_start:  # a plain start: abar_0 = a_0
+            self.abar_h = h
         if self.abar_h is not None:
             if abs(h - self.abar_h) > 1e-9 * h:
                 self.abar = self.a + (h / self.abar_h) * (self.abar - self.a)
@@ -293,8 +322,10 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         forces ``-C_q^T lambda`` counted as external (they work where a constraint is
         driven, a moving pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), the work of the
         explicit time dependence of stored energies (``System.energy_rate``: a deploying
-        cable's reel), ``h (P_n + P_{n+1}) / 2``, and the kinetic and potential energy
-        (``kernels.books``); ``start`` opens the books at ``q1``."""
+        cable's reel), ``h (P_n + P_{n+1}) / 2``, the work of the change of the terms'
+        data over the step (``System.energy_change``: a law parameter that varies in
+        time), and the kinetic and potential energy (``kernels.books``);
+        ``start`` opens the books at ``q1``."""
         fd, fnc, fcon = info["f_damping"], info["f_nc"], info["f_con"]
         if "sums" in info:  # computed by the compiled step
             dissipated, external, kinetic, potential = info["sums"]
@@ -309,6 +340,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         if not start:
             dissipated += self.dissipated
             external += self.external_work + 0.5 * (t1 - self.t) * (self.energy_rate + rate)
+            if self.energy_changes:
+                external += self.system.energy_change(self.q, q1, self.t, t1)
         return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
                 "external_work": external, "elastic": info["energy"].copy(),
                 "kinetic": kinetic, "potential": potential, "energy_rate": rate}
@@ -343,6 +376,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             snap["a_prev"], snap["h_prev"] = np.copy(self.a_prev), np.float64(self.h_prev)
         if self.abar_h is not None:
             snap["abar_h"] = np.float64(self.abar_h)
+        if not self.fit_start:
+            snap["plain_start"] = np.float64(1.0)
         if self.h_factored is not None:
             snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
         return snap
@@ -363,6 +398,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         self.h_prev = float(snap["h_prev"]) if "a_prev" in snap else None
         # a checkpoint written before abar_h existed: abar belongs to the last step
         self.abar_h = float(snap["abar_h"]) if "abar_h" in snap else self.h_prev
+        self.fit_start = "plain_start" not in snap
         self.h_factored = None
         if "guard_lowest" in snap:
             self.guard.restore(snap)

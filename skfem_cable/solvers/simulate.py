@@ -154,7 +154,8 @@ def _step_hooks(system, integ, settings, rectify, controllers, inputs, t_start, 
 def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
              max_halvings=10, method="auto", energy_tol=0.05, compiled=None, rtol=None,
-             atol=None, tol_local=None, rectify=1e-4, controllers=()):
+             atol=None, tol_local=None, rectify=1e-4, controllers=(),
+             initial_acceleration="consistent", pseudo_acceleration="fitted"):
     """Integrate ``system`` from ``t_start`` to ``t_end`` with steps ``dt``.
 
     Parameters
@@ -189,10 +190,15 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         ``rho_inf``, ``every``, ``tol`` and ``max_iter`` must match the interrupted run;
         the continuation is bit-for-bit the uninterrupted run.  Observers are not called
         at the initial state.
-    tol, max_iter, newton, method, energy_tol, compiled, tol_local
-        See ``GeneralizedAlpha``; ``energy_tol`` is the instability guard (on by default:
-        a step whose energy balance grows by more than ``energy_tol`` times the energy
-        content of the run is retried smaller; None switches it off).
+    tol, max_iter, newton, method, energy_tol, compiled, tol_local, initial_acceleration, \
+    pseudo_acceleration
+        See ``GeneralizedAlpha``; ``initial_acceleration="zero"`` starts from zero
+        accelerations instead of consistent ones (Exudyn's tests do), and
+        ``pseudo_acceleration="initial"`` takes ``abar_0 = a_0`` instead of fitting it to
+        the first step (Exudyn's start: ``docs/peers.md``); ``energy_tol`` is the
+        instability guard (on by default: a step whose energy balance grows by more than
+        ``energy_tol`` times the energy content of the run is retried smaller; None
+        switches it off).
     max_halvings : int
         A failed step is retried as two half steps, recursively, down to
         ``dt / 2**max_halvings``; below that ``SimulationError`` is raised.
@@ -261,7 +267,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     _check_steps(t_start, t_end, dt, max_halvings)
     clock = _Clock()
     integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol,
-                             compiled, rtol, atol, tol_local)
+                             compiled, rtol, atol, tol_local, initial_acceleration,
+                             pseudo_acceleration)
     adaptive = integ.rtol is not None
     n_steps = None if adaptive else int(np.ceil((t_end - t_start) / dt - 1e-9))
     settings = {"t_start": t_start, "t_end": t_end, "dt": dt, "rho_inf": rho_inf,
@@ -272,6 +279,10 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings.update(rtol=rtol, atol=atol)
     if tol_local is not None:
         settings["tol_local"] = tol_local
+    if initial_acceleration != "consistent":
+        settings["initial_acceleration"] = initial_acceleration
+    if pseudo_acceleration != "fitted":
+        settings["pseudo_acceleration"] = pseudo_acceleration
     inputs = system_inputs(system)
     hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers, inputs,
                                       t_start, None if adaptive else dt)
