@@ -180,10 +180,8 @@ def test_cable_between_stretched_straight_and_its_errors():
         sc.Cable.between([0, 0, 0], [0, 0, 0], 1.0, 2, SEC)
 
 
-def test_scene_file_takes_the_new_keys():
-    """TOML: a cable of a given length with a sag, Exudyn's law and rules, a full clamp
-    and a roller; a misspelt part of the rule is named."""
-    scene = loads_text("""
+#: A scene file's wire and the head of its cable (the keys under test follow).
+WIRE = """
 [solver]
 analysis = "static"
 
@@ -197,9 +195,16 @@ name = "line"
 section = "wire"
 start = [0, 0, 0]
 end = [8, 0, 0]
+elements = 8
+"""
+
+
+def test_scene_file_takes_the_new_keys():
+    """TOML: a cable of a given length with a sag, Exudyn's law and rules, a full clamp
+    and a roller; a misspelt part of the rule is named."""
+    scene = loads_text(WIRE + """
 length = 10.0
 sag = [0, 0, -1]
-elements = 8
 kind = "exudyn"
 quadrature = { axial = 5, bending = 3 }
 
@@ -217,21 +222,7 @@ directions = [[0, 0, 1]]
     assert cable.law is laws.exudyn and cable.quadrature == {"axial": 5, "bending": 3}
     assert cable.length == 10.0 and scene.system.n_constraints == 7
     with pytest.raises(Exception, match="quadrature.axal"):
-        loads_text("""
-[solver]
-analysis = "static"
-[sections.wire]
-radius = 0.01
-E = 2e9
-rho = 1000.0
-[[cables]]
-name = "line"
-section = "wire"
-start = [0, 0, 0]
-end = [8, 0, 0]
-elements = 8
-quadrature = { axal = 5 }
-""")
+        loads_text(WIRE + "quadrature = { axal = 5 }\n")
 
 
 def test_time_dependent_parameter_books_its_work():
