@@ -22,6 +22,7 @@ from .elements import DEFAULT_ELEMENT, ELEMENTS, element_type
 from .fields import CableFields
 from .formulation import FORMULATIONS
 from .laws import BUILTIN, CableLaw
+from .linalg import thread_count
 from .node import Node
 from .section import Section
 from .stretched import Stretched
@@ -544,7 +545,8 @@ class Cable(CableFields):
         """The term of the cable's elastic and damping forces (see ``contract``): the
         law's compiled kernels (``cable_term``), one per pass of the cable's formulation
         (``formulation``), shared by all cables with the same law, parameter values,
-        formulation and quadrature."""
+        formulation and quadrature; their element loops on threads when the system runs
+        on more than one (``linalg.thread_count``, ``kernels.chunks``)."""
         values = self.law.parameter_values(self.section)
         deployment = system.deployment(self)
         if deployment is not None and self.law.varies:
@@ -552,6 +554,7 @@ class Cable(CableFields):
                              f"{', '.join(self.law.varies)} vary in time: a deploying "
                              "cable takes a law with constant parameters")
         passes, key = [], []
+        threads = thread_count()
         for piece, kind, tables in FORMULATIONS[self.formulation].passes(self):
             if piece.vanishes:
                 continue
@@ -564,7 +567,9 @@ class Cable(CableFields):
                     "the material's; use an undamped law for a deploying cable")
             if deployment is not None:  # the term's own tables, rescaled in time
                 tables = tuple(np.array(t) for t in tables)
-            passes.append((piece.compiled(kind).kernel, tables, values, damped))
+            module = piece.compiled(kind)
+            passes.append((module.kernel_parallel if threads > 1 else module.kernel, tables,
+                           values, damped))
             key.append((piece.key, kind, damped, tables[0].shape[1]))
         term = cable_term(self.global_element_dofs(system), passes,
                           ("ancf-cable", self.element.name, values, *key), self.name)

@@ -21,6 +21,7 @@ import numpy as np
 
 from .contract import Term
 from .kernels import coulomb as kernel
+from .linalg import thread_count
 from .orbit import AU
 from .section import check_positive
 
@@ -223,7 +224,8 @@ class SolarWindForce:
     stretches = True
 
     def bind(self, system):
-        """The compiled term (``kernels.coulomb.kernel``); a time-modulated voltage, a
+        """The compiled term (``kernels.coulomb.kernel``, its ``kernel_parallel`` on more
+        than one thread, ``linalg.thread_count``); a time-modulated voltage, a
         deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
         length) or a moving Sun refreshes, once per time step (``Term.prepare``), only
         what moves: the per-element coefficients or the Sun's position."""
@@ -239,7 +241,8 @@ class SolarWindForce:
 
         prepare(0.0)
         pack = (edofs, self.S, self.Sx, self.w, coef, sun, self.scaling, np.zeros(3))
-        return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
+        hook = kernel.kernel_parallel if thread_count() > 1 else kernel.kernel
+        return Term(kernels=((hook, pack),), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], name="solar wind",
                     prepare=prepare if refresh else None)
 

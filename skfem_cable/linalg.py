@@ -23,7 +23,7 @@ from .kernels import bordered as bordered_lu
 from .kernels.lapack import ADDRESSES
 
 #: The environment variable of the number of threads of the bordered LU's blocks
-#: (``threads`` of ``PatternSolver``).
+#: (``threads`` of ``PatternSolver``) and of the element loops (``kernels.chunks``).
 THREADS = "SKFEM_CABLE_THREADS"
 
 #: Banded LU is used while the band half-width stays below this.
@@ -35,7 +35,8 @@ MAX_LOCATE_ENTRIES = 2e7
 
 
 def thread_count(threads=None):
-    """The threads of the bordered LU: ``threads``, else ``SKFEM_CABLE_THREADS``, else 1,
+    """The threads of the bordered LU and of the element loops: ``threads``, else
+    ``SKFEM_CABLE_THREADS``, else 1,
     at most numba's ``NUMBA_NUM_THREADS`` (numba is told, for the calling thread);
     ``ValueError`` naming the source for anything but an integer >= 1."""
     source = "threads" if threads is not None else THREADS

@@ -10,6 +10,7 @@ import pytest
 import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
+import skfem_cable as sc
 from skfem_cable import cli, durations, simulate
 from skfem_cable.io.progress import Progress
 from skfem_cable.linalg import THREADS, PatternSolver, thread_count
@@ -107,12 +108,37 @@ def test_the_bordered_lu_factors_each_tether_as_a_block_on_any_number_of_threads
 
 
 def test_a_run_is_the_same_on_one_and_on_two_threads(monkeypatch):
-    scene = baseline_matrix()[0]
+    """The 12-tether sail (6 elements per tether: the element loops' chunks of 64 cut
+    inside a tether) built and run on one and on two threads: the laws' and the solar
+    wind's element loops (``kernels.chunks``) and the bordered LU on threads give the
+    same steps, bit for bit."""
     runs = []
     for threads in ("1", "2"):
         monkeypatch.setenv(THREADS, threads)
+        scene = esail.build(esail.BaselineConfig(), 10.0, 6)
+        (tethers,), (wind,) = ([t for t, _ in scene.system.current_layout().body_terms
+                                if t.kernels], [t for t, _ in scene.system.current_layout()
+                                                .load_terms if t.name == "solar wind"])
+        threaded = tethers.kernels[0][0].__name__ == "kernel_parallel"
+        assert threaded == (threads == "2") and wind.kernels[0][0].__name__ == (
+            "kernel_parallel" if threaded else "kernel")
         runs.append(simulate(scene.system, 1.0, 0.1, initial=scene.initial, rho_inf=0.25))
     assert np.array_equal(runs[0].q, runs[1].q) and np.array_equal(runs[0].v, runs[1].v)
+
+
+def test_a_cable_longer_than_a_chunk_is_the_same_on_one_and_on_two_threads(monkeypatch):
+    """One damped cable of 140 elements (chunk boundaries inside it, where two chunks'
+    elements share a node): forces, tangent and energies bit for bit on both threads."""
+    out = []
+    for threads in ("1", "2"):
+        monkeypatch.setenv(THREADS, threads)
+        section = sc.Section.circular(0.01, 2e9, 1000.0, gamma_axial=1e-3, gamma_bending=1e-3)
+        cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 140, section)
+        q = cable.q0 + 1e-3 * np.random.default_rng(2).standard_normal(cable.n_dofs)
+        f, K = sc.System([cable]).assemble(q, q - cable.q0, cC=0.5)
+        _, info = sc.System([cable]).evaluate(q, q - cable.q0, 0.0, np.zeros(0))
+        out.append((f, K.toarray(), info["energy"]))
+    assert all(np.array_equal(a, b) for a, b in zip(*out))
 
 
 @pytest.mark.parametrize("value", ["0", "two", "1.5"])

@@ -37,10 +37,11 @@ with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T ad_j``
 + cK sum_j n_j (S_x,j^T S_x,j) (x) I3``,  ``n_j = sum_g w_g sigma_g MAP[g, j]``.
 
 The bending part (the law's terms with ``r_xx``) is integrated as ``kernels.cable`` does,
-at the Gauss points (the samples 2 to 4).  ``force_tangent`` and ``kernel`` are compiled
+at the Gauss points (the samples 2 to 4).  ``span`` is compiled
 in the assumed-strain module of each law (``laws.codegen``, kind ``"assumed-strain"``) next
 to the law's ``strain_point`` functions and the ``point_*`` functions of its bending part,
-as ``kernels.cable``'s template is in the law's Gauss module.  The tables are those of
+as ``kernels.cable``'s template is in the law's Gauss module, with the element loop of
+``kernels.chunks`` around ``span``.  The tables are those of
 ``kernels.cable`` with ``Sx`` at the five sampling points and ``Sxx`` at the Gauss points.
 """
 
@@ -73,22 +74,25 @@ def assumed_map(xi):
 MAP = assumed_map(GAUSS_XI)
 
 
-def force_tangent(state, elements, law, out, coef):
-    """Add the elastic and damping forces of the assumed-strain cable to ``f`` and
-    ``cK K + cC C`` into ``data``: the axial part at the assumed strain and the bending
-    part on the 3-point Gauss rule, in one pass over the elements.
+def span(first, last, step, state, elements, law, out, coef, acc):
+    """Add the elastic and damping forces of the elements ``range(first, last, step)`` of
+    the assumed-strain cable to ``f`` and ``cK K + cC C`` into ``data``: the axial part at the
+    assumed strain and the bending part on the 3-point Gauss rule (the element loop,
+    ``kernels.chunks``, calls it for its chunks of elements).
 
     Parameters
     ----------
+    first, last, step : int
+        The elements ``range(first, last, step)``.
     state : tuple ``(q, v)``
     elements : tuple ``(edofs, Sx, Sxx, w, h)``
         Global DOF of each element coordinate, int (ne, 12); the slope table at the five
         ``SAMPLES`` (ne, 5, 4) (the nodes, then the Gauss points); the second-derivative
         table at the Gauss points (ne, 3, 4); the Gauss weights times the element lengths
         (ne, 3); element lengths (ne,).
-    law, out, coef
-        As in ``kernels.cable.force_tangent``: the axial part's energy and power go to
-        ``energy[0]``, ``power[0]``, the bending part's to ``energy[1]``, ``power[1]``.
+    law, out, coef, acc
+        As in ``kernels.cable.span``: the axial part's energy and power go to ``acc[0]``,
+        ``acc[2]``, the bending part's to ``acc[1]``, ``acc[3]``.
     """
     q, v = state
     edofs, Sx, Sxx, w, h = elements
@@ -122,7 +126,7 @@ def force_tangent(state, elements, law, out, coef):
     fe = np.empty(12)
     fde = np.zeros(12)
     Ke = np.empty((12, 12))
-    for e in range(ne):
+    for e in range(first, last, step):
         for A in range(4):
             for i in range(3):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
@@ -170,7 +174,7 @@ def force_tangent(state, elements, law, out, coef):
                 gamma[g, m] = bd
             if damped:
                 W, P, sigma, k, c, sd = strain_point_d(eps, epsd, prm, h[e])  # noqa: F821
-                power[0] += wg * P
+                acc[2] += wg * P
                 for m in range(12):
                     sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
                     fde[m] += wg * sd * beta[g, m]
@@ -178,7 +182,7 @@ def force_tangent(state, elements, law, out, coef):
                 W, sigma, k = strain_point(eps, prm, h[e])  # noqa: F821
                 for m in range(12):
                     sb[g, m] = wg * cK * k * beta[g, m]
-            energy[0] += wg * W
+            acc[0] += wg * W
             for j in range(5):
                 n[j] += wg * sigma * MAP[g, j]  # noqa: F821
         for m in range(12):
@@ -222,12 +226,12 @@ def force_tangent(state, elements, law, out, coef):
                         ea, eb, pa, pb = point_ghd(x, xd, prm, h[e], G, H, Gd, Hc)  # noqa: F821
                     else:
                         ea, eb, pa, pb = point_gd(x, xd, prm, h[e], G, Gd)  # noqa: F821
-                    power[1] += wg * pb
+                    acc[3] += wg * pb
                 elif want_matrix:
                     ea, eb = point_gh(x, prm, h[e], G, H)  # noqa: F821
                 else:
                     ea, eb = point_g(x, prm, h[e], G)  # noqa: F821
-                energy[1] += wg * eb
+                acc[1] += wg * eb
                 for A in range(4):
                     for i in range(3):
                         fe[3 * A + i] += wg * (S6[0, A] * G[i] + S6[1, A] * G[3 + i])
@@ -256,13 +260,3 @@ def force_tangent(state, elements, law, out, coef):
             for r in range(12):
                 for m in range(12):
                     data[scatter[e, r, m]] += Ke[r, m]
-
-
-def kernel(pack, index, ev):
-    """The compiled hook of the evaluation contract (``contract.Term.kernels``):
-    ``force_tangent`` on the packed evaluation ``ev``, as ``kernels.cable.kernel``."""
-    q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, Sx, Sxx, w, h, prm, damped = pack
-    scatter = index if data.size else index[:0]
-    force_tangent((q, v), (edofs, Sx, Sxx, w, h), (prm, damped and s[3] != 0.0),
-                  (f, fd, data, scatter, energy, power), (s[1], s[2]))

@@ -1,8 +1,8 @@
 """Template of the compiled cable kernel: forces and tangents of all elements in one pass.
 
-``force_tangent`` and ``kernel`` are not compiled here: ``laws.codegen`` copies their source
-into the module
-it generates for each element law, next to that law's point functions ``point_g``,
+``span`` is not compiled here: ``laws.codegen`` copies their source,
+with the element loop of ``kernels.chunks``, into the module it generates for each element
+law, next to that law's point functions ``point_g``,
 ``point_gh``, ``point_gd``, ``point_ghd`` and the constants ``BENDING`` and ``DAMPED``,
 and compiles it there with ``numba.njit(cache=True)`` (numba cannot cache a kernel that
 receives its point function as an argument).  The mathematics is one chain rule: with
@@ -21,11 +21,15 @@ through the tables' last dimension.
 import numpy as np
 
 
-def force_tangent(state, elements, law, out, coef):
-    """Add elastic and damping forces to ``f`` and ``cK K + cC C`` into ``data``.
+def span(first, last, step, state, elements, law, out, coef, acc):
+    """Add the elastic and damping forces of the elements ``range(first, last, step)`` to
+    ``f`` and ``cK K + cC C`` into ``data`` (the element loop, ``kernels.chunks``, calls
+    it for its chunks of elements).
 
     Parameters
     ----------
+    first, last, step : int
+        The elements ``range(first, last, step)``.
     state : tuple ``(q, v)``
         Global coordinates and velocities, ndarray (n,) each.
     elements : tuple ``(edofs, Sx, Sxx, w, h)``
@@ -37,9 +41,11 @@ def force_tangent(state, elements, law, out, coef):
         Force accumulator ``dU/dq + dD/dv`` (n,); its damping part ``dD/dv`` alone (n,);
         CSR data accumulator and the index of each element-matrix entry in it, int
         (ne, 3 nf, 3 nf), or (0, 3 nf, 3 nf) to skip the tangents; axial and bending energy (2,)
-        and dissipated power (2,).
+        and dissipated power (2,) (the loop's totals: ``acc`` receives the span's).
     coef : tuple ``(cK, cC)``
         Factors of the stiffness ``df/dq`` and damping ``df/dv`` tangents.
+    acc : ndarray (4,)
+        Adds the elements' axial and bending energy and dissipated power.
     """
     q, v = state
     edofs, Sx, Sxx, w, h = elements
@@ -66,7 +72,7 @@ def force_tangent(state, elements, law, out, coef):
     fde = np.empty(m)
     Ke = np.empty((m, m))
     S6 = np.zeros((2, nf))
-    for e in range(ne):
+    for e in range(first, last, step):
         for A in range(nf):
             for i in range(3):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
@@ -94,14 +100,14 @@ def force_tangent(state, elements, law, out, coef):
                     ea, eb, pa, pb = point_ghd(x, xd, prm, h[e], G, H, Gd, Hc)  # noqa: F821
                 else:
                     ea, eb, pa, pb = point_gd(x, xd, prm, h[e], G, Gd)  # noqa: F821
-                power[0] += wg * pa
-                power[1] += wg * pb
+                acc[2] += wg * pa
+                acc[3] += wg * pb
             elif want_matrix:
                 ea, eb = point_gh(x, prm, h[e], G, H)  # noqa: F821
             else:
                 ea, eb = point_g(x, prm, h[e], G)  # noqa: F821
-            energy[0] += wg * ea
-            energy[1] += wg * eb
+            acc[0] += wg * ea
+            acc[1] += wg * eb
             for A in range(nf):
                 for i in range(3):
                     fe[3 * A + i] += wg * (S6[0, A] * G[i] + S6[1, A] * G[3 + i])
@@ -138,15 +144,3 @@ def force_tangent(state, elements, law, out, coef):
             for k in range(m):
                 for c in range(m):
                     data[scatter[e, k, c]] += Ke[k, c]
-
-
-def kernel(pack, index, ev):
-    """The law's compiled hook of the evaluation contract (``contract.Term.kernels``):
-    ``force_tangent`` on the packed evaluation ``ev``, with ``pack = (edofs, Sx, Sxx, w,
-    h, prm, damped)`` (see ``force_tangent``) and the tangent entries at ``index``, int
-    (ne, 3 nf, 3 nf)."""
-    q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, Sx, Sxx, w, h, prm, damped = pack
-    scatter = index if data.size else index[:0]
-    force_tangent((q, v), (edofs, Sx, Sxx, w, h), (prm, damped and s[3] != 0.0),
-                  (f, fd, data, scatter, energy, power), (s[1], s[2]))

@@ -18,30 +18,75 @@ exact).  With ``p = 0`` the force and tangent are the paper's, bit for bit.
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from . import CUBIC
+from .chunks import CHUNK
 
 
 @njit(cache=True)
 def force_tangent(q, elements, wind, out, cK):
-    """``_force_tangent`` with the number of element functions fixed for the cubic
-    element (``kernels.CUBIC``), or read from the tables."""
+    """Add the generalized Coulomb force ``int S^T f dx`` (Eq. 34) of all elements to
+    ``f`` and ``cK d/dq`` of it into ``data`` (``_span`` for the arguments), one chunk of
+    elements after the other (``kernels.chunks``)."""
+    acc = np.zeros(((elements[3].shape[0] + CHUNK - 1) // CHUNK + 1, 3))
+    for c in range(acc.shape[0] - 1):
+        _chunk(c, q, elements, wind, out, cK, acc)
+    _close(q, elements, wind, out, cK, acc)
+
+
+@njit(cache=True, parallel=True)
+def force_tangent_parallel(q, elements, wind, out, cK):
+    """``force_tangent`` with the chunks on numba's threads: the same sums in the same
+    order."""
+    acc = np.zeros(((elements[3].shape[0] + CHUNK - 1) // CHUNK + 1, 3))
+    for c in prange(acc.shape[0] - 1):
+        _chunk(c, q, elements, wind, out, cK, acc)
+    _close(q, elements, wind, out, cK, acc)
+
+
+@njit(cache=True)
+def _range(first, last, step, q, elements, wind, out, cK, acc):
+    """``_span`` with the number of element functions fixed for the cubic element
+    (``kernels.CUBIC``), or read from the tables."""
     nf = elements[1].shape[2]
     if nf == CUBIC:
-        _force_tangent(q, elements, wind, out, cK, CUBIC)
+        _span(first, last, step, q, elements, wind, out, cK, CUBIC, acc)
     else:
-        _force_tangent(q, elements, wind, out, cK, nf)
+        _span(first, last, step, q, elements, wind, out, cK, nf, acc)
 
 
 @njit(cache=True, inline="always")
-def _force_tangent(q, elements, wind, out, cK, nf):
-    """Add the generalized Coulomb force ``int S^T f dx`` (Eq. 34) to ``f`` and
-    ``cK d/dq`` of it into ``data`` through ``scatter`` (skipped when empty); adds the
-    force resultant ``int f dx`` to ``resultant`` (3,).
+def _chunk(c, q, elements, wind, out, cK, acc):
+    """The elements of chunk ``c`` but its first (for ``c > 0``), their force resultant
+    into ``acc[c]``."""
+    first = c * CHUNK + (1 if c > 0 else 0)
+    _range(first, min(elements[3].shape[0], (c + 1) * CHUNK), 1, q, elements, wind, out, cK,
+           acc[c])
+
+
+@njit(cache=True)
+def _close(q, elements, wind, out, cK, acc):
+    """The first elements of the chunks after the first (their resultant into the last row
+    of ``acc``), then the rows of ``acc`` added in order."""
+    _range(CHUNK, elements[3].shape[0], CHUNK, q, elements, wind, out, cK, acc[-1])
+    resultant = out[3]
+    for c in range(acc.shape[0]):
+        for i in range(3):
+            resultant[i] += acc[c, i]
+
+
+@njit(cache=True, inline="always")
+def _span(first, last, step, q, elements, wind, out, cK, nf, acc):
+    """Add the generalized Coulomb force ``int S^T f dx`` (Eq. 34) of the elements
+    ``range(first, last, step)`` to ``f`` and ``cK d/dq`` of it into ``data`` through
+    ``scatter`` (skipped when empty); adds their force resultant ``int f dx`` to ``acc``
+    (3,).
 
     Parameters
     ----------
+    first, last, step : int
+        The elements ``range(first, last, step)``.
     q : ndarray (n,)
         Global coordinates.
     elements : tuple ``(edofs, S, Sx, w)``
@@ -53,11 +98,13 @@ def _force_tangent(q, elements, wind, out, cK, nf):
         scales as ``(d0 / rho)^p`` with the heliocentric distance ``rho``.
     out : tuple ``(f, data, scatter, resultant)``
         Force accumulator (n,), CSR data and the index (ne, 3 nf, 3 nf) of each element-matrix
-        entry in it ((0, 3 nf, 3 nf): no tangent), force resultant (3,).
+        entry in it ((0, 3 nf, 3 nf): no tangent), force resultant (3,) (the loop's
+        total).
     cK : float
         Factor of the tangent.
     nf : int
         Functions per element (the tables' last dimension).
+    acc : ndarray (3,)
     """
     edofs, S, Sx, w = elements
     coef, sun, scaling = wind
@@ -75,7 +122,7 @@ def _force_tangent(q, elements, wind, out, cK, nf):
     Pr = np.empty((3, 3))
     fe = np.empty(nd)
     Ke = np.empty((nd, nd))
-    for e in range(ne):
+    for e in range(first, last, step):
         c = coef[e]
         if c == 0.0:
             continue
@@ -102,7 +149,7 @@ def _force_tangent(q, elements, wind, out, cK, nf):
             wg = w[e, g]
             for i in range(3):
                 fi = cs * (r[i] - ti * a[i])
-                resultant[i] += wg * fi
+                acc[i] += wg * fi
                 for A in range(nf):
                     fe[3 * A + i] += wg * S[e, g, A] * fi
             if want:
@@ -137,14 +184,30 @@ def _force_tangent(q, elements, wind, out, cK, nf):
                     data[scatter[e, k, m]] += cK * Ke[k, m]
 
 
-@njit(cache=True)
-def kernel(pack, index, ev):
-    """The solar wind's compiled hook of the evaluation contract
-    (``contract.Term.kernels``): ``force_tangent`` into the external forces of the packed
-    evaluation ``ev``, with ``pack = (edofs, S, Sx, w, coef, sun, scaling, resultant)`` (the
-    last a scratch accumulator (3,)) and the tangent entries at ``index``, int (ne, 3 nf, 3 nf)."""
+@njit(cache=True, inline="always")
+def _arguments(pack, index, ev):
+    """The arguments of ``force_tangent`` for the packed evaluation ``ev``, with ``pack =
+    (edofs, S, Sx, w, coef, sun, scaling, resultant)`` (the last a scratch accumulator
+    (3,)) and the tangent entries at ``index``, int (ne, 3 nf, 3 nf): the force into the
+    external forces."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     edofs, S, Sx, w, coef, sun, scaling, resultant = pack
     scatter = index if data.size else index[:0]
-    force_tangent(q, (edofs, S, Sx, w), (coef, sun, scaling), (f_ext, data, scatter, resultant),
-                  -s[1])
+    return (q, (edofs, S, Sx, w), (coef, sun, scaling), (f_ext, data, scatter, resultant),
+            -s[1])
+
+
+@njit(cache=True)
+def kernel(pack, index, ev):
+    """The solar wind's compiled hook of the evaluation contract
+    (``contract.Term.kernels``): ``force_tangent`` on the packed evaluation ``ev``
+    (``_arguments``)."""
+    q, elements, wind, out, cK = _arguments(pack, index, ev)
+    force_tangent(q, elements, wind, out, cK)
+
+
+@njit(cache=True)
+def kernel_parallel(pack, index, ev):
+    """``kernel`` on numba's threads (``force_tangent_parallel``)."""
+    q, elements, wind, out, cK = _arguments(pack, index, ev)
+    force_tangent_parallel(q, elements, wind, out, cK)

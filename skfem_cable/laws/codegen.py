@@ -11,8 +11,10 @@ holds, for the law's expressions (``CableLaw.symbolic``):
   ``G = W_x + D_xd``, ``Gd = D_xd`` and the dissipated power ``P = D_xd . xd``;
 * ``point_ghd(x, xd, prm, h, G, H, Gd, Hc)`` also writing ``H = W_xx + D_xd,x`` and
   ``Hc = D_xd,xd``;
-* ``force_tangent``, the element loop of ``kernels.cable`` compiled around them, and
-  ``kernel``, its hook of the evaluation contract (``contract.Term.kernels``);
+* ``span``, the loop of ``kernels.cable`` over a range of elements compiled around them,
+  the element loop of ``kernels.chunks`` around it, and ``kernel`` and
+  ``kernel_parallel`` (on numba's threads), its hooks of the evaluation contract
+  (``contract.Term.kernels``);
 * ``numpy_point(x, xd, prm, h)``, the same quantities vectorised over points (numpy).
 
 The ``"assumed-strain"`` module holds the same ``point_*`` functions of the law's bending
@@ -21,7 +23,7 @@ part (``CableLaw.part(1)``), and for its axial part in the Green strain
 ``s = W'`` and ``k = W''``), ``strain_point_d(e, ed, prm, h) -> (W, P, s, k, c, sd)`` with
 ``s = W' + D_ed``, ``k = ds/de``, ``c = ds/ded``, the damping stress ``sd = D_ed`` and the
 power ``P = D_ed ed``, and ``numpy_strain(e, prm, h)`` (``W`` and ``s``, vectorised); its
-``force_tangent`` and ``kernel`` are those of ``kernels.assumed_strain``.
+``span`` is that of ``kernels.assumed_strain``, in the same loop.
 
 Each is common-subexpression eliminated (``sympy.cse``).  The modules live in the
 ``laws`` folder of the cache of ``kernels.generated``; a module's name carries a digest of
@@ -36,7 +38,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from ..kernels import assumed_strain, generated
+from ..kernels import assumed_strain, chunks, generated
 from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
@@ -231,6 +233,16 @@ def _point_functions(sym, damped):
     ], d
 
 
+#: The element loop (``kernels.chunks``) around a template's ``span``, with the
+#: decorators of its functions in the generated module: ``kernel`` and
+#: ``kernel_parallel`` are the hooks; numba compiles each at its first call, so the
+#: threaded loop only where a system runs on threads.
+LOOP = ((INLINED, chunks.chunk), (INLINED, chunks.close),
+        (INLINED, chunks.force_tangent),
+        ("@njit(cache=True, parallel=True)", chunks.force_tangent_parallel),
+        (INLINED, chunks.arguments), ("@njit(cache=True)", chunks.kernel),
+        ("@njit(cache=True)", chunks.kernel_parallel))
+
 #: The kinds of generated module of a law and the template each compiles: ``"gauss"``,
 #: the law on a Gauss (or any) rule (``kernels.cable``; the paper's and the Lobatto
 #: formulations), and ``"assumed-strain"``, the axial part at the assumed strain and the
@@ -241,7 +253,8 @@ TEMPLATES = {"gauss": template, "assumed-strain": assumed_strain}
 def source(law, kind="gauss"):
     """The text of the generated module of ``law`` of ``kind`` (``TEMPLATES``): the point
     functions of the law (``"gauss"``) or of its bending part with the axial part in the
-    strain (``"assumed-strain"``), and the template's ``force_tangent`` and ``kernel``."""
+    strain (``"assumed-strain"``), the template's ``span`` and the element loop
+    (``LOOP``)."""
     if kind == "gauss":
         points, d = _point_functions(law.symbolic, law.damped)
         extra = [_numpy_function(d, law.symbolic)]
@@ -254,14 +267,15 @@ def source(law, kind="gauss"):
         f'(parameters {", ".join(law.parameters) or "none"}), module kind {kind!r}.  Do not '
         'edit: regenerated when the law or the generator changes."""',
         "import math  # noqa: F401\n\nimport numpy  # noqa: F401\nimport numpy as np\n"
-        "from numba import njit"
+        "from numba import njit, prange"
         + ("" if kind == "gauss" else "\n\nfrom skfem_cable.kernels.assumed_strain import MAP"),
-        f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}",
+        f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}\n"
+        f"CHUNK = {chunks.CHUNK}",
         f"PARAMETERS = {law.parameters!r}",
         *points,
         *extra,
-        INLINED + "\n" + inspect.getsource(module.force_tangent),
-        "@njit(cache=True)\n" + inspect.getsource(module.kernel),
+        "@njit(cache=True)\n" + inspect.getsource(module.span),
+        *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in LOOP),
     ]
     return "\n\n\n".join(parts) + "\n"
 
@@ -270,7 +284,8 @@ def module_name(law, kind="gauss"):
     """Module name of ``law`` of ``kind``: its name and a digest of its expressions, the
     template and the generator."""
     digest = generated.digest(law.key, kind, GENERATOR, inspect.getsource(TEMPLATES[kind]),
-                              repr(law.parameters), sp.__version__)
+                              inspect.getsource(chunks), repr(law.parameters),
+                              sp.__version__)
     safe = re.sub(r"\W", "_", law.name)[:40]
     suffix = "" if kind == "gauss" else "_" + re.sub(r"\W", "_", kind)
     return f"skfem_cable_law_{safe}{suffix}_{digest}"
