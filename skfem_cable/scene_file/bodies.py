@@ -130,9 +130,10 @@ def read_cable(t, bodies):
         cable = Cable.straight(start, end, n, bodies.sections[section], **options) \
             if length is None else \
             Cable.between(start, end, length, n, bodies.sections[section], sag, **options)
-    except ValueError as err:  # a law, formulation or rule the element does not have
-        t.fail("quadrature" if quadrature and "quadrature" in str(err) else
-               "sag" if "sag" in str(err) else "element", f"does not take this cable: {err}")
+    except ValueError as err:  # a rule or sag refused, a law or formulation the element
+        # does not have: the key the message starts with, else the element
+        key = next((k for k in ("quadrature", "sag") if str(err).startswith(k)), "element")
+        t.fail(key, f"does not take this cable: {err}")
     bodies.add(t, cable)
 
 
