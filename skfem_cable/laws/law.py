@@ -157,7 +157,9 @@ class CableLaw:
         """The same law with some parameters given (they then ignore the section): numbers,
         or callables of time ``f(t)`` (a stiffness that softens, a damping switched on),
         which a time integration refreshes once per step (at the step's end time) and
-        whose change of the stored energy it books as external work (``varying``).
+        whose change of the stored energy it books as external work (``varying``).  A
+        run store's fingerprint sees a callable's code and default arguments, not what it
+        closes over: give such values as defaults (``lambda t, k=k: ...``).
 
         Examples
         --------
