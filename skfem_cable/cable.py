@@ -265,7 +265,6 @@ class Cable(CableFields):
         intorder = element.intorder if intorder is None else intorder
         if not _is_count(intorder):
             raise ValueError(f"intorder must be a positive integer, got {intorder!r}")
-        self.quadrature = _quadrature(quadrature, formulation, intorder)
         x = mesh.p[0]
         if np.any(np.diff(x) <= 0) or np.any(mesh.t[1] != mesh.t[0] + 1):
             raise ValueError("mesh nodes must be sorted along the arc length "
@@ -287,6 +286,7 @@ class Cable(CableFields):
         self.xi = X[0]
         self.S = self._shape(self.xi)[0]
         self.Sx, self.Sxx, self.weights, _ = self.tables_at(self.xi, W)
+        self.quadrature = _quadrature(quadrature, formulation, len(self.xi))
         self.formulation = formulation
         self._mass = None
 
@@ -364,19 +364,9 @@ class Cable(CableFields):
         >>> tether.n_dofs, tether.q0[:6].tolist()
         (36, [0.0, 0.0, 0.0, 0.0, 1.0, 0.0])
         """
-        if not _is_count(n_elements):
-            raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
-        check_memory(int(n_elements))
         start, end = _point("start", start), _point("end", end)
-        axis = end - start
-        length = np.linalg.norm(axis)
-        if not length > 0:
-            raise ValueError(f"start and end must differ, got {start.tolist()} for both")
-        s = np.linspace(0.0, length, int(n_elements) + 1)
-        t = axis / length
-        positions = start + s[:, None] * t
-        return cls(MeshLine(s), section, positions, np.tile(t, (len(s), 1)), law=law,
-                   curvatures=np.zeros_like(positions), **kwargs)
+        return cls.between(start, end, np.linalg.norm(end - start), n_elements, section,
+                           law=law, **kwargs)
 
     @classmethod
     def between(cls, start, end, length, n_elements, section, sag=None, law=None, **kwargs):
@@ -428,6 +418,10 @@ class Cable(CableFields):
             raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
         check_memory(int(n_elements))
         start, end = _point("start", start), _point("end", end)
+        chord = end - start
+        distance = np.linalg.norm(chord)
+        if not distance > 0:
+            raise ValueError(f"start and end must differ, got {start.tolist()} for both")
         try:
             length = float(length)
         except (TypeError, ValueError):
@@ -435,14 +429,11 @@ class Cable(CableFields):
         if not (np.isfinite(length) and length > 0):
             raise ValueError(f"length must be a finite unstretched length > 0 (m), got "
                              f"{length!r}")
-        chord = end - start
-        distance = np.linalg.norm(chord)
-        if not distance > 0:
-            raise ValueError(f"start and end must differ, got {start.tolist()} for both")
         s = np.linspace(0.0, length, int(n_elements) + 1)
         if length <= distance:
-            positions = start + s[:, None] / length * chord
-            return cls(MeshLine(s), section, positions, np.tile(chord / length, (len(s), 1)),
+            slope = chord / length
+            positions = start + s[:, None] * slope
+            return cls(MeshLine(s), section, positions, np.tile(slope, (len(s), 1)),
                        law=law, curvatures=np.zeros_like(positions), **kwargs)
         fields = _catenary(chord, length, s, (0.0, 0.0, -1.0) if sag is None else sag)
         positions, slopes, curvatures = fields
@@ -633,9 +624,10 @@ def _law(law, element):
 MAX_GAUSS_POINTS = 20
 
 
-def _quadrature(quadrature, formulation, intorder):
+def _quadrature(quadrature, formulation, default):
     """``Cable``'s ``quadrature`` checked and completed (``{"axial": na, "bending": nb}``,
-    a missing key taking the points of ``intorder``), or None."""
+    a missing key taking ``default`` points, those of the rule of ``intorder``), or
+    None."""
     if quadrature is None:
         return None
     if not isinstance(quadrature, dict) or not quadrature \
@@ -646,7 +638,6 @@ def _quadrature(quadrature, formulation, intorder):
         raise ValueError(f"quadrature is for formulation='paper' (Gauss rules for the "
                          f"axial and the bending part); formulation {formulation!r} "
                          "chooses its own rules: leave one of the two out")
-    default = (int(intorder) + 2) // 2  # the points of the Gauss rule of order intorder
     rules = {}
     for part in ("axial", "bending"):
         n = quadrature.get(part, default)

@@ -342,23 +342,24 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
                              f"clamp {node!r}", labels + ["M1", "M2"])]
 
 
-def _stacked(*motions):
-    """The motions one after the other as one ``Motion`` (a constant vector when none is
-    driven)."""
+def _mapped(combine, size, *motions):
+    """``combine`` (linear) of the values of ``motions``, order by order, as one
+    ``Motion`` of ``size`` components (a constant vector when none is driven)."""
     if not any(m.driven for m in motions):
-        return np.concatenate([m(0.0) for m in motions])
-    return Motion(*(lambda t, k=k: np.concatenate([m(t, k) for m in motions])
-                    for k in range(3)), name=motions[0].name,
-                  size=sum(m.size for m in motions))
+        return combine(*(m(0.0) for m in motions))
+    return Motion(*(lambda t, k=k: combine(*(m(t, k) for m in motions)) for k in range(3)),
+                  name=motions[0].name, size=size)
+
+
+def _stacked(*motions):
+    """The motions one after the other as one ``Motion`` (``_mapped``)."""
+    return _mapped(lambda *x: np.concatenate(x), sum(m.size for m in motions), *motions)
 
 
 def _projected(motion, D):
-    """``D x(t)`` of the ``Motion`` ``x``: a ``Motion`` (or a constant vector) of the
-    components along the rows of ``D``."""
-    if not motion.driven:
-        return D @ motion(0.0)
-    return Motion(*(lambda t, k=k: D @ motion(t, k) for k in range(3)), name=motion.name,
-                  size=D.shape[0])
+    """``D x(t)`` of the ``Motion`` ``x``: its components along the rows of ``D``
+    (``_mapped``)."""
+    return _mapped(lambda x: D @ x, D.shape[0], motion)
 
 
 def _body_clamp(node, point, direction, velocity, acceleration):

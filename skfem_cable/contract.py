@@ -94,6 +94,19 @@ def scatter_add(data, index, values):
         data[idx[k]] += val[k]
 
 
+def static_evaluation(calls, q, index):
+    """The stored energy (J, both parts) and the internal force (n,) of compiled kernel
+    calls ``[(function, pack), ...]`` at the coordinates ``q``, at rest and without
+    tangent (``index``: the empty tangent index the kernels take), as a deploying cable
+    and a law that varies in time evaluate their own kernels with other tables or
+    values."""
+    energy, f, zeros = np.zeros(2), np.zeros_like(q), np.zeros_like(q)
+    ev = (q, zeros, np.zeros(4), f, zeros.copy(), zeros.copy(), NO_DATA, energy, np.zeros(2))
+    for function, pack in calls:
+        function(pack, index, ev)
+    return energy.sum(), f
+
+
 class Evaluation:
     """The state and the accumulators of one evaluation of the system.
 

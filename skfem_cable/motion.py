@@ -80,18 +80,20 @@ class SystemMotion:
         """Explicit time derivative (W) of the stored energy at fixed coordinates: the sum
         of the terms' ``energy_rate`` (``contract.Term``; 0 when no energy depends on
         time)."""
-        lay = self.layout
-        return float(sum(term.energy_rate(q, t) for term, _ in lay.body_terms + lay.load_terms
-                         if term.energy_rate is not None))
+        return self._terms_sum("energy_rate", q, t)
 
     def energy_change(self, q0, q1, t0, t1):
         """The work (J) done over a step from ``(q0, t0)`` to ``(q1, t1)`` by the change of
         the terms' data in time: the sum of the terms' ``energy_change``
         (``contract.Term``; a law parameter that varies in time)."""
+        return self._terms_sum("energy_change", q0, q1, t0, t1)
+
+    def _terms_sum(self, hook, *args):
+        """The sum of the terms' ``hook(*args)`` over the terms that have it."""
         lay = self.layout
-        return float(sum(term.energy_change(q0, q1, t0, t1)
+        return float(sum(getattr(term, hook)(*args)
                          for term, _ in lay.body_terms + lay.load_terms
-                         if term.energy_change is not None))
+                         if getattr(term, hook) is not None))
 
     def centre_of_mass(self, x):
         """The centre of mass of the coordinates ``x`` (n_dofs,) or (..., n_dofs): ``U_i^T

@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .contract import NO_DATA, NO_INDEX, Term
+from .contract import NO_INDEX, Term, static_evaluation
 
 
 class Stretched:
@@ -92,14 +92,10 @@ class Stretched:
     def elastic(self, q, lam):
         """The elastic energy and force (all the system's coordinates) of the coordinates
         ``q`` on the mesh stretched by ``lam``, by the law's kernels."""
-        energy = np.zeros(2)
-        f = np.zeros_like(q)
-        zeros = np.zeros_like(q)
-        ev = (q, zeros, np.zeros(4), f, zeros.copy(), zeros.copy(), NO_DATA, energy,
-              np.zeros(2))
-        for (function, pack), tables in zip(self.kernels, self.scaled(lam)):
-            function((pack[0], *tables, *pack[5:]), self.no_index, ev)
-        return energy.sum(), f
+        return static_evaluation(
+            [(function, (pack[0], *tables, *pack[5:]))
+             for (function, pack), tables in zip(self.kernels, self.scaled(lam))],
+            q, self.no_index)
 
     def energy(self, q, lam):
         """The elastic energy of the coordinates ``q`` (all the system's) on the mesh

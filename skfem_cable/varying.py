@@ -6,7 +6,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from .contract import NO_DATA, NO_INDEX
+from .contract import NO_INDEX, static_evaluation
 
 
 class Varying:
@@ -38,7 +38,8 @@ class Varying:
     def __init__(self, law, section, term):
         self.law, self.section = law, section
         self.kernels = term.kernels
-        self.dofs_per_element = term.rows.shape[1]
+        m = term.rows.shape[1]
+        self.no_index = NO_INDEX.reshape(0, m, m)  # no tangent, as the kernels take it
 
     def term(self, term):
         """The cable's term with these hooks; not merged with other cables' terms (their
@@ -55,15 +56,9 @@ class Varying:
         """The elastic energy at the coordinates ``q`` (all the system's) with the values of
         time ``t``."""
         values = np.array(self.law.parameter_values(self.section, t))
-        energy, zeros = np.zeros(2), np.zeros_like(q)
-        ev = (q, zeros, np.zeros(4), zeros.copy(), zeros.copy(), zeros.copy(), NO_DATA,
-              energy, np.zeros(2))
-        m = self.dofs_per_element
-        no_index = NO_INDEX.reshape(0, m, m)
-        for function, pack in self.kernels:
-            pack = (*pack[:self.VALUES], values, *pack[self.VALUES + 1:])
-            function(pack, no_index, ev)
-        return energy.sum()
+        return static_evaluation(
+            [(function, (*pack[:self.VALUES], values, *pack[self.VALUES + 1:]))
+             for function, pack in self.kernels], q, self.no_index)[0]
 
     def energy_change(self, q0, q1, t0, t1):
         """``Term.energy_change``: the mean over ``q0`` and ``q1`` of ``U(q; p(t1)) -

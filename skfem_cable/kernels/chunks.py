@@ -7,9 +7,8 @@ share none.  So the loop runs every chunk but its first element (on numba's thre
 ``force_tangent_parallel``, one after the other in ``force_tangent``: the chunks write to
 different places), then the first elements of the chunks, one after the other.  Each chunk
 sums its energies apart, the first elements theirs, and these sums are added in order at
-the end.  Every sum is
-therefore taken in the same order on one thread or many: the results are bit-identical
-whatever the thread count (``tests/test_threads.py``).
+the end.  Every sum is therefore taken in the same order on one thread or many: the
+results are bit-identical whatever the thread count (``tests/test_mission.py``).
 
 As ``kernels.cable`` and ``kernels.assumed_strain``, this module is a template:
 ``laws.codegen`` copies its functions into the module of each law, next to the template's
