@@ -254,7 +254,9 @@ class Layout:
         slopes."""
         is_position = np.concatenate([b.position_mask for b in system.bodies])
         points = system.q0[system.vectors[system.vector_is_position]]
-        extent = np.ptp(points, axis=0).max() if points.size else 1
+        # the diameter of the points about their centroid: the same in any frame
+        extent = 2 * np.linalg.norm(points - points.mean(axis=0), axis=1).max() \
+            if points.size else 1
         self.length_scale = float(max(extent, 1e-300))
         self.coordinate_scale = np.where(is_position, self.length_scale, 1.0)
 

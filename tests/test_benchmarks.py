@@ -102,7 +102,7 @@ def test_adaptive_fronts_measure_a_run_against_its_reference():
     fronts = load(BENCH / "adaptive_fronts.py")
     scene = esail.build(esail.BaselineConfig(), 10.0, 2)
     reference = fronts.outputs(scene, fronts.run(scene, 20.0, 1, dt=0.025)[1])
-    wall, result = fronts.run(scene, 20.0, 1, dt=0.1, rtol=1e-5, atol=1e-7)
+    wall, result = fronts.run(scene, 20.0, 1, dt=0.1, rtol=1e-7, atol=1e-5)
     error = np.abs(fronts.outputs(scene, result) / reference - 1)
     assert wall > 0 and result.stats["steps"] < 200 and error.max() < 1e-2
 

@@ -98,12 +98,14 @@ def test_public_api_and_initial_state(short_run):
     assert out["thrust_O"].shape == (len(result.t), 3)
     assert out["coning"].shape == (len(result.t), p)
     for name in ("coning", "lagging", "root_coning", "root_lagging", "length_ratio",
-                 "omega_B", "euler_B", "euler_E", "sailing_angle", "precession_angle",
+                 "omega_B", "spin_rate", "euler_B", "euler_E", "sailing_angle", "precession_angle",
                  "thrust", "thrust_O", "thrust_angle", "thrust_moment", "reaction_force",
                  "reaction_moment", "reaction_angle", "kinetic", "elastic", "total"):
         assert np.all(np.isfinite(out[name])), name
     assert np.abs(scene.system.constraint_values(scene.initial.q)).max() < 1e-9
     assert out["omega_B"][0] == pytest.approx([4e-3, 0, 0], abs=1e-15)
+    # the remote units start in the steady spin of the hub
+    assert out["spin_rate"][0] == pytest.approx(4e-3, rel=1e-12)
     assert np.rad2deg(out["sailing_angle"][0]) == pytest.approx(10.0, abs=1e-9)
     assert np.rad2deg(out["euler_B"][0]) == pytest.approx([0, -80, 0], abs=1e-9)
     assert np.abs(out["coning"][0]).max() < 1e-12 and np.abs(out["lagging"][0]).max() < 1e-12

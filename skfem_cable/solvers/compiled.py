@@ -205,14 +205,14 @@ class CompiledNewton:
         prm[template.GAMMA], prm[template.BETA] = g.gamma, g.beta
         prm[template.MBAR], prm[template.TOL] = g.mbar, g.tol
         prm[template.CON_WEIGHT], prm[template.MAX_ITER] = g.con_weight, g.max_iter
-        prm[template.FULL] = g.newton == "full"
         prm[template.TOL_LOCAL], prm[template.ERROR_CONSTANT] = g.tol_local or 0.0, \
             g.error_constant
 
-    def iterate(self, g, h, t1, need):
+    def iterate(self, g, h, t1, need, full):
         """Run the Newton iteration of the step ``t_n -> t1 = t_n + h`` of the integrator
-        ``g``; returns ``(status, iterations, factorizations, corrections, singular)``
-        (the step's contraction estimate in ``prm[RATE]``)."""
+        ``g`` (from a fresh tangent if ``need``, in full Newton if ``full``); returns
+        ``(status, iterations, factorizations, corrections, singular)`` (the step's
+        contraction estimate in ``prm[RATE]``)."""
         lay = g.lay
         for prepare in self.prepare:
             prepare(t1)
@@ -222,6 +222,7 @@ class CompiledNewton:
         prm[template.T1], prm[template.H] = t1, h
         prm[template.BETA_P], prm[template.GAMMA_P] = g._coefficients(h)
         prm[template.NEED], prm[template.RATE] = need, g.newton_rate
+        prm[template.FULL] = full
         prm[template.EXTRAPOLATION] = g.extrapolation(h)
         a_prev = g.a if g.a_prev is None else g.a_prev
         state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, g.fd, g.fnc, g.fcon)
