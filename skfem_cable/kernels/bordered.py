@@ -53,7 +53,7 @@ def factor(lu, data):
      starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
     k = S.shape[0]
     nblocks = starts.size - 1
-    _scatter(data, target, position, ab, E, F, S)
+    _scatter(data, target, position, ab, E, F, S, parallel[0])
     _blocks(lu, FACTOR, parallel[0])
     for j in range(nblocks):
         if infos[j] > 0:
@@ -71,23 +71,53 @@ def factor(lu, data):
 
 
 @njit(cache=True)
-def _scatter(data, target, position, ab, E, F, S):
-    """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``)."""
-    ab[:] = 0.0
-    E[:] = 0.0
-    F[:] = 0.0
-    S[:] = 0.0
-    flat_ab, flat_e, flat_f, flat_s = ab.ravel(), E.ravel(), F.ravel(), S.ravel()
-    for p in range(data.size):
+def _scatter(data, target, position, ab, E, F, S, parallel):
+    """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``), every
+    other entry zero; on numba's threads if ``parallel`` (assignments to distinct
+    places: the same on any thread count)."""
+    flat = (ab.ravel(), E.ravel(), F.ravel(), S.ravel())
+    if parallel:
+        _scatter_parallel(data, target, position, flat)
+        return
+    for k in range(4):
+        _fill(flat[k], 0, flat[k].size)
+    _place(data, target, position, flat, 0, data.size)
+
+
+#: Entries per piece of the threaded scatter.
+PIECE = 16384
+
+
+@njit(cache=True, parallel=True)
+def _scatter_parallel(data, target, position, flat):
+    for k in range(4):
+        size = flat[k].size
+        for i in prange((size + PIECE - 1) // PIECE):
+            _fill(flat[k], i * PIECE, min(size, (i + 1) * PIECE))
+    for i in prange((data.size + PIECE - 1) // PIECE):
+        _place(data, target, position, flat, i * PIECE, min(data.size, (i + 1) * PIECE))
+
+
+@njit(cache=True)
+def _fill(values, first, last):
+    for p in range(first, last):
+        values[p] = 0.0
+
+
+@njit(cache=True)
+def _place(data, target, position, flat, first, last):
+    """Entries ``first:last`` of ``data`` to their places in the storage ``flat`` (the
+    band, ``E``, ``F``, ``S`` flattened)."""
+    for p in range(first, last):
         where = target[p]
         if where == 0:
-            flat_ab[position[p]] = data[p]
+            flat[0][position[p]] = data[p]
         elif where == 1:
-            flat_e[position[p]] = data[p]
+            flat[1][position[p]] = data[p]
         elif where == 2:
-            flat_f[position[p]] = data[p]
+            flat[2][position[p]] = data[p]
         else:
-            flat_s[position[p]] = data[p]
+            flat[3][position[p]] = data[p]
 
 
 @njit(cache=True)
