@@ -10,10 +10,16 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
 3. Fixed steps of 0.5, 5 and 20 s, and adaptive steps at ``rtol`` 1e-4 and
    ``esail.MISSION_RTOL`` (``atol`` 1e-3 m), on all of numba's threads: steps, Newton
    iterations and factorizations per step, ms per step, the projected wall time of a
-   day, and the largest differences over the run from the fixed 0.5 s run (``errors``)
-   of the sail's spin rate, the hub's rate, the mean coning and the thrust.
+   day, and the largest differences over the run from the fixed 0.5 s run
+   (``bench.largest_differences``) of the sail's spin rate, the hub's rate, the mean
+   coning and the thrust.
+
+4. ``day()``: a simulated day at ``esail.MISSION_RTOL`` on all threads, and the largest
+   differences of its outputs over the day from a fixed 0.5 s run (about 8 minutes on
+   two threads).
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/esail_full.py [--quick]
+    cd benchmarks && OPENBLAS_NUM_THREADS=1 python -c "import esail_full as b; b.day()"
 """
 
 import os
@@ -23,7 +29,7 @@ import numba
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments, timings
+from skfem_cable.bench import arguments, largest_differences, timings
 from skfem_cable.linalg import THREADS, PatternSolver
 from skfem_cable.scenes import esail
 
@@ -106,15 +112,6 @@ def outputs(scene, result):
                                np.linalg.norm(out["thrust"], axis=1)], axis=1)
 
 
-def errors(run, reference):
-    """The largest difference over the run of each output from the reference's (both
-    ``outputs``), the run's interpolated to the reference's times, relative to the
-    reference's largest magnitude."""
-    (t, y), (t_ref, y_ref) = run, reference
-    at = np.stack([np.interp(t_ref, t, column) for column in y.T], axis=1)
-    return np.abs(at - y_ref).max(axis=0) / np.abs(y_ref).max(axis=0)
-
-
 def main(quick=False):
     s = SETTINGS["quick" if quick else "full"]
     scene = esail.build(esail.FULL_SIZE, 10.0, 10)
@@ -137,32 +134,46 @@ def main(quick=False):
     print(f"\n{s['t_end']:g} s of the sail from its steady spin (rho_inf = 0.25), on "
           f"{numba.config.NUMBA_NUM_THREADS} threads; largest differences over the run from "
           "fixed 0.5 s\n")
+    cases = compare(CASES, s["t_end"])
+    return {"parts": p, "threads": rows, "cases": cases}
+
+
+def compare(cases, t_end):
+    """Run the sail for ``t_end`` with each of ``cases`` (name: ``simulate`` settings; the
+    first is the reference) on all of numba's threads; print a row per case and return
+    steps, wall time, Newton iterations per step and the largest differences per case."""
     print("| case | steps | Newton/step | factorizations/step | ms/step | wall [s] | a day "
           "[s] | " + " | ".join(OUTPUTS) + " |\n|---|---|---|---|---|---|---|---|---|---|---|")
-    cases, reference, previous = {}, None, os.environ.get(THREADS)
+    rows, reference, previous = {}, None, os.environ.get(THREADS)
     os.environ[THREADS] = str(numba.config.NUMBA_NUM_THREADS)
     scene = esail.build(esail.FULL_SIZE, 10.0, 10)
-    for name, settings in CASES.items():
+    for name, settings in cases.items():
         start = time.perf_counter()
-        result = sc.simulate(scene.system, s["t_end"], initial=scene.initial, rho_inf=0.25,
+        result = sc.simulate(scene.system, t_end, initial=scene.initial, rho_inf=0.25,
                              every=1 if "rtol" in settings else round(2.0 / settings["dt"])
                              or 1, **settings)
         wall = time.perf_counter() - start
         values = outputs(scene, result)
         reference = values if reference is None else reference
-        error = errors(values, reference)
+        error = largest_differences(values, reference)
         st = result.stats
-        cases[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist(),
-                       "newton": st["newton"] / st["steps"]}
+        rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist(),
+                      "newton": st["newton"] / st["steps"]}
         print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
               f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
-              f"{wall:.1f} | {wall * 86400.0 / s['t_end']:.0f} | "
-              + " | ".join(f"{e:.1e}" for e in error) + " |")
+              f"{wall:.1f} | {wall * 86400.0 / t_end:.0f} | "
+              + " | ".join(f"{e:.1e}" for e in error) + " |", flush=True)
     if previous is None:
         os.environ.pop(THREADS)
     else:
         os.environ[THREADS] = previous
-    return {"parts": p, "threads": rows, "cases": cases}
+    return rows
+
+
+def day():
+    """A day of the sail at ``esail.MISSION_RTOL`` against fixed 0.5 s steps."""
+    names = ("fixed 0.5 s", f"adaptive, rtol {esail.MISSION_RTOL:g}")
+    return compare({name: CASES[name] for name in names}, 86400.0)
 
 
 if __name__ == "__main__":

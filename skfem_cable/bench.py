@@ -287,6 +287,18 @@ def timings(function, repeats):
     return times
 
 
+def largest_differences(run, reference):
+    """The largest difference over a run of each output from a reference run's, relative
+    to the reference's largest magnitude (a value crossing zero is not divided by its
+    zero).  ``run`` and ``reference`` are ``(t, y)``: times (nt,) and outputs (nt, k); the
+    run's are interpolated linearly to the reference's times."""
+    import numpy as np
+
+    (t, y), (t_ref, y_ref) = run, reference
+    at = np.stack([np.interp(t_ref, t, column) for column in np.transpose(y)], axis=1)
+    return np.abs(at - y_ref).max(axis=0) / np.abs(y_ref).max(axis=0)
+
+
 def arguments(doc, quick_help, argv=None):
     """The command line of a benchmark script whose only option is ``--quick``
     (described by ``quick_help``); ``doc`` is the script's docstring.  Returns the parsed

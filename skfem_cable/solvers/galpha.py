@@ -69,8 +69,9 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         Newton contracts by at least ``1/4`` per iteration and, from the fourth correction
         of a step on, while the next correction is predicted to end the iteration
         (``eta^2 |dx| <= tol``: a factorization costs several corrections); it refactors
-        otherwise (and retries a failed step with a fresh tangent); ``"full"`` refactors
-        every iteration.
+        otherwise (and retries a failed step with a fresh tangent), and takes full Newton
+        steps for a while where its tangent keeps failing (``_choose_newton``: long steps
+        of stiff spinning cables); ``"full"`` refactors every iteration.
         Modified Newton pays when the tangent changes slowly (the E-sail: 7 factorizations
         in 2000 steps, 5x faster); for a fast-rotating stiff cable it needs about twice the
         iterations of full Newton for the same wall time.
