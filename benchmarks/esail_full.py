@@ -24,6 +24,7 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
 
 import os
 import time
+from contextlib import contextmanager
 
 import numba
 import numpy as np
@@ -67,6 +68,20 @@ def parts(scene, repeats, threads=1):
             "unknowns": lay.N, "band": solver.band, "border": solver.border}
 
 
+@contextmanager
+def thread_count(count):
+    """``SKFEM_CABLE_THREADS`` set to ``count`` inside the block, as it was after it."""
+    previous = os.environ.get(THREADS)
+    os.environ[THREADS] = str(count)
+    try:
+        yield
+    finally:
+        if previous is None:
+            os.environ.pop(THREADS)
+        else:
+            os.environ[THREADS] = previous
+
+
 def threads(t_end, repeats):
     """Milliseconds of a factorization, a solve and a step of fixed 5 s steps over
     ``t_end`` (and of 0.5 s steps over a tenth of it) on one thread and on all of
@@ -74,28 +89,24 @@ def threads(t_end, repeats):
     the thread count when its layout is built).  A step's cost is that of the run less
     that of a run of a sixth of the steps, over the steps between: the setup of a run
     (its layout checks, its consistent initial state: 0.1 s, serial) is not in it."""
-    rows, previous = {}, os.environ.get(THREADS)
+    rows = {}
     for count in sorted({1, numba.config.NUMBA_NUM_THREADS}):
-        os.environ[THREADS] = str(count)
-        scene = esail.build(esail.FULL_SIZE, 10.0, 10)
-        p = parts(scene, repeats, count)
+        with thread_count(count):
+            scene = esail.build(esail.FULL_SIZE, 10.0, 10)
+            p = parts(scene, repeats, count)
 
-        def step(dt, span, scene=scene):
-            """ms per step of ``dt`` over ``span``, the setup taken out."""
-            def run(length):
-                sc.simulate(scene.system, length, dt, initial=scene.initial,
-                            rho_inf=0.25, every=10**9)
-            tries = max(1, repeats // 5)
-            return 1e3 * (fastest(lambda: run(span), tries)
-                          - fastest(lambda: run(span / 6), tries)) / (5 * span / 6 / dt)
+            def step(dt, span, scene=scene):
+                """ms per step of ``dt`` over ``span``, the setup taken out."""
+                def run(length):
+                    sc.simulate(scene.system, length, dt, initial=scene.initial,
+                                rho_inf=0.25, every=10**9)
+                tries = max(1, repeats // 5)
+                return 1e3 * (fastest(lambda: run(span), tries)
+                              - fastest(lambda: run(span / 6), tries)) / (5 * span / 6 / dt)
 
-        step(5.0, 10.0)  # compiles the Newton step of this thread count
-        rows[count] = {"factor": p["factor"], "solve": p["solve"], "step": step(5.0, t_end),
-                       "short": step(0.5, t_end / 10)}
-    if previous is None:
-        os.environ.pop(THREADS)
-    else:
-        os.environ[THREADS] = previous
+            step(5.0, 10.0)  # compiles the Newton step of this thread count
+            rows[count] = {"factor": p["factor"], "solve": p["solve"],
+                           "step": step(5.0, t_end), "short": step(0.5, t_end / 10)}
     return rows
 
 
@@ -145,29 +156,25 @@ def compare(cases, t_end):
     A case saves every step if adaptive, every 2 s if fixed, unless it sets ``every``."""
     print("| case | steps | Newton/step | factorizations/step | ms/step | wall [s] | a day "
           "[s] | " + " | ".join(OUTPUTS) + " |\n|---|---|---|---|---|---|---|---|---|---|---|")
-    rows, reference, previous = {}, None, os.environ.get(THREADS)
-    os.environ[THREADS] = str(numba.config.NUMBA_NUM_THREADS)
-    scene = esail.build(esail.FULL_SIZE, 10.0, 10)
-    for name, settings in cases.items():
-        start = time.perf_counter()
-        every = 1 if "rtol" in settings else max(1, round(2.0 / settings["dt"]))
-        result = sc.simulate(scene.system, t_end, initial=scene.initial, rho_inf=0.25,
-                             **{"every": every, **settings})
-        wall = time.perf_counter() - start
-        values = outputs(scene, result)
-        reference = values if reference is None else reference
-        error = largest_differences(values, reference)
-        st = result.stats
-        rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist(),
-                      "newton": st["newton"] / st["steps"]}
-        print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
-              f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
-              f"{wall:.1f} | {wall * 86400.0 / t_end:.0f} | "
-              + " | ".join(f"{e:.1e}" for e in error) + " |", flush=True)
-    if previous is None:
-        os.environ.pop(THREADS)
-    else:
-        os.environ[THREADS] = previous
+    rows, reference = {}, None
+    with thread_count(numba.config.NUMBA_NUM_THREADS):
+        scene = esail.build(esail.FULL_SIZE, 10.0, 10)
+        for name, settings in cases.items():
+            start = time.perf_counter()
+            every = 1 if "rtol" in settings else max(1, round(2.0 / settings["dt"]))
+            result = sc.simulate(scene.system, t_end, initial=scene.initial, rho_inf=0.25,
+                                 **{"every": every, **settings})
+            wall = time.perf_counter() - start
+            values = outputs(scene, result)
+            reference = values if reference is None else reference
+            error = largest_differences(values, reference)
+            st = result.stats
+            rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist(),
+                          "newton": st["newton"] / st["steps"]}
+            print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
+                  f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
+                  f"{wall:.1f} | {wall * 86400.0 / t_end:.0f} | "
+                  + " | ".join(f"{e:.1e}" for e in error) + " |", flush=True)
     return rows
 
 

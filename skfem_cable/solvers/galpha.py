@@ -202,7 +202,6 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         if rtol >= 1:
             raise ValueError(f"rtol must be < 1, got {rtol!r}")
         self.atol_q = atol * self.xscale / self.L_ref
-        self.vectors = self.system.vectors
         self.tol = max(self.tol, 1e-2 * min(rtol, atol / self.L_ref))
 
     def _compiled_newton(self, compiled):
@@ -315,7 +314,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
                 self.abar_h = h
             return
         start, steps = self._snapshot(), self.stats["steps"]
-        ok, _ = self._try_step(h, fresh=True, full=self.newton == "full")
+        ok, _ = self._try_step(h, fresh=True, full=self.full_newton)
         a1 = self.a
         self.restore(start)
         self.stats["steps"] = steps
@@ -458,7 +457,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         success (scipy ``OdeSolver`` style)."""
         self.error_ratio = None
         self._fit_abar(h)
-        full = self.newton == "full" or self.full_steps > 0
+        full = self.full_newton
         factorizations = self.stats["factorizations"]
         ok, msg = self._try_step(h, fresh=full, full=full)
         if not ok and not full and self.error_ratio is None:
@@ -466,6 +465,12 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         if ok and self.newton == "modified":
             self._choose_newton(full, self.stats["factorizations"] - factorizations)
         return ok, msg
+
+    @property
+    def full_newton(self):
+        """Whether the next step refactors at every iteration: ``newton="full"``, or
+        modified Newton's choice (``_choose_newton``)."""
+        return self.newton == "full" or self.full_steps > 0
 
     #: The longest run of full Newton steps before modified Newton is tried again.
     FULL_STEPS_MAX = 64
@@ -644,8 +649,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         """``|q|`` of each coordinate for the local error control: the length of the
         3-vector (a position, a slope) it belongs to, the coordinate's own size for a
         scalar."""
-        m = np.abs(q)
-        m[self.vectors] = np.linalg.norm(q[self.vectors], axis=1)[:, None]
+        m, vectors = np.abs(q), self.system.vectors
+        m[vectors] = np.linalg.norm(q[vectors], axis=1)[:, None]
         return m
 
     def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations, rate):
