@@ -12,10 +12,11 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
    iterations and factorizations per step, ms per step, the projected wall time of a
    day, and the largest differences over the run from the fixed 0.5 s run
    (``bench.largest_differences``) of the sail's spin rate, the hub's rate, the mean
-   coning and the thrust.
-
-4. ``day()``: a simulated day at ``esail.MISSION_RTOL`` on all threads, and the largest
-   differences of its outputs over the day from a fixed 0.5 s run (about 8 minutes on
+   coning and the thrust.  Then the same from the sail's state under the wind
+   (``esail.settled``), with fixed 40 s steps and adaptive steps at 3e-5 beside.
+4. ``day()``: a simulated day at ``esail.MISSION_RTOL`` on all threads from the sail's
+   state under the wind (``settled=False``: from the windless spin), and the largest
+   differences of its outputs over the day from a fixed 0.5 s run (about 6 minutes on
    two threads).
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/esail_full.py [--quick]
@@ -30,7 +31,7 @@ import numba
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments, largest_differences, timings
+from skfem_cable.bench import RESULTS, arguments, largest_differences, timings
 from skfem_cable.linalg import THREADS, PatternSolver
 from skfem_cable.scenes import esail
 
@@ -40,6 +41,13 @@ CASES = {"fixed 0.5 s": {"dt": 0.5}, "fixed 5 s": {"dt": 5.0}, "fixed 20 s": {"d
          "adaptive, rtol 1e-4": {"dt": 1.0, "rtol": 1e-4, "atol": 1e-3},
          f"adaptive, rtol {esail.MISSION_RTOL:g}": {"dt": 1.0, "rtol": esail.MISSION_RTOL,
                                                     "atol": 1e-3}}
+
+#: From the sail's state under the wind: longer fixed steps, and adaptive steps at three
+#: tolerances.
+SETTLED_CASES = {**{name: CASES[name] for name in ("fixed 0.5 s", "fixed 5 s", "fixed 20 s")},
+                 "fixed 40 s": {"dt": 40.0},
+                 **{f"adaptive, rtol {rtol:g}": {"dt": 1.0, "rtol": rtol, "atol": 1e-3}
+                    for rtol in (1e-4, 3e-5, esail.MISSION_RTOL)}}
 
 
 def fastest(function, repeats):
@@ -146,19 +154,28 @@ def main(quick=False):
           f"{numba.config.NUMBA_NUM_THREADS} threads; largest differences over the run from "
           "fixed 0.5 s\n")
     cases = compare(CASES, s["t_end"])
-    return {"parts": p, "threads": rows, "cases": cases}
+    print("\nThe same from the sail's state under the wind (esail.settled)\n")
+    settled = compare(SETTLED_CASES, s["t_end"], settled=True)
+    return {"parts": p, "threads": rows, "cases": cases, "settled": settled}
 
 
-def compare(cases, t_end):
+def compare(cases, t_end, settled=False):
     """Run the sail for ``t_end`` with each of ``cases`` (name: ``simulate`` settings; the
-    first is the reference) on all of numba's threads; print a row per case and return
-    steps, wall time, Newton iterations per step and the largest differences per case.
-    A case saves every step if adaptive, every 2 s if fixed, unless it sets ``every``."""
-    print("| case | steps | Newton/step | factorizations/step | ms/step | wall [s] | a day "
-          "[s] | " + " | ".join(OUTPUTS) + " |\n|---|---|---|---|---|---|---|---|---|---|---|")
+    first is the reference) on all of numba's threads, from the windless spin of
+    ``esail.build`` or, if ``settled``, from its state under the wind
+    (``esail.settled``); print a row per case and return steps, wall time, Newton
+    iterations per step and the largest differences per case.  A case saves every step
+    if adaptive, every 2 s if fixed, unless it sets ``every``."""
     rows, reference = {}, None
     with thread_count(numba.config.NUMBA_NUM_THREADS):
         scene = esail.build(esail.FULL_SIZE, 10.0, 10)
+        if settled:
+            start = time.perf_counter()
+            scene = esail.settled(scene)
+            rows["settle"] = {"wall": time.perf_counter() - start}
+            print(f"settled under the wind in {rows['settle']['wall']:.1f} s\n")
+        print("| case | steps | Newton/step | factorizations/step | ms/step | wall [s] | a day "
+              "[s] | " + " | ".join(OUTPUTS) + " |\n|---|---|---|---|---|---|---|---|---|---|---|")
         for name, settings in cases.items():
             start = time.perf_counter()
             every = 1 if "rtol" in settings else max(1, round(2.0 / settings["dt"]))
@@ -170,7 +187,8 @@ def compare(cases, t_end):
             error = largest_differences(values, reference)
             st = result.stats
             rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist(),
-                          "newton": st["newton"] / st["steps"]}
+                          "newton": st["newton"] / st["steps"], "t": values[0],
+                          "outputs": values[1]}
             print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
                   f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
                   f"{wall:.1f} | {wall * 86400.0 / t_end:.0f} | "
@@ -178,13 +196,41 @@ def compare(cases, t_end):
     return rows
 
 
-def day():
-    """A day of the sail at ``esail.MISSION_RTOL`` against fixed 0.5 s steps."""
+def day(settled=True):
+    """A day of the sail at ``esail.MISSION_RTOL`` against fixed 0.5 s steps, from its
+    state under the wind (``esail.settled``) or, with ``settled=False``, from the
+    windless spin."""
     names = ("fixed 0.5 s", f"adaptive, rtol {esail.MISSION_RTOL:g}")
     # saved about every 30 s: a day of every step would not fit in memory
-    every = (60, 10)
-    return compare({name: {**CASES[name], "every": k} for name, k in zip(names, every)},
-                   86400.0)
+    every = (60, 2 if settled else 10)
+    rows = compare({name: {**CASES[name], "every": k} for name, k in zip(names, every)},
+                   86400.0, settled)
+    adaptive = rows[names[1]]
+    draw_day(adaptive["t"], adaptive["outputs"], every[1], RESULTS / "esail_full_day.png")
+    return rows
+
+
+def draw_day(t, outputs, every, path):
+    """The mean step over each ``every`` steps between the saved times ``t``, the mean
+    coning and the hub's rate (``outputs``' columns) over the day."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, axes = plt.subplots(3, 1, figsize=(8, 6), sharex=True, layout="constrained")
+    hours = np.asarray(t) / 3600.0
+    axes[0].plot(hours[1:], np.diff(t) / every, lw=0.8)
+    axes[0].set(ylabel="step [s]", ylim=(0, None))
+    axes[1].plot(hours, outputs[:, 2], lw=0.8)
+    axes[1].set(ylabel="mean coning [deg]")
+    axes[2].plot(hours, 1e3 * outputs[:, 1], lw=0.6)
+    axes[2].set(ylabel="hub's rate [mrad/s]", xlabel="t [h]")
+    fig.suptitle(f"full-size E-sail, a day at rtol = {esail.MISSION_RTOL:g} from its state "
+                 "under the wind", fontsize=10)
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

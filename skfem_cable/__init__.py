@@ -18,8 +18,8 @@ Public API (``__all__``, documented on the API page of the docs):
   ``MU_EARTH``, ``MU_SUN``, ``R_EARTH``, ``AU`` (module ``orbit``);
 * element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
   forms ``forms``;
-* solvers: ``solve_static`` (``StaticConvergenceError``), ``solve_steady``, ``modes``,
-  ``simulate`` (``SimulationError``); results: ``State``, ``Result``;
+* solvers: ``solve_static`` (``StaticConvergenceError``), ``solve_steady``, ``settle``,
+  ``modes``, ``simulate`` (``SimulationError``); results: ``State``, ``Result``;
 * the evaluation contract: ``Evaluation``, ``Term``, ``Observer`` (hooks into
   ``simulate``), and the I/O layer ``io`` (observers: run store, ParaView series,
   progress bar); ``export`` (ParaView files) and ``plot``;
@@ -81,6 +81,7 @@ from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anc
 from .scenes import esail as esail
 from .section import Section
 from .solvers.modal import modes
+from .solvers.settle import settle
 from .solvers.simulate import simulate
 from .solvers.static import StaticConvergenceError, solve_static
 from .solvers.steady import solve_steady
@@ -150,5 +151,6 @@ __all__ = [
     "simulate",
     "solve_static",
     "solve_steady",
+    "settle",
     "sweep",
 ]

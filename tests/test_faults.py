@@ -532,20 +532,19 @@ def test_default_fields_leave_out_the_accelerations(tmp_path):
 # ===========================================================================================
 # Numerical faults (issue 12): the instability guard and clear errors for bad numbers
 # ===========================================================================================
-def spinning(dt=0.75, t_end=2.25, **kwargs):
+def spinning(dt=0.45, t_end=2.25, **kwargs):
     scene = classics.spinning_tether(n_elements=10, spin=2.0, tip_mass=0.5)
     return sc.simulate(scene.system, t_end=t_end, dt=dt, initial=scene.initial,
                        rho_inf=0.95, **kwargs)
 
 
 def test_blow_up_without_the_guard_is_what_it_prevents():
-    """The fault: the spinning tether at dt = 0.75 s, nearly undamped (``rho_inf =
-    0.95``), gains 706x its energy and returns normally when the guard is off
-    (``energy_tol=None``).  (At ``rho_inf = 0.8`` it did so at dt = 0.5 s while the
-    integrator started from ``abar_0 = a_0``, and at 0.75 s while modified Newton kept
-    stale tangents that failed; with the start fitted to the step,
-    ``GeneralizedAlpha._fit_abar``, and full Newton on such steps,
-    ``GeneralizedAlpha._choose_newton``, it no longer does.)"""
+    """The fault: the spinning tether at dt = 0.45 s, nearly undamped (``rho_inf =
+    0.95``), gains 697x its energy and returns normally when the guard is off
+    (``energy_tol=None``).  The scene is chaotic in the step and the method: which steps
+    blow up moves with every change of Newton's choices (it blew up at dt = 0.75 s
+    before steps of long-step stretches started from a fresh tangent,
+    ``GeneralizedAlpha._choose_newton``, and at rho_inf = 0.8 before those stretches)."""
     r = spinning(energy_tol=None)
     assert r.energy["total"].max() > 100 * r.energy["total"][0]
 
@@ -566,8 +565,8 @@ def test_guard_stops_with_a_diagnostic_and_the_results():
     with pytest.raises(sc.SimulationError) as info:
         spinning(max_halvings=2)
     msg = str(info.value)
-    for part in ("t=0.9375", "h=0.188", "energy balance grew", "cable gained",
-                 "last accepted steps", "t=0.75:"):
+    for part in ("t=0.5625", "h=0.113", "energy balance grew", "cable gained",
+                 "last accepted steps", "t=0.45:"):
         assert part in msg, part
     assert len(info.value.result) >= 1 and info.value.result.t[0] == 0.0
 

@@ -246,16 +246,21 @@ def esail_orbit(options):
                              formulation=options.formulation).run(options)
 
 
-def esail_full_scene(alpha=10.0, elements=10, t_end=None, rtol=None, every=50):
+def esail_full_scene(alpha=10.0, elements=10, t_end=None, rtol=None, every=50,
+                     settled=True):
     """The full-size E-sail (``esail.FULL_SIZE``: 100 tethers of 20 km, ``elements`` each)
     on the circular heliocentric orbit of 1 AU at sailing angle ``alpha`` (deg), run to
     ``t_end`` (default one spin period, 87 min) with adaptive steps of relative tolerance
     ``rtol`` (default ``esail.MISSION_RTOL``; ``atol`` 1e-3 m, first step 1 s, rho_inf =
-    0.25), every ``every``-th step saved; outputs ``esail_numbers``'."""
+    0.25), every ``every``-th step saved; outputs ``esail_numbers``'.  It starts from
+    the sail's state under the wind (``esail.settled``, some 10 s of relaxation before
+    t = 0 on two threads), or from the windless spin if not ``settled``."""
     from . import esail
 
     cfg = esail.FULL_SIZE
     scene = esail.build_orbit(cfg, alpha, elements)
+    if settled:
+        scene = esail.settled(scene)
     settings = {"t_end": cfg.spin_period if t_end is None else t_end, "dt": 1.0,
                 "rtol": esail.MISSION_RTOL if rtol is None else rtol, "atol": 1e-3,
                 "every": every, "rho_inf": 0.25, "series_every": 10}

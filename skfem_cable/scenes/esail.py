@@ -29,6 +29,7 @@ from ..orbit import MU_SUN, Orbit
 from ..rigid import RigidBody
 from ..runner.directory import register_files
 from ..section import Section, check_positive
+from ..solvers.settle import settle
 from ..state import State
 from ..system import System
 
@@ -123,7 +124,8 @@ FULL_SIZE = BaselineConfig(n_tethers=100, tether_length=20e3, spin_rate=1.2e-3)
 #: the coning's slow swing accumulates phase: 4.1e-2 from fixed 0.5 s steps, which are
 #: themselves some 6e-3 off (1.9e-2 from fixed 1 s steps).  The hub's own
 #: rate carries a libration against the tethers (a period of about 130 s, up to 20 %)
-#: whose phase only steps of about 0.5 s follow.
+#: whose phase only steps of about 0.5 s follow.  From the sail's state under the wind
+#: (``settled``) the hour takes 237 steps instead of 1106, its outputs within 5.8e-4.
 MISSION_RTOL = 1e-5
 
 
@@ -257,6 +259,38 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     v0 = system.rigid_motion_velocity(q0, omega_I)
     return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
                       State(system, q0, v=v0), R0, orbit)
+
+
+#: ``settled``'s relaxation: steps of this share of a spin period (2 deg of spin) ...
+SETTLE_STEP = 1.0 / 180.0
+#: ... over this many spin periods (8 h for ``FULL_SIZE``).
+SETTLE_SPINS = 5.5
+
+
+def settled(scene, spins=SETTLE_SPINS):
+    """``scene`` started from its state under the wind instead of the windless spin of
+    ``build``: the state at t = 0 after ``spins`` spin periods of dynamic relaxation
+    (``solvers.settle.settle``: steps of ``SETTLE_STEP`` of a spin period at rho_inf =
+    0, from t = -``spins`` periods).
+
+    Switched on at t = 0, the wind sets the tethers ringing in their transverse modes,
+    which nothing damps, and adaptive steps follow the ringing for the whole run.  The
+    relaxation's 990 steps take a factor 1e3 off the modes of periods below about a
+    twelfth of the spin period (``omega h > 0.4``).  ``FULL_SIZE`` at ``MISSION_RTOL``
+    then takes 237 steps in its first hour instead of 1106, and 9002 in a day instead of
+    32,511 (``docs/benchmarks.md``, "Mission-length runs").  What the relaxation keeps:
+    the slow coning oscillation the wind's onset sets off (``omega h`` 0.03: the mean
+    coning of ``FULL_SIZE`` at 10 deg swings between 0 and 9 deg with a period of 1.4 h),
+    and the sail has sailed: it starts off the origin (or the orbit's reference point),
+    moving with the velocity the thrust gave it.
+    """
+    if not (np.isfinite(spins) and spins > 0):
+        raise ValueError(f"spins must be a finite number > 0, got {spins!r}")
+    period = scene.config.spin_period
+    duration = spins * period
+    state = settle(scene.system, duration, SETTLE_STEP * period, initial=scene.initial,
+                   t_start=-duration)
+    return replace(scene, initial=State(scene.system, state.q, state.lam, v=state.v, t=0.0))
 
 
 def _angles(vec_Z):

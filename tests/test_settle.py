@@ -1,0 +1,92 @@
+"""Dynamic relaxation (``solvers.settle``): a released cable settles to its static
+equilibrium, which an undamped run does not reach, and a settled E-sail starts calm."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import skfem_cable as sc
+from skfem_cable.scenes import esail
+
+
+def swinging_catenary(sag=(0, -1, 0)):
+    """A 10 m polymer rope (5 mm, E = 1 GPa) between pins 8 m apart hung as the catenary
+    of its length sagging along ``sag`` (the horizontal by default), under gravity along
+    -z: it swings about its equilibrium with ``omega`` of about 2 rad/s."""
+    sec = sc.Section.circular(5e-3, 1e9, 1100.0)
+    cable = sc.Cable.between([0, 0, 0], [8, 0, 0], 10.0, 8, sec, sag=sag)
+    system = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1))
+    system.add_gravity([0, 0, -9.81])
+    return system, cable
+
+
+def test_settle_relaxes_a_swinging_cable_to_its_equilibrium():
+    """After 60 steps of 1 s (``omega h`` about 2) the midpoint is within 1e-4 m of the
+    static equilibrium and nearly at rest; the same run at ``rho_inf = 0.8`` is still
+    swinging (more than 0.1 m off)."""
+    hanging, down = swinging_catenary(sag=(0, 0, -1))
+    equilibrium = sc.solve_static(hanging).position(down, 5.0)
+    system, cable = swinging_catenary()
+    state = sc.settle(system, 60.0, 1.0)
+    assert state.t == pytest.approx(60.0)
+    assert np.linalg.norm(state.position(cable, 5.0) - equilibrium) < 1e-4
+    assert np.abs(state.v).max() < 1e-3
+    ringing = sc.simulate(system, 60.0, 1.0, rho_inf=0.8, every=60).state(-1)
+    assert np.linalg.norm(ringing.position(cable, 5.0) - equilibrium) > 0.1
+
+
+def test_settle_refuses_bad_durations():
+    system, _ = swinging_catenary()
+    for args, name in (((0.0, 1.0), "duration"), ((10.0, np.nan), "dt"), ((1.0, 2.0), "dt")):
+        with pytest.raises(ValueError, match=name):
+            sc.settle(system, *args)
+
+
+def test_settled_esail_starts_calm():
+    """A four-tether full-size sail settled under the wind starts at t = 0, coned, and
+    half an hour of adaptive steps at ``MISSION_RTOL`` takes at most 0.6 of the steps
+    it takes from the windless spin of ``build`` (125 against 237)."""
+    scene = esail.build(replace(esail.FULL_SIZE, n_tethers=4), 10.0, 2)
+    calm = esail.settled(scene)
+    assert calm.initial.t == 0.0
+    coning = esail.outputs(calm, sc.simulate(calm.system, 1.0, 1.0, initial=calm.initial,
+                                             rho_inf=0.25))["coning"]
+    assert np.abs(np.degrees(coning[0])).max() > 0.1
+
+    def steps(start):
+        return sc.simulate(start.system, 1800.0, 1.0, initial=start.initial, rho_inf=0.25,
+                           rtol=esail.MISSION_RTOL, atol=1e-3, every=10_000).stats["steps"]
+
+    assert steps(calm) <= 0.6 * steps(scene)
+    with pytest.raises(ValueError, match="spins"):
+        esail.settled(scene, spins=0.0)
+
+
+def spectral_radius(omega_h, rho_inf):
+    """The spectral radius of a step of the generalized-alpha method in the form of
+    Arnold and Bruls (``a``, ``abar``; ``galpha_parameters``) on ``x'' = -omega^2 x``, in
+    units of ``h``: the amplification matrix of ``(x, h v, h^2 a, h^2 abar)``."""
+    from skfem_cable.solvers.galpha import galpha_parameters
+
+    am, af, gamma, beta = galpha_parameters(rho_inf)
+    A = np.zeros((4, 4))
+    for j, (x, v, a, abar) in enumerate(np.eye(4)):
+        # a1 = -omega^2 x1, x1 = x + v + (1/2 - beta) abar + beta abar1
+        known = x + v + (0.5 - beta) * abar + beta * (af * a - am * abar) / (1 - am)
+        a1 = -omega_h**2 * known / (1 + omega_h**2 * beta * (1 - af) / (1 - am))
+        abar1 = ((1 - af) * a1 + af * a - am * abar) / (1 - am)
+        A[:, j] = (x + v + (0.5 - beta) * abar + beta * abar1,
+                   v + (1 - gamma) * abar + gamma * abar1, a1, abar1)
+    return np.abs(np.linalg.eigvals(A)).max()
+
+
+def test_the_damping_settle_states():
+    """The figures of ``solvers.settle``'s docstring: at ``rho_inf = 0`` a step keeps
+    0.99995 of a mode at ``omega h = 0.1``, 0.91 at 1, 0.71 at 2, 0.24 at 10, and tends to
+    0; at ``rho_inf = 1`` nothing is damped."""
+    for omega_h, kept in ((0.1, 0.99995), (1.0, 0.91), (2.0, 0.71), (10.0, 0.24)):
+        assert spectral_radius(omega_h, 0.0) == pytest.approx(kept, abs=0.005)
+    assert spectral_radius(1e4, 0.0) < 1e-2
+    assert spectral_radius(10.0, 1.0) == pytest.approx(1.0, abs=1e-9)
+    assert 0.9066**75 < 1e-3  # "a factor 1e3 in 75 steps"
