@@ -18,9 +18,12 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
    state under the wind (``settled=False``: from the windless spin), and the largest
    differences of its outputs over the day from a fixed 0.5 s run (about 6 minutes on
    two threads).
+5. ``month()``: 30 days on the circular orbit of 1 AU from the sail's state under the
+   wind, its first day against fixed 0.5 s steps (about 15 minutes on two threads).
 
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/esail_full.py [--quick]
     cd benchmarks && OPENBLAS_NUM_THREADS=1 python -c "import esail_full as b; b.day()"
+    cd benchmarks && OPENBLAS_NUM_THREADS=1 python -c "import esail_full as b; b.month()"
 """
 
 import os
@@ -159,16 +162,17 @@ def main(quick=False):
     return {"parts": p, "threads": rows, "cases": cases, "settled": settled}
 
 
-def compare(cases, t_end, settled=False):
+def compare(cases, t_end, settled=False, orbit=False):
     """Run the sail for ``t_end`` with each of ``cases`` (name: ``simulate`` settings; the
     first is the reference) on all of numba's threads, from the windless spin of
-    ``esail.build`` or, if ``settled``, from its state under the wind
-    (``esail.settled``); print a row per case and return steps, wall time, Newton
-    iterations per step and the largest differences per case.  A case saves every step
-    if adaptive, every 2 s if fixed, unless it sets ``every``."""
+    ``esail.build`` (``esail.build_orbit`` if ``orbit``: the circular orbit of 1 AU) or,
+    if ``settled``, from its state under the wind (``esail.settled``); print a row per
+    case and return steps, wall time, Newton iterations per step, the largest
+    differences, the saved outputs and the last state per case, and the scene.  A case
+    saves every step if adaptive, every 2 s if fixed, unless it sets ``every``."""
     rows, reference = {}, None
     with thread_count(numba.config.NUMBA_NUM_THREADS):
-        scene = esail.build(esail.FULL_SIZE, 10.0, 10)
+        scene = (esail.build_orbit if orbit else esail.build)(esail.FULL_SIZE, 10.0, 10)
         if settled:
             start = time.perf_counter()
             scene = esail.settled(scene)
@@ -188,11 +192,12 @@ def compare(cases, t_end, settled=False):
             st = result.stats
             rows[name] = {"steps": st["steps"], "wall": wall, "error": error.tolist(),
                           "newton": st["newton"] / st["steps"], "t": values[0],
-                          "outputs": values[1]}
+                          "outputs": values[1], "last": result.state(-1)}
             print(f"| {name} | {st['steps']} | {st['newton'] / st['steps']:.2f} | "
                   f"{st['factorizations'] / st['steps']:.2f} | {1e3 * wall / st['steps']:.2f} | "
                   f"{wall:.1f} | {wall * 86400.0 / t_end:.0f} | "
                   + " | ".join(f"{e:.1e}" for e in error) + " |", flush=True)
+    rows["scene"] = scene
     return rows
 
 
@@ -208,6 +213,57 @@ def day(settled=True):
     adaptive = rows[names[1]]
     draw_day(adaptive["t"], adaptive["outputs"], every[1], RESULTS / "esail_full_day.png")
     return rows
+
+
+def month(days=30):
+    """A month of the sail on the circular orbit of 1 AU at ``esail.MISSION_RTOL`` from its
+    state under the wind, on all threads: the first day against fixed 0.5 s steps
+    (``compare``), then the other ``days - 1`` continued from the first day's end, saved
+    every 100 steps; prints the wall times and draws the month (about 15 minutes on two
+    threads, the reference day included)."""
+    names = ("fixed 0.5 s", f"adaptive, rtol {esail.MISSION_RTOL:g}")
+    rows = compare({name: {**CASES[name], "every": k} for name, k in zip(names, (60, 2))},
+                   86400.0, settled=True, orbit=True)
+    first, scene = rows[names[1]], rows["scene"]
+    with thread_count(numba.config.NUMBA_NUM_THREADS):
+        start = time.perf_counter()
+        rest = sc.simulate(scene.system, days * 86400.0, 1.0, initial=first["last"],
+                           t_start=86400.0, rho_inf=0.25, rtol=esail.MISSION_RTOL,
+                           atol=1e-3, every=100)
+        wall = time.perf_counter() - start
+    t, values = outputs(scene, rest)
+    steps = first["steps"] + rest.stats["steps"]
+    total = rows["settle"]["wall"] + first["wall"] + wall
+    print(f"\n{days} days: {steps} steps, {first['wall'] + wall:.0f} s of steps and "
+          f"{rows['settle']['wall']:.1f} s of settling, {total / 60:.1f} minutes in all; "
+          f"thrust {values[:, 3].min():.4f} to {values[:, 3].max():.4f} N, mean coning "
+          f"{values[:, 2].min():.2f} to {values[:, 2].max():.2f} deg")
+    draw_month(np.concatenate([first["t"], t]), np.concatenate([first["outputs"], values]),
+               RESULTS / "esail_full_month.png")
+    return {"steps": steps, "wall": total, "first_day": first["error"]}
+
+
+def draw_month(t, outputs, path):
+    """The spin rate, the mean coning and the thrust (``outputs``' columns) over the
+    month."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, axes = plt.subplots(3, 1, figsize=(8, 6), sharex=True, layout="constrained")
+    days = np.asarray(t) / 86400.0
+    for ax, k, scale, label in zip(axes, (0, 2, 3), (1e3, 1.0, 1.0),
+                                   ("spin rate [mrad/s]", "mean coning [deg]",
+                                    "thrust [N]")):
+        ax.plot(days, scale * outputs[:, k], lw=0.6)
+        ax.set(ylabel=label)
+    axes[-1].set(xlabel="t [days]")
+    fig.suptitle(f"full-size E-sail on the orbit of 1 AU, rtol = {esail.MISSION_RTOL:g}",
+                 fontsize=10)
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
 
 
 def draw_day(t, outputs, every, path):

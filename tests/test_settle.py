@@ -44,21 +44,25 @@ def test_settle_refuses_bad_durations():
 
 
 def test_settled_esail_starts_calm():
-    """A four-tether full-size sail settled under the wind starts at t = 0, coned, and
-    half an hour of adaptive steps at ``MISSION_RTOL`` takes at most 0.6 of the steps
-    it takes from the windless spin of ``build`` (125 against 237)."""
-    scene = esail.build(replace(esail.FULL_SIZE, n_tethers=4), 10.0, 2)
+    """A full-size sail of 12 tethers settled under the wind starts at t = 0 from its coned
+    equilibrium: over half an hour of adaptive steps at ``MISSION_RTOL`` its mean coning
+    stays within 5 % of its start (3.7 %), where from the windless spin of ``build`` it
+    swings by more than its mean (7.7 deg about 3.1), and it takes at most 0.6 of the
+    steps (88 against 239).  (With four tethers the
+    tilt sets each tether's coning swinging by 13 deg: that sail is no disc.)"""
+    scene = esail.build(replace(esail.FULL_SIZE, n_tethers=12), 10.0, 2)
     calm = esail.settled(scene)
     assert calm.initial.t == 0.0
-    coning = esail.outputs(calm, sc.simulate(calm.system, 1.0, 1.0, initial=calm.initial,
-                                             rho_inf=0.25))["coning"]
-    assert np.abs(np.degrees(coning[0])).max() > 0.1
 
-    def steps(start):
-        return sc.simulate(start.system, 1800.0, 1.0, initial=start.initial, rho_inf=0.25,
-                           rtol=esail.MISSION_RTOL, atol=1e-3, every=10_000).stats["steps"]
+    def run(start):
+        result = sc.simulate(start.system, 1800.0, 1.0, initial=start.initial, rho_inf=0.25,
+                             rtol=esail.MISSION_RTOL, atol=1e-3, every=5)
+        coning = np.degrees(esail.outputs(start, result)["coning"]).mean(axis=1)
+        return result.stats["steps"], coning
 
-    assert steps(calm) <= 0.6 * steps(scene)
+    (steps, coning), (windless_steps, windless) = run(calm), run(scene)
+    assert np.ptp(coning) < 0.05 * coning[0] and np.ptp(windless) > windless.mean()
+    assert steps <= 0.6 * windless_steps
     with pytest.raises(ValueError, match="spins"):
         esail.settled(scene, spins=0.0)
 

@@ -20,6 +20,7 @@ the tethers apply to the hub (the paper's multipliers carry the opposite sign).
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from ..cable import Cable
 from ..coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce, SunAtFocus
@@ -30,6 +31,7 @@ from ..rigid import RigidBody
 from ..runner.directory import register_files
 from ..section import Section, check_positive
 from ..solvers.settle import settle
+from ..solvers.steady import solve_steady
 from ..state import State
 from ..system import System
 
@@ -125,7 +127,8 @@ FULL_SIZE = BaselineConfig(n_tethers=100, tether_length=20e3, spin_rate=1.2e-3)
 #: themselves some 6e-3 off (1.9e-2 from fixed 1 s steps).  The hub's own
 #: rate carries a libration against the tethers (a period of about 130 s, up to 20 %)
 #: whose phase only steps of about 0.5 s follow.  From the sail's state under the wind
-#: (``settled``) the hour takes 237 steps instead of 1106, its outputs within 5.8e-4.
+#: (``settled``) the hour takes 169 steps instead of 1106, its outputs within 1.4e-3 (the
+#: hub's rate; the others within 1.8e-4), and a day 3933 steps, 18.7 s on two threads.
 MISSION_RTOL = 1e-5
 
 
@@ -134,7 +137,8 @@ class ESailScene:
     """A built E-sail: the system, its bodies, the initial state and what ``outputs``
     needs (``zeta`` tether angles, ``anchors`` in the body frame, ``R0`` the heliocentric
     position of the origin of I at t = 0, ``orbit`` the heliocentric orbit of the system's
-    reference point or None: I fixed)."""
+    reference point or None: I fixed; ``options`` the tethers' ``n_elements``, ``kind``,
+    ``formulation`` and the wind's ``exponent`` it was built with)."""
 
     config: BaselineConfig
     alpha: float
@@ -147,6 +151,7 @@ class ESailScene:
     initial: State
     R0: np.ndarray
     orbit: Orbit | None = None
+    options: dict = field(default_factory=dict)
 
     def heliocentric(self, t):
         """Heliocentric position (m) of the origin of the system's coordinates at times
@@ -258,7 +263,9 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     omega_I = C_I_B @ np.array([cfg.spin_rate, 0.0, 0.0])
     v0 = system.rigid_motion_velocity(q0, omega_I)
     return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
-                      State(system, q0, v=v0), R0, orbit)
+                      State(system, q0, v=v0), R0, orbit,
+                      {"n_elements": n_elements, "kind": kind, "formulation": formulation,
+                       "exponent": exponent})
 
 
 #: ``settled``'s relaxation: steps of this share of a spin period (2 deg of spin) ...
@@ -269,28 +276,53 @@ SETTLE_SPINS = 5.5
 
 def settled(scene, spins=SETTLE_SPINS):
     """``scene`` started from its state under the wind instead of the windless spin of
-    ``build``: the state at t = 0 after ``spins`` spin periods of dynamic relaxation
-    (``solvers.settle.settle``: steps of ``SETTLE_STEP`` of a spin period at rho_inf =
-    0, from t = -``spins`` periods).
+    ``build`` (which the wind's onset sets ringing and coning for the whole run):
 
-    Switched on at t = 0, the wind sets the tethers ringing in their transverse modes,
-    which nothing damps, and adaptive steps follow the ringing for the whole run.  The
-    relaxation's 990 steps take a factor 1e3 off the modes of periods below about a
-    twelfth of the spin period (``omega h > 0.4``).  ``FULL_SIZE`` at ``MISSION_RTOL``
-    then takes 237 steps in its first hour instead of 1106, and 9002 in a day instead of
-    32,511 (``docs/benchmarks.md``, "Mission-length runs").  What the relaxation keeps:
-    the slow coning oscillation the wind's onset sets off (``omega h`` 0.03: the mean
-    coning of ``FULL_SIZE`` at 10 deg swings between 0 and 9 deg with a period of 1.4 h),
-    and the sail has sailed: it starts off the origin (or the orbit's reference point),
-    moving with the velocity the thrust gave it.
+    1. the relative equilibrium of the sail turned to face the wind (``solve_steady``
+       about its spin axis turned onto the wind line, where the wind is constant in the
+       spinning frame: the tethers coned, the sail accelerating along the axis), turned
+       back to the sailing angle;
+    2. ``spins`` spin periods of dynamic relaxation from there (``solvers.settle.settle``:
+       steps of ``SETTLE_STEP`` of a spin period at rho_inf = 0, from t = -``spins``
+       periods), which take a factor 1e3 off the modes of periods below about a twelfth
+       of the spin period (``omega h > 0.4``) that the tilt against the wind sets off.
+
+    The slow coning oscillation is not reached by the relaxation (its ``omega h`` is
+    0.03); the equilibrium keeps it small.  ``FULL_SIZE`` at 10 deg and ``MISSION_RTOL``:
+    the mean coning stays within 4.60 to 4.77 deg over a day (from the windless spin, or
+    relaxed from it without the equilibrium, it swings between 0 and 9 deg with a period
+    of 1.4 h), and the adaptive steps take 169 steps an hour instead of 1106, 3933 a day
+    (``docs/benchmarks.md``, "Mission-length runs").  The sail has sailed during the
+    relaxation: it starts off the origin (or the orbit's reference point), moving with
+    the velocity the thrust gave it.
     """
     if not (np.isfinite(spins) and spins > 0):
         raise ValueError(f"spins must be a finite number > 0, got {spins!r}")
+    system, initial = scene.system, scene.initial
+    # on an orbit the Sun line turns and the Sun's tides act: the equilibrium is that of
+    # the sail fixed at the orbit's start, the rest is left to the relaxation
+    fixed = scene if scene.orbit is None else _build(
+        replace(scene.config, R0=tuple(scene.R0)), np.degrees(scene.alpha), **scene.options)
+    axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
+    R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
+    turned = State(fixed.system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
+    steady = solve_steady(fixed.system, scene.config.spin_rate * (R @ axis), initial=turned)
+    start = State(system, system.rotate(steady.q, R.T), v=system.rotate(steady.v, R.T))
     period = scene.config.spin_period
     duration = spins * period
-    state = settle(scene.system, duration, SETTLE_STEP * period, initial=scene.initial,
-                   t_start=-duration)
-    return replace(scene, initial=State(scene.system, state.q, state.lam, v=state.v, t=0.0))
+    state = settle(system, duration, SETTLE_STEP * period, initial=start, t_start=-duration)
+    return replace(scene, initial=State(system, state.q, state.lam, v=state.v, t=0.0))
+
+
+def _facing(axis, wind):
+    """The least rotation that turns the unit vector ``axis`` onto the line of ``wind``
+    (onto ``wind`` or ``-wind``, whichever is nearer)."""
+    target = wind if axis @ wind >= 0 else -wind
+    cross = np.cross(axis, target)
+    sin = np.linalg.norm(cross)
+    if sin == 0.0:
+        return np.eye(3)
+    return Rotation.from_rotvec(cross / sin * np.arctan2(sin, axis @ target)).as_matrix()
 
 
 def _angles(vec_Z):
