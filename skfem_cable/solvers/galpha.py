@@ -479,16 +479,17 @@ class GeneralizedAlpha(StepControl, Diagnosis):
     def _choose_newton(self, fresh, factorizations):
         """Modified Newton's choice for the next steps after an accepted step (one that
         started from a fresh tangent if ``fresh``) that made ``factorizations``.  After
-        ``k >= 2`` steps in a row that started from the stale tangent and had to refactor
-        (it did not contract), the next ``2^(k-2)`` steps (at most ``FRESH_STEPS_MAX``)
-        factor the tangent at their predictor and iterate on it; then a step tries the
-        stale tangent again.  Long steps of a stiff spinning cable turn the tangent
-        within a step (the axial stiffness turns with the tether): the full-size E-sail
-        at 5 s steps took 5.9 corrections and 2.0 factorizations per step on the stale
-        tangent and 2.25 and 2.0 in full Newton; it takes 2.1 and 1.0, 7.0 ms on one
-        thread against full Newton's 11.6.  The flexible pendulum at 1 ms steps, which
-        refactored in two steps of three, takes 2.9 corrections per step instead of 4.5,
-        0.84 of the time.  Steps whose stale tangent serves (the E-sail rig) keep it."""
+        ``k >= 2`` steps in a row that had to refactor (the stale tangent did not
+        contract, or the step changed size: adaptive steps), the next ``2^(k-2)`` steps
+        (at most ``FRESH_STEPS_MAX``) factor the tangent at their predictor and iterate on
+        it; then a step tries the stale tangent again.  Long steps of a stiff spinning
+        cable turn the tangent within a step (the axial stiffness turns with the tether):
+        the full-size E-sail at 5 s steps took 5.9 corrections and 2.0 factorizations per
+        step on the stale tangent and 2.25 and 2.0 in full Newton; it takes 2.1 and 1.0,
+        7.0 ms on one thread against full Newton's 11.6.  The flexible pendulum at 1 ms
+        steps, which refactored in two steps of three, takes 2.9 corrections per step
+        instead of 4.5, 0.84 of the time.  Steps whose stale tangent serves (the E-sail
+        rig) keep it."""
         if fresh:
             self.fresh_steps -= 1
         elif factorizations >= 1:
