@@ -318,11 +318,7 @@ def _facing(axis, wind):
     """The least rotation that turns the unit vector ``axis`` onto the line of ``wind``
     (onto ``wind`` or ``-wind``, whichever is nearer)."""
     target = wind if axis @ wind >= 0 else -wind
-    cross = np.cross(axis, target)
-    sin = np.linalg.norm(cross)
-    if sin == 0.0:
-        return np.eye(3)
-    return Rotation.from_rotvec(cross / sin * np.arctan2(sin, axis @ target)).as_matrix()
+    return Rotation.align_vectors([target], [axis])[0].as_matrix()
 
 
 def _angles(vec_Z):
