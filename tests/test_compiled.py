@@ -244,17 +244,18 @@ def test_rigid_constraint_kernel_matches_its_definition():
 
 def test_newton_stops_at_a_share_of_the_local_error():
     """``tol_local``: Newton stops once its residual and correction are a hundredth of
-    the step's estimated local error: fewer iterations (0.91 of the default's, which already
-    stops on corrections whose estimated error is below ``tol`` and starts steps from a
-    fresh tangent where the stale one fails; 0.81 before), the same accuracy against
-    a tight reference, and the same iterates on both paths."""
+    the step's estimated local error: fewer iterations (0.95 of the default's, which already
+    stops on corrections whose estimated error is below ``tol``, starts steps from a fresh
+    tangent where the stale one fails and predicts the unresolved modes; 0.91 before that
+    predictor, 0.81 before the fresh tangents), the same accuracy against a tight
+    reference, and the same iterates on both paths."""
     scene = classics.pendulum(n_elements=8)
     ref = sc.simulate(scene.system, t_end=0.3, dt=1e-4, every=10**6, tol=1e-12)
     runs = {key: sc.simulate(scene.system, t_end=0.3, dt=1e-3, every=10**6, **kw)
             for key, kw in (("tol", {}), ("local", {"tol_local": 1e-2}),
                             ("python", {"tol_local": 1e-2, "compiled": False}))}
     assert np.array_equal(runs["local"].q, runs["python"].q)
-    assert runs["local"].stats["newton"] < 0.95 * runs["tol"].stats["newton"]
+    assert runs["local"].stats["newton"] < 0.97 * runs["tol"].stats["newton"]
     errors = {k: np.abs(r.q[-1] - ref.q[-1]).max() for k, r in runs.items()}
     assert errors["local"] < 1.05 * errors["tol"]
 

@@ -27,13 +27,13 @@ ETA_FIRST = 0.1
 #: ``solvers.compiled.CompiledNewton``): the step's end time and size, the method's
 #: coefficients (``beta'``, ``gamma'`` of the step), Newton's settings, whether to factor
 #: and whether Newton is full (1.0 or 0.0), its contraction estimate (updated by
-#: ``newton``) and the predictor's extrapolation factor.  The generated module gets them
+#: ``newton``) and the predictor's coefficients.  The generated module gets them
 #: as constants (``solvers.compiled.source``).
 PRM_SLOTS = ("T1", "H", "ALPHA_M", "ALPHA_F", "GAMMA", "BETA", "BETA_P", "GAMMA_P", "MBAR",
              "TOL", "CON_WEIGHT", "MAX_ITER", "NEED", "FULL", "TOL_LOCAL", "ERROR_CONSTANT",
-             "RATE", "EXTRAPOLATION")
+             "RATE", "C1", "C0")
 (T1, H, ALPHA_M, ALPHA_F, GAMMA, BETA, BETA_P, GAMMA_P, MBAR, TOL, CON_WEIGHT, MAX_ITER, NEED,
- FULL, TOL_LOCAL, ERROR_CONSTANT, RATE, EXTRAPOLATION) = range(len(PRM_SLOTS))
+ FULL, TOL_LOCAL, ERROR_CONSTANT, RATE, C1, C0) = range(len(PRM_SLOTS))
 
 
 def pseudo_acceleration(a1, a, abar, am, af):
@@ -71,7 +71,7 @@ def newton(terms, model, lu, state, out, prm):
 def _finish(model, state, out, prm):
     """The converged step's pseudo-acceleration ``abar1`` (``GeneralizedAlpha._next_abar``)
     and the sums of its energy books (``kernels.books.step_books``) into ``books``."""
-    q, a, abar, before = state[0], state[2], state[3], (state[6], state[7], state[8])
+    q, a, abar, before = state[0], state[2], state[3], (state[7], state[8], state[9])
     q1, v1, a1, after = out[0], out[1], out[2], (out[9], out[8], out[10])
     abar1, books, dq = out[22], out[23], out[24]
     am, af = prm[ALPHA_M], prm[ALPHA_F]
@@ -107,9 +107,10 @@ def _iterate(terms, model, lu, state, out, prm):
     lu : tuple
         The bordered band LU of ``linalg.PatternSolver`` (``kernels.bordered``; its
         storage: a factor made there is used here and the reverse).
-    state : tuple ``(q, v, a, abar, lam, a_prev, f_damping, f_nc, f_con)``
-        The state at ``t_n``, the acceleration of the step before and the forces of the
-        energy books at ``t_n`` (read only).
+    state : tuple ``(q, v, a, abar, lam, a_prev, da_prev, f_damping, f_nc, f_con)``
+        The state at ``t_n``, the accelerations at ``t_(n-1)`` and their change over the
+        step before (the predictor's) and the forces of the energy books at ``t_n`` (read
+        only).
     out : tuple
         ``(q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power,
         res_weight, history, fq, fv, flam, dx, rhs, s, cs, abar1, books, dq)``: the new
@@ -119,8 +120,8 @@ def _iterate(terms, model, lu, state, out, prm):
         books' sums ``(dissipated, external work, kinetic, potential)`` of the step.
     prm : float ndarray
         ``[t1, h, alpha_m, alpha_f, gamma, beta, beta', gamma', mbar, tol, con_weight,
-        max_iter, need, full, tol_local, error_constant, eta, c]`` (``tol_local = 0``:
-        off; ``c``: the predictor's extrapolation, ``GeneralizedAlpha.extrapolation``);
+        max_iter, need, full, tol_local, error_constant, eta, c1, c0]`` (``tol_local =
+        0``: off; ``c1, c0``: the predictor's, ``GeneralizedAlpha.predictor``);
         ``eta``, the contraction estimate of the last step (``GeneralizedAlpha.newton_rate``),
         is replaced by this step's on convergence.
 
@@ -131,7 +132,7 @@ def _iterate(terms, model, lu, state, out, prm):
         iteration count; the factorizations and Newton corrections made; the unknown
         of a zero pivot (-1 otherwise).
     """
-    q, v, a, abar, lam, a_prev = state[:6]
+    q, v, a, abar, lam, a_prev, da_prev = state[:7]
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
      history, fq, fv, flam, dx, rhs, s, cs) = out[:22]
     xscale, inv_xscale = model[6], model[7]
@@ -142,10 +143,11 @@ def _iterate(terms, model, lu, state, out, prm):
     eta = first_error_factor(prm[RATE])
     max_iter, need, full = int(prm[MAX_ITER]), prm[NEED] != 0.0, prm[FULL] != 0.0
     n = q.size
-    c = prm[EXTRAPOLATION]
+    c1, c0 = prm[C1], prm[C0]
+    constant = c1 == 0.0 and c0 == 0.0
     # predictor: GeneralizedAlpha.predicted_acceleration
     for i in range(n):
-        a1[i] = a[i] + c * (a[i] - a_prev[i]) if c != 0.0 else a[i]
+        a1[i] = a[i] if constant else a[i] + c1 * (a[i] - a_prev[i]) + c0 * da_prev[i]
         abar1 = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         q1[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * abar[i] + bt * abar1)
         v1[i] = v[i] + h * ((1.0 - gm) * abar[i] + gm * abar1)

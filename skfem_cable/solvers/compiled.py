@@ -198,6 +198,7 @@ class CompiledNewton:
                  "rhs": N, "data": lay.nnz, "nodata": 0, "energy": 2, "power": 2, "s": 4,
                  "cs": 3, "abar1": n, "books": 4, "dq": n}
         self.arrays = {k: np.zeros(sizes[k]) for k in sizes}
+        self.no_change = np.zeros(n)  # da_prev before there is one (its factor c0 is 0)
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
         prm = self.prm = np.zeros(len(template.PRM_SLOTS))
@@ -223,7 +224,8 @@ class CompiledNewton:
         prm[template.BETA_P], prm[template.GAMMA_P] = g._coefficients(h)
         prm[template.NEED], prm[template.RATE] = need, g.newton_rate
         prm[template.FULL] = full
-        prm[template.EXTRAPOLATION] = g.extrapolation(h)
+        prm[template.C1], prm[template.C0] = g.predictor(h)
         a_prev = g.a if g.a_prev is None else g.a_prev
-        state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, g.fd, g.fnc, g.fcon)
+        da_prev = self.no_change if g.da_prev is None else g.da_prev
+        state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, da_prev, g.fd, g.fnc, g.fcon)
         return self.newton(self.terms, self.model, self.lu, state, self.out, self.prm)
