@@ -87,3 +87,30 @@ def test_adaptive_steps_do_not_depend_on_the_frame():
     assert runs[0].stats["rejected"] == runs[1].stats["rejected"]
     turned = runs[0].q[-1].reshape(-1, 3) @ turn.T
     np.testing.assert_allclose(runs[1].q[-1].reshape(-1, 3), turned, atol=1e-9)
+
+
+def test_error_ratio_measures_vectors_by_their_length():
+    """``kernels.error.error_ratio``: the error of each 3-vector by its length against
+    ``atol + rtol max(|q0|, |q1|)`` of its length, a scalar coordinate by its own size;
+    the same ratio in any frame (rotated vectors, to round-off)."""
+    from scipy.spatial.transform import Rotation
+
+    from skfem_cable.kernels.error import error_ratio
+
+    rng = np.random.default_rng(3)
+    q0, q1, abar1, abar = rng.normal(size=(4, 10))
+    vectors, scalars = np.arange(9).reshape(3, 3), np.array([9])
+    atol = np.repeat([1e-3, 1e-4, 1e-3, 2e-3], [3, 3, 3, 1])
+    e = 0.3 * (abar1 - abar)
+    expected = max([np.linalg.norm(e[v]) / (atol[v[0]] + 1e-2 * max(
+        np.linalg.norm(q0[v]), np.linalg.norm(q1[v]))) for v in vectors]
+        + [abs(e[9]) / (atol[9] + 1e-2 * max(abs(q0[9]), abs(q1[9])))])
+    ratio = error_ratio(q0, q1, abar1, abar, 0.3, vectors, scalars, atol, 1e-2)
+    assert ratio == pytest.approx(expected, rel=1e-14)
+    R = Rotation.from_rotvec([0.3, -1.1, 0.7]).as_matrix()
+
+    def turned(x):
+        return np.concatenate([(x[:9].reshape(3, 3) @ R.T).ravel(), x[9:]])
+
+    assert error_ratio(turned(q0), turned(q1), turned(abar1), turned(abar), 0.3, vectors,
+                       scalars, atol, 1e-2) == pytest.approx(ratio, rel=1e-13)

@@ -23,6 +23,7 @@ import scipy.sparse as sp
 from ..contract import OutOfDomain
 from ..kernels import step as codes
 from ..kernels.books import correct_elastic, step_books
+from ..kernels.error import error_ratio
 from ..linalg import PatternSolver, SingularMatrixError
 from .compiled import CompiledNewton, unsupported
 from .diagnosis import Diagnosis
@@ -204,6 +205,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         if rtol >= 1:
             raise ValueError(f"rtol must be < 1, got {rtol!r}")
         self.atol_q = atol * self.xscale / self.L_ref
+        self.scalars = np.setdiff1d(np.arange(self.n), self.system.vectors)
         self.tol = max(self.tol, 1e-2 * min(rtol, atol / self.L_ref))
 
     def _compiled_newton(self, compiled):
@@ -673,24 +675,15 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         info["abar"] = self._next_abar(a1)
         return self._accept(t1, h, q1, v1, a1, lam1, info, it, eta)
 
-    def _magnitudes(self, q):
-        """``|q|`` of each coordinate for the local error control: the length of the
-        3-vector (a position, a slope) it belongs to, the coordinate's own size for a
-        scalar."""
-        m, vectors = np.abs(q), self.system.vectors
-        m[vectors] = np.linalg.norm(q[vectors], axis=1)[:, None]
-        return m
-
     def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations, rate):
         """Book the energies of a converged step (with the evaluation ``info`` of its
         last residual, and its pseudo-acceleration ``info["abar"]``), apply the
         instability guard and, if it passes, make the step's end the current state;
         ``rate`` is its Newton contraction estimate (``newton_rate``)."""
         if self.rtol is not None:
-            scale = self.atol_q + self.rtol * np.maximum(self._magnitudes(self.q),
-                                                         self._magnitudes(q1))
-            error = self._magnitudes(self.local_error(h, q1, a1))
-            self.error_ratio = float(np.max(error / scale))
+            self.error_ratio = error_ratio(self.q, q1, info["abar"], self.abar,
+                                           self.error_constant * h * h, self.system.vectors,
+                                           self.scalars, self.atol_q, self.rtol)
             if not self.error_ratio <= 1.0:
                 return False, (f"t={t1:.6g}, h={h:.3g}: local error {self.error_ratio:.3g} "
                                "times the tolerance")
