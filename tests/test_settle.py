@@ -77,9 +77,12 @@ def spectral_radius(omega_h, rho_inf):
 def test_the_damping_settle_states():
     """The figures of ``solvers.settle``'s docstring: at ``rho_inf = 0`` a step keeps
     0.99995 of a mode at ``omega h = 0.1``, 0.91 at 1, 0.71 at 2, 0.24 at 10, and tends to
-    0; at ``rho_inf = 1`` nothing is damped."""
+    0; at ``rho_inf = 1`` nothing is damped; and the band ``esail.settled`` damps."""
     for omega_h, kept in ((0.1, 0.99995), (1.0, 0.91), (2.0, 0.71), (10.0, 0.24)):
         assert spectral_radius(omega_h, 0.0) == pytest.approx(kept, abs=0.005)
     assert spectral_radius(1e4, 0.0) < 1e-2
     assert spectral_radius(10.0, 1.0) == pytest.approx(1.0, abs=1e-9)
     assert 0.9066**75 < 1e-3  # "a factor 1e3 in 75 steps"
+    # esail.settled: its steps take a factor 1e3 off the modes at omega h > 0.59
+    steps = esail.SETTLE_SPINS / esail.SETTLE_STEP
+    assert spectral_radius(0.59, 0.0) ** steps < 1e-3 < spectral_radius(0.57, 0.0) ** steps

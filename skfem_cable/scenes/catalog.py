@@ -253,8 +253,8 @@ def esail_full_scene(alpha=10.0, elements=10, t_end=None, rtol=None, every=50,
     ``t_end`` (default one spin period, 87 min) with adaptive steps of relative tolerance
     ``rtol`` (default ``esail.MISSION_RTOL``; ``atol`` 1e-3 m, first step 1 s, rho_inf =
     0.25), every ``every``-th step saved; outputs ``esail_numbers``'.  It starts from
-    the sail's state under the wind (``esail.settled``: its equilibrium and 8 h of
-    relaxation before t = 0, some 10 s on one thread), or from the windless spin if not
+    the sail's state under the wind (``esail.settled``: its equilibrium and 4.4 h of
+    relaxation before t = 0, some 9 s on one thread), or from the windless spin if not
     ``settled``."""
     from . import esail
 

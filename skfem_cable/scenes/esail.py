@@ -268,10 +268,13 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
                        "exponent": exponent})
 
 
-#: ``settled``'s relaxation: steps of this share of a spin period (2 deg of spin) ...
-SETTLE_STEP = 1.0 / 180.0
-#: ... over this many spin periods (8 h for ``FULL_SIZE``).
-SETTLE_SPINS = 5.5
+#: ``settled``'s relaxation: steps of this share of a spin period (4 deg of spin) ...
+SETTLE_STEP = 1.0 / 90.0
+#: ... over this many spin periods (4.4 h for ``FULL_SIZE``).  Measured on ``FULL_SIZE``
+#: (the start, then a day at ``MISSION_RTOL``, two threads): 5.5 periods of 1/180 took 6.2
+#: s, then 3933 steps; these 5.4 s, then 3466 steps (3 of 1/180: 3.9 s, then 4001 steps;
+#: 5.5 of 1/45: 9.3 s, then 3262; longer relaxation steps need more Newton iterations).
+SETTLE_SPINS = 3.0
 
 
 def settled(scene, spins=SETTLE_SPINS):
@@ -284,15 +287,15 @@ def settled(scene, spins=SETTLE_SPINS):
        back to the sailing angle;
     2. ``spins`` spin periods of dynamic relaxation from there (``solvers.settle.settle``:
        steps of ``SETTLE_STEP`` of a spin period at rho_inf = 0, from t = -``spins``
-       periods), which take a factor 1e3 off the modes of periods below about a twelfth
-       of the spin period (``omega h > 0.4``) that the tilt against the wind sets off.
+       periods), which take a factor 1e3 off the modes of periods below about an eighth
+       of the spin period (``omega h > 0.59``) that the tilt against the wind sets off.
 
     The slow coning oscillation is not reached by the relaxation (its ``omega h`` is
-    0.03); the equilibrium keeps it small.  ``FULL_SIZE`` at 10 deg and ``MISSION_RTOL``:
-    the mean coning stays within 4.60 to 4.77 deg over a day (from the windless spin, or
+    0.07); the equilibrium keeps it small.  ``FULL_SIZE`` at 10 deg and ``MISSION_RTOL``:
+    the mean coning stays within 4.65 to 4.80 deg over a day (from the windless spin, or
     relaxed from it without the equilibrium, it swings between 0 and 9 deg with a period
-    of 1.4 h), and the adaptive steps take 169 steps an hour instead of 1106, 3933 a day
-    (``docs/benchmarks.md``, "Mission-length runs").  The sail has sailed during the
+    of 1.4 h), and the adaptive steps take 3466 steps a day (``docs/benchmarks.md``,
+    "Mission-length runs").  The sail has sailed during the
     relaxation: it starts off the origin (or the orbit's reference point), moving with
     the velocity the thrust gave it.
     """
