@@ -24,7 +24,9 @@ def test_slack_cable_falls_and_snaps_taut():
 
 def test_spinning_tether_with_tip_mass():
     """Thousands of steps of a centrifugally stiffened tether (rho_inf = 0.8): energy
-    (measured 2.2e-4) and angular momentum about the spin axis (5.3e-5) are kept, and the
+    (measured 2.6e-4) and angular momentum about the spin axis (7.0e-5; the drift follows
+    the trajectory, which moves 6e-4 m at the tip between Newton tolerances of 1e-11 and
+    1e-13, and ranged 7e-5 to 2e-4 with the predictors tried) are kept, and the
     mean root tension matches the rigid rotating-cable value
     m Omega^2 L + rho A Omega^2 L^2 / 2 (measured -0.5 %).  With rho_inf = 1 (the
     trapezoidal rule, no numerical damping) this stiff nonlinear case goes unstable after
