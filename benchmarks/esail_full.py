@@ -7,13 +7,13 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
 2. Threads: the factorization, the solve and a run of fixed 5 s steps on one thread
    and on all of numba's (``SKFEM_CABLE_THREADS``: the blocks of the bordered LU,
    ``kernels.bordered``, the tethers, run in parallel), side by side.
-3. Fixed steps of 0.5, 5 and 20 s, and adaptive steps at ``rtol`` 1e-4 and
+3. Fixed steps of 0.5, 5 and 20 s, and adaptive steps at ``rtol`` 3e-4 and
    ``esail.MISSION_RTOL`` (``atol`` 1e-3 m), on all of numba's threads: steps, Newton
    iterations and factorizations per step, ms per step, the projected wall time of a
    day, and the largest differences over the run from the fixed 0.5 s run
    (``bench.largest_differences``) of the sail's spin rate, the hub's rate, the mean
    coning and the thrust.  Then the same from the sail's state under the wind
-   (``esail.settled``), with fixed 40 s steps and adaptive steps at 3e-5 beside.
+   (``esail.settled``), with fixed 40 s steps and adaptive steps at 1e-4 beside.
 4. ``day()``: a simulated day at ``esail.MISSION_RTOL`` on all threads from the sail's
    state under the wind (``settled=False``: from the windless spin), and the largest
    differences of its outputs over the day from a fixed 0.5 s run (about 6 minutes on
@@ -41,7 +41,7 @@ from skfem_cable.scenes import esail
 SETTINGS = {"full": {"t_end": 3600.0, "repeats": 10}, "quick": {"t_end": 300.0, "repeats": 5}}
 
 CASES = {"fixed 0.5 s": {"dt": 0.5}, "fixed 5 s": {"dt": 5.0}, "fixed 20 s": {"dt": 20.0},
-         "adaptive, rtol 1e-4": {"dt": 1.0, "rtol": 1e-4, "atol": 1e-3},
+         "adaptive, rtol 3e-4": {"dt": 1.0, "rtol": 3e-4, "atol": 1e-3},
          f"adaptive, rtol {esail.MISSION_RTOL:g}": {"dt": 1.0, "rtol": esail.MISSION_RTOL,
                                                     "atol": 1e-3}}
 
@@ -50,7 +50,7 @@ CASES = {"fixed 0.5 s": {"dt": 0.5}, "fixed 5 s": {"dt": 5.0}, "fixed 20 s": {"d
 SETTLED_CASES = {**{name: CASES[name] for name in ("fixed 0.5 s", "fixed 5 s", "fixed 20 s")},
                  "fixed 40 s": {"dt": 40.0},
                  **{f"adaptive, rtol {rtol:g}": {"dt": 1.0, "rtol": rtol, "atol": 1e-3}
-                    for rtol in (1e-4, 3e-5, esail.MISSION_RTOL)}}
+                    for rtol in (3e-4, 1e-4, esail.MISSION_RTOL)}}
 
 
 def fastest(function, repeats):
