@@ -108,7 +108,10 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         fixed-step references (``benchmarks/adaptive_fronts.py``): the 6-element flexible
         pendulum's positions within 6.9 to 4.4 ``rtol`` from 1e-4 to 1e-7 (without the
         transform 6.6 to 118), the 12-tether E-sail's spin rate, coning and thrust within
-        9.2 to 7.6 ``rtol`` from 1e-5 to 1e-8 over a spin period.
+        9.2 to 7.6 ``rtol`` from 1e-5 to 1e-8 over a spin period.  Above ``rtol = 1e-3``
+        the steps can outgrow the modes the motion drives, whose numerical dissipation
+        the estimate does not see: check the energy balance (``docs/theory.md``, "Loose
+        tolerances").
         ``error_ratio`` is the largest ratio of error to tolerance, which the driver uses
         to choose the next step.  Newton then stops at a hundredth of ``rtol`` and
         ``atol`` (``tol`` is a floor): iterating further cannot make the step more
