@@ -108,12 +108,9 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         fixed-step references (``benchmarks/adaptive_fronts.py``): the 6-element flexible
         pendulum's positions within 6.9 to 4.4 ``rtol`` from 1e-4 to 1e-7 (without the
         transform 6.6 to 118), the 12-tether E-sail's spin rate, coning and thrust within
-        9.2 to 7.6 ``rtol`` from 1e-5 to 1e-8 over a spin period.  The step must also
-        move the energy balance by at most ``s rtol`` times the energy content
-        (``EnergyGuard.step_change``): steps that outgrow the modes the motion drives
-        dissipate them, which the local error estimate does not see (the flexible
-        pendulum at ``rtol = 3e-3``: 4.0e-3 m off over 0.5 s instead of 0.39 m, when the
-        balance lost 6.2 J of the swing's 17 J; ``docs/theory.md``, "Loose
+        9.2 to 7.6 ``rtol`` from 1e-5 to 1e-8 over a spin period.  Above ``rtol = 1e-3``
+        the steps can outgrow the modes the motion drives, whose numerical dissipation
+        the estimate does not see: check the energy balance (``docs/theory.md``, "Loose
         tolerances").
         ``error_ratio`` is the largest ratio of error to tolerance, which the driver uses
         to choose the next step.  Newton then stops at a hundredth of ``rtol`` and
@@ -715,12 +712,6 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         grown = self.guard.check(energies)
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
-        if self.rtol is not None:
-            moved = self.guard.step_change() / self.rtol_local
-            self.error_ratio = max(self.error_ratio, moved)
-            if not moved <= 1.0:
-                return False, (f"t={t1:.6g}, h={h:.3g}: the energy balance moved by "
-                               f"{moved:.3g} times the tolerance of the energy content")
         self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
         self.abar = info["abar"]
         if self.a_prev is not None:

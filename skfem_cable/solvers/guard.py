@@ -47,7 +47,7 @@ class EnergyGuard:
         Accepted steps kept for the diagnostic's energy history.
     """
 
-    STATE = ("lowest", "largest", "potential0", "floor", "last")
+    STATE = ("lowest", "largest", "potential0", "floor")
 
     def __init__(self, tol=0.05, keep=8):
         if tol is not None and not (np.isfinite(tol) and tol > 0):
@@ -59,7 +59,7 @@ class EnergyGuard:
     def reset(self, t, energies):
         """Start from an accepted initial state."""
         self.potential0 = float(energies["potential"])
-        self.lowest = self.last = balance(energies)
+        self.lowest = balance(energies)
         self.largest = content(energies, self.potential0)
         self.floor = 0.0
         self.history.clear()
@@ -85,17 +85,9 @@ class EnergyGuard:
                     f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
         return None
 
-    def step_change(self):
-        """How far the candidate of the last ``check`` moves the balance from the last
-        accepted state, relative to the energy content (the scale of ``check``): the
-        energy error of the step, numerical dissipation included."""
-        b, c = self.candidate
-        return abs(b - self.last) / max(self.largest, c, self.floor, 1e-300)
-
     def accept(self, t):
         """Take the candidate of the last ``check`` as the new state."""
         b, c = self.candidate
-        self.last = b
         self.lowest = min(self.lowest, b)
         self.largest = max(self.largest, c)
         self.history.append((t, b))
@@ -108,6 +100,6 @@ class EnergyGuard:
 
     def restore(self, snap):
         if "guard_lowest" in snap:
-            for k in self.STATE:  # a checkpoint from before ``last`` existed: the lowest
-                setattr(self, k, float(snap.get("guard_" + k, snap["guard_lowest"])))
+            for k in self.STATE:
+                setattr(self, k, float(snap["guard_" + k]))
             self.history.clear()
