@@ -104,8 +104,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         its own tolerances so, Hairer & Wanner 1996, Sec. IV.8): steps whose local error,
         ``O(h^3)``, is held to ``tol`` leave a global error ``O(h^2) = O(tol^(2/3))``, so
         the steps hold it to ``tol^(3/2) TOLERANCE_PIVOT^(-1/2)`` and the global error
-        follows ``rtol``.  Measured against
-        fixed-step references (``benchmarks/adaptive_fronts.py``): the 6-element flexible
+        follows ``rtol``.  Measured against fixed-step references
+        (``benchmarks/adaptive_fronts.py``): the 6-element flexible
         pendulum's positions within 6.9 to 4.4 ``rtol`` from 1e-4 to 1e-7 (without the
         transform 6.6 to 118), the 12-tether E-sail's spin rate, coning and thrust within
         9.2 to 7.6 ``rtol`` from 1e-5 to 1e-8 over a spin period.  Above ``rtol = 1e-3``

@@ -205,7 +205,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     rtol, atol : float, optional
         Adaptive steps whose global error follows ``rtol``: each step's estimated local
         error must lie below ``(atol + rtol |q|) (rtol / 1e-3)^(1/2)`` (``atol`` in metres;
-        the proportionality transform of ``GeneralizedAlpha``); the next step is
+        the proportionality transform of ``GeneralizedAlpha``, 1e-3 its
+        ``TOLERANCE_PIVOT``); the next step is
         ``h min(2, 0.9 r^(-1/3))`` with ``r`` the ratio of error to tolerance (kept
         unchanged when that would grow it by less than 25 %, so the factored iteration
         matrix is reused), a rejected step is retried with ``h max(0.2, 0.9 r^(-1/3))``
