@@ -37,6 +37,7 @@ import numpy as np
 from .contract import Evaluation, Term
 from .kernels import electrodynamic as kernel
 from .loads import AlongCable, vector3
+from .orbit import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
 from .section import check_positive
 
 MU0_OVER_4PI = 1.0e-7
@@ -45,8 +46,6 @@ below the dipole model's own)."""
 EARTH_DIPOLE_MOMENT = 8.0e22
 """Magnitude of the Earth's dipole moment (A m^2), the round value of the issue (the
 2015 value is 7.7e22, Olsen et al.)."""
-OMEGA_EARTH = 7.2921150e-5
-"""The Earth's rotation rate (rad/s, IERS)."""
 FD_STEP = 6.06e-6
 """Relative step of the central-difference field gradient, about ``eps^(1/3)``."""
 
@@ -297,10 +296,16 @@ class ElectrodynamicForce(AlongCable):
         return Term(add=add, rows=rows, cols=cols, name=name), out
 
     def evaluate(self, system, q, v=None, t=0.0):
-        """The current (A), the motional EMF (V; evaluated only for the short circuit,
-        else 0) and the total force (N, (3,)) on the cable at the coordinates ``q`` and
-        velocities ``v`` (None: at rest relative to the reference point) of ``system``
-        at time ``t``: a dict with keys ``current``, ``emf``, ``force``.
+        """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
+        current), the electrical power ``I E`` (W) and the total force (N, (3,)) on the
+        cable at the coordinates ``q`` and velocities ``v`` (None: at rest relative to the
+        reference point) of ``system`` at time ``t``: a dict with keys ``current``,
+        ``emf``, ``power``, ``force``.
+
+        ``power = I E`` is what the motional EMF gives the circuit: positive when the
+        tether generates (a short circuit: ``E^2 / R_c``, a brake), negative when a supply
+        drives the current against the EMF (a thruster); the force's power on the motion
+        relative to the plasma is ``-I E``.
 
         The total force is the sum of the generalized forces on the cable's position
         coordinates (the Hermite position functions sum to one): ``int f dx``.
@@ -312,4 +317,5 @@ class ElectrodynamicForce(AlongCable):
         term.evaluate(ev, np.zeros(self.cable.element_dofs.shape + (12,), dtype=np.int64))
         dofs = system.dofs(self.cable)
         force = ev.f_ext[dofs][self.cable.position_mask].reshape(-1, 3).sum(axis=0)
-        return {"current": float(out[0]), "emf": float(out[1]), "force": force}
+        return {"current": float(out[0]), "emf": float(out[1]),
+                "power": float(out[0] * out[1]), "force": force}
