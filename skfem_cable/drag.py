@@ -36,6 +36,7 @@ import numpy as np
 from .contract import Term
 from .kernels import drag as kernel
 from .loads import AlongCable, UniformLineLoad, vector3
+from .orbit import co_rotation
 from .section import check_positive
 
 
@@ -111,7 +112,7 @@ class Flow:
         uniform, time-dependent; a ``CurrentProfile``: varying with elevation.
     omega : array_like (3,) or None
         Rotation rate of the fluid about the origin (rad/s): ``W r = omega x r``; None:
-        the rotation of the central body of the system's orbit (``rotation``).
+        the rotation of the central body of the system's orbit (``orbit.co_rotation``).
 
     Notes
     -----
@@ -136,17 +137,6 @@ class Flow:
         """True when the flow does not depend on time (in a fixed frame)."""
         return self.fn is None and (self.profile is None or self.profile.ramp is None)
 
-    def rotation(self, orbit):
-        """The fluid's rotation rate (3,) (rad/s): ``omega``, or when it is None the
-        ``rotation_rate`` of the central body of ``orbit`` (``Orbit.central_body``, the
-        Earth's ``OMEGA_EARTH`` for ``MU_EARTH``) about ``z``; zero without an orbit or
-        for a central body of unknown rate."""
-        if self.omega is not None:
-            return self.omega
-        body = None if orbit is None else orbit.central_body
-        rate = None if body is None else body.rotation_rate
-        return np.array([0.0, 0.0, rate or 0.0])
-
     def uniform(self, t):
         """The uniform part ``c_0(t)`` (m/s)."""
         if self.fn is None:
@@ -163,7 +153,7 @@ class Flow:
             vertical, z, u = np.array([0.0, 0.0, 1.0]), np.zeros(0), np.zeros((0, 3))
         else:
             vertical, z, u = p.vertical, p.elevations, p.velocities
-        W = np.cross(self.rotation(orbit), np.eye(3)).T  # W @ r = omega x r
+        W = np.cross(co_rotation(self.omega, orbit), np.eye(3)).T  # W @ r = omega x r
         out = (np.zeros(3), np.ascontiguousarray(W), vertical.copy(), z.copy(),
                np.ascontiguousarray(u), np.ones(1))
         self.refresh(out, 0.0 if orbit is None else orbit.t0, orbit)

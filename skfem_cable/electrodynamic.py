@@ -17,8 +17,8 @@ refreshed once per time step (``Term.prepare``).
 The current is prescribed (a number or a function of time) or ``"short-circuit"``: the
 uniform current ``I = E / R_c`` that the motional EMF ``E = int ((v - Omega x r) x B) .
 r_x dx`` drives through the circuit's resistance ``R_c`` (``Omega``: the rotation of the
-plasma, e.g. the Earth's for a co-rotating ionosphere).  Such a tether is a brake: its
-power ``F . u = -E^2 / R_c`` is never positive.
+plasma, by default in orbit the central body's: the Earth's co-rotating ionosphere).
+Such a tether is a brake: its power ``F . u = -E^2 / R_c`` is never positive.
 
 References
 ----------
@@ -38,6 +38,7 @@ from .contract import Evaluation, Term
 from .kernels import electrodynamic as kernel
 from .loads import AlongCable, vector3
 from .orbit import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
+from .orbit import co_rotation
 from .section import check_positive
 
 MU0_OVER_4PI = 1.0e-7
@@ -183,10 +184,12 @@ class ElectrodynamicForce(AlongCable):
         relative: Newton converges as with the exact gradient).
     resistance : float, optional
         Resistance (ohm, > 0) of the circuit, with ``current="short-circuit"`` only.
-    plasma_rotation : array_like (3,)
+    plasma_rotation : array_like (3,) or None
         Angular velocity ``Omega`` (rad/s) of the plasma about the origin, e.g.
         ``[0, 0, OMEGA_EARTH]`` for a co-rotating ionosphere: the EMF uses the velocity
-        relative to it, ``v - Omega x r`` (default: plasma at rest).
+        relative to it, ``v - Omega x r``.  None (default): in a system in orbit the
+        central body's rotation (``Orbit.body_rotation``: the Earth's for ``MU_EARTH``,
+        as ``FreeMolecularDrag``'s atmosphere), else a plasma at rest.
     fd_step : float
         Relative step of the gradient of a callable field, in (0, 1).
 
@@ -218,11 +221,12 @@ class ElectrodynamicForce(AlongCable):
     """
 
     def __init__(self, cable, current, field, resistance=None,
-                 plasma_rotation=(0.0, 0.0, 0.0), fd_step=FD_STEP):
+                 plasma_rotation=None, fd_step=FD_STEP):
         self.cable = cable
         self.drive = _drive(current, resistance)
         self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
-        self.plasma_rotation = vector3(plasma_rotation, "plasma_rotation")
+        self.plasma_rotation = (None if plasma_rotation is None
+                                else vector3(plasma_rotation, "plasma_rotation"))
         if callable(getattr(field, "sources", None)):
             self.compiled, self.callable = field, None
         elif callable(field):
@@ -267,7 +271,7 @@ class ElectrodynamicForce(AlongCable):
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
         X, A, U = (np.zeros((ne, nq, 3)) for _ in range(3))
         B, dB, out = np.zeros((ne, nq, 3)), np.zeros((ne, nq, 3, 3)), np.zeros(2)
-        plasma = self.plasma_rotation.copy()
+        plasma = co_rotation(self.plasma_rotation, orbit)
 
         def prepare(t):
             if orbit is not None:

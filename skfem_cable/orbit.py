@@ -399,6 +399,14 @@ class Orbit:
         ``MU_EARTH``, the Sun for ``MU_SUN``), or None for another ``mu``."""
         return next((body for body in CENTRAL_BODIES.values() if body.mu == self.mu), None)
 
+    def body_rotation(self):
+        """The central body's angular velocity (3,) (rad/s) about the inertial ``z`` axis
+        (``central_body.rotation_rate``): what an atmosphere or a plasma co-rotating with
+        the body turns at; zero for a ``mu`` of no known body."""
+        body = self.central_body
+        rate = None if body is None else body.rotation_rate
+        return np.array([0.0, 0.0, rate or 0.0])
+
     @property
     def periapsis(self):
         """Periapsis distance ``a (1 - e)`` (m) from the central body's centre."""
@@ -423,6 +431,15 @@ class Orbit:
         return (f"Orbit(mu={self.mu:.10g}, a={self.a:.10g}, e={self.e:.6g}, "
                 f"inclination={self.inclination:.6g}, raan={self.raan:.6g}, "
                 f"argp={self.argp:.6g}, anomaly={self.anomaly:.6g}, t0={self.t0:.6g})")
+
+
+def co_rotation(omega, orbit):
+    """The rotation rate (3,) (rad/s) of a medium a load's ``omega`` gives (an atmosphere,
+    a plasma): ``omega`` itself, or when it is None the central body's rotation of the
+    system's ``orbit`` (``Orbit.body_rotation``), zero without an orbit (None)."""
+    if omega is not None:
+        return np.array(omega, dtype=float)
+    return np.zeros(3) if orbit is None else orbit.body_rotation()
 
 
 def battin_f(q):

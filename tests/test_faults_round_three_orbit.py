@@ -173,15 +173,18 @@ def test_compiled_step_and_rectification_keep_the_absolute_velocity():
 
 
 def test_electrodynamic_tether_reports_emf_and_power_whatever_the_current():
-    """Before: ``evaluate()["emf"]`` was 0 unless ``current="short-circuit"``.  Now a
-    prescribed current reports the same open-circuit EMF as the short circuit (the
-    closed-form EMF of a radial tether, 1e-12) and the power ``I E``."""
+    """Before: ``evaluate()["emf"]`` was 0 unless ``current="short-circuit"``, and the
+    plasma was at rest unless ``plasma_rotation`` was given.  Now a prescribed current
+    reports the same open-circuit EMF as the short circuit (the closed-form EMF of a
+    radial tether relative to the ionosphere co-rotating with the Earth, the default in
+    orbit, 1e-12) and the power ``I E``."""
     o = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 400e3)
     l, R = 2.5e3, o.a
     cable = sc.Cable.straight([-l, 0, 0], [l, 0, 0], 4, TETHER)
     system = sc.System([cable]).add_orbit(o)
     kM, V = 1e-7 * 8.0e22, np.linalg.norm(o.velocity(0.0))
-    emf = kM * V / 2 * (1 / (R - l) ** 2 - 1 / (R + l) ** 2)
+    emf = kM * (V / 2 * (1 / (R - l) ** 2 - 1 / (R + l) ** 2)
+                - OMEGA_EARTH * (1 / (R - l) - 1 / (R + l)))
     for current in (1.5, lambda t: 1.5, "short-circuit"):
         extra = {"resistance": 100.0} if current == "short-circuit" else {}
         out = sc.ElectrodynamicForce(cable, current, sc.MagneticDipole(), **extra).evaluate(
