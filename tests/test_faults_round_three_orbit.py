@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import plot
+from skfem_cable import plot, scene_file
 from skfem_cable.contract import Evaluation
 from skfem_cable.drag import Flow, QuadraticDrag
 from skfem_cable.electrodynamic import OMEGA_EARTH
@@ -275,3 +275,34 @@ def test_orbiting_run_summary_gives_librations_and_centre_tension(librating):
     centre = result.tension(cable, cable.length / 2)
     assert numbers["centre_tension"] == centre[-1]
     assert numbers["max_centre_tension_run"] == centre.max() > 0.3
+
+
+ORBIT_SCENE = """
+[sections.tether]
+radius = 1e-3
+E = 1e11
+rho = 1.0
+
+[[cables]]
+name = "tether"
+section = "tether"
+start = [-500, 0, 0]
+end = [500, 0, 0]
+elements = 2
+
+[orbit]
+central_body = "earth"
+a = 1000.0
+
+[solver]
+t_end = 10.0
+dt = 1.0
+"""
+
+
+def test_a_scene_file_orbit_inside_the_central_body_is_refused():
+    """Before: ``[orbit] a = 1000.0`` (an altitude written as ``a``) was accepted.  Now
+    the scene file is refused naming the table, ``a`` and the Earth's radius."""
+    with pytest.raises(scene_file.SceneFileError, match=r"bad.toml: .*orbit is refused: "
+                       r"Orbit: a = 1000 m lies inside the central body of radius 6378137 m"):
+        scene_file.loads_text(ORBIT_SCENE, "bad.toml")
