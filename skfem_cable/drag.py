@@ -36,6 +36,7 @@ import numpy as np
 from .contract import Term
 from .kernels import drag as kernel
 from .loads import AlongCable, UniformLineLoad, vector3
+from .orbit import co_rotation
 from .section import check_positive
 
 
@@ -109,12 +110,22 @@ class Flow:
     current : None, array_like (3,), callable or CurrentProfile
         None: still fluid; a 3-vector: uniform and steady; ``current(t) -> (3,)``:
         uniform, time-dependent; a ``CurrentProfile``: varying with elevation.
-    omega : array_like (3,)
-        Rotation rate of the fluid about the origin (rad/s): ``W r = omega x r``.
+    omega : array_like (3,) or None
+        Rotation rate of the fluid about the origin (rad/s): ``W r = omega x r``; None:
+        the rotation of the central body of the system's orbit (``orbit.co_rotation``).
+
+    Notes
+    -----
+    In a system in orbit (``System.add_orbit``) the coordinates are offsets ``x`` from
+    the reference point ``R(t)``, moving at ``V(t)``, in axes parallel to the inertial
+    ones: the flow is taken at the absolute position ``R + x`` and relative to the
+    frame's motion, ``c(R + x, t) - V``, so that the kernel's ``c - v`` is the flow
+    relative to the absolute velocity ``V + v`` (``refresh``).  ``R`` and ``V`` depend
+    on time only: the kernel's tangent keeps its form.
     """
 
     def __init__(self, current=None, omega=(0.0, 0.0, 0.0)):
-        self.W = np.cross(vector3(omega, "omega"), np.eye(3)).T  # W @ r = omega x r
+        self.omega = None if omega is None else vector3(omega, "omega")
         self.profile = current if isinstance(current, CurrentProfile) else None
         self.fn = current if callable(current) else None
         self.constant = (np.zeros(3) if current is None or self.profile is not None
@@ -123,7 +134,7 @@ class Flow:
 
     @property
     def steady(self):
-        """True when the flow does not depend on time."""
+        """True when the flow does not depend on time (in a fixed frame)."""
         return self.fn is None and (self.profile is None or self.profile.ramp is None)
 
     def uniform(self, t):
@@ -132,22 +143,33 @@ class Flow:
             return self.constant
         return vector3(self.fn(t), f"current({t!r})")
 
-    def arrays(self):
-        """``(uniform, W, vertical, heights, velocities, sigma)`` for the kernel (fresh
-        arrays: ``refresh`` updates ``uniform`` and ``sigma`` in place)."""
+    def arrays(self, orbit=None):
+        """``(uniform, W, vertical, heights, velocities, sigma)`` for the kernel in a
+        system of reference orbit ``orbit`` (None: not in orbit), set for its start
+        (fresh arrays: ``refresh`` updates ``uniform``, ``heights`` and ``sigma`` in
+        place)."""
         p = self.profile
         if p is None:
             vertical, z, u = np.array([0.0, 0.0, 1.0]), np.zeros(0), np.zeros((0, 3))
         else:
             vertical, z, u = p.vertical, p.elevations, p.velocities
-        out = (np.array(self.uniform(0.0)), np.ascontiguousarray(self.W), vertical.copy(),
-               z.copy(), np.ascontiguousarray(u), np.ones(1))
-        self.refresh(out, 0.0)
+        W = np.cross(co_rotation(self.omega, orbit), np.eye(3)).T  # W @ r = omega x r
+        out = (np.zeros(3), np.ascontiguousarray(W), vertical.copy(), z.copy(),
+               np.ascontiguousarray(u), np.ones(1))
+        self.refresh(out, 0.0 if orbit is None else orbit.t0, orbit)
         return out
 
-    def refresh(self, arrays, t):
-        """Set the time-dependent parts of ``arrays`` for time ``t``."""
-        arrays[0][:] = self.uniform(t)
+    def refresh(self, arrays, t, orbit=None):
+        """Set the time-dependent parts of ``arrays`` for time ``t``; in orbit, the flow
+        at ``R(t) + x`` relative to the frame moving at ``V(t)``: ``c_0 + W R - V`` and
+        the profile's elevations shifted by ``-e . R`` (class notes)."""
+        uniform = self.uniform(t)
+        if orbit is not None:
+            R = orbit.position(float(t))
+            uniform = uniform + arrays[1] @ R - orbit.velocity(float(t))
+            if self.profile is not None:
+                arrays[3][:] = self.profile.elevations - arrays[2] @ R
+        arrays[0][:] = uniform
         arrays[5][0] = 1.0 if self.profile is None else self.profile.factor(t)
 
 
@@ -155,7 +177,10 @@ class QuadraticDrag(AlongCable):
     """Drag ``lam (k_n |u_n| u_n + k_t |s| s t + k_x |u_n| s t)`` per unit length of one
     cable, with ``u`` the flow velocity relative to the cable, ``t`` its tangent,
     ``s = u . t`` and ``u_n = u - s t`` (the model of ``kernels.drag``); the common base
-    of ``MorisonDrag`` and ``FreeMolecularDrag``, which set the coefficients.
+    of ``MorisonDrag`` and ``FreeMolecularDrag``, which set the coefficients.  In a
+    system in orbit ``u`` is relative to the cable's absolute velocity ``V(t) + v``
+    (the reference point's and the offsets'), at the absolute position ``R(t) + x``
+    (``Flow``).
 
     Parameters
     ----------
@@ -184,20 +209,21 @@ class QuadraticDrag(AlongCable):
         return h
 
     def bind(self, system):
-        """The compiled term (``kernels.drag.kernel``); a time-dependent current refreshes
-        its arrays once per time step (``Term.prepare``)."""
-        c = self.cable
+        """The compiled term (``kernels.drag.kernel``); a time-dependent current, or the
+        reference point of a system in orbit (``Flow``), refreshes its arrays once per
+        time step (``Term.prepare``)."""
+        c, orbit = self.cable, system.orbit
         mass = self.added_mass(system)
         edofs = np.ascontiguousarray(c.global_element_dofs(system))
-        arrays = self.flow.arrays()
+        arrays = self.flow.arrays(orbit)
         pack = (edofs, c.S, c.Sx, c.weights, self.coef.copy(), *arrays)
 
         def prepare(t):
-            self.flow.refresh(arrays, t)
+            self.flow.refresh(arrays, t, orbit)
 
         return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], mass=mass,
-                    prepare=None if self.flow.steady else prepare,
+                    prepare=None if self.flow.steady and orbit is None else prepare,
                     name=f"{type(self).__name__} {c.name}")
 
     def added_mass(self, system):
@@ -299,6 +325,13 @@ class FreeMolecularDrag(QuadraticDrag):
     for a co-rotating atmosphere in an Earth-centred inertial frame), with a uniform,
     constant density.
 
+    In a system in orbit (``System.add_orbit``) ``r`` is the absolute position
+    ``R(t) + x`` and ``r_dot`` the absolute velocity ``V(t) + v`` (the reference point's
+    orbital motion plus the offsets'), so the orbital velocity is the flow a tether
+    meets: ``v_r = V + v - velocity - omega x (R + x)``, with ``omega`` by default the
+    central body's rotation about the inertial ``z`` axis (``Orbit.central_body``: the
+    Earth's ``OMEGA_EARTH`` = 7.292115e-5 rad/s for an orbit of ``MU_EARTH``).
+
     Parameters
     ----------
     cable : Cable
@@ -309,9 +342,13 @@ class FreeMolecularDrag(QuadraticDrag):
     cd : float
         Drag coefficient ``C_D`` >= 0 (default 2.2).
     velocity : array_like (3,) or callable
-        Uniform velocity of the atmosphere (m/s), or ``velocity(t)``.
-    omega : array_like (3,)
-        Rotation rate of the atmosphere about the origin (rad/s).
+        Uniform velocity of the atmosphere (m/s, in the inertial axes; a wind), or
+        ``velocity(t)``.
+    omega : array_like (3,) or None
+        Rotation rate of the atmosphere about the origin (rad/s, the central body's
+        centre in orbit); None (default): the central body's rotation in a system in
+        orbit (``[0, 0, OMEGA_EARTH]`` about the Earth; zero for a ``mu`` of no known
+        body), zero otherwise.
     deformed_length : bool
         True: per unit deformed length.
 
@@ -327,7 +364,7 @@ class FreeMolecularDrag(QuadraticDrag):
     """
 
     def __init__(self, cable, density, diameter, cd=2.2, velocity=(0.0, 0.0, 0.0),
-                 omega=(0.0, 0.0, 0.0), deformed_length=False):
+                 omega=None, deformed_length=False):
         self.density = check_positive("density", density)
         self.diameter = check_positive("diameter", diameter)
         self.cd = check_positive("cd", cd, allow_zero=True)

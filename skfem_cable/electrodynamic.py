@@ -17,8 +17,8 @@ refreshed once per time step (``Term.prepare``).
 The current is prescribed (a number or a function of time) or ``"short-circuit"``: the
 uniform current ``I = E / R_c`` that the motional EMF ``E = int ((v - Omega x r) x B) .
 r_x dx`` drives through the circuit's resistance ``R_c`` (``Omega``: the rotation of the
-plasma, e.g. the Earth's for a co-rotating ionosphere).  Such a tether is a brake: its
-power ``F . u = -E^2 / R_c`` is never positive.
+plasma, by default in orbit the central body's: the Earth's co-rotating ionosphere).
+Such a tether is a brake: its power ``F . u = -E^2 / R_c`` is never positive.
 
 References
 ----------
@@ -37,6 +37,8 @@ import numpy as np
 from .contract import Evaluation, Term
 from .kernels import electrodynamic as kernel
 from .loads import AlongCable, vector3
+from .orbit import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
+from .orbit import co_rotation
 from .section import check_positive
 
 MU0_OVER_4PI = 1.0e-7
@@ -45,8 +47,6 @@ below the dipole model's own)."""
 EARTH_DIPOLE_MOMENT = 8.0e22
 """Magnitude of the Earth's dipole moment (A m^2), the round value of the issue (the
 2015 value is 7.7e22, Olsen et al.)."""
-OMEGA_EARTH = 7.2921150e-5
-"""The Earth's rotation rate (rad/s, IERS)."""
 FD_STEP = 6.06e-6
 """Relative step of the central-difference field gradient, about ``eps^(1/3)``."""
 
@@ -184,10 +184,12 @@ class ElectrodynamicForce(AlongCable):
         relative: Newton converges as with the exact gradient).
     resistance : float, optional
         Resistance (ohm, > 0) of the circuit, with ``current="short-circuit"`` only.
-    plasma_rotation : array_like (3,)
+    plasma_rotation : array_like (3,) or None
         Angular velocity ``Omega`` (rad/s) of the plasma about the origin, e.g.
         ``[0, 0, OMEGA_EARTH]`` for a co-rotating ionosphere: the EMF uses the velocity
-        relative to it, ``v - Omega x r`` (default: plasma at rest).
+        relative to it, ``v - Omega x r``.  None (default): in a system in orbit the
+        central body's rotation (``Orbit.body_rotation``: the Earth's for ``MU_EARTH``,
+        as ``FreeMolecularDrag``'s atmosphere), else a plasma at rest.
     fd_step : float
         Relative step of the gradient of a callable field, in (0, 1).
 
@@ -219,11 +221,12 @@ class ElectrodynamicForce(AlongCable):
     """
 
     def __init__(self, cable, current, field, resistance=None,
-                 plasma_rotation=(0.0, 0.0, 0.0), fd_step=FD_STEP):
+                 plasma_rotation=None, fd_step=FD_STEP):
         self.cable = cable
         self.drive = _drive(current, resistance)
         self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
-        self.plasma_rotation = vector3(plasma_rotation, "plasma_rotation")
+        self.plasma_rotation = (None if plasma_rotation is None
+                                else vector3(plasma_rotation, "plasma_rotation"))
         if callable(getattr(field, "sources", None)):
             self.compiled, self.callable = field, None
         elif callable(field):
@@ -268,7 +271,7 @@ class ElectrodynamicForce(AlongCable):
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
         X, A, U = (np.zeros((ne, nq, 3)) for _ in range(3))
         B, dB, out = np.zeros((ne, nq, 3)), np.zeros((ne, nq, 3, 3)), np.zeros(2)
-        plasma = self.plasma_rotation.copy()
+        plasma = co_rotation(self.plasma_rotation, orbit)
 
         def prepare(t):
             if orbit is not None:
@@ -297,10 +300,16 @@ class ElectrodynamicForce(AlongCable):
         return Term(add=add, rows=rows, cols=cols, name=name), out
 
     def evaluate(self, system, q, v=None, t=0.0):
-        """The current (A), the motional EMF (V; evaluated only for the short circuit,
-        else 0) and the total force (N, (3,)) on the cable at the coordinates ``q`` and
-        velocities ``v`` (None: at rest relative to the reference point) of ``system``
-        at time ``t``: a dict with keys ``current``, ``emf``, ``force``.
+        """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
+        current), the electrical power ``I E`` (W) and the total force (N, (3,)) on the
+        cable at the coordinates ``q`` and velocities ``v`` (None: at rest relative to the
+        reference point) of ``system`` at time ``t``: a dict with keys ``current``,
+        ``emf``, ``power``, ``force``.
+
+        ``power = I E`` is what the motional EMF gives the circuit: positive when the
+        tether generates (a short circuit: ``E^2 / R_c``, a brake), negative when a supply
+        drives the current against the EMF (a thruster); the force's power on the motion
+        relative to the plasma is ``-I E``.
 
         The total force is the sum of the generalized forces on the cable's position
         coordinates (the Hermite position functions sum to one): ``int f dx``.
@@ -312,4 +321,5 @@ class ElectrodynamicForce(AlongCable):
         term.evaluate(ev, np.zeros(self.cable.element_dofs.shape + (12,), dtype=np.int64))
         dofs = system.dofs(self.cable)
         force = ev.f_ext[dofs][self.cable.position_mask].reshape(-1, 3).sum(axis=0)
-        return {"current": float(out[0]), "emf": float(out[1]), "force": force}
+        return {"current": float(out[0]), "emf": float(out[1]),
+                "power": float(out[0] * out[1]), "force": force}

@@ -22,6 +22,7 @@ Angles are in radians, lengths in metres, times in seconds, ``mu`` in m^3/s^2.
 
 import bisect
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, vectorize
@@ -34,6 +35,33 @@ R_EARTH = 6378.137e3
 """Earth's equatorial radius (m, WGS 84)."""
 AU = 1.495978707e11
 """The astronomical unit (m, IAU 2012, exact)."""
+OMEGA_EARTH = 7.2921150e-5
+"""The Earth's rotation rate (rad/s, IERS)."""
+J2_EARTH = 1.08262668e-3
+"""The Earth's second zonal harmonic (EGM2008, unnormalised)."""
+R_SUN = 6.957e8
+"""The Sun's nominal radius (m, IAU 2015 Resolution B3)."""
+OMEGA_SUN = 2.8653e-6
+"""The Sun's sidereal (Carrington) rotation rate (rad/s: one turn in 25.38 days)."""
+
+
+@dataclass(frozen=True)
+class CentralBody:
+    """A central body: gravitational parameter ``mu`` (m^3/s^2), equatorial ``radius``
+    (m), second zonal harmonic ``j2`` and ``rotation_rate`` (rad/s, about the inertial
+    ``z`` axis: the rate of the atmosphere a drag load co-rotates with); None: no value
+    known."""
+
+    mu: float
+    radius: float | None
+    j2: float | None
+    rotation_rate: float | None = None
+
+
+#: The central bodies known by name (scene files' ``central_body``) and by ``mu``
+#: (``Orbit.central_body``); a new one is one more entry.
+CENTRAL_BODIES = {"earth": CentralBody(MU_EARTH, R_EARTH, J2_EARTH, OMEGA_EARTH),
+                  "sun": CentralBody(MU_SUN, R_SUN, None, OMEGA_SUN)}
 
 KEPLER_ITERATIONS = 50
 EPS = float(np.finfo(float).eps)
@@ -345,6 +373,18 @@ class Orbit:
             return x @ frame.T
         return np.einsum("tij,t...j->t...i", frame, x)
 
+    def libration(self, t, axis):
+        """In-plane and out-of-plane libration angles (rad) of the vectors ``axis``
+        (n, 3; a tether's end-to-end line) at the times ``t`` (n,) in the orbiting frame:
+        the in-plane angle (pitch) ``atan2(along-track, radial)``, a turn about the orbit
+        normal, and the out-of-plane angle (roll), positive away from the orbit normal, a
+        turn about the along-track axis.  Returns ``(in_plane, out_of_plane)``, (n,)
+        each."""
+        y = self.to_lvlh(np.asarray(t, dtype=float), axis)
+        in_plane = np.arctan2(y[:, 1], y[:, 0])
+        out_of_plane = np.arcsin(-y[:, 2] / np.linalg.norm(y, axis=1))
+        return in_plane, out_of_plane
+
     def from_lvlh(self, t, y):
         """Inverse of :meth:`to_lvlh`."""
         frame = self.lvlh(t)
@@ -353,10 +393,53 @@ class Orbit:
             return y @ frame
         return np.einsum("tji,t...j->t...i", frame, y)
 
+    @property
+    def central_body(self):
+        """The entry of ``CENTRAL_BODIES`` of this orbit's ``mu`` (the Earth for
+        ``MU_EARTH``, the Sun for ``MU_SUN``), or None for another ``mu``."""
+        return next((body for body in CENTRAL_BODIES.values() if body.mu == self.mu), None)
+
+    def body_rotation(self):
+        """The central body's angular velocity (3,) (rad/s) about the inertial ``z`` axis
+        (``central_body.rotation_rate``): what an atmosphere or a plasma co-rotating with
+        the body turns at; zero for a ``mu`` of no known body."""
+        body = self.central_body
+        rate = None if body is None else body.rotation_rate
+        return np.array([0.0, 0.0, rate or 0.0])
+
+    @property
+    def periapsis(self):
+        """Periapsis distance ``a (1 - e)`` (m) from the central body's centre."""
+        return self.a * (1.0 - self.e)
+
+    def check_above(self, radius, body="the central body"):
+        """Refuse (``ValueError``) an orbit whose periapsis ``a (1 - e)`` lies inside a
+        central body of ``radius`` (m; None: not known, nothing to check): ``a`` is
+        measured from the body's centre (``R_EARTH + altitude``), and an elliptic orbit
+        that dips below the surface would fly through the body."""
+        if radius is None or self.periapsis > radius:
+            return
+        where = (f"a = {self.a:.10g} m" if self.e == 0.0 else f"the periapsis a (1 - e) "
+                 f"= {self.a:.10g} m * (1 - {self.e:.6g}) = {self.periapsis:.10g} m")
+        raise ValueError(
+            f"Orbit: {where} lies inside {body} of radius "
+            f"{radius:.10g} m: a is the semi-major axis from the body's centre (the "
+            f"radius plus the altitude: for 400 km above the surface a = "
+            f"{radius + 400e3:.10g} m); a (1 - e) must exceed {radius:.10g} m")
+
     def __repr__(self):
         return (f"Orbit(mu={self.mu:.10g}, a={self.a:.10g}, e={self.e:.6g}, "
                 f"inclination={self.inclination:.6g}, raan={self.raan:.6g}, "
                 f"argp={self.argp:.6g}, anomaly={self.anomaly:.6g}, t0={self.t0:.6g})")
+
+
+def co_rotation(omega, orbit):
+    """The rotation rate (3,) (rad/s) of a medium a load's ``omega`` gives (an atmosphere,
+    a plasma): ``omega`` itself, or when it is None the central body's rotation of the
+    system's ``orbit`` (``Orbit.body_rotation``), zero without an orbit (None)."""
+    if omega is not None:
+        return np.array(omega, dtype=float)
+    return np.zeros(3) if orbit is None else orbit.body_rotation()
 
 
 def battin_f(q):

@@ -374,9 +374,14 @@ class System(SystemMotion):
         body and point mass feels the central body's differential gravity (optionally with
         J2 of a central body of equatorial radius ``body_radius``, its axis along ``z``);
         see ``orbit_gravity``.  Uniform gravity (``add_gravity``) and an orbit exclude each
-        other.  Returns the system."""
+        other.  An orbit whose periapsis lies inside the central body (``body_radius``,
+        else the radius of ``orbit.central_body``) is refused (``Orbit.check_above``).
+        Returns the system."""
         if self.orbit is not None:
             raise ValueError("add_orbit: the system is already in orbit")
+        body = orbit.central_body
+        orbit.check_above(body_radius if body_radius is not None or body is None
+                          else body.radius)
         if any(isinstance(load, Gravity) for load in self.loads):
             raise ValueError("add_orbit: the system has uniform gravity (add_gravity); in "
                              "orbit the central body's gravity replaces it")

@@ -11,8 +11,8 @@ from demo_modules import load_demo
 import skfem_cable as sc
 from skfem_cable import cli, export, scene_file
 from skfem_cable.io import StoreMismatch, run_observers
+from skfem_cable.orbit import J2_EARTH
 from skfem_cable.runner import RunOptions
-from skfem_cable.scene_file.orbit import J2_EARTH
 from skfem_cable.scenes import catalog, tss
 
 L = 20e3

@@ -127,14 +127,15 @@ def assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev):
 
 @njit(cache=True, inline="always")
 def _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, nf):
-    """The current ``I = I_0 + G E`` (``drive = [I_0, G]``; ``E`` by (3) only when
-    ``G != 0``) into ``out = [I, E]``, the generalized force ``int S^T f dx`` of (1) into
-    ``ev``'s external forces and ``-cK dF/dq`` (by (2), at fixed ``I``) into its matrix
-    values at ``index`` (ne, 3 nf, 3 nf), ``nf`` functions per element."""
+    """The current ``I = I_0 + G E`` (``drive = [I_0, G]``; ``E`` by (3), the open-circuit
+    EMF, whatever the current) into ``out = [I, E]``, the generalized force
+    ``int S^T f dx`` of (1) into ``ev``'s external forces and ``-cK dF/dq`` (by (2), at
+    fixed ``I``) into its matrix values at ``index`` (ne, 3 nf, 3 nf), ``nf`` functions
+    per element."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     ne, nq = w.shape
     nd = 3 * nf
-    E = motional_emf(w, plasma, X, A, U, B) if drive[1] != 0.0 else 0.0
+    E = motional_emf(w, plasma, X, A, U, B)
     current = drive[0] + drive[1] * E
     out[0], out[1] = current, E
     want = data.size > 0

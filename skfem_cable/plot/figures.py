@@ -311,20 +311,47 @@ def corotated(result, x):
     return back + c[0]
 
 
+def orbiting(result, x):
+    """Points ``x`` (nt, ..., 3) of a run in orbit relative to the system's centre of
+    mass, in the orbiting frame (``Orbit.to_lvlh``) at each saved time: their motion as
+    seen from the orbiting frame, free of the orbit's turn and of the reference point's
+    rebases."""
+    system = result.system
+    centre = system.centre_of_mass(result.q)
+    rel = np.asarray(x, dtype=float) - centre.reshape(
+        (len(centre),) + (1,) * (np.ndim(x) - 2) + (3,))
+    return system.orbit.to_lvlh(result.t, rel)
+
+
+def tip_frame(result):
+    """How ``cable_histories`` measures tip displacements: ``(label, carry)`` with
+    ``carry(result, x)`` taking points into that frame: the orbiting (LVLH) frame about
+    the centre of mass for a system in orbit (``orbiting``), else the frame spinning with
+    a spinning system (``corotated``, ``spin_axis`` of the first saved step), else the
+    coordinates as computed (None)."""
+    system = result.system
+    if system.orbit is not None:
+        return "in the LVLH frame", orbiting
+    if spin_axis(system, result.q[0], result.v[0]) is not None:
+        return "in the spinning frame", corotated
+    return None, None
+
+
 def cable_histories(result, path=None, title=None):
     """Tip displacement, root tension and peak tension of every cable of a run, one colour
-    per cable (``curve_colours``; a colour bar names them beyond ``MAX_LEGEND``).  In a
-    spinning run (``spin_axis`` of the first saved step) the tip displacement is measured
-    in the frame spinning with the system (``corotated``), so that it shows the tethers'
-    motion rather than the rotation's chord."""
+    per cable (``curve_colours``; a colour bar names them beyond ``MAX_LEGEND``).  The tip
+    displacement of a run in orbit is measured in the orbiting (LVLH) frame about the
+    centre of mass, of a spinning run in the frame spinning with the system
+    (``tip_frame``), so that it shows the tethers' motion rather than the orbit's or the
+    rotation's chord."""
     system = result.system
     cables = system.cables()
     tips = np.stack([result.position(c, c.length) for c in cables], axis=1)
-    spinning = spin_axis(system, result.q[0], result.v[0]) is not None
-    if spinning:
-        tips = corotated(result, tips)
-    panels = {"tip displacement\nin the spinning frame [m]" if spinning else
-              "tip displacement [m]": np.linalg.norm(tips - tips[0], axis=-1),
+    frame, carry = tip_frame(result)
+    if carry is not None:
+        tips = carry(result, tips)
+    panels = {"\n".join(filter(None, ["tip displacement", frame])) + " [m]":
+              np.linalg.norm(tips - tips[0], axis=-1),
               "root tension [N]": np.stack([result.tension(c, 0.0) for c in cables], axis=1),
               "peak tension [N]": np.stack([result.tension(c, c.mesh.p[0]).max(axis=-1)
                                             for c in cables], axis=1)}

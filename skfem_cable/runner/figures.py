@@ -17,8 +17,9 @@ register_files({
     "animation.gif": "animation of the run (3-D renders)",
     "animation.mp4": "animation of the run (3-D renders)",
     "plots/energies.png": "energy terms, balance residual and relative drift against time",
-    "plots/cables.png": "tip displacements (spinning: in the spinning frame) and root and "
-                        "peak tensions of the cables against time",
+    "plots/cables.png": "tip displacements (in orbit: in the LVLH frame about the centre "
+                        "of mass; spinning: in the spinning frame) and root and peak "
+                        "tensions of the cables against time",
     "plots/tension_psd.png": "power spectral density of the root tensions",
     "plots/inputs.png": "the inputs controllers set (sc.Input) against time",
     "plots/final.png": "3-D render of the final state",

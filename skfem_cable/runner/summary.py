@@ -71,14 +71,32 @@ def orbit_summary(system, first, last):
             "end": orbit_elements(centre_of_mass_orbit(system, last))}
 
 
+def orbiting_cable_outputs(result, cable):
+    """Key numbers of a cable of a run in orbit: the libration angles (rad) of its
+    end-to-end line in the orbiting frame (``Orbit.libration``), in the orbit plane
+    (``libration_in_plane``, pitch) and out of it (``libration_out_of_plane``, roll), at
+    the end and their largest magnitudes over the run, and the centre tension (N, at
+    mid-length) at the end and its largest over the run."""
+    ends = result.position(cable, np.array([0.0, cable.length]))
+    in_plane, out_of_plane = result.system.orbit.libration(result.t, ends[:, 1] - ends[:, 0])
+    centre = result.tension(cable, 0.5 * cable.length)
+    return {"libration_in_plane": in_plane[-1], "libration_out_of_plane": out_of_plane[-1],
+            "max_libration_in_plane_run": np.abs(in_plane).max(),
+            "max_libration_out_of_plane_run": np.abs(out_of_plane).max(),
+            "centre_tension": centre[-1], "max_centre_tension_run": centre.max()}
+
+
 def run_outputs(result):
     """Key numbers of a dynamic run: the cables at the end and their tension extremes over
-    the run, and the energy budget."""
+    the run (in orbit also their librations and centre tensions,
+    ``orbiting_cable_outputs``), and the energy budget."""
     system = result.system
     out = body_outputs(system, result.q[-1], result.t[-1])
     for cable in system.cables():
         T = result.tension(cable, cable.mesh.p[0])
         out["cables"][cable.name].update(max_tension_run=T.max(), min_tension_run=T.min())
+        if system.orbit is not None:
+            out["cables"][cable.name].update(orbiting_cable_outputs(result, cable))
     E = result.energy
     scale = max(np.abs(E["total"]).max(), np.abs(E["kinetic"]).max(), 1e-300)
     out["energy"] = {"total_initial": E["total"][0], "total_final": E["total"][-1],

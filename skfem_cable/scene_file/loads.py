@@ -85,7 +85,7 @@ def free_molecular_load(p, bodies, system):
     system.add_load(FreeMolecularDrag(
         bodies.body(p, "cable", Cable), p.get("density", positive),
         p.get("diameter", positive), p.get("cd", non_negative, 2.2),
-        p.get("velocity", vector3, (0.0, 0.0, 0.0)), p.get("omega", vector3, (0.0, 0.0, 0.0))))
+        p.get("velocity", vector3, (0.0, 0.0, 0.0)), p.get("omega", vector3, None)))
 
 
 #: Readers of the arrays of load tables ``[[loads.KEY]]``: ``reader(p, bodies, system)``.

@@ -4,28 +4,8 @@ rad (as every angle of a scene file), times in s."""
 
 from dataclasses import dataclass
 
-from ..orbit import MU_EARTH, MU_SUN, R_EARTH, Orbit
+from ..orbit import CENTRAL_BODIES, CentralBody, Orbit
 from .schema import choice, non_negative, number, one_of, positive
-
-
-@dataclass(frozen=True)
-class CentralBody:
-    """A central body a scene file names: gravitational parameter ``mu`` (m^3/s^2),
-    equatorial ``radius`` (m) and second zonal harmonic ``j2`` (None: no value known)."""
-
-    mu: float
-    radius: float
-    j2: float | None
-
-
-#: The Earth's second zonal harmonic (EGM2008, unnormalised).
-J2_EARTH = 1.08262668e-3
-#: The Sun's nominal radius (m, IAU 2015 Resolution B3).
-R_SUN = 6.957e8
-
-#: The central bodies of ``central_body``; a new one is one more entry.
-CENTRAL_BODIES = {"earth": CentralBody(MU_EARTH, R_EARTH, J2_EARTH),
-                  "sun": CentralBody(MU_SUN, R_SUN, None)}
 
 
 @dataclass

@@ -73,18 +73,9 @@ def attitude(orbit, cable, t, q):
     orbiting frame, as ``librated`` turns it: pitch ``atan2(along-track, radial)`` in the
     orbit plane (a turn about the orbit normal), roll its angle out of the plane, positive
     away from the orbit normal (a turn about the along-track axis); ``q`` (n_steps,
-    n_dofs) holds the cable's coordinates at the times ``t``."""
+    n_dofs) holds the cable's coordinates at the times ``t`` (``Orbit.libration``)."""
     ends = np.array([cable.interpolate(qi, np.array([0.0, cable.length]))[0] for qi in q])
-    return axis_attitude(orbit, t, ends[:, 1] - ends[:, 0])
-
-
-def axis_attitude(orbit, t, axis):
-    """Pitch and roll (rad) of the vectors ``axis`` (n_steps, 3) at the times ``t`` in the
-    orbiting frame (``attitude``)."""
-    y = orbit.to_lvlh(np.asarray(t, dtype=float), axis)
-    pitch = np.arctan2(y[:, 1], y[:, 0])
-    roll = np.arcsin(-y[:, 2] / np.linalg.norm(y, axis=1))
-    return pitch, roll
+    return orbit.libration(t, ends[:, 1] - ends[:, 0])
 
 
 def crossing_frequency(t, x):
@@ -160,7 +151,7 @@ class ChainLibration:
             result = self.model.simulate(self.x0, self.v0, t_end, step, every=every)
             wall = time.perf_counter() - start
             joints = result.joints
-            pitch, roll = axis_attitude(self.orbit, result.t, joints[:, -1] - joints[:, 0])
+            pitch, roll = self.orbit.libration(result.t, joints[:, -1] - joints[:, 0])
             tension = result.tension
             summary = {"scene": "tss",
                        "parameters": {**self.parameters, "t_end": t_end, "dt": output_dt},

@@ -22,8 +22,10 @@ The integrator goes on from the shifted state with its memory and its books
 (``GeneralizedAlpha.shift``).
 
 A constraint that ties the system to the reference point (a pin to a fixed point of the
-orbiting frame) would move with it: the rectification is then off, and the reason is in
-the run's ``stats["rectification"]``.  The arcs are part of the checkpoint, so a
+orbiting frame, in all directions or in one: a node sliding on a plane) would move with
+it: the rectification is then off, and the reason is in the run's
+``stats["rectification"]``.  Every constraint is tried with a translation along each of
+the three axes (``_tied``).  The arcs are part of the checkpoint, so a
 rectified run continues bit for bit.
 """
 
@@ -113,15 +115,25 @@ class Rectification:
 
 def _tied(system, positions, t, orbit):
     """Why the rectification must stay off for ``system`` (a constraint that a
-    translation of all positions violates, named), or None."""
+    translation of all positions violates, named), or None.
+
+    A rebase moves every position by a vector ``d`` and every velocity of a position by a
+    vector ``w``, both in any direction: a constraint is left alone only if its value is
+    the same for every ``d`` (then its velocity-level equation, its derivative along the
+    translation, is unchanged by every ``w`` too).  The constraints are tried with a
+    translation along each of the three axes (a sliding pin holds one direction only),
+    of ``1e-3 |R|``."""
     if not system.n_constraints:
         return None
     q = system.q0
-    step = np.zeros(system.n_dofs)
-    step[positions] = 1e-3 * np.linalg.norm(orbit.position(float(t))) * np.array([1, 1, 1])
-    moved = system.constraint_values(q + step, t) - system.constraint_values(q, t)
-    if np.max(np.abs(moved)) <= 1e-9 * np.max(np.abs(step)):
-        return None
-    k = int(np.argmax(np.abs(moved)))
-    return (f"off: {system.describe_dof(system.n_dofs + k)} ties the system to the "
-            "reference point, which a rectification would move")
+    size = 1e-3 * np.linalg.norm(orbit.position(float(t)))
+    rest = system.constraint_values(q, t)
+    for axis in np.eye(3):
+        step = np.zeros(system.n_dofs)
+        step[positions] = size * axis
+        moved = system.constraint_values(q + step, t) - rest
+        if np.max(np.abs(moved)) > 1e-9 * size:
+            k = int(np.argmax(np.abs(moved)))
+            return (f"off: {system.describe_dof(system.n_dofs + k)} ties the system to "
+                    "the reference point, which a rectification would move")
+    return None
