@@ -6,10 +6,13 @@ import importlib.util
 import inspect
 import json
 import sys
+from pathlib import Path
 
 import pytest
 
 from skfem_cable import bench, cli
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def load_benchmark(path):
@@ -47,3 +50,58 @@ def test_bench_quick_runs_the_rectification_benchmark(tmp_path, capsys):
     (path,) = tmp_path.glob("*-rectification.json")
     rows = json.loads(path.read_text())["figures"]
     assert [row["rectify"] for row in rows] == [1e-4, None] and rows[0]["rebases"] > 0
+
+
+ORBIT_SCENE = """
+[solver]
+analysis = "dynamic"
+t_end = 1.0
+dt = 0.1
+
+[sections.s]
+E = 1e11
+rho = 1000.0
+radius = 1e-3
+
+[[cables]]
+name = "tether"
+section = "s"
+start = [0, 0, 0]
+end = [0, 100, 0]
+elements = 2
+
+[orbit]
+{orbit}
+"""
+
+
+@pytest.mark.parametrize("orbit, message", [
+    ('central_body = "earth"\naltitud = 400e3',
+     "orbit.a is required (the semi-major axis, m), or altitude (m above the central "
+     "body's radius) (found the unknown key 'altitud': did you mean 'altitude'?)"),
+    ('central_bdy = "earth"\naltitude = 400e3',
+     "orbit.central_body is required ('earth' or 'sun'), or mu (m^3/s^2) (found the "
+     "unknown key 'central_bdy')"),
+    ('central_body = "earth"\nmuu = 1.0\naltitude = 400e3',
+     "orbit.muu is not a known key: did you mean 'mu'?"),
+])
+def test_a_misspelled_orbit_key_is_named_with_the_key_meant(orbit, message):
+    """``[orbit] altitud = 400e3``: before, ``orbit.a is required ... or altitude`` without
+    the hint other tables give; now the misspelled key and the key it resembles."""
+    from skfem_cable import scene_file
+
+    with pytest.raises(scene_file.SceneFileError) as refused:
+        scene_file.loads_text(ORBIT_SCENE.format(orbit=orbit), "orbit.toml")
+    assert message in str(refused.value)
+
+
+def test_scene_file_is_an_attribute_of_the_package():
+    """``import skfem_cable as sc; sc.scene_file`` (an ``AttributeError`` unless imported
+    first, before), in a fresh interpreter."""
+    import subprocess
+
+    code = ("import skfem_cable as sc; print(sc.scene_file.loads_text.__name__); "
+            "print(hasattr(sc, 'no_such_module'))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True, cwd=ROOT).stdout.split()
+    assert out == ["loads_text", "False"]
