@@ -11,7 +11,7 @@ from ..solvers.static import solve_static
 from ..solvers.steady import solve_steady
 from ..state import State
 from ..system import System
-from .bodies import Bodies, read_cable, read_rigid_body, read_sections
+from .bodies import Bodies, check_cables_memory, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
 from .controllers import read_controllers
 from .deploy import read_deploy, read_reel
@@ -47,7 +47,9 @@ def build(root, elements=None):
     settings = read_solver(solver, analysis)
     bodies = Bodies(elements)
     read_sections(root.table("sections"), bodies)
-    for t in root.tables("cables"):
+    cables = root.tables("cables")
+    check_cables_memory(root, cables, bodies)
+    for t in cables:
         read_cable(t, bodies)
     for t in root.tables("rigid_bodies"):
         read_rigid_body(t, bodies)
