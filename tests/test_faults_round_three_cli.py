@@ -256,3 +256,45 @@ def test_the_cli_stops_a_reel_at_its_capacity_with_one_message(tmp_path, capsys)
     err = capsys.readouterr().err
     assert "Traceback" not in err and "the reel is empty" in err
     assert f"run store {tmp_path / 'run'}: scene 'reel'" in err and "failed" in err
+
+
+PENDULUM_FILE = """
+[solver]
+t_end = 0.54
+dt = 2e-3
+{every}
+
+[sections.s]
+E = 1e9
+rho = 1000.0
+radius = 1e-3
+
+[[cables]]
+name = "wire"
+section = "s"
+start = [0, 0, 0]
+end = [1, 0, 0]
+elements = 2
+
+[[constraints]]
+type = "pin"
+node = {{ cable = "wire", index = 0 }}
+
+[loads]
+gravity = [0, 0, -9.81]
+"""
+
+
+@pytest.mark.parametrize("every, saved", [("", 136), ("every = 1", 271)])
+def test_a_scene_file_saves_about_250_steps_by_default(tmp_path, every, saved):
+    """270 steps without ``[solver] every``: before, every step saved (271 VTU files; the
+    3 h dumbbell at 20 s steps wrote 541); now every 2nd (``ceil(270 / 250)``), 136 saved
+    steps and files, and ``every = 1`` still saves them all."""
+    scene = tmp_path / "pendulum.toml"
+    scene.write_text(PENDULUM_FILE.format(every=every))
+    out = tmp_path / "run"
+    assert cli.main(["run", str(scene), "--out", str(out), "--no-plots",
+                     "--no-progress"]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["saved_steps"] == saved and summary["steps"] == 270
+    assert len(list((out / "vtu").glob("*.vtu"))) == saved
