@@ -76,7 +76,9 @@ def run(scene, t_end, repeats, **settings):
     return min(timings(once, repeats)), box["result"]
 
 
-def main(quick=False):
+def main(argv=None):
+    """Parse the arguments (``--quick``), run and return the figures."""
+    quick = arguments(__doc__, "a quarter of a spin period, one repeat", argv).quick
     s = SETTINGS["quick" if quick else "full"]
     config = esail.BaselineConfig()
     scene = esail.build(config, 10.0, 5)
@@ -194,4 +196,4 @@ def draw(rows, shown, summary, path):
 
 
 if __name__ == "__main__":
-    main(**vars(arguments(__doc__, "a quarter of a spin period, one repeat")))
+    main()

@@ -71,7 +71,9 @@ def best(scene, controllers, t_end, repeats):
     return min(times), result
 
 
-def main(quick=False):
+def main(argv=None):
+    """Parse the arguments (``--quick``), run and return the figures."""
+    quick = arguments(__doc__, "60 s instead of 600 s", argv).quick
     s = SETTINGS["quick" if quick else "full"]
     cases = {"open loop": (build(open_loop), lambda scene: [])}
     scene = build(inputs)
@@ -93,4 +95,4 @@ def main(quick=False):
 
 
 if __name__ == "__main__":
-    main(**vars(arguments(__doc__, "60 s instead of 600 s")))
+    main()

@@ -134,7 +134,9 @@ def outputs(scene, result):
                                np.linalg.norm(out["thrust"], axis=1)], axis=1)
 
 
-def main(quick=False):
+def main(argv=None):
+    """Parse the arguments (``--quick``), run and return the figures."""
+    quick = arguments(__doc__, "300 s instead of an hour, 5 repeats", argv).quick
     s = SETTINGS["quick" if quick else "full"]
     scene = esail.build(esail.FULL_SIZE, 10.0, 10)
     p = parts(scene, s["repeats"])
@@ -290,4 +292,4 @@ def draw_day(t, outputs, every, path):
 
 
 if __name__ == "__main__":
-    main(**vars(arguments(__doc__, "300 s instead of an hour, 5 repeats")))
+    main()

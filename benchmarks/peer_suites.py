@@ -220,12 +220,12 @@ def moordyn_cases(md):
            ps.moordyn_pendulum(), ps.moordyn_pendulum(law="truss"))
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("cases", nargs="*", metavar="case",
                         help=f"any of {', '.join(CASES)} (default: all)")
     parser.add_argument("--quick", action="store_true", help="the same (all are short)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     args.cases = args.cases or list(CASES)
     unknown = set(args.cases) - set(CASES)
     if unknown:

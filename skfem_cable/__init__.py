@@ -46,6 +46,9 @@ Examples
 (102, 3)
 """
 
+import importlib
+import importlib.util
+
 from . import kernels as kernels  # first: numba caches and reports the kernels defined after
 
 # isort: split
@@ -154,3 +157,12 @@ __all__ = [
     "settle",
     "sweep",
 ]
+
+
+def __getattr__(name):
+    """The package's submodules not imported above (``scene_file``, ``validation``,
+    ``runner``, ...), imported when first named: ``sc.scene_file.load(path)`` works
+    without ``import skfem_cable.scene_file``."""
+    if importlib.util.find_spec(f"{__name__}.{name}") is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return importlib.import_module(f"{__name__}.{name}")

@@ -34,6 +34,7 @@ array([0., 0., 0., 0., 0.])
 """
 
 import numpy as np
+import scipy.sparse as sp
 
 from .node import Node
 from .quadratic import QuadraticConstraints
@@ -567,6 +568,56 @@ def check_independent(system, constraint):
                 f"constraint {constraint.name!r} repeats equations of {other.name!r}, added "
                 "before: the same node pinned or clamped twice makes the system's matrix "
                 "singular; constrain each coordinate once (a clamp already pins its node)")
+
+
+#: Constraint equations beyond which ``dependent_constraints`` does not look (its dense
+#: eigendecomposition of ``n_c x n_c`` would take long; it runs after a failure only).
+DEPENDENCE_LIMIT = 3000
+
+
+def dependent_constraints(system, jacobian, tol=1e-10):
+    """The constraints whose equations are dependent at a state, named where a matrix
+    turns out singular (pins in a closed loop: ``a`` to ``b``, ``b`` to ``c`` and ``c``
+    to ``a``, each pair independent, which ``check_independent`` cannot see).
+
+    Parameters
+    ----------
+    system : System
+    jacobian : sparse matrix (n_c, n_dofs)
+        The constraint Jacobian ``C_q`` at the state (its rows may be scaled).
+    tol : float
+        Eigenvalues of the Gram matrix of the normalized rows below ``tol`` count as zero.
+
+    Returns
+    -------
+    names : list of str
+        The constraints with equations in a dependent set (in the system's order), empty
+        when the rows are independent or when there are more than ``DEPENDENCE_LIMIT``.
+    rank : int
+        The rank of the rows of those constraints.
+    """
+    C = sp.csr_matrix(jacobian)
+    if not 0 < C.shape[0] <= DEPENDENCE_LIMIT:
+        return [], C.shape[0]
+    norms = np.sqrt(np.asarray(C.multiply(C).sum(axis=1)).ravel())
+    rows = sp.diags(1.0 / np.where(norms > 0, norms, 1.0)) @ C
+    values, vectors = np.linalg.eigh((rows @ rows.T).toarray())
+    null = vectors[:, values < tol * max(values.max(), 1.0)]
+    involved = np.abs(null).max(axis=1, initial=0.0) > 1e-6
+    ends = np.cumsum([c.n_eq for c in system.constraints])
+    owners = np.searchsorted(ends, np.flatnonzero(involved), side="right")
+    names = [system.constraints[k].name for k in np.unique(owners)]
+    rank = int(involved.sum()) - null.shape[1]
+    return names, rank
+
+
+def dependence_message(names, rank, where):
+    """What dependent constraints (``dependent_constraints``' ``names`` and ``rank``) at
+    ``where`` (a state) make of a system's matrix."""
+    return (f"dependent constraints at {where}: {', '.join(map(repr, names))} (their "
+            f"equations have rank {rank}): one follows from the others (pins in a closed "
+            "loop, or together over-constraining the same coordinates), which makes the "
+            "system's matrix singular; remove one of them")
 
 
 def _distinct_jacobian(system, constraint, q0):

@@ -138,11 +138,14 @@ class Deployment:
         """``values`` if the length lies in ``(0, capacity]``, else ``OutOfDomain`` (a
         ``ValueError``) naming the cable and the bound."""
         ell = values[0]
-        if not ell > 0 or (self.capacity is not None and ell > self.capacity * (1 + 1e-12)):
+        full = self.capacity is not None and ell > self.capacity * (1 + 1e-12)
+        if not ell > 0 or full:
             bound = "be > 0" if self.capacity is None else \
                 f"lie in (0, {self.capacity:g}] (the capacity)"
+            event = "the reel is empty: all its tether is paid out" if full else \
+                "the tether is wound in completely"
             raise OutOfDomain(f"deployment of {self.cable.name!r}: length({t!r}) = {ell!r} m "
-                              f"must {bound}")
+                              f"must {bound}: {event}")
         return values
 
     def paying_out(self, system, q, rate, t=0.0):

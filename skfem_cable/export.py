@@ -37,6 +37,7 @@ import numpy as np
 
 from .atomic import replacing
 from .contract import PART_CABLE, PART_POINT_MASS, Shape
+from .section import positive_int
 
 
 def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
@@ -286,7 +287,7 @@ class SeriesWriter(VtuSeries):
         self.frame = output_frame(system, frame)  # refused before any file is touched
         super().__init__(run_dir, append, name)
         self.system = system
-        self.points_per_element = points_per_element
+        self.points_per_element = positive_int("points_per_element", points_per_element)
         self.resolution = resolution
 
     def write(self, t, q, v=None):

@@ -9,6 +9,7 @@ import numpy as np
 from .contract import PART_CABLE, Shape
 from .formulation import FORMULATIONS
 from .laws import SLOPE_FLOOR
+from .section import positive_int
 
 
 class CableFields:
@@ -37,10 +38,7 @@ class CableFields:
             (npts, 3), ``tension`` (N), ``axial_strain`` (Green strain) and ``curvature``
             (1/m), each (npts,).
         """
-        m = int(points_per_element)
-        if m != points_per_element or m < 1:
-            raise ValueError(f"points_per_element must be a positive integer, "
-                             f"got {points_per_element!r}")
+        m = positive_int("points_per_element", points_per_element)
         x = self.mesh.p[0]
         ne = self.n_elements
         s = np.append((x[:-1, None] + self.h[:, None] * (np.arange(m) / m)).ravel(), x[-1])

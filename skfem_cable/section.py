@@ -9,6 +9,7 @@ Examples
 """
 
 import math
+import numbers
 from dataclasses import dataclass
 
 
@@ -24,6 +25,14 @@ def check_positive(name, value, allow_zero=False):
         bound = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be finite and {bound}, got {value!r}")
     return v
+
+
+def positive_int(name, value):
+    """Return ``int(value)``; raise ``ValueError`` naming ``name`` unless it is an integer
+    >= 1 (not a bool: ``True`` is no count)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < 1:
+        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+    return int(value)
 
 
 @dataclass(frozen=True)

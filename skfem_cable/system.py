@@ -24,6 +24,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import constraints as cons
+from .cable import check_total_memory
 from .contract import Evaluation, Line, check_body
 from .io.fingerprint import describe_system, differences
 from .layout import Layout
@@ -102,6 +103,7 @@ class System(SystemMotion):
             raise ValueError("bodies must contain at least one body")
         for body in self.bodies:
             check_body(body)
+        check_total_memory([b.n_elements for b in self.bodies if hasattr(b, "n_elements")])
         self.offsets = {}
         n = 0
         for body in self.bodies:

@@ -4,6 +4,7 @@ from pathlib import Path
 
 from .. import export
 from ..contract import Observer
+from ..section import positive_int
 from . import signals
 
 
@@ -37,12 +38,10 @@ class SeriesObserver(Observer):
 
     def __init__(self, run_dir, every=1, points_per_element=8, append=False,
                  frame="inertial"):
-        if isinstance(every, bool) or int(every) != every or every < 1:
-            raise ValueError(f"every must be a positive integer, got {every!r}")
+        self.every = positive_int("every", every)
+        self.points_per_element = positive_int("points_per_element", points_per_element)
         self.frame = export.frame_name(frame)
         self.dir = Path(run_dir)
-        self.every = int(every)
-        self.points_per_element = points_per_element
         self.append = append
         self.writer = None
         self.last = None

@@ -3,6 +3,8 @@
 
 import numpy as np
 
+from ..section import positive_int as positive_int  # the package's check
+
 
 def positive_array(name, value, n=None):
     """A non-empty 1-D array of finite reals > 0 (of length ``n`` if given)."""
@@ -39,10 +41,3 @@ def vector3(name, value):
     if v.shape != (3,) or not np.all(np.isfinite(v)):
         raise ValueError(f"{name} must be a finite 3-vector, got {value!r}")
     return v
-
-
-def positive_int(name, value):
-    """An integer >= 1 (not a bool)."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
-        raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
-    return int(value)

@@ -4,7 +4,7 @@ point masses and loads use.  ``Bodies`` holds what was defined so far, by name."
 
 import numpy as np
 
-from ..cable import Cable
+from ..cable import Cable, check_total_memory
 from ..elements import DEFAULT_ELEMENT, ELEMENTS
 from ..formulation import FORMULATIONS
 from ..laws import BUILTIN
@@ -96,6 +96,17 @@ def read_quadrature(t):
     rules = {part: q.get(part, count, None) for part in ("axial", "bending")}
     q.finish()
     return {part: n for part, n in rules.items() if n is not None}
+
+
+def check_cables_memory(root, tables, bodies):
+    """Refuse, before any is built, ``[[cables]]`` tables whose elements together do not
+    fit in this machine's memory (``cable.check_total_memory``); the element counts that
+    are not integers >= 1 are left to ``read_cable`` to refuse."""
+    counts = [bodies.elements or t.data.get("elements") for t in tables]
+    try:
+        check_total_memory([n for n in counts if isinstance(n, int) and n >= 1])
+    except ValueError as err:
+        root.fail("cables", f"are too large: {err}")
 
 
 def read_cable(t, bodies):

@@ -49,8 +49,8 @@ def read_central_body(t):
     checks = {"central_body": choice(*CENTRAL_BODIES), "mu": positive}
     key, _ = one_of(t, tuple(checks), _as_given)
     if key is None:
-        t.fail("central_body", f"is required ({' or '.join(map(repr, CENTRAL_BODIES))}), "
-               "or mu (m^3/s^2)")
+        t.missing("central_body", f"is required ({' or '.join(map(repr, CENTRAL_BODIES))}), "
+                  "or mu (m^3/s^2)", tuple(checks))
     value = t.get(key, checks[key])
     body = CENTRAL_BODIES[value] if key == "central_body" else CentralBody(value, None, None)
     return body.mu, t.get("body_radius", positive, body.radius), body.j2
@@ -60,8 +60,8 @@ def read_semi_major_axis(t, radius):
     """``a`` (m) or ``altitude`` (m above the central body's radius), exactly one."""
     key, _ = one_of(t, ("a", "altitude"), _as_given)
     if key is None:
-        t.fail("a", "is required (the semi-major axis, m), or altitude (m above the "
-               "central body's radius)")
+        t.missing("a", "is required (the semi-major axis, m), or altitude (m above the "
+                  "central body's radius)", ("a", "altitude"))
     if key == "a":
         return t.get("a", positive)
     value = t.get("altitude", non_negative)

@@ -141,6 +141,19 @@ class Table:
         got = "" if value is _REQUIRED else f", got {value!r}"
         raise SceneFileError(f"{self.source}: {self.name(key)} {problem}{got}")
 
+    def missing(self, key, problem, keys=None):
+        """Fail: ``key`` (one of ``keys``, default ``key`` alone) is missing; the message
+        names the unknown key of the table closest to one of them (a misspelling), and
+        which one it resembles when that is not ``key``."""
+        unknown = [k for k in self.data if k not in self.asked]
+        close = [(match, name) for name in (keys or (key,))
+                 for match in difflib.get_close_matches(name, unknown, n=1)]
+        if close:
+            match, name = close[0]
+            problem += f" (found the unknown key {match!r}" + \
+                ("" if name == key else f": did you mean {name!r}?") + ")"
+        self.fail(key, problem)
+
     def has(self, key):
         self.asked.append(key)
         return key in self.data
@@ -148,10 +161,7 @@ class Table:
     def get(self, key, check, default=_REQUIRED):
         if not self.has(key):
             if default is _REQUIRED:
-                unknown = [k for k in self.data if k not in self.asked]
-                close = difflib.get_close_matches(key, unknown, n=1)
-                self.fail(key, "is required" + (f" (found the unknown key {close[0]!r})"
-                                                if close else ""))
+                self.missing(key, "is required")
             return default
         value = self.data[key]
         try:

@@ -11,14 +11,14 @@ from ..solvers.static import solve_static
 from ..solvers.steady import solve_steady
 from ..state import State
 from ..system import System
-from .bodies import Bodies, read_cable, read_rigid_body, read_sections
+from .bodies import Bodies, check_cables_memory, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
 from .controllers import read_controllers
 from .deploy import read_deploy, read_reel
 from .loads import read_loads, read_point_mass
 from .orbit import place_in_orbit, read_orbit
 from .schema import text
-from .solver import read_analysis, read_initial, read_output, read_solver
+from .solver import default_every, read_analysis, read_initial, read_output, read_solver
 
 
 @dataclass
@@ -47,7 +47,9 @@ def build(root, elements=None):
     settings = read_solver(solver, analysis)
     bodies = Bodies(elements)
     read_sections(root.table("sections"), bodies)
-    for t in root.tables("cables"):
+    cables = root.tables("cables")
+    check_cables_memory(root, cables, bodies)
+    for t in cables:
         read_cable(t, bodies)
     for t in root.tables("rigid_bodies"):
         read_rigid_body(t, bodies)
@@ -81,7 +83,11 @@ def run(path, spec, options):
     name = Path(path).stem
     parameters = {"file": str(path), "title": spec.title, "initial": spec.motion}
     if spec.analysis == "dynamic":
-        return run_dynamic(name, spec.system, spec.initial, options, spec.solver, parameters,
+        solver = dict(spec.solver)
+        # the file's t_end, not --t-end: a continuation to a later end keeps the run's
+        solver.setdefault("every", default_every(solver["t_end"],
+                                                 options.value("dt", solver["dt"])))
+        return run_dynamic(name, spec.system, spec.initial, options, solver, parameters,
                            points_per_element=spec.points_per_element,
                            controllers=spec.controllers)[0]
     options.reject(Path(path).name, "t_end", "dt", "every")

@@ -7,6 +7,9 @@ It reads the integrator's ``system``, ``n``, ``res_weight``, ``con_weight``, ``l
 
 import numpy as np
 
+from ..constraints import dependence_message, dependent_constraints
+from ..linalg import SingularMatrixError
+
 
 class Diagnosis:
     """The messages of a failed step (module docstring)."""
@@ -17,6 +20,19 @@ class Diagnosis:
         where = self.system.describe_dof(index) if index >= 0 else \
             "an unknown not located (system too large)"
         return f"t={t:.6g}, h={h:.3g}: singular iteration matrix at {where}"
+
+    def _singular_start(self, t, index, jacobian):
+        """The error of a singular matrix at the start (consistent accelerations): a
+        ``ValueError`` naming the dependent constraints when the constraint ``jacobian``
+        has dependent rows (``constraints.dependent_constraints``), else the
+        ``SingularMatrixError`` naming the unknown ``index``."""
+        names, rank = dependent_constraints(self.system, jacobian)
+        if names:
+            return ValueError(dependence_message(names, rank, f"the initial state (t={t:g})"))
+        where = self.system.describe_dof(index) if index >= 0 else \
+            "an unknown not located (system too large)"
+        return SingularMatrixError(f"t={t:.6g}: singular matrix of the initial state at "
+                                   f"{where}", index)
 
     def _diagnose_growth(self, t, h, v1, reason):
         """Where a rejected step put its energy: the body whose kinetic energy grew most,

@@ -303,7 +303,10 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         rhs = np.zeros(lay.N)
         kkt = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
         rhs[:n] = kkt[:n, :n] @ v
-        self.solver.factor(data)
+        try:
+            self.solver.factor(data)
+        except SingularMatrixError as err:
+            raise self._singular_start(t, err.index, kkt[n:, :n]) from None
         self.stats["factorizations"] += 1
         rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t)
         v = self.solver.solve(rhs)[:n]

@@ -29,7 +29,21 @@ the three axes (``_tied``).  The arcs are part of the checkpoint, so a
 rectified run continues bit for bit.
 """
 
+import numbers
+
 import numpy as np
+
+
+def check_rectify(tolerance):
+    """``simulate``'s ``rectify``: None or a finite number > 0 (not a bool, not a string:
+    ``True`` or ``"1e-4"`` taken as a number would be a tolerance nobody asked for);
+    ``ValueError`` naming it otherwise."""
+    if tolerance is None:
+        return
+    if isinstance(tolerance, bool) or not isinstance(tolerance, numbers.Real) or \
+            not (np.isfinite(tolerance) and tolerance > 0):
+        raise ValueError(f"rectify must be a finite number > 0 (a relative offset of the "
+                         f"centre of mass, e.g. 1e-4) or None, got {tolerance!r}")
 
 
 class Rectification:
@@ -48,9 +62,6 @@ class Rectification:
     """
 
     def __init__(self, system, tolerance, t):
-        if not (np.isfinite(tolerance) and tolerance > 0):
-            raise ValueError(f"rectify must be a finite number > 0 (a relative offset of "
-                             f"the centre of mass) or None, got {tolerance!r}")
         self.orbit, self.tolerance = system.orbit, float(tolerance)
         self.gravity = system.orbit_gravity
         n = system.n_dofs

@@ -28,8 +28,9 @@ from ..kernels import compile_log
 from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
 from ..result import Result
+from ..section import positive_int
 from .galpha import GeneralizedAlpha
-from .rectify import Rectification
+from .rectify import Rectification, check_rectify
 
 #: Positions in ``result.SETTINGS`` that must match when a run is resumed (all but t_end).
 _MATCH = [k for k, name in enumerate(SETTINGS) if name != "t_end"]
@@ -264,8 +265,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         raise ValueError(f"dt must be > 0, got {dt!r}")
     if not t_end > t_start:
         raise ValueError(f"t_end must be > t_start = {t_start}, got {t_end!r}")
-    if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
-        raise ValueError(f"every must be an integer >= 1, got {every!r}")
+    positive_int("every", every)
+    check_rectify(rectify)
     _check_steps(t_start, t_end, dt, max_halvings)
     clock = _Clock()
     integ = GeneralizedAlpha(system, rho_inf, tol, max_iter, newton, method, energy_tol,

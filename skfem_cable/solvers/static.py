@@ -2,7 +2,9 @@
 bisection, and a backtracking line search."""
 
 import numpy as np
+import scipy.sparse as sp
 
+from ..constraints import dependence_message, dependent_constraints
 from ..kernels.assumed_strain import GAUSS_W, GAUSS_XI
 from ..linalg import PatternSolver, SingularMatrixError
 from ..state import State
@@ -326,6 +328,19 @@ class _Newton:
         rc = np.linalg.norm(r[n:]) / self.scale / self.L_ref
         return max(rq, rc)
 
+
+    def _singular(self, index, data):
+        """The history's note of a singular matrix (``data`` on the layout's pattern): the
+        dependent constraints (``constraints.dependent_constraints``), else the unknown
+        ``index``."""
+        lay, n = self.lay, self.n
+        matrix = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
+        names, rank = dependent_constraints(self.system, matrix[n:, :n])
+        if names:
+            return dependence_message(names, rank, "this state")
+        where = self.system.describe_dof(index) if index >= 0 else \
+            "an unknown not located (system too large)"
+        return f"singular matrix at {where}"
     def solve(self, qk, lamk, factor):
         """Iterate from ``(qk, lamk)``; returns ``(converged, iterations, q, lam,
         history)``."""
@@ -346,9 +361,7 @@ class _Newton:
             try:
                 self.solver.factor(data)
             except SingularMatrixError as err:
-                where = self.system.describe_dof(err.index) if err.index >= 0 else \
-                    "an unknown not located (system too large)"
-                history.append(f"singular matrix at {where}")
+                history.append(self._singular(err.index, data))
                 return False, it, qk, lamk, history
             dx = self.solver.solve(-r)
             dxn = np.max(np.abs(dx[:n]))

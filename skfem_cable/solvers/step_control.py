@@ -18,18 +18,23 @@ class SimulationError(RuntimeError):
 class StepControl:
     """The step control of an integrator (module docstring)."""
 
-    def advance(self, h, max_halvings, depth=0):
-        """One step of size ``h``; a failed step is retried as two half steps,
-        recursively, ``max_halvings`` times at most; below that ``SimulationError``."""
-        ok, msg = self.step(h)
-        if ok:
-            return
-        self.stats["rejected"] += 1
-        if depth >= max_halvings:
-            raise SimulationError(f"step failed at the smallest step size {h:.3g} "
-                                  f"(dt/2^{depth}): {msg}", None)
-        self.advance(0.5 * h, max_halvings, depth + 1)
-        self.advance(0.5 * h, max_halvings, depth + 1)
+    def advance(self, h, max_halvings):
+        """One step of size ``h``; a failed step is retried as two half steps, and each
+        of those likewise, ``max_halvings`` times at most; below that
+        ``SimulationError``.  The halves wait on a stack (in the order of time), not in
+        recursive calls: a run that stops at the smallest step raises from here, not ten
+        calls deep."""
+        pending = [(h, 0)]
+        while pending:
+            h, depth = pending.pop()
+            ok, msg = self.step(h)
+            if ok:
+                continue
+            self.stats["rejected"] += 1
+            if depth >= max_halvings:
+                raise SimulationError(f"step failed at the smallest step size {h:.3g} "
+                                      f"(dt/2^{depth}): {msg}", None)
+            pending += [(0.5 * h, depth + 1)] * 2
 
     def adaptive_step(self, t_end, dt, max_halvings):
         """One accepted step toward ``t_end`` of the local-error control, from the size
