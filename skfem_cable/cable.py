@@ -450,6 +450,31 @@ class Cable(CableFields):
         return cls(MeshLine(s), section, start + positions, slopes, law=law,
                    curvatures=curvatures, **kwargs)
 
+    def hanging(self, start, end, sag):
+        """Coordinates of this cable hanging from ``start`` to ``end`` as the inextensible
+        catenary of its length sagging along ``sag``, the slack shape ``between`` builds
+        (``solve_static`` starts from it a cable whose ends are held closer than its
+        length); None when the ends are at least its length apart.
+
+        Parameters
+        ----------
+        start, end : array_like (3,)
+            End points (m).
+        sag : array_like (3,)
+            The direction the cable sags to, not parallel to ``end - start``.
+
+        Returns
+        -------
+        ndarray (n_dofs,) or None
+        """
+        start, end = _point("start", start), _point("end", end)
+        if not np.linalg.norm(end - start) < self.length:
+            return None
+        positions, slopes, curvatures = _catenary(end - start, self.length,
+                                                  self.mesh.p[0] - self.mesh.p[0, 0], sag)
+        fields = self._nodal_fields(start + positions, slopes, curvatures)
+        return np.stack(fields, axis=1).ravel()
+
     # --- layout -------------------------------------------------------------------------
     @property
     def n_dofs(self):

@@ -70,6 +70,13 @@ class PointLoad:
             return self.value
         return vector3(self.fn(t), f"force({t!r})")
 
+    #: The load's declared force fixed in space (``solvers.steady.check_space_fixed``).
+    space_fixed_force = force
+
+    def __repr__(self):
+        force = "force(t)" if self.fn is not None else self.value.tolist()
+        return f"PointLoad({self.point!r}, {force})"
+
     def bind(self, system):
         dofs, G = system.position_map(self.point)
         if self.fn is None:
@@ -161,6 +168,13 @@ class UniformLineLoad(AlongCable):
         self.cable = cable
         self.value = vector3(force_per_length, "force_per_length")
 
+    def space_fixed_force(self, t):
+        """The load (N/m), fixed in space (``solvers.steady.check_space_fixed``)."""
+        return self.value
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.cable.name!r}, {self.value.tolist()})"
+
     def bind(self, system):
         return Term(force=(system.dofs(self.cable), self.cable.line_load(self.value)),
                     name=f"{self.label} {self.cable.name}")
@@ -195,6 +209,13 @@ class Gravity:
 
     def __init__(self, g):
         self.g = vector3(g, "g")
+
+    def space_fixed_force(self, t):
+        """The acceleration ``g``, fixed in space (``solvers.steady.check_space_fixed``)."""
+        return self.g
+
+    def __repr__(self):
+        return f"Gravity({self.g.tolist()})"
 
     def bind(self, system):
         u = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=self.g)
@@ -388,6 +409,13 @@ class Centrifugal:
     def __init__(self, omega, center=(0.0, 0.0, 0.0)):
         self.omega = vector3(omega, "omega")
         self.center = vector3(center, "center")
+
+    @property
+    def frame_rate(self):
+        """The angular velocity (rad/s) of the rotating frame whose inertia this load is:
+        the property by which ``modes`` and ``solve_steady`` recognise a system already
+        in a rotating frame."""
+        return self.omega
 
     def bind(self, system):
         if system.deployments:

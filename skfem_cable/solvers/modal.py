@@ -4,7 +4,9 @@ import numpy as np
 from scipy.sparse.linalg import LinearOperator, eigs
 
 from ..linalg import PatternSolver
+from ..loads import vector3
 from ..solvers.static import constraint_scale
+from .steady import frame_rates, rotating_frame
 
 #: Below this many unknowns the eigenproblem is solved densely.
 DENSE_LIMIT = 600
@@ -14,10 +16,16 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
     """Lowest ``k`` natural frequencies (Hz) and mode shapes about ``state``.
 
     With ``spin`` (rad/s, a 3-vector) the system is taken in a frame rotating at that rate
-    (add ``System.add_centrifugal(spin)`` so that ``state`` is a steady spinning state and
-    the tangent holds the centrifugal softening): the Coriolis (gyroscopic) matrix
-    ``2 M (I (x) [spin]_x)`` enters and the quadratic eigenproblem is solved densely in
-    first-order form; shapes are then complex.
+    (``state`` a steady spinning state, e.g. from ``solve_steady(system, spin)``): the
+    tangent holds the centrifugal softening ``-M (I (x) [spin]_x^2)`` (added here, as
+    ``solve_steady`` adds it, unless the system has ``add_centrifugal(spin)`` already),
+    the Coriolis (gyroscopic) matrix ``2 M (I (x) [spin]_x)`` enters and the quadratic
+    eigenproblem is solved densely in first-order form; shapes are then complex.  A system
+    in orbit spinning at the mean motion ``n`` about the orbit normal is in the orbiting
+    (LVLH) frame: the differential gravity and the centrifugal term together give the
+    librations at ``sqrt(3) n`` in the plane and ``2 n`` out of it.  A system with
+    ``add_centrifugal`` at a rate other than ``spin`` (``spin`` omitted included) is
+    refused: its frame rotates at that rate.
 
     Solves ``(K_t + H(lambda)) phi = omega^2 M phi`` subject to ``C_q phi = 0`` through the
     KKT pencil, by shift-invert about ``sigma`` (rad^2/s^2; default a small negative shift
@@ -38,6 +46,7 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
                          "depend on the free length (and a reel's length has inertia the "
                          "constant mass matrix does not hold); build the cables at their "
                          "free length, without deploy, for their modes")
+    system = _in_frame(system, spin)
     lay = system.current_layout()
     n = system.n_dofs
     if int(k) != k or not 1 <= k <= n - system.n_constraints:
@@ -75,6 +84,27 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
         shapes[i] /= np.sqrt(abs(shapes[i] @ (Mq @ shapes[i])))
     freqs = np.sign(omega2) * np.sqrt(np.abs(omega2)) / (2 * np.pi)
     return freqs, shapes
+
+
+def _in_frame(system, spin):
+    """``system`` in the frame rotating at ``spin`` (None: at rest): itself when its
+    centrifugal loads (``add_centrifugal``) are of that frame, a copy with the centrifugal
+    load added when it has none (``steady.rotating_frame``); ``ValueError`` when they
+    are of another rate."""
+    rates = frame_rates(system)
+    if spin is not None:
+        spin = vector3(spin, "spin")
+    if spin is not None and not rates:
+        return rotating_frame(system, spin)
+    if all(spin is not None and np.allclose(rate, spin, rtol=1e-12, atol=0.0)
+           for rate in rates):
+        return system
+    raise ValueError(
+        f"modes: spin={None if spin is None else spin.tolist()} rad/s, but the system has "
+        f"add_centrifugal at {[rate.tolist() for rate in rates]} rad/s: the modes of a "
+        "system in a rotating frame need that frame's rate as spin (its Coriolis and "
+        "centrifugal terms together); pass spin equal to the add_centrifugal rate, or "
+        "leave add_centrifugal out (spin= adds the centrifugal term itself)")
 
 
 def _gyroscopic_modes(system, kkt, k, spin):

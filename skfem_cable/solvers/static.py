@@ -3,6 +3,7 @@ bisection, and a backtracking line search."""
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.sparse.linalg import lsqr
 
 from ..constraints import dependence_message, dependent_constraints
 from ..kernels.assumed_strain import GAUSS_W, GAUSS_XI
@@ -27,6 +28,58 @@ def constraint_scale(system, q, lam):
     d = np.abs(lay.matrix(data).diagonal()[: system.n_dofs])
     s = float(np.mean(d)) if d.size else 1.0
     return s if s > 0 and np.isfinite(s) else 1.0
+
+
+def constraint_jacobian(system, q):
+    """``C_q`` of every constraint at ``q`` (sparse, n_constraints x n_dofs), from the
+    KKT matrix the solvers assemble."""
+    lay, n = system.layout, system.n_dofs
+    data = lay.linear_data.copy()
+    system.evaluate(q, None, 0.0, np.zeros(lay.n_c), data=data)
+    return lay.matrix(data)[n:, :n].tocsr()
+
+
+def hanging_start(system, q, tol):
+    """The coordinates ``q`` with every cable whose ends the constraints hold closer than
+    its length, where ``q`` does not satisfy them, hanging instead (``_hanging``): the
+    start of ``solve_static`` by default; ``q`` itself when the constraints hold to
+    ``tol`` (m).  The points the constraints hold the ends at are the least-norm
+    correction of ``q`` onto the linearised constraints."""
+    violation = system.constraint_values(q)
+    if not np.max(np.abs(violation), initial=0.0) > tol:
+        return q
+    J = constraint_jacobian(system, q).tocsc()
+    held = q + lsqr(J, -violation, atol=1e-15, btol=1e-15)[0]
+    lam = np.zeros(system.layout.n_c)
+    force = system.evaluate(q, None, 0.0, lam, 0.0)[0] - system.evaluate(q, None, 0.0, lam)[0]
+    out = q.copy()
+    for cable in system.cables():
+        dofs = system.dofs(cable)
+        if getattr(cable, "hanging", None) is None or system.deployment(cable) is not None \
+                or np.array_equal(held[dofs], q[dofs]):
+            continue
+        sagged = _hanging(system, cable, held[dofs], J[:, dofs], force)
+        out[dofs] = out[dofs] if sagged is None else sagged
+    return out
+
+
+def _hanging(system, cable, held, J, force):
+    """The coordinates of ``cable`` hanging (``Cable.hanging``: the inextensible catenary
+    of its length) between its end points in ``held`` (its coordinates moved onto the
+    constraints), sagging along the net external force on it (its weight; ``force`` the
+    system's generalized external force); None unless the constraints (``J``, their
+    Jacobian on its coordinates) involve both of its end positions and the force has a
+    direction across the line between them."""
+    first, last = cable.node_dofs(0)[:3], cable.node_dofs(cable.n_nodes - 1)[:3]
+    if min(J[:, first].nnz, J[:, last].nnz) == 0:
+        return None
+    positions = system.vectors[system.vector_is_position]
+    sag = force[positions[np.isin(positions[:, 0], system.dofs(cable))]].sum(axis=0)
+    chord = held[last] - held[first]
+    across = sag - (sag @ chord) * chord / max(chord @ chord, 1e-300)
+    if not np.linalg.norm(across) > 1e-6 * np.linalg.norm(sag):
+        return None
+    return cable.hanging(held[first], held[last], sag)
 
 
 def line_search_alpha(residual, merit, q, lam, dx, r0, m0, factor, scale, max_steps=3):
@@ -77,7 +130,8 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     max_iter : int
         Newton iterations per load step.
     initial : State, optional
-        Starting configuration (default: the bodies' initial coordinates).
+        Starting configuration (default: the bodies' initial coordinates, a cable whose
+        ends the constraints hold closer than its length hanging instead: see Notes).
     line_search : bool
         Shorten Newton steps that blow the residual up (see ``line_search_alpha``).
     method : {"auto", "banded", "sparse"}
@@ -98,17 +152,28 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
 
     Notes
     -----
-    An initial state that violates the constraints (a cable built straight and pinned
-    with its far end at a point closer than its length) is solved in two stages of one
-    continuation (``_Newton.stage``): the loads are applied to the system as built, with
-    the constraints held at their initial values ``C(q) = C(q_0)``, then the violation is
-    closed, ``C(q) = (1 - s) C(q_0)``, ``s`` from 0 to 1; only the right-hand side of the
-    constraints moves.  ``docs/steady.md`` validates it on the elastic catenary.
+    By default a cable whose ends the constraints hold closer than its length, while the
+    bodies' coordinates do not satisfy them (a cable built straight and pinned with its
+    far end at a point closer than its length), starts from its hanging shape
+    (``hanging_start``: the catenary ``Cable.between`` builds, sagging along the net
+    load on the cable).  A start that still violates the constraints (``initial=``, or
+    other bodies) is solved in two stages of one continuation (``_Newton.stage``): the
+    loads are applied to the system as built, with the constraints held at their initial
+    values ``C(q) = C(q_0)``, then the violation is closed, ``C(q) = (1 - s) C(q_0)``,
+    ``s`` from 0 to 1; only the right-hand side of the constraints moves.
+    ``docs/steady.md`` validates it on the elastic catenary.
+
+    An equilibrium in which a cable folds back within an element (``folds``: a loop the
+    cable passes through, which a straight start can reach) is refused like one that does
+    not converge: the load step is relaxed or bisected, and the error names the cable
+    and the element.
 
     Examples
     --------
-    A 12 m cable built straight, its far end pinned 10 m from the first: it hangs with
-    its lowest point 3 m below the supports (``analytic.elastic_catenary``):
+    A 12 m cable built straight, its far end pinned 10 m from the first: it starts from
+    its hanging shape and hangs with its lowest point 3 m below the supports
+    (``analytic.elastic_catenary``); the first Newton iteration has no tension to stand
+    on (the truss law has no bending) and relaxation takes over:
 
     >>> import skfem_cable as sc
     >>> sec = sc.Section(E=1e7, A=1e-4, I=1e-20, rho=1e3)
@@ -116,7 +181,7 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
     >>> system = sc.System([cable]).pin(cable.node(0)).pin(cable.node(-1), [10, 0, 0])
     >>> state = sc.solve_static(system.add_gravity([0, 0, -9.81]))
     >>> round(float(state.position(cable, 6.0)[2]), 2), state.stats["relaxed"]
-    (-2.98, [0.5])
+    (-2.98, [1.0])
     """
     return equilibrium(system, load_steps, tol, max_iter, initial, line_search,
                        max_bisections, method, return_last_converged, relax)
@@ -151,11 +216,13 @@ def equilibrium(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line
             qk += w * (q - previous[0])
             lamk += w * (lam - previous[1])
         ok, it, qk1, lamk1, history = newton.solve(qk, lamk, factor)
-        ok = ok and (not newton.closing or _admissible(system, qk1, tol, history))
+        ok = ok and (not newton.closing or _admissible(system, qk1, tol, history)) \
+            and _unfolded(system, qk1, history)
         if not ok and relax:
             ok, it, qk1, lamk1, more = newton.relax(qk, lamk, factor)
             history += ["relaxation"] + more[-5:]
-            ok = ok and _admissible(system, qk1, tol, history)
+            ok = ok and _admissible(system, qk1, tol, history) \
+                and _unfolded(system, qk1, history)
             if ok:
                 stats["relaxed"].append(factor)
         qk, lamk = qk1, lamk1
@@ -249,6 +316,111 @@ def _admissible(system, q, tol, history):
     return True
 
 
+#: Points per element at which ``folds`` samples the tangent (and the elements' ends).
+FOLD_SAMPLES = 9
+
+
+def folds(system, q):
+    """One sentence per cable (with ``slopes_at``) of ``system`` that folds back within
+    an element in the state ``q``: its tangent ``r_x`` points against the element's
+    chord, or turns by more than 90 degrees between two of ``FOLD_SAMPLES`` points of
+    the element.  A smooth cable turns its tangent by far less within one element; a
+    fold is a loop through which the cable passes itself (a spurious equilibrium of the
+    discrete equations, reached from a straight start, issue 45)."""
+    xi = np.linspace(0.0, 1.0, FOLD_SAMPLES)
+    reasons = []
+    for cable in system.cables():
+        slopes_at = getattr(cable, "slopes_at", None)
+        if slopes_at is None:
+            continue
+        qc = q[system.dofs(cable)]
+        a = slopes_at(qc, xi)
+        a = a / np.maximum(np.linalg.norm(a, axis=-1, keepdims=True), 1e-300)
+        x = cable.mesh.p[0]
+        chord = np.diff(cable.interpolate(qc, x)[0], axis=0)
+        chord /= np.maximum(np.linalg.norm(chord, axis=-1, keepdims=True), 1e-300)
+        along = np.einsum("eXi,ei->eX", a, chord)
+        turn = np.einsum("eXi,eXi->eX", a[:, 1:], a[:, :-1])
+        worst = np.minimum(along.min(axis=1), turn.min(axis=1))
+        folded = np.flatnonzero(worst < 0.0)
+        if folded.size:
+            e = folded[0]
+            k = int(np.argmin(along[e]))
+            reasons.append(
+                f"cable {cable.name!r} folds back in {folded.size} element(s), first in "
+                f"element {e} (s = {x[e]:.4g} to {x[e + 1]:.4g} m): its tangent points "
+                f"against the element's chord (cosine {along[e, k]:.3g} at s = "
+                f"{x[e] + xi[k] * (x[e + 1] - x[e]):.4g} m) or turns by more than 90 "
+                "degrees within it, so the cable passes through itself there: a spurious "
+                "equilibrium, refused; start from the hanging shape (the default start, "
+                "Cable.between or initial=) or refine the mesh")
+    return reasons
+
+
+def crossings(system, q):
+    """One sentence per cable (with ``slopes_at`` and a ``section``) of ``system`` whose
+    centre line passes within its diameter (that of the circle of its section's area) of
+    itself in the state ``q``, between points further apart along it than ``pi`` times
+    the diameter and two sampling steps: it passes through itself (or bends more tightly
+    than its own thickness).  The centre line is the polygon through ``FOLD_SAMPLES``
+    points per element; a cable whose ends meet is taken as a ring."""
+    from scipy.spatial import cKDTree
+
+    xi = np.linspace(0.0, 1.0, FOLD_SAMPLES)[:-1]
+    reasons = []
+    for cable in system.cables():
+        if getattr(cable, "slopes_at", None) is None or getattr(cable, "section", None) is None:
+            continue
+        x = cable.mesh.p[0]
+        s = np.append((x[:-1, None] + xi * cable.h[:, None]).ravel(), x[-1])
+        r = cable.interpolate(q[system.dofs(cable)], s)[0]
+        diameter = 2.0 * np.sqrt(cable.section.A / np.pi)
+        step = float(np.linalg.norm(np.diff(r, axis=0), axis=1).max())
+        i, j = cKDTree(0.5 * (r[:-1] + r[1:])).query_pairs(step + diameter,
+                                                           output_type="ndarray").T
+        apart = np.abs(s[i] - s[j])
+        if np.linalg.norm(r[-1] - r[0]) <= diameter:
+            apart = np.minimum(apart, cable.length - apart)
+        far = apart > np.pi * diameter + 2.0 * step
+        i, j = i[far], j[far]
+        gap = _segment_distance(r[i], r[i + 1], r[j], r[j + 1])
+        close = np.flatnonzero(gap < diameter)
+        if close.size:
+            k = close[np.argmin(gap[close])]
+            reasons.append(
+                f"cable {cable.name!r} passes through itself: its centre line at s = "
+                f"{s[i[k]]:.4g} m and at s = {s[j[k]]:.4g} m is {gap[k]:.3g} m from itself, "
+                f"within its diameter {diameter:.3g} m: a spurious equilibrium, refused; "
+                "start from the hanging shape (the default start, Cable.between or "
+                "initial=) or refine the mesh")
+    return reasons
+
+
+def _segment_distance(a0, a1, b0, b1):
+    """Distances between the segments ``a0 a1`` and ``b0 b1`` (rows of (m, 3) arrays):
+    the closest points' parameters clamped to [0, 1] (Ericson, Real-Time Collision
+    Detection, 2005, Sect. 5.1.9)."""
+    d1, d2, w = a1 - a0, b1 - b0, a0 - b0
+    a = np.maximum(np.einsum("ij,ij->i", d1, d1), 1e-300)
+    e = np.maximum(np.einsum("ij,ij->i", d2, d2), 1e-300)
+    b, c, f = (np.einsum("ij,ij->i", u, v) for u, v in ((d1, d2), (d1, w), (d2, w)))
+    denom = a * e - b * b
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sa = np.where(denom > 1e-12 * a * e, np.clip((b * f - c * e) / denom, 0, 1), 0.0)
+    t = (b * sa + f) / e
+    sa = np.where(t < 0, np.clip(-c / a, 0, 1), np.where(t > 1, np.clip((b - c) / a, 0, 1), sa))
+    t = np.clip(t, 0, 1)
+    return np.linalg.norm(a0 + sa[:, None] * d1 - b0 - t[:, None] * d2, axis=1)
+
+
+def _unfolded(system, q, history):
+    """False (with the reasons noted in ``history``) when a cable folds back within an
+    element (``folds``) or passes through itself (``crossings``) in the state ``q``."""
+    reasons = folds(system, q) + crossings(system, q)
+    history.extend(reasons)
+    return not reasons
+
+
 def _without_bending(system, q):
     """Why cables without bending stiffness (the truss law) may defeat a static solve:
     one sentence per such cable that is compressed or slack somewhere in the state
@@ -278,11 +450,12 @@ class _Newton:
         lay = system.current_layout()
         self.lay, self.n = lay, system.n_dofs
         self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
-        self.q0 = (system.q0 if initial is None else initial.q).copy()
-        self.lam0 = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
-        self.scale = constraint_scale(system, self.q0, self.lam0)
         pos = system.q0[system.vectors[system.vector_is_position]]
         self.L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300) if pos.size else 1.0
+        self.q0 = hanging_start(system, system.q0, tol * self.L_ref) if initial is None \
+            else initial.q.copy()
+        self.lam0 = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
+        self.scale = constraint_scale(system, self.q0, self.lam0)
         self.violation = system.constraint_values(self.q0)
         self.closing = bool(np.max(np.abs(self.violation), initial=0.0) > tol * self.L_ref)
 

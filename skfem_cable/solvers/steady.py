@@ -39,7 +39,7 @@ from scipy.spatial.transform import Rotation
 from ..constraints import LinearConstraint
 from ..loads import Centrifugal, vector3
 from ..state import State
-from .static import StaticConvergenceError, equilibrium
+from .static import StaticConvergenceError, constraint_jacobian, equilibrium
 
 #: A motion is free when the constraints change by less than this, relative to the norms
 #: of their Jacobian and of the motion.
@@ -66,15 +66,6 @@ class RigidRotation:
 
     def velocity(self, q):
         return self.system.rigid_motion_velocity(q, self.omega, self.center)
-
-
-def constraint_jacobian(system, q):
-    """``C_q`` of every constraint at ``q`` (sparse, n_constraints x n_dofs), from the
-    KKT matrix the solvers assemble."""
-    lay, n = system.layout, system.n_dofs
-    data = lay.linear_data.copy()
-    system.evaluate(q, None, 0.0, np.zeros(lay.n_c), data=data)
-    return lay.matrix(data)[n:, :n].tocsr()
 
 
 def free_motions(system, q, fields):
@@ -157,6 +148,47 @@ def check_equivariance(frame, motion, q, axis, center, angle=1.0):
     return mismatch
 
 
+def frame_rates(system):
+    """The angular velocities (rad/s) of the rotating frames that the loads of ``system``
+    model (the loads' declared ``frame_rate``: ``add_centrifugal``)."""
+    return [np.asarray(load.frame_rate, dtype=float) for load in system.loads
+            if getattr(load, "frame_rate", None) is not None]
+
+
+def rotating_frame(system, omega, center=(0.0, 0.0, 0.0)):
+    """A copy of ``system`` in the frame rotating at ``omega`` about the axis through
+    ``center``: its loads and constraints lists copied, a ``Centrifugal`` load added
+    (``system`` is left unchanged)."""
+    frame = copy.copy(system)
+    frame.loads, frame.constraints = list(system.loads), list(system.constraints)
+    return frame.add_load(Centrifugal(omega, center))
+
+
+def check_space_fixed(system, omega, t=0.0):
+    """Raise ``ValueError`` naming the loads of ``system`` whose force is fixed in space
+    (the loads' declared ``space_fixed_force(t)``: a constant point or line load, uniform
+    gravity) and has a component across the spin axis of ``omega``: such a force does
+    not turn with the rotating frame, so no relative equilibrium exists (a constant drag
+    on an orbiting tether is one: it decelerates the orbit)."""
+    axis = omega / np.linalg.norm(omega)
+    across = []
+    for load in system.loads:
+        fixed = getattr(load, "space_fixed_force", None)
+        if fixed is None:
+            continue
+        f = np.asarray(fixed(t), dtype=float)
+        side = f - (f @ axis) * axis
+        if np.linalg.norm(side) > EQUIVARIANCE_TOL * np.linalg.norm(f):
+            across.append(f"{load!r} (across the axis: {side.tolist()})")
+    if across:
+        raise ValueError(
+            f"solve_steady: the loads are not constant in the rotating frame: "
+            f"{'; '.join(across)} fixed in space (constant in the inertial frame, so "
+            f"turning in the frame rotating at omega = {omega.tolist()} rad/s) across the "
+            "spin axis: no relative equilibrium exists; give them along the axis, or "
+            "simulate the system")
+
+
 def solve_steady(system, omega, center=(0.0, 0.0, 0.0), initial=None, load_steps=1,
                  tol=1e-10, max_iter=30, method="auto"):
     """Relative equilibrium of ``system`` spinning at ``omega`` about the axis through
@@ -196,7 +228,9 @@ def solve_steady(system, omega, center=(0.0, 0.0, 0.0), initial=None, load_steps
     ------
     ValueError
         Bad ``omega``/``center``, a system that already has a ``Centrifugal`` load, or
-        loads that are not constant in the rotating frame (e.g. a wind across the axis).
+        loads that are not constant in the rotating frame (e.g. a wind across the axis;
+        a load that declares a force fixed in space, ``space_fixed_force``, across the
+        axis is named: a constant drag on an orbiting tether, gravity across the axis).
     StaticConvergenceError
         Newton did not converge, or the loads have a net torque about the axis.
 
@@ -223,15 +257,14 @@ def solve_steady(system, omega, center=(0.0, 0.0, 0.0), initial=None, load_steps
     if not np.linalg.norm(omega) > 0:
         raise ValueError("omega must be a non-zero angular velocity (rad/s); use "
                          "solve_static for a system at rest")
-    if any(isinstance(load, Centrifugal) for load in system.loads):
+    if frame_rates(system):
         raise ValueError("system already has a Centrifugal load: solve_steady adds its own "
                          "(remove add_centrifugal, or use solve_static)")
+    check_space_fixed(system, omega)
     system.current_layout()  # the system as it is now (gauge_constraints uses it)
     q0 = system.q0 if initial is None else np.asarray(initial.q, dtype=float)
     gauges, mass = gauge_constraints(system, q0, omega, center)
-    frame = copy.copy(system)
-    frame.loads, frame.constraints = list(system.loads), list(system.constraints)
-    frame.add_load(Centrifugal(omega, center))
+    frame = rotating_frame(system, omega, center)
     for gauge in gauges:
         frame.add_constraint(gauge)
     if gauges:
