@@ -1,0 +1,165 @@
+"""Faults, round three (issue 45): stores and edits.
+
+Each test reproduces one fault of the issue and asserts what the user gets now.
+
+* a store with a chunk file deleted is refused by every reader (``open_dataset``,
+  ``Result.load``, ``--resume``), naming the missing files, instead of read as NaN, 0 or
+  -1 (item 9);
+* ``[output] points_per_element`` changed on ``--resume`` is refused as ``--frame`` is,
+  and the refusals of a continued run advise neither the command that failed nor
+  ``--overwrite`` for data that can be read (item 16).
+"""
+
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import skfem_cable as sc
+from skfem_cable import cli
+from skfem_cable.io import StoreCorrupt, open_dataset
+from skfem_cable.io.schema import STORE
+from skfem_cable.scenes import classics
+
+#: Options of every small command-line run.
+QUIET = ["--no-progress", "--no-plots"]
+
+
+def _run(out, *extra, scene="pendulum"):
+    """``skfem-cable run`` of a 3-element pendulum (by default) into ``out``."""
+    args = ["run", scene, *QUIET, *(["--elements", "3"] if scene == "pendulum" else [])]
+    return cli.main([*args, "--out", str(out), *extra])
+
+
+def _pendulum():
+    return classics.pendulum(n_elements=3).system
+
+
+# ===========================================================================================
+# Item 9: a damaged store read as data
+# ===========================================================================================
+@pytest.fixture(scope="module")
+def finished(tmp_path_factory):
+    """A finished command-line run (pendulum, t = 0 .. 0.05 s, 6 saved steps)."""
+    out = tmp_path_factory.mktemp("finished") / "run"
+    assert _run(out, "--t-end", "0.05") == 0
+    return out
+
+
+@pytest.mark.parametrize("array, file, read_as", [
+    ("q", "c/0/0", np.nan),          # a variable: 6 rows of NaN
+    ("stat_steps", "c/0", 0),        # a solver counter: 0 steps
+    ("node", "c/0", -1),             # a coordinate (labels): node -1
+])
+def test_deleted_chunk_is_named_by_every_reader(finished, tmp_path, capsys, array, file,
+                                                read_as):
+    """Before: with ``results.zarr/q/c/0/0`` deleted, ``open_dataset(run).q`` gave rows of
+    NaN; a deleted ``stat_steps`` chunk read back as 0 (``Result.load`` said 0 steps) and
+    a deleted ``node`` chunk as -1, without a word, and ``--resume`` continued the
+    ``stat_steps`` and ``node`` stores with exit 0, keeping the hole.  Now every reader
+    checks, by listing the folders, that the chunks the manifest commits exist, and
+    names the missing ones; ``--resume`` is refused (exit 2) and advises neither
+    ``--resume`` nor ``--overwrite``."""
+    run = Path(shutil.copytree(finished, tmp_path / "run"))
+    chunk = run / STORE / array / file
+    intact = open_dataset(run)[array].values
+    assert not np.isnan(intact).all() and not (intact == read_as).all()
+    chunk.unlink()
+    named = rf"1 file that its manifest commits .* is missing \({chunk}\)"
+    with pytest.raises(StoreCorrupt, match=named) as info:
+        open_dataset(run)
+    assert info.value.path == chunk
+    with pytest.raises(StoreCorrupt, match=named):
+        sc.Result.load(run, _pendulum())
+    with pytest.raises(StoreCorrupt, match=named):
+        sc.io.resume(run)
+    capsys.readouterr()
+    assert _run(run, "--t-end", "0.08", "--resume") == 2
+    err = capsys.readouterr().err
+    assert str(chunk) in err and "--overwrite" not in err and "--resume" not in err
+    assert "new directory (--out)" in err
+    assert not chunk.exists()  # the hole is not filled with fill values by a resume
+
+
+def test_deleted_chunks_are_all_counted(finished, tmp_path):
+    """Several missing files: the message counts them and names the first ones."""
+    run = Path(shutil.copytree(finished, tmp_path / "run"))
+    for name in ("q", "v", "lam", "kinetic", "time", "step"):
+        for chunk in (run / STORE / name / "c").rglob("*"):
+            if chunk.is_file():
+                chunk.unlink()
+    with pytest.raises(StoreCorrupt, match=r"6 files that its manifest commits .* are "
+                                           r"missing \(.* and 2 more\)"):
+        open_dataset(run)
+
+
+# ===========================================================================================
+# Item 16: points_per_element changed on --resume; what a refused resume advises
+# ===========================================================================================
+SCENE = """
+[solver]
+analysis = "dynamic"
+t_end = {t_end}
+dt = 1e-3
+
+[sections.wire]
+E = 2e11
+rho = 7850.0
+radius = 1e-3
+
+[[cables]]
+name = "wire"
+section = "wire"
+start = [0, 0, 0]
+end = [1, 0, 0]
+elements = 3
+
+[[constraints]]
+type = "pin"
+node = {{ cable = "wire", index = 0 }}
+
+[loads]
+gravity = [0, -9.81, 0]
+
+[output]
+points_per_element = {ppe}
+"""
+
+
+def test_points_per_element_changed_on_resume_is_refused(tmp_path, capsys):
+    """Before: a scene file's ``[output] points_per_element`` changed from 4 to 2 before
+    ``--resume`` was accepted (exit 0): the series went on with other samples per element
+    than it started with.  Now it is refused as ``--frame`` is, naming both values; the
+    store is left as it was, and the same value continues."""
+    scene, out = tmp_path / "wire.toml", tmp_path / "run"
+    scene.write_text(SCENE.format(t_end=0.01, ppe=4))
+    assert cli.main(["run", str(scene), *QUIET, "--out", str(out)]) == 0
+    saved = open_dataset(out).sizes["time"]
+    scene.write_text(SCENE.format(t_end=0.02, ppe=2))
+    capsys.readouterr()
+    assert cli.main(["run", str(scene), *QUIET, "--out", str(out), "--resume"]) == 2
+    err = capsys.readouterr().err
+    assert "written with points_per_element = 4" in err and "not 2" in err
+    assert "--overwrite" not in err
+    assert open_dataset(out).sizes["time"] == saved
+    scene.write_text(SCENE.format(t_end=0.02, ppe=4))
+    assert cli.main(["run", str(scene), *QUIET, "--out", str(out), "--resume"]) == 0
+    assert open_dataset(out).sizes["time"] > saved
+
+
+def test_missing_checkpoint_on_resume_advises_no_deletion(finished, tmp_path, capsys):
+    """Before: ``--resume`` of a run whose checkpoint was deleted said "its saved steps
+    still load (Result.load); run again (--overwrite) to continue": the advice deleted the
+    steps it had just said were readable.  Now it advises restoring the file or a new
+    directory; the steps load."""
+    run = Path(shutil.copytree(finished, tmp_path / "run"))
+    for checkpoint in run.glob("checkpoint_*.npz"):
+        checkpoint.unlink()
+    capsys.readouterr()
+    assert _run(run, "--t-end", "0.08", "--resume") == 2
+    err = capsys.readouterr().err
+    assert "is missing" in err and "--overwrite" not in err and "--resume" not in err
+    assert "new directory (--out)" in err
+    assert len(sc.Result.load(run, _pendulum())) == 6
+
