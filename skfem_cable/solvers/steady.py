@@ -71,9 +71,9 @@ class RigidRotation:
 def constraint_jacobian(system, q):
     """``C_q`` of every constraint at ``q`` (sparse, n_constraints x n_dofs), from the
     KKT matrix the solvers assemble."""
-    lay, n = system.layout, system.n_dofs
+    lay, n = system.current_layout(), system.n_dofs
     data = lay.linear_data.copy()
-    system.evaluate(q, None, 0.0, np.zeros(lay.n_c), data=data)
+    system.evaluate(q, None, 0.0, np.zeros(lay.n_c), data=data, layout=lay)
     return lay.matrix(data)[n:, :n].tocsr()
 
 
@@ -138,12 +138,13 @@ def check_equivariance(frame, motion, q, axis, center, angle=1.0):
     stiffness).  Returns the relative mismatch."""
     lam = np.zeros(frame.n_constraints)
     n = frame.n_dofs
-    lay = frame.layout
+    lay = frame.current_layout()
     data = np.array(lay.linear_data)
     r0, info = frame.evaluate(q, motion.velocity(q), 0.0, lam, reference_force=True,
-                              data=data)
+                              data=data, layout=lay)
     q1, Rm = rotated(frame, q, axis, angle, center)
-    r1, _ = frame.evaluate(q1, motion.velocity(q1), angle / np.linalg.norm(motion.omega), lam)
+    r1, _ = frame.evaluate(q1, motion.velocity(q1), angle / np.linalg.norm(motion.omega), lam,
+                           layout=lay)
     turned = frame.rotate(r0[:n], Rm)
     round_off = (np.abs(lay.matrix(data).diagonal()[:n]).max() * np.finfo(float).eps
                  * np.abs(q).max() / EQUIVARIANCE_TOL)
