@@ -53,13 +53,15 @@ def finished(tmp_path_factory):
     ("q", "c/0/0", np.nan),          # a variable: 6 rows of NaN
     ("stat_steps", "c/0", 0),        # a solver counter: 0 steps
     ("node", "c/0", -1),             # a coordinate (labels): node -1
+    ("step", "c/0", 0),              # the step numbers: --resume blamed the manifest
 ])
 def test_deleted_chunk_is_named_by_every_reader(finished, tmp_path, capsys, array, file,
                                                 read_as):
     """Before: with ``results.zarr/q/c/0/0`` deleted, ``open_dataset(run).q`` gave rows of
     NaN; a deleted ``stat_steps`` chunk read back as 0 (``Result.load`` said 0 steps) and
     a deleted ``node`` chunk as -1, without a word, and ``--resume`` continued the
-    ``stat_steps`` and ``node`` stores with exit 0, keeping the hole.  Now every reader
+    ``stat_steps`` and ``node`` stores with exit 0, keeping the hole (a deleted ``step``
+    chunk: "the manifest was edited or damaged after the run").  Now every reader
     checks, by listing the folders, that the chunks the manifest commits exist, and
     names the missing ones; ``--resume`` is refused (exit 2) and advises neither
     ``--resume`` nor ``--overwrite``."""

@@ -70,16 +70,18 @@ def _chunk_file(root, name, k):
 def missing_chunks(root, saved, variables):
     """The chunk files of the store ``root`` that are missing although its manifest
     commits them: of the ``variables`` (time first) those of the first ``saved`` steps,
-    of the other arrays (the labels, written once) all.  Zarr reads a missing chunk as
-    its fill value (NaN, 0, -1), so a missing file would pass for data.  Found by
-    listing the arrays' folders (no data is read); an array of ``variables`` without its
-    ``zarr.json`` counts as missing.
+    of the other arrays (the labels, written once) all; before the first commit
+    (``saved`` 0) none.  Zarr reads a missing chunk as its fill value (NaN, 0, -1), so a
+    missing file would pass for data.  Found by listing the arrays' folders (no data is
+    read); an array of ``variables`` without its ``zarr.json`` counts as missing.
 
     Returns
     -------
     list of Path
         The missing files (chunk files or ``zarr.json``), in order of the arrays' names.
     """
+    if not saved:
+        return []
     root = Path(root)
     metas = {p.parent.name: p for p in root.glob("*/zarr.json")}
     missing = [root / name / "zarr.json" for name in variables if name not in metas]
