@@ -393,7 +393,7 @@ def evaluation_ms(system, q, seconds, repeats):
 
     def evaluate():
         data[:] = 0.0
-        return system.evaluate(q, None, 0.0, lam, cK=1.0, data=data)
+        return system.evaluate(q, None, 0.0, lam, cK=1.0, data=data, layout=system.layout)
 
     evaluate()
     start = time.perf_counter()

@@ -71,7 +71,7 @@ def parts(scene, repeats, threads=1):
     solver.factor(data)
 
     def evaluate():
-        system.evaluate(initial.q, initial.v, 0.0, lam, cK=1e-3, data=data.copy())
+        system.evaluate(initial.q, initial.v, 0.0, lam, cK=1e-3, data=data.copy(), layout=lay)
 
     return {"factor": 1e3 * fastest(lambda: solver.factor(data), repeats),
             "solve": 1e3 * fastest(lambda: solver.solve(rhs), repeats),

@@ -31,7 +31,7 @@ def measure(n_elements, repeat=7):
 
     def assemble():
         data[:] = lay.linear_data  # the constant constraint rows
-        system.evaluate(q, None, 0.0, lam, data=data)
+        system.evaluate(q, None, 0.0, lam, data=data, layout=lay)
 
     assemble()
     solver = PatternSolver(lay.indptr, lay.indices)

@@ -141,7 +141,7 @@ else:
     lam = np.zeros(0)
 
     def evaluate():
-        return system.evaluate(q, v, 0.0, lam, cK=CK, cC=CC, data=data)
+        return system.evaluate(q, v, 0.0, lam, cK=CK, cC=CC, data=data, layout=system.layout)
 
     f = evaluate()[0][:nd].copy()
     K = system.layout.matrix(data)[:nd, :nd]
@@ -244,7 +244,8 @@ numba_points, _ = mean_time(lambda: all_points(X, prm, hp, G, H), seconds)
 data = np.zeros(system.layout.nnz)
 lam = np.zeros(0)
 system.evaluate(q, None, 0.0, lam, data=data)
-kernel, _ = mean_time(lambda: system.evaluate(q, None, 0.0, lam, data=data), seconds)
+kernel, _ = mean_time(lambda: system.evaluate(q, None, 0.0, lam, data=data,
+                                              layout=system.layout), seconds)
 diff = max(np.abs(np.asarray(Gj) - G).max() / np.abs(G).max(),
            np.abs(np.asarray(Hj) - H).max() / np.abs(H).max())
 print(json.dumps({"points": len(X), "first": first, "jax": 1e3 * jax_device,

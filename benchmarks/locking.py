@@ -378,7 +378,7 @@ data, lam = np.zeros(system.layout.nnz), np.zeros(0)
 
 
 def evaluate():
-    return system.evaluate(q, v, 0.0, lam, cK=1.0, cC=0.5, data=data)
+    return system.evaluate(q, v, 0.0, lam, cK=1.0, cC=0.5, data=data, layout=system.layout)
 
 
 evaluate()  # compile or load the kernels

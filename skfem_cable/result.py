@@ -7,6 +7,7 @@ with ``Result.load`` (``io.load_result``; xarray users open its store directly, 
 
 import numpy as np
 
+from .io.fingerprint import describe_bodies, describe_system, differences
 from .records import FIELDS, input_records
 from .state import State
 
@@ -23,6 +24,9 @@ class Result:
         The ``FIELDS``, each with the saved steps along its first axis.
     stats : dict, optional
         Solver counters.
+    description : dict, optional
+        The system as it was simulated (``io.fingerprint.describe_system``: a solver's
+        ``Layout.description``); default: the system as it is now.
 
     Attributes
     ----------
@@ -43,6 +47,16 @@ class Result:
     inputs : dict
         The values the system's inputs (``inputs.Input``) held at each saved step, by
         name (``(nt, *shape)``; what controllers set: ``control``).
+
+    Notes
+    -----
+    A result answers from what was simulated: it keeps a description of the bodies and
+    the constraints' names as they were run (``description``).  After
+    the system was edited (``cable.section = ...``), ``tension`` and ``curvature`` of an
+    edited cable and ``multipliers`` after a constraint was added raise
+    ``SystemChanged`` naming the edit, where they would mix the stored motion with the
+    edited system; ``position``, ``velocity``, ``state`` and the energies are the stored
+    data (``state(-1)`` is where a run of the edited system may start).
 
     See Also
     --------
@@ -68,12 +82,16 @@ class Result:
     ((30,), ['pin Node(cable, 0)'])
     """
 
-    def __init__(self, system, records, stats=None):
+    def __init__(self, system, records, stats=None, description=None):
         self.system = system
         for name in FIELDS:
             setattr(self, name, np.asarray(records[name]))
         self.inputs = input_records(records)
         self.stats = dict(stats or {})
+        description = describe_system(system) if description is None else description
+        self._simulated = {"bodies": description["bodies"],
+                           "constraints": [(c["name"], c["n_eq"])
+                                           for c in description["constraints"]]}
 
     @property
     def energy(self):
@@ -104,18 +122,36 @@ class Result:
 
     def tension(self, cable, s):
         """Axial forces (N) ``(nt,) + s.shape`` at reference arc lengths ``s``
-        (``Cable.tension``)."""
-        return cable.tension(self.q[:, self.system.dofs(cable)], s,
+        (``Cable.tension``) of the cable as simulated (``SystemChanged`` if it was edited
+        since)."""
+        return cable.tension(self.q[:, self._simulated_dofs(cable, "tension")], s,
                              self.system.stretch(cable, self.t, self.q), self.t)
 
     def curvature(self, cable, s):
-        """Curvatures (1/m) ``(nt,) + s.shape`` at reference arc lengths ``s``."""
-        return cable.curvature(self.q[:, self.system.dofs(cable)], s,
+        """Curvatures (1/m) ``(nt,) + s.shape`` at reference arc lengths ``s`` of the
+        cable as simulated (``SystemChanged`` if it was edited since)."""
+        return cable.curvature(self.q[:, self._simulated_dofs(cable, "curvature")], s,
                                self.system.stretch(cable, self.t, self.q))
+
+    def _simulated_dofs(self, cable, what):
+        """The coordinates of ``cable``, once it is known to be the cable as simulated:
+        else ``SystemChanged`` naming the edit, since its ``what`` would come from the
+        edited cable (its section, law, mesh, ...) and the stored motion of the other."""
+        dofs = self.system.dofs(cable)
+        k = next(k for k, body in enumerate(self.system.bodies) if body is cable)
+        old = self._simulated["bodies"]
+        new = [*old[:k], *describe_bodies(self.system, [cable]), *old[k + 1:]]
+        _refuse_changed(differences({"bodies": old}, {"bodies": new}), what)
+        return dofs
 
     @property
     def multipliers(self):
-        """Multipliers of each constraint by name, ``(nt, n_eq)``."""
+        """Multipliers of each constraint by name, ``(nt, n_eq)``, of the constraints as
+        simulated (``SystemChanged`` if constraints were added since)."""
+        now, then = _constraint_names(self.system), self._simulated["constraints"]
+        if now != then:
+            _refuse_changed([f"constraints: {len(now)} now, {len(then)} simulated"],
+                            "multipliers")
         out, k = {}, 0
         for c in self.system.constraints:
             out[c.name] = self.lam[:, k: k + c.n_eq]
@@ -172,6 +208,25 @@ class Result:
         from .io.reader import read_result
 
         return cls(system, *read_result(path, system, check=check))
+
+
+def _constraint_names(system):
+    """The constraints' names and numbers of equations (what ``multipliers`` keys)."""
+    return [(c.name, int(c.n_eq)) for c in system.constraints]
+
+
+def _refuse_changed(changed, what):
+    """Raise ``SystemChanged`` when the system was ``changed`` (lines of
+    ``io.fingerprint.differences``) since a result's run: its ``what`` would mix the
+    stored motion with the edited system."""
+    from .system import SystemChanged
+
+    if changed:
+        raise SystemChanged(
+            f"the system changed since this result was simulated: {'; '.join(changed)}.  "
+            f"The result's {what} would come from the edited system and the motion of the "
+            "one simulated: take it before editing the system, or from a result of the "
+            "edited system (simulate again; Result.load with the system that wrote a run)")
 
 
 def _describe_body(body):

@@ -79,8 +79,12 @@ class RigidBody:
 
     Attributes
     ----------
-    mass, center_of_mass, inertia, base_points, name
+    mass, center_of_mass, inertia, name
         As given.
+    base_points : ndarray (4, 3)
+        As given, read-only: they define the coordinates (``q0``), the internal
+        constraints and the points made by ``point``, so that an edit after construction
+        is refused (build another body).
     q0 : ndarray (12,)
         Initial coordinates ``d = [r_A, r_B, r_C, r_D]`` (inertial frame).
     n_dofs : int
@@ -119,7 +123,7 @@ class RigidBody:
         self.mass = check_positive("mass", mass)
         self.center_of_mass = np.asarray(center_of_mass, dtype=float)
         self.inertia = np.asarray(inertia, dtype=float)
-        P = np.asarray(base_points, dtype=float)
+        P = np.array(base_points, dtype=float)  # a copy: made read-only below
         if P.shape != (4, 3):
             raise ValueError(f"base_points must have shape (4, 3), got {P.shape}")
         B0 = (P[1:] - P[0]).T
@@ -133,7 +137,8 @@ class RigidBody:
                              "I_a + I_b > I_c (a flat or slender body has a singular mass "
                              "matrix in natural coordinates)")
         self.name = name
-        self.base_points = P
+        self._base_points = P
+        P.flags.writeable = False
         self.B0inv = np.linalg.inv(B0)
         R = np.eye(3) if rotation is None else np.asarray(rotation, dtype=float)
         if not np.allclose(R.T @ R, np.eye(3), atol=1e-12) or np.linalg.det(R) < 0:
@@ -157,6 +162,20 @@ class RigidBody:
         body = cls(m, np.zeros(3), inertia, P, position, rotation, name)
         body.radius, body.height = R, h
         return body
+
+    @property
+    def base_points(self):
+        """Body-frame coordinates of the base points A, B, C, D (4, 3), read-only."""
+        return self._base_points
+
+    @base_points.setter
+    def base_points(self, value):
+        raise AttributeError(
+            f"base_points of the rigid body {self.name!r} cannot change after construction: "
+            "they define its coordinates (q0), its internal constraints and the points "
+            "made by point() for joints and loads, which would keep the old ones; build "
+            "another RigidBody with base_points=... (an array (4, 3) of non-coplanar "
+            "points)")
 
     # --- layout -------------------------------------------------------------------------
     n_dofs = 12

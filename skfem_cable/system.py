@@ -35,8 +35,8 @@ from .orbit_gravity import DifferentialGravity
 
 
 class SystemChanged(RuntimeError):
-    """The system changed while a solver ran (an observer edited a load, a section, ...):
-    the message names what changed."""
+    """The system changed while a solver ran (an observer edited a load, a section, ...),
+    or since a ``Result`` read from it was simulated: the message names what changed."""
 
 
 class System(SystemMotion):
@@ -77,7 +77,8 @@ class System(SystemMotion):
     The building methods (``clamp``, ``pin``, ``add_*``) return the system, so that they
     chain.  The first solve fixes its sparsity pattern and constant parts (``layout``);
     every solver starts from the system as it is then (``current_layout``): a load, section
-    or constraint edited between two solves is solved as edited.  A change while a solver
+    or constraint edited between two solves is solved as edited, and so are ``evaluate``,
+    ``assemble`` and the constraint terms called between solves.  A change while a solver
     runs (in an observer) cannot take effect and is refused (``SystemChanged``).
 
     Examples
@@ -469,10 +470,17 @@ class System(SystemMotion):
                         "over its free length, and is not supported on a deploying cable "
                         "(gravity and SolarWindForce are; see docs/deploy.md)")
 
+    def _solved(self, layout):
+        """``layout`` (a solver's, from ``current_layout`` at its start), or when None the
+        layout of the system as it is now (``current_layout``): what a public entry point
+        evaluates, so that it sees the system as edited."""
+        return self.current_layout() if layout is None else layout
+
     @property
     def f_const(self):
-        """Constant generalized external force: fixed loads plus gravity."""
-        return self.layout.f_const
+        """Constant generalized external force: fixed loads plus gravity (of the system
+        as it is now)."""
+        return self.current_layout().f_const
 
     def mass_matrix(self):
         """Global constant mass matrix (Eq. 11) including point masses."""
@@ -508,30 +516,32 @@ class System(SystemMotion):
                          f"coordinates and {self.n_constraints} constraint equations")
 
     # --- evaluation -------------------------------------------------------------------------
-    def constraint_values(self, q, t=0.0):
-        """``C(q, t)`` of every constraint."""
-        r = np.zeros(self.layout.n_c)
-        self.layout.constraints(q, t, np.zeros(self.layout.n_c), np.zeros(self.n_dofs), r, 1.0)
+    def constraint_values(self, q, t=0.0, layout=None):
+        """``C(q, t)`` of every constraint (``layout``: as in ``evaluate``)."""
+        lay = self._solved(layout)
+        r = np.zeros(lay.n_c)
+        lay.constraints(q, t, np.zeros(lay.n_c), np.zeros(self.n_dofs), r, 1.0)
         return r
 
-    def constraint_velocity_term(self, q, t=0.0):
-        """``C_t`` of every constraint: consistent velocities satisfy ``C_q v = -C_t``."""
-        return self._constraint_terms(lambda c, d: c.velocity_term(q[d], t))
+    def constraint_velocity_term(self, q, t=0.0, layout=None):
+        """``C_t`` of every constraint: consistent velocities satisfy ``C_q v = -C_t``
+        (``layout``: as in ``evaluate``)."""
+        return self._constraint_terms(lambda c, d: c.velocity_term(q[d], t), layout)
 
-    def constraint_accel_term(self, q, v, t=0.0):
+    def constraint_accel_term(self, q, v, t=0.0, layout=None):
         """``(C_q v)_q v + 2 C_qt v + C_tt`` of every constraint (Eq. 2): consistent
-        accelerations satisfy ``C_q a = -`` this."""
-        return self._constraint_terms(lambda c, d: c.accel_term(q[d], v[d], t))
+        accelerations satisfy ``C_q a = -`` this (``layout``: as in ``evaluate``)."""
+        return self._constraint_terms(lambda c, d: c.accel_term(q[d], v[d], t), layout)
 
-    def _constraint_terms(self, term):
-        lay = self.layout
+    def _constraint_terms(self, term, layout):
+        lay = self._solved(layout)
         out = np.zeros(lay.n_c)
         for c, d, rows in zip(self.constraints, lay.cdofs, lay.crows):
             out[rows] = term(c, d)
         return out
 
     def evaluate(self, q, v, t, lam, load_factor=1.0, cK=1.0, cC=0.0, scale=1.0, data=None,
-                 reference_force=False, a=None, cM=0.0):
+                 reference_force=False, a=None, cM=0.0, layout=None):
         """Residual of the equations of motion without inertia, and tangents.
 
         ``r = [f_int(q, v) - load_factor f_ext(q, v, t) + C_q^T lambda, scale C(q, t)]``
@@ -540,7 +550,10 @@ class System(SystemMotion):
         caller's constant part ``Layout.mass_data``/``Layout.linear_data``) is given,
         ``cK`` times the stiffness and ``cC`` times the damping tangent are added.  ``a``
         and ``cM``: the accelerations and the coefficient of their derivatives, for terms
-        with inertia beyond the constant mass (``contract``).
+        with inertia beyond the constant mass (``contract``).  ``layout``: the one a solver
+        took at its start (``current_layout``), which it evaluates without describing the
+        system again at every call; by default the system as it is now
+        (``current_layout``: an edit since the last solve is seen).
 
         Returns
         -------
@@ -554,7 +567,7 @@ class System(SystemMotion):
             ``reference_force``, ``force_ref`` (largest norm of the internal, external and
             constraint forces: a scale for convergence tests).
         """
-        lay = self.layout
+        lay = self._solved(layout)
         n = self.n_dofs
         ev = Evaluation(self, t, q, v, lam, cK, cC, data, a, cM)
         for term, index in lay.body_terms:
@@ -589,8 +602,9 @@ class System(SystemMotion):
         >>> round(float(f[12]), 6), K.shape                      # the tip's axial force
         (10.1505, (18, 18))
         """
-        data = np.zeros(self.layout.nnz)
+        lay = self.current_layout()
+        data = np.zeros(lay.nnz)
         _, info = self.evaluate(q, v, 0.0, np.zeros(self.n_constraints), load_factor=0.0,
-                                cK=cK, cC=cC, data=data)
+                                cK=cK, cC=cC, data=data, layout=lay)
         n = self.n_dofs
-        return info["f"], self.layout.matrix(data)[:n, :n].tocsr()
+        return info["f"], lay.matrix(data)[:n, :n].tocsr()

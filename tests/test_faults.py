@@ -360,14 +360,15 @@ def _flip(path):
 @pytest.mark.parametrize("damage", [_truncate, _flip, Path.unlink])
 def test_damaged_chunk_is_named(stored, damage):
     """Before: a truncated chunk raised a bare ``BadZipFile``.  Now the error names the
-    file and says what to do; a flipped byte is caught by the checksum and a missing
-    chunk is not read as NaN."""
+    file and says what to do (restore it or run again into a new directory: not
+    ``--overwrite``, which would delete the steps that still read); a flipped byte is
+    caught by the checksum and a missing chunk is not read as NaN."""
     chunk = stored / STORE / "v" / "c" / "2" / "0"
     damage(chunk)
     with pytest.raises(StoreCorrupt) as info:
         sc.Result.load(stored, pendulum())
     assert info.value.path == chunk and str(chunk) in str(info.value)
-    assert "--overwrite" in str(info.value)
+    assert "new directory (--out)" in str(info.value) and "--overwrite" not in str(info.value)
 
 
 def test_truncated_checkpoint_is_named_and_the_steps_still_load(stored):

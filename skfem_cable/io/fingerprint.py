@@ -166,28 +166,38 @@ def _attributes(obj):
     return {k: v for k, v in attrs.items() if k not in caches}
 
 
+def _body(d, body):
+    """The description of one body (``describe_system``'s ``bodies`` entries)."""
+    entry = {"class": _qualname(type(body)), "name": getattr(body, "name", None),
+             "n_dofs": int(body.n_dofs), "q0": _array(np.asarray(body.q0, dtype=float))}
+    section = getattr(body, "section", None)
+    if section is not None:
+        entry["section"] = d(section, 1)
+    for attr in ("intorder", "formulation", "mass", "center_of_mass", "inertia",
+                 "radius", "drive"):
+        if hasattr(body, attr) and not callable(getattr(body, attr)):
+            entry[attr] = d(getattr(body, attr), 1)
+    law = getattr(body, "law", None)
+    if law is not None:  # an element law: its physics (expressions) and own values
+        entry["law"] = {"name": law.name, "key": law.key, "values": d(law.values, 1)}
+    mesh = getattr(body, "mesh", None)
+    if mesh is not None and hasattr(mesh, "p"):
+        entry["mesh"] = {"p": _array(mesh.p), "t": _array(mesh.t)}
+    return entry
+
+
+def describe_bodies(system, bodies=None):
+    """The descriptions of ``bodies`` (default: all) of ``system``, as in
+    ``describe_system``'s ``bodies``: what a ``Result`` keeps of what was simulated."""
+    d = _Describer(system)
+    return [_body(d, body) for body in (system.bodies if bodies is None else bodies)]
+
+
 def describe_system(system):
     """The canonical description of ``system`` that its fingerprint hashes (a JSON-able
     dict)."""
     d = _Describer(system)
-    bodies = []
-    for body in system.bodies:
-        entry = {"class": _qualname(type(body)), "name": getattr(body, "name", None),
-                 "n_dofs": int(body.n_dofs), "q0": _array(np.asarray(body.q0, dtype=float))}
-        section = getattr(body, "section", None)
-        if section is not None:
-            entry["section"] = d(section, 1)
-        for attr in ("intorder", "formulation", "mass", "center_of_mass", "inertia",
-                     "radius", "drive"):
-            if hasattr(body, attr) and not callable(getattr(body, attr)):
-                entry[attr] = d(getattr(body, attr), 1)
-        law = getattr(body, "law", None)
-        if law is not None:  # an element law: its physics (expressions) and own values
-            entry["law"] = {"name": law.name, "key": law.key, "values": d(law.values, 1)}
-        mesh = getattr(body, "mesh", None)
-        if mesh is not None and hasattr(mesh, "p"):
-            entry["mesh"] = {"p": _array(mesh.p), "t": _array(mesh.t)}
-        bodies.append(entry)
+    bodies = describe_bodies(system)
     M = system.mass_matrix().tocsr()
     M.sort_indices()
     constraints = []

@@ -31,7 +31,7 @@ def is_legacy(run_dir):
 #: Why a run directory of the old format cannot be continued (``format(path=...)``).
 LEGACY_RESUME = ("{path} is a run directory of the old format (chunk_*.npz, "
                  "checkpoint.npz): Result.load reads it, but this version cannot continue "
-                 "it; run it again into a new directory (or with --overwrite)")
+                 "it; run it again into a new directory (--out)")
 
 
 def read_legacy(path, system=None):

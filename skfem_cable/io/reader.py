@@ -4,14 +4,17 @@ lazy ``xarray.Dataset``), ``read_run`` (records and checkpoint), ``read_result``
 manifest, for messages).
 
 A reader uses the first ``saved`` steps of the arrays (the manifest's commit) and ignores
-whatever a broken commit appended after them; a chunk that is missing or cannot be decoded
-raises ``StoreCorrupt`` naming its file.  Old run directories (``chunk_*.npz``) are read by
+whatever a broken commit appended after them; a chunk that is missing (``check_chunks``,
+by listing the folders: Zarr would read it as its fill value) or cannot be decoded raises
+``StoreCorrupt`` naming its file.  Old run directories (``chunk_*.npz``) are read by
 ``io.legacy``.
 """
 
 import hashlib
 import io
+import itertools
 import json
+import os
 import warnings
 from pathlib import Path
 
@@ -24,6 +27,14 @@ from .legacy import is_legacy, read_legacy
 from .manifest import MANIFEST, StoreCorrupt, StoreError, StoreMismatch, read_manifest
 from .schema import COUNTERS, FIELD, STORE, VARIABLE
 from .zarr_store import atomic_store, sync
+
+#: The end of a message about a damaged store: what can still be read.
+_READABLE = "the rest of the store still opens with xarray.open_zarr"
+
+#: The end of a message about a checkpoint that cannot be continued from: the saved
+#: steps are intact, so nothing advises deleting them.
+_KEEP = ("its saved steps still load (Result.load): restore the file from a backup, or "
+         "run the scene again into a new directory (--out) to go further")
 
 
 def empty_records(system, n):
@@ -56,22 +67,65 @@ def _chunk_file(root, name, k):
     return folder / "0" if folder.is_dir() else folder
 
 
-def _missing_chunk(root, name, chunk, n):
-    """``(file, "is missing")`` for the first chunk of the committed steps of ``name``
-    that has no file (Zarr would read it as fill values), or None."""
-    meta = root / name / "zarr.json"
-    if not meta.is_file():
-        return meta, "is missing"
+def missing_chunks(root, saved, variables):
+    """The chunk files of the store ``root`` that are missing although its manifest
+    commits them: of the ``variables`` (time first) those of the first ``saved`` steps,
+    of the other arrays (the labels, written once) all; before the first commit
+    (``saved`` 0) none.  Zarr reads a missing chunk as its fill value (NaN, 0, -1), so a
+    missing file would pass for data.  Found by listing the arrays' folders (no data is
+    read); an array of ``variables`` without its ``zarr.json`` counts as missing.
+
+    Returns
+    -------
+    list of Path
+        The missing files (chunk files or ``zarr.json``), in order of the arrays' names.
+    """
+    if not saved:
+        return []
+    root = Path(root)
+    metas = {p.parent.name: p for p in root.glob("*/zarr.json")}
+    missing = [root / name / "zarr.json" for name in variables if name not in metas]
+    for name in sorted(metas):
+        missing += _missing_in(metas[name], saved if name in variables else None)
+    return missing
+
+
+def _missing_in(meta, saved):
+    """The missing chunk files of the array whose metadata is ``meta``: those of its
+    first ``saved`` steps, or with ``saved`` None all its chunks."""
     try:
-        if 0 in json.loads(meta.read_text())["shape"][1:]:
-            return None  # no coordinates (a system without constraints): no chunks
+        info = json.loads(meta.read_text())
+        shape = list(info["shape"])
+        chunks = info["chunk_grid"]["configuration"]["chunk_shape"]
+        separator = info["chunk_key_encoding"]["configuration"]["separator"]
     except (ValueError, KeyError, TypeError) as err:
-        return meta, f"is corrupt ({type(err).__name__}: {err})"
-    for k in range(-(-n // chunk)):
-        file = _chunk_file(root, name, k)
-        if not file.is_file():
-            return file, "is missing"
-    return None
+        raise StoreCorrupt(f"{meta} is corrupt ({type(err).__name__}: {err}): restore it "
+                           "from a backup", meta) from err
+    if saved is not None:
+        shape[0] = saved
+    folder = meta.parent
+    present = {Path(d, f).relative_to(folder).as_posix()
+               for d, _, files in os.walk(folder) for f in files}
+    grid = itertools.product(*(range(-(-s // max(c, 1))) for s, c in zip(shape, chunks)))
+    keys = (separator.join(["c", *map(str, index)]) for index in grid)
+    return [folder / key for key in keys if key not in present]
+
+
+def check_chunks(path, manifest):
+    """Raise ``StoreCorrupt`` naming the missing chunk files (``missing_chunks``) of the
+    store of the run directory ``path`` that its ``manifest`` commits."""
+    missing = missing_chunks(Path(path) / STORE, manifest["saved"], manifest["variables"])
+    if missing:
+        listed = ", ".join(map(str, missing[:4])) + (
+            f" and {len(missing) - 4} more" if len(missing) > 4 else "")
+        files, are, them = (("files", "are", "them") if len(missing) > 1 else
+                            ("file", "is", "it"))
+        raise StoreCorrupt(
+            f"{path} is damaged: {len(missing)} {files} that its manifest commits (its "
+            f"{manifest['saved']} saved steps and their labels) {are} missing ({listed}); "
+            f"Zarr would read {them} as fill values (NaN, 0, -1), not as data.  Restore "
+            f"{them} from a backup, or run the scene again into a new directory (--out); "
+            f"{_READABLE}", missing[0])
 
 
 def _undecodable_chunk(root, name, chunk, n):
@@ -126,7 +180,8 @@ def repair_metadata(root):
 
 def open_dataset(path):
     """The committed steps of the run directory ``path`` as an ``xarray.Dataset`` (lazy:
-    nothing is read until used), with the manifest in ``attrs["manifest"]``.
+    nothing is read until used), with the manifest in ``attrs["manifest"]``; a chunk file
+    the manifest commits that is missing raises ``StoreCorrupt`` (``check_chunks``).
 
     ``xarray.open_zarr(path / "results.zarr")`` gives the same Dataset, except after a
     writer was killed in the middle of a commit (then it may show that commit's steps
@@ -138,6 +193,7 @@ def open_dataset(path):
         ds = _open_dataset(path / STORE)
     except Exception as err:
         raise _unopenable(path / STORE, err) from err
+    check_chunks(path, manifest)
     ds = ds.isel(time=slice(0, n))
     ds.attrs["manifest"] = manifest
     return ds
@@ -150,7 +206,7 @@ def _unopenable(root, err):
                         f"nor from its arrays' ({type(err).__name__}: {err}): its metadata "
                         "(zarr.json files) is damaged; restore it from a backup (arrays "
                         "whose zarr.json is intact still open with zarr.open_array), or "
-                        "run again (--overwrite) to replace the run", root)
+                        "run the scene again into a new directory (--out)", root)
 
 
 def _manifest_or_raise(path):
@@ -171,6 +227,7 @@ def read_records(path, system, manifest):
     stored = [FIELD.get(v, v) for v in manifest["variables"]]
     if n == 0:
         return empty_records(system, 0)
+    check_chunks(path, manifest)
     root = path / STORE
     try:
         ds = _open_dataset(root)
@@ -181,20 +238,17 @@ def read_records(path, system, manifest):
         if name not in stored:
             continue
         var = VARIABLE.get(name, name)
-        bad = _missing_chunk(root, var, int(manifest["chunk"]), n)
-        if bad is None:
-            try:
-                values = ds[var].isel(time=slice(0, n)).values
-                if values.shape[0] != n:
-                    raise ValueError(f"{values.shape[0]} steps stored, {n} committed")
-            except Exception as err:
-                bad = (_undecodable_chunk(root, var, int(manifest["chunk"]), n)
-                       or (root / var, f"cannot be read ({type(err).__name__}: {err})"))
-        if bad is not None:
+        try:
+            records[name] = ds[var].isel(time=slice(0, n)).values
+            if records[name].shape[0] != n:
+                raise ValueError(f"{records[name].shape[0]} steps stored, {n} committed")
+        except Exception as err:
+            bad = (_undecodable_chunk(root, var, int(manifest["chunk"]), n)
+                   or (root / var, f"cannot be read ({type(err).__name__}: {err})"))
             raise StoreCorrupt(f"{bad[0]} {bad[1]}: the saved steps of {path} cannot be read "
-                               "completely; run again (--overwrite), or continue the run "
-                               "(--resume) if its checkpoint is intact", bad[0])
-        records[name] = values
+                               "completely; restore the file from a backup, or run the scene "
+                               f"again into a new directory (--out); {_READABLE}",
+                               bad[0]) from err
     inputs = {k: v for k, v in records.items() if k.startswith(INPUT)}
     return {**fill_records(system, records, stored, n), **inputs}
 
@@ -210,14 +264,13 @@ def checkpoint_bytes(path, manifest):
     try:
         data = file.read_bytes()
     except FileNotFoundError:
-        raise StoreCorrupt(f"{file} is missing: the run cannot be continued; its saved "
-                           "steps still load (Result.load); run again (--overwrite) to "
-                           "continue", file) from None
+        raise StoreCorrupt(f"{file} is missing: the run cannot be continued; {_KEEP}",
+                           file) from None
     if hashlib.sha256(data).hexdigest() != ck.get("sha256"):
         raise StoreCorrupt(f"{file} is truncated or corrupt ({len(data)} bytes, "
                            f"{ck.get('bytes')} written; its SHA-256 differs from the "
-                           "manifest's): the run cannot be continued from it; its saved "
-                           "steps still load (Result.load); run again (--overwrite)", file)
+                           f"manifest's): the run cannot be continued from it; {_KEEP}",
+                           file)
     return data
 
 

@@ -15,7 +15,7 @@ from ..atomic import write_atomic
 from .fingerprint import check_fingerprint
 from .legacy import LEGACY_RESUME, is_legacy
 from .manifest import MANIFEST, StoreCorrupt, StoreError, read_manifest, write_manifest
-from .reader import ShapeOnly, checkpoint_bytes, read_checkpoint, read_records
+from .reader import ShapeOnly, check_chunks, checkpoint_bytes, read_checkpoint, read_records
 from .schema import STORE
 from .zarr_store import atomic_store, gather, sync
 
@@ -47,6 +47,7 @@ def resume(path, system=None):
         raise FileNotFoundError(f"no {MANIFEST} in {path}: not a run directory")
     if system is not None:
         check_fingerprint(path, manifest, system)
+    check_chunks(path, manifest)  # before reading the last step: a missing chunk reads 0
     checkpoint = read_checkpoint(path, manifest)
     check_last_commit(path, manifest)
     shape = system if system is not None else ShapeOnly(manifest)

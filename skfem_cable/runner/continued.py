@@ -1,6 +1,6 @@
 """A continued run (``--resume``) is the run it continues: the same scene parameters,
-system, output frame and solver settings (``resume_checked``), else ``StoreMismatch``
-naming what differs."""
+system, output frame, samples per element of its series and solver settings
+(``resume_checked``), else ``StoreMismatch`` naming what differs."""
 
 import json
 
@@ -14,12 +14,16 @@ from ..io.manifest import read_manifest
 MOVABLE = ("file",)
 
 
-def resume_checked(out, system, parameters, frame, solver):
+def resume_checked(out, system, parameters, frame, solver, points_per_element=8):
     """The ``io.resume`` of the run in ``out``, once it is known to be the run of
     ``system`` with the scene ``parameters`` (``_check_scene``), in the output ``frame``
-    (``_check_frame``) and with the ``simulate`` keywords ``solver`` (``_check_settings``)."""
-    _check_scene(out, read_manifest(out), system, parameters)
-    _check_frame(out, read_manifest(out), frame)
+    (``_check_frame``), with ``points_per_element`` samples per element in its series
+    (``_check_samples``) and with the ``simulate`` keywords ``solver``
+    (``_check_settings``)."""
+    manifest = read_manifest(out)
+    _check_scene(out, manifest, system, parameters)
+    _check_frame(out, manifest, frame)
+    _check_samples(out, manifest, points_per_element)
     resume = resume_run(out)
     _check_settings(out, resume.manifest, solver)
     return resume
@@ -46,6 +50,18 @@ def _check_frame(out, manifest, frame):
     if stored != frame:
         raise StoreMismatch(f"{out} was written in the frame {stored!r}, not {frame!r}: "
                             f"continue it with --frame {stored}")
+
+
+def _check_samples(out, manifest, points_per_element):
+    """Before a continued run: its series must go on with the samples per element it was
+    written with (``attrs.points_per_element`` of the manifest; a store of an earlier
+    version records none and is not checked), else ``StoreMismatch`` naming both."""
+    stored = (manifest.get("attrs") or {}).get("points_per_element")
+    if stored is not None and stored != points_per_element:
+        raise StoreMismatch(f"{out} was written with points_per_element = {stored} (the "
+                            f"cable samples per element of its series), not "
+                            f"{points_per_element}: continue it with points_per_element = "
+                            f"{stored} in the [output] table of its scene file")
 
 
 def _check_scene(out, manifest, system, parameters):

@@ -69,8 +69,9 @@ def run_dynamic(name, system, initial, options, defaults, parameters=None, outpu
 
     The run directory is held (``run_directory``) from its first check to the summary.
     ``options.resume`` continues the stored run only as it was started: the same scene
-    parameters, system, frame and solver settings (``continued.resume_checked``) and a
-    ``t_end`` not before its last stored step (``io.resume.check_t_end``).
+    parameters, system, frame, ``points_per_element`` and solver settings
+    (``continued.resume_checked``) and a ``t_end`` not before its last stored step
+    (``io.resume.check_t_end``).
     """
     settings = dict(defaults)
     for key in ("t_end", "dt", "every"):
@@ -90,12 +91,13 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
                "fields": solver.pop("fields", None)}
     settings.pop("fields", None)
     frame = options.value("frame", "inertial")
-    attrs = {"scene": name, "parameters": parameters or {}}
+    attrs = {"scene": name, "parameters": parameters or {},
+             "points_per_element": points_per_element}
     if frame != "inertial":  # the store of an inertial run is as before frames existed
         attrs["frame"] = frame
     resume, before = None, 0.0  # wall time of the earlier sessions of a continued run
     if options.resume:
-        resume = resume_checked(out, system, parameters, frame, solver)
+        resume = resume_checked(out, system, parameters, frame, solver, points_per_element)
         before = resume.manifest.get("wall_time", 0.0)
     observers = run_observers(out, options.progress, points_per_element=points_per_element,
                               restart=options.resume, overwrite=options.overwrite,

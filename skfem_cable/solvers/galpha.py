@@ -243,7 +243,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v + C_tt)`` (or, with
         ``initial_acceleration="zero"``, takes ``a = 0`` and ``lambda = 0``)."""
         system, n = self.system, self.n
-        C = system.constraint_values(q, t)
+        C = system.constraint_values(q, t, layout=self.lay)
         if C.size and np.max(np.abs(C)) > 1e-8 * self.L_ref:
             k = int(np.argmax(np.abs(C)))
             raise ValueError(f"initial positions violate {system.describe_dof(n + k)} by "
@@ -257,7 +257,8 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         self.a_prev = self.h_prev = self.da_prev = self.h_prev2 = None
         # the books open with the forces of the consistent state: the constraint forces
         # of its multipliers and the inertia terms at its accelerations
-        _, info = system.evaluate(q, v, t, self.lam, scale=self.mbar, a=self.a)
+        _, info = system.evaluate(q, v, t, self.lam, scale=self.mbar, a=self.a,
+                                  layout=self.lay)
         self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
         self.iterations, self.newton_rate = 0, 1.0
         self.guard.reset(self.t, self.energies())
@@ -281,7 +282,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             self.a_prev = self.a_prev + da
         self.h_factored = None
         _, info = self.system.evaluate(self.q, self.v, self.t, self.lam, scale=self.mbar,
-                                       a=self.a)
+                                       a=self.a, layout=self.lay)
         books = self._booked(info, self.q, self.v, self.t, start=True)
         after = self._energies(books)
         jump = sum(after[k] - before[k] for k in ("kinetic", "axial", "bending", "potential"))
@@ -299,7 +300,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         data = self.base.copy()
         rest = np.zeros(n)  # accelerations: the unknowns of this solve
         system.evaluate(q, v, t, np.zeros(lay.n_c), cK=0.0, cC=0.0, scale=self.mbar,
-                        data=data, a=rest, cM=1.0)
+                        data=data, a=rest, cM=1.0, layout=lay)
         rhs = np.zeros(lay.N)
         kkt = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
         rhs[:n] = kkt[:n, :n] @ v
@@ -308,11 +309,11 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         except SingularMatrixError as err:
             raise self._singular_start(t, err.index, kkt[n:, :n]) from None
         self.stats["factorizations"] += 1
-        rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t)
+        rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t, lay)
         v = self.solver.solve(rhs)[:n]
-        r, _ = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar, a=rest)
+        r, _ = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar, a=rest, layout=lay)
         rhs = -r
-        rhs[n:] = -self.mbar * system.constraint_accel_term(q, v, t)
+        rhs[n:] = -self.mbar * system.constraint_accel_term(q, v, t, lay)
         sol = self.solver.solve(rhs)
         return v, sol[:n], self.mbar * sol[n:]
 
@@ -457,7 +458,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             bp, gp = self._coefficients(h)
             data = self.base.copy()
             self.system.evaluate(q, v, t, lam, cK=1.0 / bp, cC=gp / bp, scale=self.mbar,
-                                 data=data, a=a, cM=1.0)
+                                 data=data, a=a, cM=1.0, layout=self.lay)
         self.solver.factor(data)
         self.stats["factorizations"] += 1
         self.res_weight[:] = 1.0 / (np.abs(data[self.diag_index]) * self.xscale)
@@ -641,7 +642,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         for it in range(self.max_iter + 1):
             data = self.base.copy() if need else None
             r, info = system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
-                                      scale=self.mbar, data=data, a=a1, cM=1.0)
+                                      scale=self.mbar, data=data, a=a1, cM=1.0, layout=lay)
             r[:n] = (lay.mass @ a1 + r[:n]) / bp
             err = max(np.max(np.abs(r[:n]) * self.res_weight, initial=0.0),
                       np.max(np.abs(r[n:]), initial=0.0) * self.con_weight)
@@ -668,7 +669,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
                 if data is None:  # tangent requested after this evaluation: rebuild it
                     data = self.base.copy()
                     system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
-                                    scale=self.mbar, data=data, a=a1, cM=1.0)
+                                    scale=self.mbar, data=data, a=a1, cM=1.0, layout=lay)
                 try:
                     self._factor(q1, v1, t1, lam1, h, a1, data)
                 except SingularMatrixError as exc:

@@ -53,9 +53,9 @@ def modes(system, state=None, k=6, sigma=None, spin=None):
         raise ValueError(f"k must be an integer in [1, {n - system.n_constraints}], got {k!r}")
     q = system.q0 if state is None else state.q
     lam = np.zeros(lay.n_c) if state is None else state.lam
-    scale = constraint_scale(system, q, lam)
+    scale = constraint_scale(system, q, lam, lay)
     data = scale * lay.linear_data
-    system.evaluate(q, None, 0.0, lam, scale=scale, data=data)
+    system.evaluate(q, None, 0.0, lam, scale=scale, data=data, layout=lay)
     if spin is not None:
         return _gyroscopic_modes(system, lay.matrix(data), k, spin)
     mass = lay.mass_data

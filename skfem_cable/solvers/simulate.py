@@ -313,7 +313,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         recorder = _Recorder(system)
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
     watch = Observers(run, [recorder, *(observers or ())],
-                      lambda: Result(system, recorder.arrays(), _stats(integ, clock)))
+                      lambda: Result(system, recorder.arrays(), _stats(integ, clock),
+                                     integ.lay.description))
     clock.start()
 
     def save(index):
@@ -350,4 +351,5 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         stop = (adaptive_steps if adaptive else fixed_steps)(start_index, stop)
         system.check_unchanged(integ.lay, "during the run")  # an observer's edit: refused
         run.stop_reason = stop
-    return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason))
+    return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason),
+                  integ.lay.description)

@@ -19,12 +19,13 @@ class StaticConvergenceError(RuntimeError):
         self.last_converged = last_converged
 
 
-def constraint_scale(system, q, lam):
+def constraint_scale(system, q, lam, layout=None):
     """Scale of the constraint rows: the mean stiffness diagonal, so that both blocks of the
-    KKT matrix have comparable magnitude."""
-    lay = system.layout
+    KKT matrix have comparable magnitude (``layout``: a solver's, else the system as it is
+    now, ``System.current_layout``)."""
+    lay = system.current_layout() if layout is None else layout
     data = np.zeros(lay.nnz)
-    system.evaluate(q, None, 0.0, lam, data=data)
+    system.evaluate(q, None, 0.0, lam, data=data, layout=lay)
     d = np.abs(lay.matrix(data).diagonal()[: system.n_dofs])
     s = float(np.mean(d)) if d.size else 1.0
     return s if s > 0 and np.isfinite(s) else 1.0
@@ -33,9 +34,9 @@ def constraint_scale(system, q, lam):
 def constraint_jacobian(system, q):
     """``C_q`` of every constraint at ``q`` (sparse, n_constraints x n_dofs), from the
     KKT matrix the solvers assemble."""
-    lay, n = system.layout, system.n_dofs
+    lay, n = system.current_layout(), system.n_dofs
     data = lay.linear_data.copy()
-    system.evaluate(q, None, 0.0, np.zeros(lay.n_c), data=data)
+    system.evaluate(q, None, 0.0, np.zeros(lay.n_c), data=data, layout=lay)
     return lay.matrix(data)[n:, :n].tocsr()
 
 
@@ -455,8 +456,8 @@ class _Newton:
         self.q0 = hanging_start(system, system.q0, tol * self.L_ref) if initial is None \
             else initial.q.copy()
         self.lam0 = np.zeros(lay.n_c) if initial is None else initial.lam.copy()
-        self.scale = constraint_scale(system, self.q0, self.lam0)
-        self.violation = system.constraint_values(self.q0)
+        self.scale = constraint_scale(system, self.q0, self.lam0, lay)
+        self.violation = system.constraint_values(self.q0, layout=lay)
         self.closing = bool(np.max(np.abs(self.violation), initial=0.0) > tol * self.L_ref)
 
     def stage(self, factor):
@@ -473,7 +474,7 @@ class _Newton:
         load, kept = self.stage(factor)
         v = None if self.motion is None else self.motion.velocity(q)
         r, info = self.system.evaluate(q, v, 0.0, lam, load, scale=self.scale, data=data,
-                                       reference_force=True)
+                                       reference_force=True, layout=self.lay)
         if kept:
             r[self.n:] -= self.scale * kept * self.violation
         if v is not None and data is not None:
@@ -488,7 +489,7 @@ class _Newton:
         lay, n = self.lay, self.n
         dv = np.zeros(lay.nnz)
         self.system.evaluate(q, v, 0.0, lam, factor, cK=0.0, cC=1.0, scale=self.scale,
-                             data=dv)
+                             data=dv, layout=lay)
         P = (lay.matrix(dv)[:n, :n] @ self.motion.operator).tocoo()
         key = P.row.astype(np.int64) * lay.N + P.col
         pos = np.minimum(np.searchsorted(lay.pattern.ukey, key), lay.nnz - 1)

@@ -129,12 +129,13 @@ def check_equivariance(frame, motion, q, axis, center, angle=1.0):
     stiffness).  Returns the relative mismatch."""
     lam = np.zeros(frame.n_constraints)
     n = frame.n_dofs
-    lay = frame.layout
+    lay = frame.current_layout()
     data = np.array(lay.linear_data)
     r0, info = frame.evaluate(q, motion.velocity(q), 0.0, lam, reference_force=True,
-                              data=data)
+                              data=data, layout=lay)
     q1, Rm = rotated(frame, q, axis, angle, center)
-    r1, _ = frame.evaluate(q1, motion.velocity(q1), angle / np.linalg.norm(motion.omega), lam)
+    r1, _ = frame.evaluate(q1, motion.velocity(q1), angle / np.linalg.norm(motion.omega), lam,
+                           layout=lay)
     turned = frame.rotate(r0[:n], Rm)
     round_off = (np.abs(lay.matrix(data).diagonal()[:n]).max() * np.finfo(float).eps
                  * np.abs(q).max() / EQUIVARIANCE_TOL)
