@@ -118,6 +118,16 @@ def check_controller(controller):
     _check_memory(controller)
 
 
+def check_resumed(controllers, snap):
+    """``StoreMismatch`` unless ``controllers`` are as many as the checkpoint ``snap`` of
+    the run to continue was taken with (none: a run without control)."""
+    stored = len(snap["control_samples"]) if "control_samples" in snap else 0
+    if stored != len(controllers):
+        raise StoreMismatch(f"the run was started with {stored} controllers, given "
+                            f"{len(controllers)}: continue it with the controllers it was "
+                            "started with")
+
+
 def _name(controller):
     """A controller's name for messages (its class's when it has none)."""
     return getattr(controller, "name", None) or type(controller).__name__

@@ -122,6 +122,9 @@ def test_state_a_checkpoint_cannot_hold_refuses_the_continuation(tmp_path):
                                             r"run: it held a list"):
         resumed(tmp_path, lambda c: Logger(c, 0.0))
     assert read_manifest(tmp_path)["saved"] == before["saved"]
+    system, _ = pendulum()  # and without its controller
+    with pytest.raises(StoreMismatch, match="the run was started with 1 controllers, given 0"):
+        sc.simulate(system, 0.1, DT, every=5, resume=io.resume(tmp_path))
 
 
 # ===========================================================================================

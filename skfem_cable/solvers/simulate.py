@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from ..contract import Observer, Run, Step
-from ..control import ControlLoop
+from ..control import ControlLoop, check_resumed
 from ..inputs import system_inputs
 from ..kernels import compile_log
 from ..observing import Observers
@@ -296,6 +296,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
                            settings_array(settings)[_MATCH]):
             raise ValueError("resume: t_start, dt, rho_inf, every, tol and max_iter must "
                              "match the interrupted run")
+        check_resumed(controllers, snap)
         for hook in hooks:
             hook.restore(snap)
         integ.restore(snap)
