@@ -127,7 +127,7 @@ class _Describer:
             return {"complex": [float(obj.real).hex(), float(obj.imag).hex()]}
         if isinstance(obj, np.ndarray):
             return _array(obj)
-        if isinstance(obj, types.ModuleType):
+        if isinstance(obj, types.ModuleType) and self.closures:  # a global a function reads
             return {"module": obj.__name__}
         if id(obj) in self.bodies:
             return self.bodies[id(obj)]
