@@ -113,8 +113,11 @@ class Logger(AttributePI):
 
 
 def test_state_a_checkpoint_cannot_hold_refuses_the_continuation(tmp_path):
-    """A list appended to at every sample cannot be saved: the continuation is refused
-    naming the controller and the attribute, before anything is written."""
+    """Before: accepted, the list (and the integral) restarted empty; a continuation
+    without the controller continued without control.  Now a list appended to at every
+    sample, which a checkpoint cannot save, refuses the continuation naming the
+    controller and the attribute, before anything is written; so does a continuation
+    with another number of controllers."""
     interrupted(tmp_path, lambda c: Logger(c, 0.0))
     before = read_manifest(tmp_path)
     with pytest.raises(StoreMismatch, match=r"controller 'Logger' \(controllers\[0\]\) "
