@@ -15,6 +15,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from . import durations
+from .control import ControlError
 from .elements import DEFAULT_ELEMENT, ELEMENTS
 from .formulation import DEFAULT, FORMULATIONS
 from .solvers.static import StaticConvergenceError
@@ -452,7 +453,7 @@ def main(argv=None):
     try:
         return COMMANDS[args.command](args)
     except (ValueError, OSError, ImportError, SimulationError,
-            StaticConvergenceError) as err:
+            StaticConvergenceError, ControlError) as err:
         notes = "".join(f"\n  {note}" for note in getattr(err, "__notes__", ()))
         print(f"skfem-cable {args.command}: error: {err}{notes}", file=sys.stderr)
         return 2

@@ -4,6 +4,7 @@ tolerances are refused."""
 
 import numpy as np
 import pytest
+from interrupting import Interrupt, InterruptingLoad
 
 import skfem_cable as sc
 from skfem_cable.bench import largest_position_error
@@ -11,19 +12,14 @@ from skfem_cable.io import RunStore
 from skfem_cable.scenes import classics
 
 
-class Interrupt(Exception):
-    """Stands for Ctrl-C in the middle of a step."""
+def _no_force(t):
+    return [0.0, 0.0, 0.0]
 
 
 def _pendulum(stop_at=None):
     scene = classics.pendulum(n_elements=6, gamma_axial=1e-4)
     if stop_at is not None:
-        def load(t):
-            if t > stop_at:
-                raise Interrupt
-            return [0.0, 0.0, 0.0]
-
-        scene.system.add_point_load(scene.cable.node(-1), load)
+        scene.system.add_point_load(scene.cable.node(-1), InterruptingLoad(_no_force, stop_at))
     return scene
 
 

@@ -4,6 +4,7 @@ import meshio
 import numpy as np
 import pytest
 import pyvista as pv
+from interrupting import Interrupt, InterruptingLoad
 
 import skfem_cable as sc
 from skfem_cable import export
@@ -105,8 +106,8 @@ def test_bad_sampling_is_named():
         sc.rigid.cylinder_surface(1.0, 1.0, resolution=2)
 
 
-class Interrupt(Exception):
-    """Stands for Ctrl-C in the middle of a run."""
+def _sine(t):
+    return [0.0, 0.0, np.sin(20 * t)]
 
 
 def test_simulate_writes_the_series_and_a_restart_continues_it(tmp_path):
@@ -115,13 +116,7 @@ def test_simulate_writes_the_series_and_a_restart_continues_it(tmp_path):
 
     def scene(stop_at=None):
         s = classics.pendulum(n_elements=3)
-
-        def load(t):
-            if stop_at is not None and t > stop_at:
-                raise Interrupt
-            return [0.0, 0.0, np.sin(20 * t)]
-
-        s.system.add_point_load(s.cable.node(-1), load)
+        s.system.add_point_load(s.cable.node(-1), InterruptingLoad(_sine, stop_at))
         return s
 
     kw = dict(t_end=0.1, dt=2e-3, every=5)

@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+from interrupting import Interrupt, InterruptingLoad
 
 import skfem_cable as sc
 from skfem_cable.io import Progress, ProgressBar, RunStore, open_dataset, resume, run_observers
@@ -15,20 +16,14 @@ from skfem_cable.records import ENERGIES, FIELDS
 from skfem_cable.scenes import classics
 
 
-class Interrupt(Exception):
-    """Stands for Ctrl-C / a killed job in the middle of a step."""
+def tip_force(t):
+    return [0.0, 0.0, 2.0 * np.sin(20 * t)]
 
 
 def scene_with_load(stop_at=None):
     """Pendulum with a time-dependent tip load; raises ``Interrupt`` past ``stop_at``."""
     scene = classics.pendulum(n_elements=6, gamma_axial=1e-4)
-
-    def load(t):
-        if stop_at is not None and t > stop_at:
-            raise Interrupt
-        return [0.0, 0.0, 2.0 * np.sin(20 * t)]
-
-    scene.system.add_point_load(scene.cable.node(-1), load)
+    scene.system.add_point_load(scene.cable.node(-1), InterruptingLoad(tip_force, stop_at))
     return scene
 
 

@@ -13,11 +13,13 @@ that a run directory is continued or read back only with the system that wrote i
   a continued run may change.
 
 Parameters are described recursively (numbers exactly, arrays by their bytes, bodies by
-their index in the system, nodes by body and index); a function by its qualified name and
-its byte code.  Values a function captures in a closure or reads from globals are not
-seen: change them and the fingerprint stays the same.  The attributes an object names in
-its ``caches`` (a tuple of names: values derived from the others, memos of the last
-evaluation) are not described: the fingerprint does not depend on what was evaluated.
+their index in the system, nodes by body and index); a function by its qualified name,
+its byte code and constants, its default arguments, the values it closes over (by name)
+and the module globals its code reads (modules by name, functions in turn, to
+``MAX_DEPTH``): a number a callable closes over, changed, changes the fingerprint.  The
+attributes an object names in its ``caches`` (a tuple of names: values derived from the
+others, memos of the last evaluation) are not described: the fingerprint does not depend
+on what was evaluated.
 
 ``check_fingerprint`` compares a run directory's manifest with a system (and settings)
 before it is read or continued.
@@ -43,6 +45,11 @@ from .manifest import StoreMismatch
 #: Settings a continued run may change (not in the fingerprint).
 FREE_SETTINGS = ("t_end", "n_steps")
 
+#: The version of the fingerprints a store records (``fingerprint["version"]``): from 2
+#: on, what functions close over and read from their globals is described; a store of
+#: version 1 (none recorded) is checked as it was written.
+VERSION = 2
+
 #: Depth to which the attributes of parameters are described.
 MAX_DEPTH = 6
 
@@ -54,7 +61,8 @@ _ENTRIES = ("bodies", "constraints", "loads", "point_masses")
 #: Keys of described values that ``differences`` leaves out of a path: the wrappers of
 #: objects, arrays, numbers and functions.
 _WRAPPERS = {"attrs", "parameters", "class", "dtype", "shape", "sha256", "array", "float",
-             "complex", "function", "code", "consts", "names", "varnames", "defaults"}
+             "complex", "function", "code", "consts", "names", "varnames", "defaults",
+             "kwdefaults", "closure", "globals"}
 
 
 def _digest(data):
@@ -98,10 +106,15 @@ def _code(code):
 class _Describer:
     """Turns parameters into canonical JSON values."""
 
-    def __init__(self, system=None):
+    def __init__(self, system=None, parts=False, closures=True):
         bodies = () if system is None else system.bodies
-        self.bodies = {id(b): k for k, b in enumerate(bodies)}
-        self.system = system
+        self.bodies = {id(b): {"body": k} for k, b in enumerate(bodies)}
+        if parts and system is not None:  # the system's other parts, by reference too
+            for key in _ENTRIES[1:]:
+                self.bodies.update({id(x): {key: k} for k, x in enumerate(getattr(system, key))})
+            if system.orbit is not None:
+                self.bodies[id(system.orbit)] = {"orbit": True}
+        self.system, self.closures = system, closures
 
     def __call__(self, obj, depth=0, path=()):
         if obj is None or isinstance(obj, (bool, str)):
@@ -114,8 +127,10 @@ class _Describer:
             return {"complex": [float(obj.real).hex(), float(obj.imag).hex()]}
         if isinstance(obj, np.ndarray):
             return _array(obj)
+        if isinstance(obj, types.ModuleType) and self.closures:  # a global a function reads
+            return {"module": obj.__name__}
         if id(obj) in self.bodies:
-            return {"body": self.bodies[id(obj)]}
+            return self.bodies[id(obj)]
         if obj is not None and obj is self.system:
             return {"system": True}
         if id(obj) in path or depth > MAX_DEPTH:
@@ -135,18 +150,50 @@ class _Describer:
         if isinstance(obj, types.MethodType):
             return {"method": self(obj.__func__, down, path),
                     "self": self(obj.__self__, down, path)}
-        if isinstance(obj, (types.FunctionType, types.BuiltinFunctionType)):
-            out = {"function": _qualname(obj)}
-            if isinstance(obj, types.FunctionType):
-                out.update(_code(obj.__code__))
-                out["defaults"] = self(obj.__defaults__, down, path)
-            return out
+        if isinstance(obj, types.FunctionType):
+            return self._function(obj, down, path)
+        if isinstance(obj, types.BuiltinFunctionType):
+            return {"function": _qualname(obj)}
         if hasattr(obj, "func") and hasattr(obj, "args") and hasattr(obj, "keywords"):
             return {"partial": self(obj.func, down, path), "args": self(obj.args, down, path),
                     "keywords": self(obj.keywords, down, path)}
         if isinstance(obj, type):
             return {"type": _qualname(obj)}
         return {"class": _qualname(type(obj)), "attrs": self(_attributes(obj), down, path)}
+
+    def _function(self, f, depth, path):
+        """A Python function: its code, default arguments, the values it closes over
+        (by their names) and the module globals its code reads (modules by name)."""
+        out = {"function": _qualname(f), **_code(f.__code__),
+               "defaults": self(f.__defaults__, depth, path)}
+        if not self.closures:  # a store of version 1
+            return out
+        if f.__kwdefaults__:
+            out["kwdefaults"] = self(f.__kwdefaults__, depth, path)
+        if f.__closure__:
+            out["closure"] = {name: self(_cell(cell), depth, path)
+                              for name, cell in zip(f.__code__.co_freevars, f.__closure__)}
+        read = sorted(_global_names(f.__code__) & set(f.__globals__))
+        if read:
+            out["globals"] = {name: self(f.__globals__[name], depth, path) for name in read}
+        return out
+
+
+def _cell(cell):
+    """The value of a closure cell (a marker when it is empty)."""
+    try:
+        return cell.cell_contents
+    except ValueError:
+        return "<empty cell>"
+
+
+def _global_names(code):
+    """The names a code object (and the code it defines) may read from its globals."""
+    names = set(code.co_names)
+    for c in code.co_consts:
+        if isinstance(c, types.CodeType):
+            names |= _global_names(c)
+    return names
 
 
 def _attributes(obj):
@@ -186,18 +233,19 @@ def _body(d, body):
     return entry
 
 
-def describe_bodies(system, bodies=None):
+def describe_bodies(system, bodies=None, version=VERSION):
     """The descriptions of ``bodies`` (default: all) of ``system``, as in
-    ``describe_system``'s ``bodies``: what a ``Result`` keeps of what was simulated."""
-    d = _Describer(system)
+    ``describe_system``'s ``bodies`` (fingerprints of ``version``): what a ``Result``
+    keeps of what was simulated."""
+    d = _Describer(system, closures=version >= 2)
     return [_body(d, body) for body in (system.bodies if bodies is None else bodies)]
 
 
-def describe_system(system):
+def describe_system(system, version=VERSION):
     """The canonical description of ``system`` that its fingerprint hashes (a JSON-able
-    dict)."""
-    d = _Describer(system)
-    bodies = describe_bodies(system)
+    dict), as fingerprints of ``version`` describe it."""
+    d = _Describer(system, closures=version >= 2)
+    bodies = describe_bodies(system, version=version)
     M = system.mass_matrix().tocsr()
     M.sort_indices()
     constraints = []
@@ -263,6 +311,23 @@ def _paths(old, new, path=()):
     return [".".join(path).replace(".[", "[") or "another class"]
 
 
+def digest(obj, system):
+    """SHA-256 (hex) of the description of ``obj``, which refers to the parts of
+    ``system`` (its bodies, loads, constraints, point masses and orbit) by their place:
+    what a controller holds besides numbers and arrays (``control``)."""
+    return _hash(_Describer(system, parts=True)(obj))
+
+
+def code_digest(cls, system, stop=()):
+    """SHA-256 (hex) of the functions that ``cls`` and its bases but ``stop`` define
+    (described as parameters are: code, defaults, closures, globals; the parts of
+    ``system`` by reference): what a controller's code is (``control``)."""
+    d = _Describer(system, parts=True)
+    return _hash({f"{klass.__qualname__}.{name}": d(f) for klass in cls.__mro__
+                  if klass not in (*stop, object)
+                  for name, f in vars(klass).items() if callable(f)})
+
+
 def _settings(settings):
     d = _Describer()
     return {k: d(v) for k, v in sorted(settings.items()) if k not in FREE_SETTINGS}
@@ -272,9 +337,14 @@ def _hash(value):
     return _digest(json.dumps(value, sort_keys=True, separators=(",", ":")).encode())
 
 
-def system_fingerprint(system):
-    """SHA-256 (hex) of ``describe_system(system)``."""
-    return _hash(describe_system(system))
+def system_fingerprint(system, version=VERSION):
+    """SHA-256 (hex) of ``describe_system(system, version)``."""
+    return _hash(describe_system(system, version))
+
+
+def stored_version(manifest):
+    """The version of the fingerprints of a store's ``manifest`` (1: recorded none)."""
+    return (manifest.get("fingerprint") or {}).get("version", 1)
 
 
 def settings_fingerprint(settings):
@@ -318,7 +388,7 @@ def check_fingerprint(path, manifest, system, settings=None):
     """Raise ``StoreMismatch`` unless the store of ``path`` (its ``manifest``) was written
     by ``system`` (and with ``settings``, when given)."""
     fp = manifest.get("fingerprint") or {}
-    if fp.get("system") != system_fingerprint(system):
+    if fp.get("system") != system_fingerprint(system, stored_version(manifest)):
         raise StoreMismatch(
             f"{path} was written by another system: stored {manifest.get('system')}; "
             f"given {outline(system)}"

@@ -1,11 +1,12 @@
 """The manifest of a run directory, ``manifest.json``: what the store holds, written
 (atomically) after the data it describes, so that it is the commit record of the store.
 
-Keys: ``format`` and ``version``; ``fingerprint`` (``system``, ``settings``, ``run``: see
-``io.fingerprint``); ``system`` (a readable outline); ``settings`` (``run.settings`` of the
-last session); ``fields`` (the stored variables); ``saved`` (number of committed saved
-steps), ``first``/``last`` (index and time of the first and last of them); ``checkpoint``
-(``file``, ``index``, ``t``, ``sha256``, ``bytes``, or None before the first commit);
+Keys: ``format`` and ``version``; ``fingerprint`` (``system``, ``settings``, ``run``,
+``version``: see ``io.fingerprint``); ``system`` (a readable outline); ``settings``
+(``run.settings`` of the last session); ``fields`` (the stored variables); ``saved``
+(number of committed saved steps), ``first``/``last`` (index and time of the first and
+last of them); ``checkpoint`` (``file``, ``index``, ``t``, ``sha256``, ``bytes``, or None
+before the first commit);
 ``status`` (``running``, ``complete``, ``stopped``, ``interrupted``, ``failed``) with a
 ``message``; ``attrs`` (scene parameters); ``commits`` and ``updated``.
 
@@ -89,9 +90,10 @@ def read_manifest(run_dir):
     try:
         manifest = json.loads(text)
     except json.JSONDecodeError as err:
+        end = len(text.rstrip())  # the text ends before the JSON does: truncated
         damage = ("empty" if not text.strip() else
                   f"truncated (its {len(text)} characters end inside the JSON)"
-                  if not text.rstrip().endswith("}") else "not valid JSON")
+                  if err.pos >= end or not text.rstrip().endswith("}") else "not valid JSON")
         raise StoreCorrupt(f"{path} is corrupt: {damage} ({err}); {_RESTORE}", path) from err
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise StoreCorrupt(f"{path} is not the manifest of a skfem_cable run store", path)

@@ -31,7 +31,13 @@ from ..contract import Observer
 from ..records import FIELDS, settings_array, step_record
 from ..result import Result
 from . import lock, signals
-from .fingerprint import check_fingerprint, outline, settings_fingerprint, system_fingerprint
+from .fingerprint import (
+    VERSION,
+    check_fingerprint,
+    outline,
+    settings_fingerprint,
+    system_fingerprint,
+)
 from .jsonable import jsonable
 from .legacy import LEGACY_CHECKPOINT, LEGACY_CHUNKS, LEGACY_RESUME, is_legacy
 from .manifest import MANIFEST, RunExists, StoreCorrupt, StoreError, read_manifest, write_manifest
@@ -287,7 +293,7 @@ class RunStore(Observer):
         self.path.mkdir(parents=True, exist_ok=True)
         self.variables = variables(run.system, self.fields)
         fp = {"system": system_fingerprint(run.system),
-              "settings": settings_fingerprint(run.settings)}
+              "settings": settings_fingerprint(run.settings), "version": VERSION}
         fp["run"] = hashlib.sha256((fp["system"] + fp["settings"]).encode()).hexdigest()
         settings = jsonable(run.settings)
         if run.resumed:

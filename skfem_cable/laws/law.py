@@ -158,8 +158,8 @@ class CableLaw:
         or callables of time ``f(t)`` (a stiffness that softens, a damping switched on),
         which a time integration refreshes once per step (at the step's end time) and
         whose change of the stored energy it books as external work (``varying``).  A
-        run store's fingerprint sees a callable's code and default arguments, not what it
-        closes over: give such values as defaults (``lambda t, k=k: ...``).
+        run store's fingerprint sees a callable's code, its default arguments, what it
+        closes over and the numbers it reads from its module (``io.fingerprint``).
 
         Examples
         --------

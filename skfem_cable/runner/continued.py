@@ -6,7 +6,7 @@ import json
 
 from ..io import StoreMismatch
 from ..io import resume as resume_run
-from ..io.fingerprint import check_fingerprint, system_fingerprint
+from ..io.fingerprint import check_fingerprint, stored_version, system_fingerprint
 from ..io.jsonable import jsonable
 from ..io.manifest import read_manifest
 
@@ -76,7 +76,8 @@ def _check_scene(out, manifest, system, parameters):
         check_fingerprint(out, manifest, system)
         return
     listed = "; ".join(f"{k}: stored {stored[k]!r}, given {given.get(k)!r}" for k in differ)
-    same = (manifest.get("fingerprint") or {}).get("system") == system_fingerprint(system)
+    same = (manifest.get("fingerprint") or {}).get("system") \
+        == system_fingerprint(system, stored_version(manifest))
     raise StoreMismatch(f"{out} was " + ("run with other scene parameters" if same else
                                          "written by another system: its parameters differ")
                         + f" ({listed}): continue it with the scene and options it was "

@@ -10,6 +10,7 @@ import importlib
 import importlib.util
 from pathlib import Path
 
+from ..control import check_controller
 from .schema import text
 
 
@@ -24,10 +25,10 @@ def read_controllers(root, system):
             controller = function(system, **parameters)
         except Exception as err:
             t.fail("callable", f"{target} failed: {type(err).__name__}: {err}")
-        if not callable(getattr(controller, "update", None)) \
-                or not hasattr(controller, "sample_time"):
-            t.fail("callable", f"{target} must return a Controller (update(t, state), "
-                   f"sample_time), got {type(controller).__name__}")
+        try:
+            check_controller(controller)
+        except (TypeError, ValueError) as err:
+            t.fail("callable", f"{target}: {err}")
         t.finish()
         controllers.append(controller)
     return controllers
@@ -49,5 +50,5 @@ def _load(t, target):
         else:
             module = importlib.import_module(where)
         return getattr(module, name)
-    except (ImportError, FileNotFoundError, AttributeError, OSError) as err:
+    except Exception as err:  # a file that does not import: its error, not a traceback
         t.fail("callable", f"cannot be loaded ({type(err).__name__}: {err})", target)

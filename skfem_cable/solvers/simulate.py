@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from ..contract import Observer, Run, Step
-from ..control import ControlLoop
+from ..control import ControlLoop, check_resumed
 from ..inputs import system_inputs
 from ..kernels import compile_log
 from ..observing import Observers
@@ -228,8 +228,10 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         hold its outputs from ``t + delay`` on.  With fixed steps, sample times and
         delays are multiples of ``dt``; adaptive steps end on them.  At ``t_start`` the
         first outputs apply before the run's consistent initial state is solved.  The
-        held inputs, the controllers' ``memory`` and the delayed outputs are in the
-        checkpoints: a controlled run continues bit for bit.
+        held inputs, the controllers' ``memory`` and attributes of numbers and arrays and
+        the delayed outputs are in the checkpoints: a controlled run continues bit for
+        bit, or is refused naming the controller and what a checkpoint cannot hold or
+        what differs from the run's start (``control``).
 
     Returns
     -------
@@ -295,6 +297,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
                            settings_array(settings)[_MATCH]):
             raise ValueError("resume: t_start, dt, rho_inf, every, tol and max_iter must "
                              "match the interrupted run")
+        check_resumed(controllers, snap)
         for hook in hooks:
             hook.restore(snap)
         integ.restore(snap)
