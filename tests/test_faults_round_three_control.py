@@ -19,6 +19,7 @@ import sys
 
 import numpy as np
 import pytest
+from test_control import SCENE  # the held pendulum's scene file
 
 import skfem_cable as sc
 from skfem_cable import cli, io
@@ -133,41 +134,6 @@ def test_state_a_checkpoint_cannot_hold_refuses_the_continuation(tmp_path):
 # ===========================================================================================
 # Item 7: changed controllers and closed-over numbers
 # ===========================================================================================
-SCENE = """
-title = "held pendulum"
-
-[sections.steel]
-radius = 1e-3
-E = 2e11
-rho = 7850.0
-
-[[cables]]
-name = "cable"
-section = "steel"
-start = [0, 0, 0]
-end = [1, 0, 0]
-elements = 4
-
-[[constraints]]
-type = "pin"
-node = { cable = "cable", index = 0 }
-
-[loads]
-gravity = [0, -9.81, 0]
-
-[[loads.point]]
-at = { cable = "cable", index = -1 }
-force = { input = "push", value = [0.0, 0.0, 0.0] }
-
-[[controllers]]
-callable = "hold.py:make"
-parameters = { target = 0.0 }
-
-[solver]
-t_end = 0.1
-dt = 1e-3
-every = 5
-"""
 
 CONTROLLER = '''
 import skfem_cable as sc

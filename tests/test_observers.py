@@ -188,7 +188,7 @@ def test_simulate_module_does_no_io():
             imported.setdefault(module, set()).update(a.name for a in node.names)
     assert set(imported) <= {"contextlib", "numbers", "time", "numpy", "..contract", "..result",
                              "..records", "..observing", ".galpha", ".rectify", "..control",
-                             "..inputs", "..kernels"}, imported
+                             "..section", "..inputs", "..kernels"}, imported
     assert imported.get("..kernels", set()) <= {"compile_log"}  # its clock, no output
     assert imported[".galpha"] <= {"GeneralizedAlpha", "galpha_parameters"}
     assert imported["..result"] <= {"Result"}
