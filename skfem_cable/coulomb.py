@@ -101,6 +101,13 @@ class SunAtFocus:
     def __call__(self, t):
         return -self.orbit.position(t)
 
+    def seen_from(self, reference):
+        """The Sun as seen in the coordinates of a run whose ``reference`` (an
+        ``orbit.Reference``: the orbit and the rectification's rebases) is this orbit's;
+        this one otherwise."""
+        return SunAtFocus(reference) if getattr(reference, "orbit", None) is self.orbit \
+            else self
+
 
 class _Component:
     """Voltage ``k`` of a callable returning the voltages of all the cables."""
@@ -199,15 +206,25 @@ class SolarWindForce:
                              f"{float(out[k])}: it must be finite and >= 0 V")
         return out
 
-    def sun_at(self, t):
-        """The Sun's position (3,) in the system's coordinates at time ``t``."""
-        return np.asarray(self.sun(t) if callable(self.sun) else self.sun, dtype=float)
+    def sun_source(self, reference=None):
+        """The Sun's position, fixed or a function of time, in the coordinates of a run
+        of ``reference`` (``orbit.Reference``, e.g. ``Result.reference``: a position with
+        ``seen_from``, as ``SunAtFocus``, follows its rebases; None: as given)."""
+        seen_from = getattr(self.sun, "seen_from", None)
+        return self.sun if seen_from is None else seen_from(reference)
 
-    def line_force(self, r, a, coef, t):
+    def sun_at(self, t, reference=None):
+        """The Sun's position (3,) in the system's coordinates at time ``t`` (of the run
+        of ``reference``: ``sun_source``)."""
+        sun = self.sun_source(reference)
+        return np.asarray(sun(t) if callable(sun) else sun, dtype=float)
+
+    def line_force(self, r, a, coef, t, reference=None):
         """Force per unit length (N/m) at points ``r`` (..., 3) of slopes ``a`` (..., 3)
-        with the coefficients ``coef`` (...) of ``coefficients`` at time ``t``:
+        with the coefficients ``coef`` (...) of ``coefficients`` at time ``t`` (in the
+        coordinates of the run of ``reference``, ``sun_at``):
         ``coef (AU / rho)^p (i_R - (t . i_R) t)`` (Eqs. 29-32, as the kernel)."""
-        rel = r - self.sun_at(t)
+        rel = r - self.sun_at(t, reference)
         rho = np.linalg.norm(rel, axis=-1, keepdims=True)
         i_R = rel / rho
         tangent = a / np.linalg.norm(a, axis=-1, keepdims=True)
@@ -223,17 +240,22 @@ class SolarWindForce:
     #: force per unit material length acts on the stretched mesh.
     stretches = True
 
-    def bind(self, system):
+    #: Bound with the run's reference in orbit (``bind(system, reference)``): a Sun
+    #: position with ``seen_from`` (``SunAtFocus``) follows the run's rebases.
+    reads_reference = True
+
+    def bind(self, system, reference=None):
         """The compiled term (``kernels.coulomb.kernel``, its ``kernel_parallel`` on more
         than one thread, ``linalg.thread_count``); a time-modulated voltage, a
         deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
         length) or a moving Sun refreshes, once per time step (``Term.prepare``), only
-        what moves: the per-element coefficients or the Sun's position."""
+        what moves: the per-element coefficients or the Sun's position (seen from the
+        run's ``reference`` when the position has ``seen_from``, as ``SunAtFocus``)."""
         edofs = np.ascontiguousarray(np.concatenate(
             [c.global_element_dofs(system) for c in self.cables]))
         coef = np.array(self.coefficients(0.0), dtype=float)
         sun = self.sun_at(0.0).copy()
-        refresh = self._refreshers(system, coef, sun)
+        refresh = self._refreshers(system, coef, sun, self.sun_source(reference))
 
         def prepare(t):
             for part in refresh:
@@ -246,10 +268,10 @@ class SolarWindForce:
                     cols=edofs[:, None, :], name="solar wind",
                     prepare=prepare if refresh else None)
 
-    def _refreshers(self, system, coef, sun):
+    def _refreshers(self, system, coef, sun, source):
         """The functions of ``t`` refreshing, in place, the coefficients ``coef`` (with a
         voltage callable or a deploying tether) and the Sun's position ``sun`` (a
-        callable ``sun_position``)."""
+        callable ``sun_position``, evaluated as ``source``)."""
         deploying = [system.deployment(c) is not None for c in self.cables]
         for cable, deploys in zip(self.cables, deploying):
             if deploys and system.deployment(cable).reel is not None:
@@ -263,7 +285,7 @@ class SolarWindForce:
                 coef[:] *= stretch[self.cable_of_element]
 
         def sun_position(t):
-            sun[:] = self.sun(t)
+            sun[:] = source(t)
 
         moving = any(callable(v) for v in self.voltage) or any(deploying)
         return [part for part, needed in ((coefficients, moving),

@@ -257,15 +257,19 @@ class ElectrodynamicForce(AlongCable):
                              f"(one field vector per point, T), got shape {B.shape}")
         return B
 
-    def bind(self, system):
-        """The load's term: compiled (``kernels.electrodynamic.kernel``) for a uniform or
-        dipole field, a Python ``add`` for a callable field."""
-        return self._bind(system)[0]
+    #: Bound with the run's reference in orbit (``bind(system, reference)``).
+    reads_reference = True
 
-    def _bind(self, system):
+    def bind(self, system, reference=None):
+        """The load's term: compiled (``kernels.electrodynamic.kernel``) for a uniform or
+        dipole field, a Python ``add`` for a callable field; in orbit about the reference
+        point of ``reference`` (the run's ``Reference``; None: the orbit as given)."""
+        return self._bind(system, reference)[0]
+
+    def _bind(self, system, reference=None):
         """``(term, out)``: the term and the array ``[I, E]`` its evaluations write."""
         c = self.cable
-        orbit = system.orbit
+        orbit = system.orbit if reference is None else reference
         edofs = np.ascontiguousarray(c.global_element_dofs(system))
         ne, nq = c.weights.shape
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
@@ -299,12 +303,14 @@ class ElectrodynamicForce(AlongCable):
 
         return Term(add=add, rows=rows, cols=cols, name=name), out
 
-    def evaluate(self, system, q, v=None, t=0.0):
+    def evaluate(self, system, q, v=None, t=0.0, reference=None):
         """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
         current), the electrical power ``I E`` (W) and the total force (N, (3,)) on the
         cable at the coordinates ``q`` and velocities ``v`` (None: at rest relative to the
         reference point) of ``system`` at time ``t``: a dict with keys ``current``,
-        ``emf``, ``power``, ``force``.
+        ``emf``, ``power``, ``force``.  In orbit the offsets are taken from the reference
+        point of ``reference`` (a run's, ``Result.reference``, with its rebases; None:
+        the orbit as given).
 
         ``power = I E`` is what the motional EMF gives the circuit: positive when the
         tether generates (a short circuit: ``E^2 / R_c``, a brake), negative when a supply
@@ -314,7 +320,7 @@ class ElectrodynamicForce(AlongCable):
         The total force is the sum of the generalized forces on the cable's position
         coordinates (the Hermite position functions sum to one): ``int f dx``.
         """
-        term, out = self._bind(system)
+        term, out = self._bind(system, reference)
         ev = Evaluation(system, t, np.asarray(q, dtype=float),
                         None if v is None else np.asarray(v, dtype=float),
                         np.zeros(system.n_constraints))

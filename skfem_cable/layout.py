@@ -9,6 +9,7 @@ import scipy.sparse as sp
 from .contract import NO_DATA, NO_INDEX, merge_terms
 from .io.fingerprint import describe_system
 from .linalg import FastCSR
+from .orbit import Reference
 
 
 class Pattern:
@@ -70,6 +71,13 @@ class Layout:
     description : dict
         ``io.fingerprint.describe_system`` of the system once bound: a later one that
         differs means the system was edited (``System.current_layout``).
+    reference : Reference or None
+        The reference of the runs on this binding, in orbit (``orbit.Reference``, made
+        from ``System.orbit``; None otherwise): the terms that read ``R(t)``, ``V(t)``
+        hold it (a load declaring ``reads_reference`` is bound with
+        ``bind(system, reference)``), each run sets its rebases (``simulate``: none at a
+        fresh start, the checkpoint's when resumed) and the rectification rebases it;
+        the user's ``Orbit`` stays as given.
     """
 
     def __init__(self, system):
@@ -77,7 +85,9 @@ class Layout:
         n = system.n_dofs
         pattern = Pattern()
         bodies = merge_terms([t for t in (b.bind(system) for b in system.bodies) if t])
-        loads = [load.bind(system) for load in system.loads]
+        orbit = getattr(system, "orbit", None)
+        self.reference = None if orbit is None else Reference(orbit)
+        loads = [self._bind(load, system) for load in system.loads]
         body_blocks = [self._block(pattern, t) for t in bodies]
         load_blocks = [self._block(pattern, t) for t in loads]
         M = self._with_loads_mass(system.mass_matrix(), loads).tocoo()
@@ -106,6 +116,13 @@ class Layout:
         self.f_const = self._constant_force(system, loads)
         self._scales(system)
         self.description = describe_system(system)
+
+    def _bind(self, load, system):
+        """``load``'s term; a load declaring ``reads_reference`` (it reads the reference
+        point's motion ``R(t)``, ``V(t)``) gets the runs' ``reference`` too."""
+        if getattr(load, "reads_reference", False):
+            return load.bind(system, self.reference)
+        return load.bind(system)
 
     @staticmethod
     def _block(pattern, term):

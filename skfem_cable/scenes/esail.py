@@ -153,13 +153,15 @@ class ESailScene:
     orbit: Orbit | None = None
     options: dict = field(default_factory=dict)
 
-    def heliocentric(self, t):
+    def heliocentric(self, t, reference=None):
         """Heliocentric position (m) of the origin of the system's coordinates at times
-        ``t`` (nt,): ``R0`` fixed, or the orbit's reference point ``R(t)``; (nt, 3)."""
+        ``t`` (nt,): ``R0`` fixed, or the reference point ``R(t)`` of the run's
+        ``reference`` (``Result.reference``: the orbit and its rebases; None: the orbit as
+        given); (nt, 3)."""
         t = np.asarray(t, dtype=float)
         if self.orbit is None:
             return np.broadcast_to(self.R0, t.shape + (3,))
-        return self.orbit.position(t)
+        return (self.orbit if reference is None else reference).position(t)
 
 
 def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass, omega):
@@ -353,7 +355,7 @@ def outputs(scene, result):
     d = result.q[:, system.dofs(hub)]
     C_I_B = hub.rotation(d)
     origin = hub.positions(d, np.zeros(3))
-    C_I_O = orbit_frame(scene.heliocentric(result.t) + origin)
+    C_I_O = orbit_frame(scene.heliocentric(result.t, result.reference) + origin)
     out = {"t": result.t}
     rho_Z, tau_Z, ratio = [], [], []
     for zeta, cable in zip(scene.zeta, scene.tethers):
@@ -454,7 +456,8 @@ def _resultants(scene, result, C_I_B, inputs):
             qe = cable.element_vectors(qc)
             r = np.einsum("egA,eAi->egi", cable.S, qe)
             a = np.einsum("egA,eAi->egi", cable.Sx, qe)
-            f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t)
+            f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t,
+                              result.reference)
             start += cable.n_elements
             fw = f * cable.weights[..., None]
             force[k, i] = fw.sum(axis=(0, 1))

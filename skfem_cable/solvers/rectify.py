@@ -10,7 +10,8 @@ paper, Sect. 2).  After every step, when the offset ``x`` of the centre of mass 
 ``tolerance |R|`` or its velocity ``u`` exceeds ``tolerance |V|`` (``|R|`` and ``|V|``
 taken at their smallest on the arc in force: periapsis distance, apoapsis speed), the
 reference becomes
-the orbit through ``R + x, V + u`` from that time on (``Orbit.rebase``: Battin,
+the orbit through ``R + x, V + u`` from that time on (``orbit.Reference.rebase`` of the
+run's reference, never the user's ``Orbit``: Battin,
 *An Introduction to the Mathematics and Methods of Astrodynamics*, AIAA 1999, on
 Encke's method), and every position coordinate moves by ``-(R_new(t) - R(t))``, every
 velocity of a position by ``-(V_new(t) - V(t))`` and every acceleration of a position by
@@ -59,10 +60,12 @@ class Rectification:
         beyond which the reference is re-based, > 0.
     t : float
         The run's start time (s): where the constraints are checked.
+    reference : orbit.Reference
+        The run's reference (``Layout.reference``), which the rebases extend.
     """
 
-    def __init__(self, system, tolerance, t):
-        self.orbit, self.tolerance = system.orbit, float(tolerance)
+    def __init__(self, system, tolerance, t, reference):
+        self.orbit, self.tolerance = reference, float(tolerance)
         self.gravity = system.orbit_gravity
         n = system.n_dofs
         self.positions = system.vectors[system.vector_is_position]  # (k, 3) coordinates
@@ -99,11 +102,11 @@ class Rectification:
         return np.inf
 
     def snapshot(self):
-        """The rebases so far, for a checkpoint (``Orbit.rebases``)."""
+        """The rebases so far, for a checkpoint (``Reference.rebases``)."""
         return {"orbit_rebases": self.orbit.rebases}
 
     def restore(self, snap):
-        """The rebases of a checkpoint back on the orbit."""
+        """The rebases of a checkpoint back on the run's reference."""
         self.orbit.restore(snap.get("orbit_rebases"))
         self._bounds(float(snap["t"]))
 

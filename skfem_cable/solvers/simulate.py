@@ -130,16 +130,26 @@ def _stats(integ, clock, stopped=None):
     return stats
 
 
+def _reference(integ):
+    """A copy of the run's reference (in orbit; else None) for its ``Result``: the
+    orbit and the rebases so far, left alone by a later run on the same system."""
+    reference = integ.lay.reference
+    return None if reference is None else reference.copy()
+
+
 def _step_hooks(system, integ, settings, rectify, controllers, inputs, t_start, dt):
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
     loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
-    counters; a fresh run of a system in orbit starts on the orbit as given."""
+    counters; a run of a system in orbit starts on the orbit as given (its reference,
+    ``Layout.reference``, without rebases; a resumed run then takes its checkpoint's)."""
     hooks = []
-    if system.orbit is not None:
+    reference = integ.lay.reference
+    if reference is not None:
         settings["rectify"] = rectify
-        system.orbit.restore()
-        rectifier = None if rectify is None else Rectification(system, rectify, t_start)
+        reference.restore()
+        rectifier = None if rectify is None else Rectification(system, rectify, t_start,
+                                                                reference)
         integ.stats.update(rectifications=0, rectification="none" if rectifier is None
                            else rectifier.reason or "on")
         if rectifier is not None and rectifier.reason is None:
@@ -220,8 +230,10 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         that leaves the centre of mass further than ``rectify |R|`` from the reference
         point, or faster than ``rectify |V|`` relative to it; None: never.  Off (and
         said in ``stats["rectification"]``) when a constraint ties the system to the
-        reference point.  A fresh run starts on the orbit as given, dropping the
-        rebases of an earlier run; a continued one takes them from its checkpoint.
+        reference point.  The rebases are the run's (``orbit.Reference``, in its
+        checkpoints and its ``Result.reference``): the system's ``Orbit`` stays as
+        given, every fresh run starts on it, a continued one takes the rebases from its
+        checkpoint.
     controllers : sequence of control.Controller
         Closed-loop control (``control``): each controller's ``update(t, state)`` is
         called at ``t_start + k sample_time`` and the inputs (``inputs.Input``) it names
@@ -317,7 +329,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
     watch = Observers(run, [recorder, *(observers or ())],
                       lambda: Result(system, recorder.arrays(), _stats(integ, clock),
-                                     integ.lay.description))
+                                     integ.lay.description, _reference(integ)))
     clock.start()
 
     def save(index):
@@ -355,4 +367,4 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         system.check_unchanged(integ.lay, "during the run")  # an observer's edit: refused
         run.stop_reason = stop
     return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason),
-                  integ.lay.description)
+                  integ.lay.description, _reference(integ))
