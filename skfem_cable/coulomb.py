@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .contract import Term
+from .inputs import declared, reader
 from .kernels import coulomb as kernel
 from .linalg import thread_count
 from .orbit import AU
@@ -118,6 +119,14 @@ class _Component:
     def __call__(self, t):
         return float(np.asarray(self.source(t))[self.k])
 
+    def inputs(self):
+        """The inputs the source reads (``inputs.declared``)."""
+        return declared(self.source)
+
+    def reading(self, table):
+        """Voltage ``k`` of the source as the run of ``table`` reads it."""
+        return _Component(reader(self.source, table), self.k)
+
 
 class SolarWindForce:
     """Coulomb drag of the solar wind on a set of cables, a load for ``System.add_load``.
@@ -188,12 +197,24 @@ class SolarWindForce:
         self.w = np.ascontiguousarray(np.concatenate([c.weights for c in self.cables]))
         self.voltages(0.0)  # a bad voltage callable fails now, not mid-run
 
-    def voltages(self, t):
-        """Tether voltages (V) at time ``t``; a voltage callable returning a negative or
-        non-finite value is an error naming the tether (this model has one polarity:
-        a positive tether repels the solar-wind protons)."""
-        if isinstance(self.voltage[0], _Component):
-            out = np.asarray(self.voltage[0].source(t), dtype=float)
+    def inputs(self):
+        """The inputs the voltages read (``inputs.declared``)."""
+        return declared(*self.voltage)
+
+    def sources(self, table=None):
+        """The voltages (numbers and functions of time) as the run of ``table`` (an
+        ``inputs.InputTable``) reads them; None: as given (inputs at their initial
+        values)."""
+        return [reader(v, table) for v in self.voltage]
+
+    def voltages(self, t, sources=None):
+        """Tether voltages (V) at time ``t`` (of ``sources``, default the voltages as
+        given); a voltage callable returning a negative or non-finite value is an error
+        naming the tether (this model has one polarity: a positive tether repels the
+        solar-wind protons)."""
+        voltage = self.voltage if sources is None else sources
+        if isinstance(voltage[0], _Component):
+            out = np.asarray(voltage[0].source(t), dtype=float)
             if out.shape != (len(self.cables),):
                 raise ValueError(f"voltage(t) must return {len(self.cables)} voltages, one "
                                  f"per cable, got shape {out.shape}")
@@ -231,9 +252,11 @@ class SolarWindForce:
         u_perp = i_R - np.sum(tangent * i_R, axis=-1, keepdims=True) * tangent
         return (coef[..., None] * (self.scaling[0] / rho) ** self.scaling[1]) * u_perp
 
-    def coefficients(self, t):
-        """Force per unit length on a perpendicular tether at 1 AU, per element (N/m)."""
-        per_cable = np.array([self.wind.force_per_length(V) for V in self.voltages(t)])
+    def coefficients(self, t, sources=None):
+        """Force per unit length on a perpendicular tether at 1 AU, per element (N/m), of
+        the voltages of ``sources`` (``voltages``)."""
+        per_cable = np.array([self.wind.force_per_length(V)
+                              for V in self.voltages(t, sources)])
         return per_cable[self.cable_of_element]
 
     #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
@@ -244,18 +267,21 @@ class SolarWindForce:
     #: position with ``seen_from`` (``SunAtFocus``) follows the run's rebases.
     reads_reference = True
 
-    def bind(self, system, reference=None):
+    def bind(self, system, reference=None, inputs=None):
         """The compiled term (``kernels.coulomb.kernel``, its ``kernel_parallel`` on more
         than one thread, ``linalg.thread_count``); a time-modulated voltage, a
         deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
         length) or a moving Sun refreshes, once per time step (``Term.prepare``), only
         what moves: the per-element coefficients or the Sun's position (seen from the
-        run's ``reference`` when the position has ``seen_from``, as ``SunAtFocus``)."""
+        run's ``reference`` when the position has ``seen_from``, as ``SunAtFocus``); the
+        voltages read the run's values of their inputs (``inputs``: the run's
+        ``InputTable``)."""
         edofs = np.ascontiguousarray(np.concatenate(
             [c.global_element_dofs(system) for c in self.cables]))
         coef = np.array(self.coefficients(0.0), dtype=float)
         sun = self.sun_at(0.0).copy()
-        refresh = self._refreshers(system, coef, sun, self.sun_source(reference))
+        refresh = self._refreshers(system, coef, sun, self.sun_source(reference),
+                                   self.sources(inputs))
 
         def prepare(t):
             for part in refresh:
@@ -268,10 +294,10 @@ class SolarWindForce:
                     cols=edofs[:, None, :], name="solar wind",
                     prepare=prepare if refresh else None)
 
-    def _refreshers(self, system, coef, sun, source):
+    def _refreshers(self, system, coef, sun, source, voltages):
         """The functions of ``t`` refreshing, in place, the coefficients ``coef`` (with a
-        voltage callable or a deploying tether) and the Sun's position ``sun`` (a
-        callable ``sun_position``, evaluated as ``source``)."""
+        voltage callable or a deploying tether; of the ``voltages`` sources) and the
+        Sun's position ``sun`` (a callable ``sun_position``, evaluated as ``source``)."""
         deploying = [system.deployment(c) is not None for c in self.cables]
         for cable, deploys in zip(self.cables, deploying):
             if deploys and system.deployment(cable).reel is not None:
@@ -279,7 +305,7 @@ class SolarWindForce:
                                  "the solar wind supports prescribed lengths only")
 
         def coefficients(t):
-            coef[:] = self.coefficients(t)
+            coef[:] = self.coefficients(t, voltages)
             if any(deploying):
                 stretch = np.array([system.stretch(c, t) for c in self.cables])
                 coef[:] *= stretch[self.cable_of_element]

@@ -35,6 +35,7 @@ References
 import numpy as np
 
 from .contract import Evaluation, Term
+from .inputs import declared, reader
 from .kernels import electrodynamic as kernel
 from .loads import AlongCable, vector3
 from .orbit import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
@@ -225,6 +226,7 @@ class ElectrodynamicForce(AlongCable):
         self.cable = cable
         self.drive = _drive(current, resistance)
         self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
+        self.circuit = (current, resistance)  # for the run's drive (``_bind``)
         self.plasma_rotation = (None if plasma_rotation is None
                                 else vector3(plasma_rotation, "plasma_rotation"))
         if callable(getattr(field, "sources", None)):
@@ -260,15 +262,24 @@ class ElectrodynamicForce(AlongCable):
     #: Bound with the run's reference in orbit (``bind(system, reference)``).
     reads_reference = True
 
-    def bind(self, system, reference=None):
+    def inputs(self):
+        """The inputs the current reads (``inputs.declared``)."""
+        return declared(self.circuit[0])
+
+    def bind(self, system, reference=None, inputs=None):
         """The load's term: compiled (``kernels.electrodynamic.kernel``) for a uniform or
         dipole field, a Python ``add`` for a callable field; in orbit about the reference
-        point of ``reference`` (the run's ``Reference``; None: the orbit as given)."""
-        return self._bind(system, reference)[0]
+        point of ``reference`` (the run's ``Reference``; None: the orbit as given); the
+        current reads the run's values of its inputs (``inputs``: the run's
+        ``InputTable``)."""
+        return self._bind(system, reference, inputs)[0]
 
-    def _bind(self, system, reference=None):
+    def _bind(self, system, reference=None, inputs=None):
         """``(term, out)``: the term and the array ``[I, E]`` its evaluations write."""
         c = self.cable
+        current, resistance = self.circuit
+        run_drive = self.drive if inputs is None else _drive(reader(current, inputs),
+                                                             resistance)
         orbit = system.orbit if reference is None else reference
         edofs = np.ascontiguousarray(c.global_element_dofs(system))
         ne, nq = c.weights.shape
@@ -280,7 +291,7 @@ class ElectrodynamicForce(AlongCable):
         def prepare(t):
             if orbit is not None:
                 motion[0], motion[1] = orbit.position(t), orbit.velocity(t)
-            drive[:] = self.drive(t)
+            drive[:] = run_drive(t)
             if self.compiled is not None:
                 source[:] = self.compiled.sources(t)
 

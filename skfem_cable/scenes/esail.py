@@ -25,7 +25,7 @@ from scipy.spatial.transform import Rotation
 from ..cable import Cable
 from ..coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce, SunAtFocus
 from ..frames import R1, dcm_321, euler_321, euler_323, orbit_frame
-from ..inputs import system_inputs
+from ..inputs import InputTable, system_inputs
 from ..orbit import MU_SUN, Orbit
 from ..rigid import RigidBody
 from ..runner.directory import register_files
@@ -431,25 +431,21 @@ def _coulomb_resultants(scene, result, C_I_B):
         raise ValueError(f"outputs: the result holds no history of the inputs "
                          f"{', '.join(map(repr, missing))} (set by controllers): the "
                          "Coulomb force of past saved steps cannot be recomputed")
-    held = {name: x.value for name, x in inputs.items()}
-    try:
-        return _resultants(scene, result, C_I_B, inputs)
-    finally:
-        for name, x in inputs.items():
-            x.value = held[name]
+    return _resultants(scene, result, C_I_B, InputTable(inputs))
 
 
-def _resultants(scene, result, C_I_B, inputs):
-    """``_coulomb_resultants`` with the ``inputs`` set, at each saved step, to the values
-    the result recorded."""
+def _resultants(scene, result, C_I_B, table):
+    """``_coulomb_resultants`` with the inputs of ``table`` (an ``inputs.InputTable``)
+    set, at each saved step, to the values the result recorded."""
     wf, system = scene.wind_force, scene.system
+    sources = wf.sources(table)
     nt, p = len(result.t), len(scene.tethers)
     force = np.zeros((nt, p, 3))
     moment = np.zeros((nt, p, 3))
     for k, t in enumerate(result.t):
-        for name, x in inputs.items():
-            x.value = result.inputs[name][k]
-        coef = wf.coefficients(t)
+        for name in table.values:
+            table.set(name, result.inputs[name][k])
+        coef = wf.coefficients(t, sources)
         start = 0
         for i, cable in enumerate(scene.tethers):
             qc = result.q[k, system.dofs(cable)]

@@ -23,7 +23,6 @@ import numpy as np
 
 from ..contract import Observer, Run, Step
 from ..control import ControlLoop, check_resumed
-from ..inputs import system_inputs
 from ..kernels import compile_log
 from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
@@ -137,13 +136,15 @@ def _reference(integ):
     return None if reference is None else reference.copy()
 
 
-def _step_hooks(system, integ, settings, rectify, controllers, inputs, t_start, dt):
+def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
     loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
-    counters; a run of a system in orbit starts on the orbit as given (its reference,
-    ``Layout.reference``, without rebases; a resumed run then takes its checkpoint's)."""
+    counters.  A run starts from the model as given: the inputs at their initial values
+    (``Layout.inputs``), in orbit the reference without rebases (``Layout.reference``);
+    a resumed run then takes its checkpoint's (the hooks' ``restore``)."""
     hooks = []
+    integ.lay.inputs.reset()
     reference = integ.lay.reference
     if reference is not None:
         settings["rectify"] = rectify
@@ -155,7 +156,7 @@ def _step_hooks(system, integ, settings, rectify, controllers, inputs, t_start, 
         if rectifier is not None and rectifier.reason is None:
             hooks.append(rectifier)
     if controllers:
-        hooks.append(ControlLoop(system, controllers, t_start, dt, inputs))
+        hooks.append(ControlLoop(system, controllers, t_start, dt, integ.lay.inputs))
         settings["controllers"] = [f"{c.name}: every {c.sample_time:g} s, delay "
                                    f"{getattr(c, 'delay', 0.0):g} s" for c in controllers]
         integ.stats["control_updates"] = 0
@@ -300,8 +301,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings["initial_acceleration"] = initial_acceleration
     if pseudo_acceleration != "fitted":
         settings["pseudo_acceleration"] = pseudo_acceleration
-    inputs = system_inputs(system)
-    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers, inputs,
+    inputs = integ.lay.inputs  # the run's values of the inputs
+    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers,
                                       t_start, None if adaptive else dt)
     if resume is not None:
         snap = resume.snapshot
@@ -319,8 +320,6 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         recorder = _Recorder(system, resume.records)
     else:
         q, v = _initial_arrays(system, initial)
-        for x in inputs.values():  # a fresh run starts from the inputs' initial values
-            x.reset()
         integ.initialize(q, v, t_start)
         for hook in hooks:
             hook.start(integ)
@@ -335,8 +334,7 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     def save(index):
         """Hand the current state to every observer; returns a stop message or None."""
         return watch.saved(Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam,
-                                integ.iterations, integ.energies(),
-                                {name: x.value for name, x in inputs.items()}))
+                                integ.iterations, integ.energies(), inputs.snapshot()))
 
     def fixed_steps(i, stop):
         while stop is None and i < n_steps:
