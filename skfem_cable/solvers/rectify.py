@@ -65,7 +65,7 @@ class Rectification:
     """
 
     def __init__(self, system, tolerance, t, reference):
-        self.orbit, self.tolerance = reference, float(tolerance)
+        self.reference, self.tolerance = reference, float(tolerance)
         self.gravity = system.orbit_gravity
         n = system.n_dofs
         self.positions = system.vectors[system.vector_is_position]  # (k, 3) coordinates
@@ -75,14 +75,14 @@ class Rectification:
             unit[i, self.positions[:, i]] = 1.0
         mass = unit[0] @ (M @ unit[0])
         self.weights = np.asarray(M @ unit.T).T / mass  # centre of mass: weights @ q
-        self.reason = _tied(system, self.positions, t, self.orbit)
+        self.reason = _tied(system, self.positions, t, reference)
         self._bounds(t)
 
     def _bounds(self, t):
         """The squared limits of the offset and the velocity of the centre of mass on
         the arc in force at ``t``: ``tolerance`` times its smallest distance ``a (1 -
         e)`` and smallest speed (at apoapsis), so that no step asks the orbit."""
-        arc = self.orbit.arc(float(t))
+        arc = self.reference.arc(float(t))
         slowest = arc.mu / arc.a * (1.0 - arc.e) / (1.0 + arc.e)
         self.limits = (self.tolerance**2 * (arc.a * (1.0 - arc.e)) ** 2,
                        self.tolerance**2 * slowest)
@@ -103,11 +103,11 @@ class Rectification:
 
     def snapshot(self):
         """The rebases so far, for a checkpoint (``Reference.rebases``)."""
-        return {"orbit_rebases": self.orbit.rebases}
+        return {"orbit_rebases": self.reference.rebases}
 
     def restore(self, snap):
         """The rebases of a checkpoint back on the run's reference."""
-        self.orbit.restore(snap.get("orbit_rebases"))
+        self.reference.restore(snap.get("orbit_rebases"))
         self._bounds(float(snap["t"]))
 
     def after_step(self, integrator):
@@ -116,18 +116,18 @@ class Rectification:
         x, u = self.weights @ integrator.q, self.weights @ integrator.v
         if x @ x <= self.limits[0] and u @ u <= self.limits[1]:
             return False
-        t, orbit = integrator.t, self.orbit
-        R, V = orbit.position(t), orbit.velocity(t)
-        orbit.rebase(R + x, V + u, t)
+        t, reference = integrator.t, self.reference
+        R, V = reference.position(t), reference.velocity(t)
+        reference.rebase(R + x, V + u, t)
         self._bounds(t)
-        new = orbit.position(t)
-        integrator.shift(self.shift(R - new), self.shift(V - orbit.velocity(t)),
+        new = reference.position(t)
+        integrator.shift(self.shift(R - new), self.shift(V - reference.velocity(t)),
                          self.shift(-self.gravity.frame_change(R, new)))
         integrator.stats["rectifications"] = integrator.stats.get("rectifications", 0) + 1
         return True
 
 
-def _tied(system, positions, t, orbit):
+def _tied(system, positions, t, reference):
     """Why the rectification must stay off for ``system`` (a constraint that a
     translation of all positions violates, named), or None.
 
@@ -140,7 +140,7 @@ def _tied(system, positions, t, orbit):
     if not system.n_constraints:
         return None
     q = system.q0
-    size = 1e-3 * np.linalg.norm(orbit.position(float(t)))
+    size = 1e-3 * np.linalg.norm(reference.position(float(t)))
     rest = system.constraint_values(q, t)
     for axis in np.eye(3):
         step = np.zeros(system.n_dofs)
