@@ -74,7 +74,8 @@ def table(days, dt):
         com = system.centre_of_mass(result.q)
         mass = 2 * M + cable.section.mass_per_length * L
         reference = point_mass(result.t, mass, np.array([0.0, 2 * M * ACCEL, 0.0]))
-        error = np.linalg.norm(orbit.position(result.t) + com - reference, axis=1).max()
+        error = np.linalg.norm(result.reference.position(result.t) + com - reference,
+                               axis=1).max()
         last = result.t >= result.t[-1] - 86400.0
         s = np.linspace(0.0, L, 33)
         strain = np.array([cable.strain(q[system.dofs(cable)], s) for q in result.q[last]])

@@ -114,14 +114,15 @@ def main(days=2.0, p=TETHER):
         result = sc.simulate(system, t_start=t, t_end=t + span,
                              dt=orbit.period / p["steps_per_orbit"], every=20,
                              initial=sc.State(system, q, v=v))
+        arcs = result.reference  # the run's reference: the orbit and its rebases
         for qk, vk, tk in zip(result.q[:-1], result.v[:-1], result.t[:-1]):
             x, u, _ = centre_of_mass(system, qk, vk)
-            a.append(sc.Orbit.from_state(sc.MU_EARTH, orbit.position(tk) + x,
-                                         orbit.velocity(tk) + u).a)
+            a.append(sc.Orbit.from_state(sc.MU_EARTH, arcs.position(tk) + x,
+                                         arcs.velocity(tk) + u).a)
             times.append(tk)
-            currents.append(load.evaluate(system, qk, vk, tk)["current"])
+            currents.append(load.evaluate(system, qk, vk, tk, arcs)["current"])
         q, v, t = result.q[-1], result.v[-1], result.t[-1]
-        orbit, q, v = recentred(system, orbit, q, v, t)
+        orbit, q, v = recentred(system, arcs, q, v, t)
     times.append(t)
     a.append(orbit.a)
     times, a = np.array(times), np.array(a)

@@ -70,8 +70,8 @@ def main(days=7.0, elements=5, dt=1.0, alpha=0.0, out="runs/esail_orbit", every=
     outs = esail.outputs(scene, result)
     # the departure from the Keplerian orbit as given: the reference point (re-based by
     # the rectification when the sail has drifted) plus the centre of mass's offset
-    kepler = orbit.keplerian()
-    com = (orbit.position(result.t) - kepler.position(result.t)
+    kepler = orbit
+    com = (result.reference.position(result.t) - kepler.position(result.t)
            + centre_of_mass(system, result.q))
     mass = system_mass_points(system).mass.sum()
     reference = point_mass(kepler, result.t, outs["thrust"], mass, com[0],

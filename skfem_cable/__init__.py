@@ -14,7 +14,8 @@ Public API (``__all__``, documented on the API page of the docs):
   (module ``constraints``); deploying and retrieving cables: ``System.deploy`` (module
   ``deploy``), from a ``Reel`` with a torque law ``Brake``, ``Motor``, ``Servo`` (module
   ``reel``);
-* orbits: ``Orbit`` (Keplerian reference orbits, the orbiting frame), the constants
+* orbits: ``Orbit`` (Keplerian reference orbits, the orbiting frame), ``Reference`` (a
+  run's reference: the orbit and the rebases of its rectification), the constants
   ``MU_EARTH``, ``MU_SUN``, ``R_EARTH``, ``AU`` (module ``orbit``);
 * element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
   forms ``forms``;
@@ -76,7 +77,7 @@ from .inputs import Input
 from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
 from .node import Node
-from .orbit import AU, MU_EARTH, MU_SUN, R_EARTH, Orbit
+from .orbit import AU, MU_EARTH, MU_SUN, R_EARTH, Orbit, Reference
 from .reel import Brake, Motor, Reel, Servo
 from .result import Result
 from .rigid import RigidBody
@@ -101,6 +102,7 @@ __all__ = [
     "MU_SUN",
     "R_EARTH",
     "Orbit",
+    "Reference",
     "Brake",
     "Buoyancy",
     "Cable",

@@ -444,7 +444,11 @@ class Line(Body, Protocol):
 @runtime_checkable
 class Load(Protocol):
     """A load: ``bind(system)`` returns its ``Term`` (forces through ``add`` or
-    ``kernels``, constant ``force`` and ``mass``; see the module docstring)."""
+    ``kernels``, constant ``force`` and ``mass``; see the module docstring).  A load of a
+    system in orbit that reads the reference point's motion ``R(t)``, ``V(t)`` declares
+    ``reads_reference = True`` and is bound with ``bind(system, reference)``: the run's
+    ``orbit.Reference`` (the orbit and the rectification's rebases), not
+    ``system.orbit``, whose single arc a rectified run leaves behind."""
 
     def bind(self, system):
         """The load's ``Term`` in ``system``."""

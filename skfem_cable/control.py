@@ -37,7 +37,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .inputs import system_inputs
 from .io.fingerprint import code_digest, digest
 from .io.manifest import StoreMismatch
 from .state import State
@@ -208,14 +207,14 @@ class ControlLoop:
     dt : float or None
         The fixed step (samples and delays must be multiples of it); None for adaptive
         steps (which end on the samples, ``next_event``).
-    inputs : dict, optional
-        The system's inputs by name (``inputs.system_inputs``, looked up when not
-        given: ``simulate`` passes the ones it records).
+    inputs : inputs.InputTable, optional
+        The run's values of the system's inputs, which the controllers set (default:
+        the table of the system's binding, ``Layout.inputs``, that its terms read).
     """
 
     def __init__(self, system, controllers, t_start, dt=None, inputs=None):
         self.system, self.controllers = system, list(controllers)
-        self.inputs = system_inputs(system) if inputs is None else inputs
+        self.inputs = system.current_layout().inputs if inputs is None else inputs
         for c in self.controllers:
             check_controller(c)
             for what in ("sample_time", "delay"):
@@ -248,9 +247,9 @@ class ControlLoop:
         state is solved again with them (consistent accelerations)."""
         self.samples[:] = 0
         self.pending, self.writers = [], {}
-        before = {name: x.value for name, x in self.inputs.items()}
+        before = self.inputs.changes
         self.after_step(integrator)
-        if any(x.value is not before[name] for name, x in self.inputs.items()):
+        if self.inputs.changes != before:
             integrator.initialize(integrator.q, integrator.v, integrator.t)
 
     def after_step(self, integrator):
@@ -274,7 +273,7 @@ class ControlLoop:
         while self.pending and t >= self.pending[0][0] - TIME_TOL * max(abs(t), 1.0):
             _, k, outputs = self.pending.pop(0)
             for name, value in outputs.items():
-                self.inputs[name].value = value  # checked by _call
+                self.inputs.set(name, value)
 
     def next_event(self, t):
         """The next time after ``t`` at which a controller samples or an output is
@@ -311,13 +310,14 @@ class ControlLoop:
                                "return a dict of input names to values")
         checked = {}
         for key, value in outputs.items():
-            if key not in self.inputs:
-                known = ", ".join(sorted(self.inputs)) or "none"
+            if key not in self.inputs.inputs:
+                known = ", ".join(sorted(self.inputs.inputs)) or "none"
                 raise ControlError(f"controller {name!r} set the input {key!r} "
                                    f"at t = {t:.6g} s, which the system does not have "
-                                   f"(its inputs: {known})")
+                                   f"(its inputs: {known}): a body or load reading an "
+                                   "Input declares it in its inputs()")
             try:  # shape and finiteness checked now, not when applied
-                checked[key] = self.inputs[key].checked(value)
+                checked[key] = self.inputs.inputs[key].checked(value)
             except ValueError as err:
                 raise ControlError(f"controller {name!r} at t = {t:.6g} s: {err}") from err
         return checked
@@ -332,8 +332,8 @@ class ControlLoop:
         snap = {"control_samples": self.samples.copy()}
         for k, definition in enumerate(self.definitions):
             snap.update({f"control_start:{k}:{key}": x for key, x in definition.items()})
-        for name, x in self.inputs.items():
-            snap[f"control_input:{name}"] = x.value.copy()
+        for name, value in self.inputs.values.items():
+            snap[f"control_input:{name}"] = value.copy()
         for name, k in self.writers.items():
             snap[f"control_writer:{name}"] = np.int64(k)
         for i, (time, k, outputs) in enumerate(self.pending):
@@ -358,8 +358,8 @@ class ControlLoop:
             self._check_definition(k, c, snap)
             self._check_fixed(k, c, snap)
         self.samples[:] = snap["control_samples"]
-        for name, x in self.inputs.items():
-            x.value = np.array(snap[f"control_input:{name}"])
+        for name in self.inputs.values:
+            self.inputs.set(name, np.array(snap[f"control_input:{name}"]))
         pending = {}
         for key in snap:
             if key.startswith("control_pending:"):

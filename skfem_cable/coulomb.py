@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .contract import Term
+from .inputs import declared, reader
 from .kernels import coulomb as kernel
 from .linalg import thread_count
 from .orbit import AU
@@ -101,6 +102,13 @@ class SunAtFocus:
     def __call__(self, t):
         return -self.orbit.position(t)
 
+    def seen_from(self, reference):
+        """The Sun as seen in the coordinates of a run whose ``reference`` (an
+        ``orbit.Reference``: the orbit and the rectification's rebases) is this orbit's;
+        this one otherwise."""
+        return SunAtFocus(reference) if getattr(reference, "orbit", None) is self.orbit \
+            else self
+
 
 class _Component:
     """Voltage ``k`` of a callable returning the voltages of all the cables."""
@@ -110,6 +118,14 @@ class _Component:
 
     def __call__(self, t):
         return float(np.asarray(self.source(t))[self.k])
+
+    def inputs(self):
+        """The inputs the source reads (``inputs.declared``)."""
+        return declared(self.source)
+
+    def reading(self, table):
+        """Voltage ``k`` of the source as the run of ``table`` reads it."""
+        return _Component(reader(self.source, table), self.k)
 
 
 class SolarWindForce:
@@ -181,12 +197,24 @@ class SolarWindForce:
         self.w = np.ascontiguousarray(np.concatenate([c.weights for c in self.cables]))
         self.voltages(0.0)  # a bad voltage callable fails now, not mid-run
 
-    def voltages(self, t):
-        """Tether voltages (V) at time ``t``; a voltage callable returning a negative or
-        non-finite value is an error naming the tether (this model has one polarity:
-        a positive tether repels the solar-wind protons)."""
-        if isinstance(self.voltage[0], _Component):
-            out = np.asarray(self.voltage[0].source(t), dtype=float)
+    def inputs(self):
+        """The inputs the voltages read (``inputs.declared``)."""
+        return declared(*self.voltage)
+
+    def sources(self, table=None):
+        """The voltages (numbers and functions of time) as the run of ``table`` (an
+        ``inputs.InputTable``) reads them; None: as given (inputs at their initial
+        values)."""
+        return [reader(v, table) for v in self.voltage]
+
+    def voltages(self, t, sources=None):
+        """Tether voltages (V) at time ``t`` (of ``sources``, default the voltages as
+        given); a voltage callable returning a negative or non-finite value is an error
+        naming the tether (this model has one polarity: a positive tether repels the
+        solar-wind protons)."""
+        voltage = self.voltage if sources is None else sources
+        if isinstance(voltage[0], _Component):
+            out = np.asarray(voltage[0].source(t), dtype=float)
             if out.shape != (len(self.cables),):
                 raise ValueError(f"voltage(t) must return {len(self.cables)} voltages, one "
                                  f"per cable, got shape {out.shape}")
@@ -199,41 +227,61 @@ class SolarWindForce:
                              f"{float(out[k])}: it must be finite and >= 0 V")
         return out
 
-    def sun_at(self, t):
-        """The Sun's position (3,) in the system's coordinates at time ``t``."""
-        return np.asarray(self.sun(t) if callable(self.sun) else self.sun, dtype=float)
+    def sun_source(self, reference=None):
+        """The Sun's position, fixed or a function of time, in the coordinates of a run
+        of ``reference`` (``orbit.Reference``, e.g. ``Result.reference``: a position with
+        ``seen_from``, as ``SunAtFocus``, follows its rebases; None: as given)."""
+        seen_from = getattr(self.sun, "seen_from", None)
+        return self.sun if seen_from is None else seen_from(reference)
 
-    def line_force(self, r, a, coef, t):
+    def sun_at(self, t, reference=None):
+        """The Sun's position (3,) in the system's coordinates at time ``t`` (of the run
+        of ``reference``: ``sun_source``)."""
+        sun = self.sun_source(reference)
+        return np.asarray(sun(t) if callable(sun) else sun, dtype=float)
+
+    def line_force(self, r, a, coef, t, reference=None):
         """Force per unit length (N/m) at points ``r`` (..., 3) of slopes ``a`` (..., 3)
-        with the coefficients ``coef`` (...) of ``coefficients`` at time ``t``:
+        with the coefficients ``coef`` (...) of ``coefficients`` at time ``t`` (in the
+        coordinates of the run of ``reference``, ``sun_at``):
         ``coef (AU / rho)^p (i_R - (t . i_R) t)`` (Eqs. 29-32, as the kernel)."""
-        rel = r - self.sun_at(t)
+        rel = r - self.sun_at(t, reference)
         rho = np.linalg.norm(rel, axis=-1, keepdims=True)
         i_R = rel / rho
         tangent = a / np.linalg.norm(a, axis=-1, keepdims=True)
         u_perp = i_R - np.sum(tangent * i_R, axis=-1, keepdims=True) * tangent
         return (coef[..., None] * (self.scaling[0] / rho) ** self.scaling[1]) * u_perp
 
-    def coefficients(self, t):
-        """Force per unit length on a perpendicular tether at 1 AU, per element (N/m)."""
-        per_cable = np.array([self.wind.force_per_length(V) for V in self.voltages(t)])
+    def coefficients(self, t, sources=None):
+        """Force per unit length on a perpendicular tether at 1 AU, per element (N/m), of
+        the voltages of ``sources`` (``voltages``)."""
+        per_cable = np.array([self.wind.force_per_length(V)
+                              for V in self.voltages(t, sources)])
         return per_cable[self.cable_of_element]
 
     #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
     #: force per unit material length acts on the stretched mesh.
     stretches = True
 
-    def bind(self, system):
+    #: Bound with the run's reference in orbit (``bind(system, reference)``): a Sun
+    #: position with ``seen_from`` (``SunAtFocus``) follows the run's rebases.
+    reads_reference = True
+
+    def bind(self, system, reference=None, inputs=None):
         """The compiled term (``kernels.coulomb.kernel``, its ``kernel_parallel`` on more
         than one thread, ``linalg.thread_count``); a time-modulated voltage, a
         deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
         length) or a moving Sun refreshes, once per time step (``Term.prepare``), only
-        what moves: the per-element coefficients or the Sun's position."""
+        what moves: the per-element coefficients or the Sun's position (seen from the
+        run's ``reference`` when the position has ``seen_from``, as ``SunAtFocus``); the
+        voltages read the run's values of their inputs (``inputs``: the run's
+        ``InputTable``)."""
         edofs = np.ascontiguousarray(np.concatenate(
             [c.global_element_dofs(system) for c in self.cables]))
         coef = np.array(self.coefficients(0.0), dtype=float)
         sun = self.sun_at(0.0).copy()
-        refresh = self._refreshers(system, coef, sun)
+        refresh = self._refreshers(system, coef, sun, self.sun_source(reference),
+                                   self.sources(inputs))
 
         def prepare(t):
             for part in refresh:
@@ -246,10 +294,10 @@ class SolarWindForce:
                     cols=edofs[:, None, :], name="solar wind",
                     prepare=prepare if refresh else None)
 
-    def _refreshers(self, system, coef, sun):
+    def _refreshers(self, system, coef, sun, source, voltages):
         """The functions of ``t`` refreshing, in place, the coefficients ``coef`` (with a
-        voltage callable or a deploying tether) and the Sun's position ``sun`` (a
-        callable ``sun_position``)."""
+        voltage callable or a deploying tether; of the ``voltages`` sources) and the
+        Sun's position ``sun`` (a callable ``sun_position``, evaluated as ``source``)."""
         deploying = [system.deployment(c) is not None for c in self.cables]
         for cable, deploys in zip(self.cables, deploying):
             if deploys and system.deployment(cable).reel is not None:
@@ -257,13 +305,13 @@ class SolarWindForce:
                                  "the solar wind supports prescribed lengths only")
 
         def coefficients(t):
-            coef[:] = self.coefficients(t)
+            coef[:] = self.coefficients(t, voltages)
             if any(deploying):
                 stretch = np.array([system.stretch(c, t) for c in self.cables])
                 coef[:] *= stretch[self.cable_of_element]
 
         def sun_position(t):
-            sun[:] = self.sun(t)
+            sun[:] = source(t)
 
         moving = any(callable(v) for v in self.voltage) or any(deploying)
         return [part for part, needed in ((coefficients, moving),

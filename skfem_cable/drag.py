@@ -208,11 +208,16 @@ class QuadraticDrag(AlongCable):
                            self.coef, h, scratch[0], scratch[1], scratch[2, 0], scratch[3, 0])
         return h
 
-    def bind(self, system):
+    #: Bound with the run's reference in orbit (``bind(system, reference)``).
+    reads_reference = True
+
+    def bind(self, system, reference=None):
         """The compiled term (``kernels.drag.kernel``); a time-dependent current, or the
-        reference point of a system in orbit (``Flow``), refreshes its arrays once per
-        time step (``Term.prepare``)."""
-        c, orbit = self.cable, system.orbit
+        reference point of a system in orbit (``Flow``: of ``reference``, the run's
+        ``Reference``; None: the orbit as given), refreshes its arrays once per time step
+        (``Term.prepare``)."""
+        c = self.cable
+        orbit = system.orbit if reference is None else reference
         mass = self.added_mass(system)
         edofs = np.ascontiguousarray(c.global_element_dofs(system))
         arrays = self.flow.arrays(orbit)

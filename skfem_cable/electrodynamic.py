@@ -35,6 +35,7 @@ References
 import numpy as np
 
 from .contract import Evaluation, Term
+from .inputs import declared, reader
 from .kernels import electrodynamic as kernel
 from .loads import AlongCable, vector3
 from .orbit import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
@@ -225,6 +226,7 @@ class ElectrodynamicForce(AlongCable):
         self.cable = cable
         self.drive = _drive(current, resistance)
         self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
+        self.circuit = (current, resistance)  # for the run's drive (``_bind``)
         self.plasma_rotation = (None if plasma_rotation is None
                                 else vector3(plasma_rotation, "plasma_rotation"))
         if callable(getattr(field, "sources", None)):
@@ -257,15 +259,28 @@ class ElectrodynamicForce(AlongCable):
                              f"(one field vector per point, T), got shape {B.shape}")
         return B
 
-    def bind(self, system):
-        """The load's term: compiled (``kernels.electrodynamic.kernel``) for a uniform or
-        dipole field, a Python ``add`` for a callable field."""
-        return self._bind(system)[0]
+    #: Bound with the run's reference in orbit (``bind(system, reference)``).
+    reads_reference = True
 
-    def _bind(self, system):
+    def inputs(self):
+        """The inputs the current reads (``inputs.declared``)."""
+        return declared(self.circuit[0])
+
+    def bind(self, system, reference=None, inputs=None):
+        """The load's term: compiled (``kernels.electrodynamic.kernel``) for a uniform or
+        dipole field, a Python ``add`` for a callable field; in orbit about the reference
+        point of ``reference`` (the run's ``Reference``; None: the orbit as given); the
+        current reads the run's values of its inputs (``inputs``: the run's
+        ``InputTable``)."""
+        return self._bind(system, reference, inputs)[0]
+
+    def _bind(self, system, reference=None, inputs=None):
         """``(term, out)``: the term and the array ``[I, E]`` its evaluations write."""
         c = self.cable
-        orbit = system.orbit
+        current, resistance = self.circuit
+        run_drive = self.drive if inputs is None else _drive(reader(current, inputs),
+                                                             resistance)
+        orbit = system.orbit if reference is None else reference
         edofs = np.ascontiguousarray(c.global_element_dofs(system))
         ne, nq = c.weights.shape
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
@@ -276,7 +291,7 @@ class ElectrodynamicForce(AlongCable):
         def prepare(t):
             if orbit is not None:
                 motion[0], motion[1] = orbit.position(t), orbit.velocity(t)
-            drive[:] = self.drive(t)
+            drive[:] = run_drive(t)
             if self.compiled is not None:
                 source[:] = self.compiled.sources(t)
 
@@ -299,12 +314,14 @@ class ElectrodynamicForce(AlongCable):
 
         return Term(add=add, rows=rows, cols=cols, name=name), out
 
-    def evaluate(self, system, q, v=None, t=0.0):
+    def evaluate(self, system, q, v=None, t=0.0, reference=None):
         """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
         current), the electrical power ``I E`` (W) and the total force (N, (3,)) on the
         cable at the coordinates ``q`` and velocities ``v`` (None: at rest relative to the
         reference point) of ``system`` at time ``t``: a dict with keys ``current``,
-        ``emf``, ``power``, ``force``.
+        ``emf``, ``power``, ``force``.  In orbit the offsets are taken from the reference
+        point of ``reference`` (a run's, ``Result.reference``, with its rebases; None:
+        the orbit as given).
 
         ``power = I E`` is what the motional EMF gives the circuit: positive when the
         tether generates (a short circuit: ``E^2 / R_c``, a brake), negative when a supply
@@ -314,7 +331,7 @@ class ElectrodynamicForce(AlongCable):
         The total force is the sum of the generalized forces on the cable's position
         coordinates (the Hermite position functions sum to one): ``int f dx``.
         """
-        term, out = self._bind(system)
+        term, out = self._bind(system, reference)
         ev = Evaluation(system, t, np.asarray(q, dtype=float),
                         None if v is None else np.asarray(v, dtype=float),
                         np.zeros(system.n_constraints))

@@ -116,7 +116,7 @@ class InertialFrame:
     label = ""  # nothing to say on a render
     view = None  # renders choose their view (plot.view_camera)
 
-    def __init__(self, system):
+    def __init__(self, system, reference=None):
         self.system = system
 
     def configuration(self, t, q, v=None):
@@ -128,6 +128,10 @@ class LvlhFrame:
     """The orbiting frame of a system in orbit (``System.add_orbit``): axes radial,
     along-track and orbit normal (``Orbit.lvlh``), turning with the orbit.
 
+    The frame turns with the run's ``reference`` (``orbit.Reference``: the orbit and
+    the rebases of its rectification, ``Result.reference``); None: the system's orbit as
+    given.
+
     Raises
     ------
     ValueError
@@ -138,13 +142,13 @@ class LvlhFrame:
     label = "orbiting frame (LVLH): x radial, y along-track"
     view = "orbital"  # renders look along the orbit normal, radial up
 
-    def __init__(self, system):
+    def __init__(self, system, reference=None):
         if system.orbit is None:
             raise ValueError("frame 'lvlh' (the orbiting frame) needs a system in orbit "
                              "(System.add_orbit, or the [orbit] table of a scene file); "
                              "this one has no orbit: use frame 'inertial'")
         self.system = system
-        self.orbit = system.orbit
+        self.orbit = system.orbit if reference is None else reference
 
     def configuration(self, t, q, v=None):
         """Coordinates ``q`` at time ``t`` in the orbiting frame (positions ``C r``,
@@ -158,7 +162,7 @@ class LvlhFrame:
         return turned, self.system.rotate(np.asarray(v, dtype=float) - carried, C)
 
 
-#: The output frames by name: ``cls(system)`` with ``configuration(t, q, v) -> (q, v)``.
+#: The output frames by name: ``cls(system, reference)`` with ``configuration(t, q, v) -> (q, v)``.
 FRAMES = {"inertial": InertialFrame, "lvlh": LvlhFrame}
 
 
@@ -170,15 +174,16 @@ def frame_name(frame):
     return frame
 
 
-def output_frame(system, frame="inertial"):
-    """The output frame named ``frame`` (one of ``FRAMES``) for ``system``.
+def output_frame(system, frame="inertial", reference=None):
+    """The output frame named ``frame`` (one of ``FRAMES``) for ``system`` (in orbit:
+    for the run of ``reference``, ``Result.reference``; None: the orbit as given).
 
     Raises
     ------
     ValueError
         For an unknown name, or ``"lvlh"`` on a system without orbit.
     """
-    return FRAMES[frame_name(frame)](system)
+    return FRAMES[frame_name(frame)](system, reference)
 
 
 def _write_atomic(path, mesh):
@@ -273,6 +278,8 @@ class SeriesWriter(VtuSeries):
     frame : str
         The output frame, one of ``FRAMES``: ``"inertial"`` (as computed) or ``"lvlh"``
         (the orbiting frame of a system in orbit).
+    reference : orbit.Reference, optional
+        In orbit, the run's reference (``output_frame``).
 
     Examples
     --------
@@ -283,8 +290,8 @@ class SeriesWriter(VtuSeries):
     """
 
     def __init__(self, run_dir, system, points_per_element=8, resolution=32, append=False,
-                 name="series", frame="inertial"):
-        self.frame = output_frame(system, frame)  # refused before any file is touched
+                 name="series", frame="inertial", reference=None):
+        self.frame = output_frame(system, frame, reference)  # refused before any file
         super().__init__(run_dir, append, name)
         self.system = system
         self.points_per_element = positive_int("points_per_element", points_per_element)
@@ -306,7 +313,7 @@ def write_series(result, run_dir, every=1, **options):
     indices = list(range(0, len(result), int(every)))
     if indices and indices[-1] != len(result) - 1:
         indices.append(len(result) - 1)
-    writer = SeriesWriter(run_dir, result.system, **options)
+    writer = SeriesWriter(run_dir, result.system, reference=result.reference, **options)
     for i in indices:
         writer.write(result.t[i], result.q[i], result.v[i])
     writer.close()

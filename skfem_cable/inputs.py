@@ -1,14 +1,23 @@
-"""Inputs: named values a controller changes during a run (``Input``), and the inputs of a
-system (``system_inputs``).
+"""Inputs: named values a controller changes during a run (``Input``), the inputs a
+system declares (``system_inputs``) and the values they hold during a run
+(``InputTable``, the run's state).
 
 An ``Input`` stands wherever a scene takes a function of time: a tether voltage of
 ``SolarWindForce``, the torque of a reel's ``Motor``, the force of a ``PointLoad``, the
-current of an ``ElectrodynamicForce``.  It is such a function, ``input(t)``, returning the
-value it holds; the loads refresh it once per step (``Term.prepare``), so a controlled run
-stays on the compiled Newton step.  ``control.ControlLoop`` sets the values at a
-controller's samples (``Controller``).  What the input was given is its ``initial`` value
-(part of a run's fingerprint); what it holds now is the run's state (``caches``: not in
-the fingerprint; saved in checkpoints).
+current of an ``ElectrodynamicForce``.  It is the input's definition: its name and its
+``initial`` value (part of a run's fingerprint), which it keeps.  A part that reads an
+input declares it (``inputs()``: the ``Input`` objects it reads, ``declared``), and the
+system collects the declarations (``system_inputs``); nothing is found by looking
+through attributes.
+
+**A run's values are the run's.**  Each run holds an ``InputTable`` (``Layout.inputs``,
+the binding a solver takes at its start): one array per declared input, starting at its
+initial value.  ``control.ControlLoop`` sets them at a controller's samples
+(``Controller``), checkpoints save them, the run's ``Result.inputs`` records them; the
+terms read them through the binding (``InputTable.reader``: a part declaring inputs is
+bound with ``bind(system, inputs=table)``), refreshed once per step (``Term.prepare``),
+so a controlled run stays on the compiled Newton step.  Outside a run (a load's
+``force(t)``, ``voltages(t)``, a static solve) an input holds its initial value.
 """
 
 import re
@@ -24,18 +33,16 @@ class Input:
     name : str
         The name controllers give it in their outputs (unique in a system).
     value : float or array_like
-        Its value until a controller changes it; every run starts from it.
+        Its initial value: every run starts from it, and it is what the input holds
+        outside a run (a controller's values are the run's, ``InputTable``).
 
     Examples
     --------
     >>> import skfem_cable as sc
     >>> v = sc.Input("voltage1", 20e3)
-    >>> v(0.0), v.set(15e3), v(1.0)
-    (20000.0, None, 15000.0)
+    >>> v(0.0), v.inputs() == (v,)
+    (20000.0, True)
     """
-
-    #: The value held during a run (its state, not its definition: ``io.fingerprint``).
-    caches = ("value",)
 
     def __init__(self, name, value):
         if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.\-]+", name):
@@ -44,15 +51,25 @@ class Input:
         self.name = name
         self.initial = _finite(name, value)
         self.initial.setflags(write=False)
-        self.value = self.initial.copy()
+
+    @property
+    def value(self):
+        """The initial value (read-only): a run's values are its ``InputTable``'s."""
+        return self.initial
 
     def __call__(self, t):
-        """The value held (a float for a scalar input)."""
-        return float(self.value) if self.value.ndim == 0 else self.value.copy()
+        """The initial value (a float for a scalar input): a run reads its own value
+        through its table (``reading``)."""
+        return float(self.initial) if self.initial.ndim == 0 else self.initial.copy()
 
-    def set(self, value):
-        """Hold ``value`` from now on (the shape of the initial value, finite)."""
-        self.value = self.checked(value)
+    def inputs(self):
+        """The inputs this function of time reads: itself (``declared``)."""
+        return (self,)
+
+    def reading(self, table):
+        """This input as a run reads it: the value it holds in the run's ``table``
+        (``InputTable.held``)."""
+        return table.held(self)
 
     def checked(self, value):
         """``value`` as this input holds it (an array of its shape), or ``ValueError``
@@ -63,12 +80,73 @@ class Input:
                              f"got a value of shape {value.shape}")
         return value
 
-    def reset(self):
-        """Hold the initial value again (the start of a run)."""
-        self.value = self.initial.copy()
-
     def __repr__(self):
-        return f"Input({self.name!r}, {self.value.tolist()!r})"
+        return f"Input({self.name!r}, {self.initial.tolist()!r})"
+
+
+def declared(*sources):
+    """The inputs that ``sources`` read (functions of time, numbers, arrays): those each
+    source declares with ``inputs()`` (an ``Input`` declares itself, a function of time
+    built on inputs its own; other sources none)."""
+    return tuple(x for source in sources for x in getattr(source, "inputs", tuple)())
+
+
+def reader(source, table):
+    """``source`` (a function of time, a number, ...) as a run of ``table`` (an
+    ``InputTable``; None: outside a run) reads it: a source with ``reading(table)`` (an
+    ``Input``, a function built on inputs) reads the run's values; any other is
+    itself."""
+    reading = getattr(source, "reading", None)
+    return source if table is None or reading is None else reading(table)
+
+
+class InputTable:
+    """The values of a system's inputs during one run: the run's state, not the inputs'.
+
+    Parameters
+    ----------
+    inputs : dict
+        The declared inputs by name (``system_inputs``).
+
+    Attributes
+    ----------
+    values : dict
+        One array per input, by name, updated in place (the terms' readers hold them).
+    changes : int
+        How many values were set since the last ``reset`` (what ``ControlLoop.start``
+        compares).
+    """
+
+    def __init__(self, inputs):
+        self.inputs = dict(inputs)
+        self.values = {name: x.initial.copy() for name, x in self.inputs.items()}
+        self._names = {id(x): name for name, x in self.inputs.items()}
+        self.changes = 0
+
+    def reset(self):
+        """Every input back to its initial value (the start of a run)."""
+        for name, x in self.inputs.items():
+            self.values[name][...] = x.initial
+        self.changes = 0
+
+    def set(self, name, value):
+        """Hold ``value`` (checked: ``Input.checked``) in the input ``name`` from now on."""
+        self.values[name][...] = self.inputs[name].checked(value)
+        self.changes += 1
+
+    def held(self, x):
+        """The function of time reading the value the input ``x`` holds in this table (a
+        float for a scalar input, a copy of a vector), as ``Input.__call__`` reads its
+        initial value; an input the system does not declare reads its initial value."""
+        name = self._names.get(id(x))
+        if name is None:
+            return x
+        held = self.values[name]
+        return (lambda t: float(held)) if held.ndim == 0 else (lambda t: held.copy())
+
+    def snapshot(self):
+        """Copies of the values, by name."""
+        return {name: value.copy() for name, value in self.values.items()}
 
 
 def _finite(name, value):
@@ -82,35 +160,14 @@ def _finite(name, value):
     return out
 
 
-#: How deep ``system_inputs`` looks into the attributes of bodies and loads.
-DEPTH = 4
-
-
 def system_inputs(system):
-    """The ``Input`` objects that the bodies, loads and constraints of ``system`` hold
-    (in their attributes, lists, tuples and dicts, a few levels deep), by name; two
-    different inputs with one name are an error."""
-    found, seen = {}, set()
-
-    def visit(obj, depth):
-        if id(obj) in seen or depth > DEPTH or isinstance(obj, (str, bytes, np.ndarray)):
-            return
-        seen.add(id(obj))
-        if isinstance(obj, Input):
-            other = found.setdefault(obj.name, obj)
-            if other is not obj:
-                raise ValueError(f"two inputs are named {obj.name!r}: give each its own "
-                                 "name")
-            return
-        if isinstance(obj, (list, tuple)):
-            items = obj
-        elif isinstance(obj, dict):
-            items = obj.values()
-        else:
-            items = getattr(obj, "__dict__", {}).values()
-        for item in items:
-            visit(item, depth + 1)
-
+    """The inputs the bodies, loads and constraints of ``system`` declare (their
+    ``inputs()``), by name; two different inputs with one name are an error."""
+    found = {}
     for part in (*system.bodies, *system.loads, *system.constraints):
-        visit(part, 0)
+        for x in declared(part):
+            other = found.setdefault(x.name, x)
+            if other is not x:
+                raise ValueError(f"two inputs are named {x.name!r}: give each its own "
+                                 "name")
     return found

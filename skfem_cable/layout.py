@@ -7,8 +7,10 @@ import numpy as np
 import scipy.sparse as sp
 
 from .contract import NO_DATA, NO_INDEX, merge_terms
+from .inputs import InputTable, system_inputs
 from .io.fingerprint import describe_system
 from .linalg import FastCSR
+from .orbit import Reference
 
 
 class Pattern:
@@ -70,14 +72,31 @@ class Layout:
     description : dict
         ``io.fingerprint.describe_system`` of the system once bound: a later one that
         differs means the system was edited (``System.current_layout``).
+    reference : Reference or None
+        The reference of the runs on this binding, in orbit (``orbit.Reference``, made
+        from ``System.orbit``; None otherwise): the terms that read ``R(t)``, ``V(t)``
+        hold it (a load declaring ``reads_reference`` is bound with
+        ``bind(system, reference)``), each run sets its rebases (``simulate``: none at a
+        fresh start, the checkpoint's when resumed) and the rectification rebases it;
+        the user's ``Orbit`` stays as given.
+    inputs : inputs.InputTable
+        The values of the system's declared inputs during the runs on this binding
+        (``inputs.system_inputs``): a part declaring inputs (``inputs()``) is bound with
+        ``bind(system, inputs=table)`` and its terms read them; each run starts them at
+        their initial values, its controllers set them (``control.ControlLoop``); the
+        user's ``Input`` objects keep their initial values.
     """
 
     def __init__(self, system):
         self.system = system
         n = system.n_dofs
         pattern = Pattern()
-        bodies = merge_terms([t for t in (b.bind(system) for b in system.bodies) if t])
-        loads = [load.bind(system) for load in system.loads]
+        orbit = getattr(system, "orbit", None)
+        self.reference = None if orbit is None else Reference(orbit)
+        self.inputs = InputTable(system_inputs(system))
+        bodies = merge_terms([t for t in (self._bind(b, system) for b in system.bodies)
+                              if t])
+        loads = [self._bind(load, system) for load in system.loads]
         body_blocks = [self._block(pattern, t) for t in bodies]
         load_blocks = [self._block(pattern, t) for t in loads]
         M = self._with_loads_mass(system.mass_matrix(), loads).tocoo()
@@ -106,6 +125,18 @@ class Layout:
         self.f_const = self._constant_force(system, loads)
         self._scales(system)
         self.description = describe_system(system)
+
+    def _bind(self, part, system):
+        """The term of ``part`` (a body or a load): one declaring ``reads_reference`` (it
+        reads the reference point's motion ``R(t)``, ``V(t)``) is bound with the runs'
+        ``reference``, one declaring inputs (an ``inputs()`` method) with the runs'
+        ``inputs`` table (keywords of its ``bind``)."""
+        context = {}
+        if getattr(part, "reads_reference", False):
+            context["reference"] = self.reference
+        if callable(getattr(part, "inputs", None)):
+            context["inputs"] = self.inputs
+        return part.bind(system, **context)
 
     @staticmethod
     def _block(pattern, term):

@@ -25,6 +25,7 @@ from dataclasses import replace
 import numpy as np
 
 from .contract import Term, combined
+from .inputs import declared, reader
 from .kernels import drives
 
 
@@ -65,10 +66,16 @@ class PointLoad:
             self.force(0.0)  # fail now, not in the middle of a run
 
     def force(self, t):
-        """The force (N) at time ``t``."""
+        """The force (N) at time ``t`` (an ``Input`` at its initial value: a run reads
+        its own, ``bind``)."""
         if self.fn is None:
             return self.value
         return vector3(self.fn(t), f"force({t!r})")
+
+    def inputs(self):
+        """The inputs the force reads (``inputs.declared``): an ``Input`` given as the
+        force."""
+        return declared(self.fn)
 
     #: The load's declared force fixed in space (``solvers.steady.check_space_fixed``).
     space_fixed_force = force
@@ -77,14 +84,18 @@ class PointLoad:
         force = "force(t)" if self.fn is not None else self.value.tolist()
         return f"PointLoad({self.point!r}, {force})"
 
-    def bind(self, system):
+    def bind(self, system, inputs=None):
+        """The load's term: a constant force, or a function of time refreshed once per
+        step (compiled, ``kernels.drives.point_force``) reading the run's values of its
+        inputs (``inputs``: the run's ``InputTable``; None: their initial values)."""
         dofs, G = system.position_map(self.point)
         if self.fn is None:
             return Term(force=(dofs, G.T @ self.value), name=f"point load {self.point!r}")
         force = self.force(0.0)
+        source = reader(self.fn, inputs)
 
         def prepare(t):
-            force[:] = self.force(t)
+            force[:] = vector3(source(t), f"force({t!r})")
 
         pack = (np.ascontiguousarray(dofs, dtype=np.int64), np.ascontiguousarray(G), force)
         return Term(kernels=((drives.point_force, pack),), prepare=prepare,

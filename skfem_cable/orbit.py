@@ -12,10 +12,13 @@ Methods of Astrodynamics*, AIAA 1999: the function ``f(q)`` of Encke's method).
 
 A long run with thrust carries its system away from the reference point; Encke's
 *rectification* (``solvers.rectify``) then re-bases the reference on the osculating orbit
-of the centre of mass (``Orbit.rebase``).  The reference becomes a chain of Keplerian
-arcs, each in force from its rebase time on, and ``position``, ``velocity``, ``lvlh``
-and the other functions of time evaluate the arc in force at each time: the offsets a
-run saved at any time read against the reference they were computed in.
+of the centre of mass.  The run's reference becomes a chain of Keplerian arcs, each in
+force from its rebase time on: a ``Reference``, the run's state (made per run from the
+system's ``Orbit``, held by the terms that read ``R(t)``, saved in checkpoints, carried by
+the run's ``Result``), whose ``position``, ``velocity``, ``lvlh`` and the other functions
+of time evaluate the arc in force at each time: the offsets a run saved at any time read
+against the reference they were computed in.  An ``Orbit`` is one arc, as given: a run
+never changes it.
 
 Angles are in radians, lengths in metres, times in seconds, ``mu`` in m^3/s^2.
 """
@@ -126,7 +129,68 @@ def eccentric_anomaly(mean_anomaly, e):
     return solve_kepler(mean_anomaly, e)
 
 
-class Orbit:
+class _FunctionsOfTime:
+    """The functions of time of a reference, evaluated on the Keplerian arc in force at
+    each time: a subclass gives ``arc(t)`` (the arc at one time) and ``_each_arc(t,
+    function)`` (``function(arc, times)`` over the times of each arc)."""
+
+    def position(self, t):
+        """Absolute position of the reference point (m): shape (3,) or ``t.shape + (3,)``."""
+        if isinstance(t, float):
+            return self.arc(t)._one(t)[:3].copy()
+        return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[0] @ arc.axes[:, :2].T)
+
+    def velocity(self, t):
+        """Absolute velocity of the reference point (m/s)."""
+        if isinstance(t, float):
+            return self.arc(t)._one(t)[3:].copy()
+        return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[1] @ arc.axes[:, :2].T)
+
+    def true_anomaly(self, t):
+        """True anomaly (rad) at ``t``, continuous in time on each arc (not wrapped)."""
+        return self._each_arc(t, Orbit._true_anomaly)
+
+    def lvlh(self, t):
+        """The orbiting frame at ``t``: rows radial, along-track, orbit normal, in the
+        system's axes; shape (3, 3) or ``t.shape + (3, 3)``."""
+        return self._each_arc(t, Orbit._lvlh)
+
+    def angular_velocity(self, t):
+        """Angular velocity of the orbiting frame (rad/s, a vector along the orbit normal
+        in the system's axes): ``h / |R|^2``."""
+        return self._each_arc(t, Orbit._angular_velocity)
+
+    def to_lvlh(self, t, x):
+        """Offsets ``x`` (..., 3) in the system's axes, expressed in the orbiting frame at
+        ``t`` (a scalar, or one time per leading entry of ``x``)."""
+        frame = self.lvlh(t)
+        x = np.asarray(x, dtype=float)
+        if frame.ndim == 2:
+            return x @ frame.T
+        return np.einsum("tij,t...j->t...i", frame, x)
+
+    def libration(self, t, axis):
+        """In-plane and out-of-plane libration angles (rad) of the vectors ``axis``
+        (n, 3; a tether's end-to-end line) at the times ``t`` (n,) in the orbiting frame:
+        the in-plane angle (pitch) ``atan2(along-track, radial)``, a turn about the orbit
+        normal, and the out-of-plane angle (roll), positive away from the orbit normal, a
+        turn about the along-track axis.  Returns ``(in_plane, out_of_plane)``, (n,)
+        each."""
+        y = self.to_lvlh(np.asarray(t, dtype=float), axis)
+        in_plane = np.arctan2(y[:, 1], y[:, 0])
+        out_of_plane = np.arcsin(-y[:, 2] / np.linalg.norm(y, axis=1))
+        return in_plane, out_of_plane
+
+    def from_lvlh(self, t, y):
+        """Inverse of :meth:`to_lvlh`."""
+        frame = self.lvlh(t)
+        y = np.asarray(y, dtype=float)
+        if frame.ndim == 2:
+            return y @ frame
+        return np.einsum("tji,t...j->t...i", frame, y)
+
+
+class Orbit(_FunctionsOfTime):
     """A Keplerian reference orbit (``0 <= e < 1``).
 
     Parameters
@@ -151,10 +215,9 @@ class Orbit:
     ``t = t0`` the local vertical (radial) is ``+x``, along-track ``+y`` and the orbit
     normal ``+z``.
 
-    The elements given are the orbit's, and what a run's fingerprint records; the arcs
-    that ``rebase`` adds (Encke's rectification, a run's state) are not (``caches``).
-    The functions of time follow the arc in force at each time; the elements, the
-    ``mean_motion`` and the ``period`` are those given.
+    An ``Orbit`` is what the user gave, and what a run's fingerprint records; a run
+    never changes it.  Encke's rectification rebases the run's ``Reference`` (made from
+    the orbit per run), not the orbit.
 
     Examples
     --------
@@ -164,9 +227,8 @@ class Orbit:
     92.56
     """
 
-    #: Memos and the rectification's arcs, left out of a system's fingerprint
-    #: (``io.fingerprint``).
-    caches = ("_last", "_state", "_arcs", "_starts")
+    #: The memo of ``_one``, left out of a system's fingerprint (``io.fingerprint``).
+    caches = ("_last", "_state")
 
     def __init__(self, mu, a, e=0.0, inclination=0.0, raan=0.0, argp=0.0, anomaly=0.0,
                  t0=0.0):
@@ -190,7 +252,6 @@ class Orbit:
                                 np.sqrt(1.0 + self.e) * np.cos(half))
         self.mean_anomaly0 = ecc0 - self.e * np.sin(ecc0)
         self._last, self._state = None, np.empty(6)  # memo of _one
-        self._arcs, self._starts = [], []  # (rebase row (t, r, v), Orbit); their times
 
     @classmethod
     def from_state(cls, mu, r, v, t0=0.0):
@@ -238,63 +299,22 @@ class Orbit:
         """Orbital period ``2 pi / n`` (s)."""
         return 2 * np.pi / self.mean_motion
 
-    # --- the arcs of a rectified reference -------------------------------------------------
-    def rebase(self, r, v, t):
-        """Encke's rectification: from time ``t`` on, the reference is the orbit through
-        the absolute position ``r`` (m) and velocity ``v`` (m/s), ``from_state(mu, r, v,
-        t)``; before ``t`` the arcs in force stay.  Times of rebases must increase."""
-        t = float(t)
-        if self._starts and not t > self._starts[-1]:
-            raise ValueError(f"Orbit.rebase: t = {t!r} s is not after the last rebase at "
-                             f"{self._starts[-1]!r} s")
-        row = np.concatenate([[t], np.asarray(r, dtype=float), np.asarray(v, dtype=float)])
-        self._arcs.append((row, Orbit.from_state(self.mu, row[1:4], row[4:], t)))
-        self._starts.append(t)
-
     def keplerian(self):
-        """The orbit as given, without the rebases: the Keplerian orbit a rectified
-        run departs from."""
+        """A copy of the orbit as given (an ``Orbit`` is never rebased: a run's rebases
+        are its ``Reference``'s)."""
         return Orbit(self.mu, self.a, self.e, self.inclination, self.raan, self.argp,
                      self.anomaly, self.t0)
 
-    @property
-    def rebases(self):
-        """The rebases so far, one row ``(t, r, v)`` (7,) each: shape (k, 7)."""
-        return np.array([row for row, _ in self._arcs]).reshape(-1, 7)
-
-    def restore(self, rebases=None):
-        """Drop the rebases, then make those of ``rebases`` (rows of ``rebases``) again:
-        the same arcs, to the last bit."""
-        self._arcs, self._starts = [], []
-        rows = np.asarray([] if rebases is None else rebases, dtype=float).reshape(-1, 7)
-        for row in rows:
-            self.rebase(row[1:4], row[4:7], row[0])
-
+    # --- one arc: the orbit as given ------------------------------------------------------
     def arc(self, t):
-        """The Keplerian orbit in force at the time ``t`` (a float): this one before the
-        first rebase, else that of the latest rebase at or before ``t``."""
-        if not self._starts or t < self._starts[0]:
-            return self
-        return self._arcs[bisect.bisect_right(self._starts, t) - 1][1]
+        """The Keplerian orbit in force at the time ``t``: this one (an ``Orbit`` is one
+        arc; a run's ``Reference`` chains the arcs of its rebases)."""
+        return self
 
     def _each_arc(self, t, function):
-        """``function(arc, times)`` over the times ``t`` (array_like) in force on each
-        arc, gathered in the shape of ``t`` (leading axes)."""
-        t = np.asarray(t, dtype=float)
-        if not self._starts:
-            return function(self, t)
-        flat = t.reshape(-1)
-        index = np.searchsorted(self._starts, flat, side="right")
-        out = None
-        for k in np.unique(index):
-            where = index == k
-            part = function(self if k == 0 else self._arcs[k - 1][1], flat[where])
-            if out is None:
-                out = np.empty((flat.size, *part.shape[1:]))
-            out[where] = part
-        return out.reshape(t.shape + out.shape[1:])
+        """``function(self, t)``, ``t`` as an array."""
+        return function(self, np.asarray(t, dtype=float))
 
-    # --- functions of time ---------------------------------------------------------------
     def _one(self, t):
         """Position and velocity (6,) of this arc at one time ``t`` (a float), compiled
         (``kepler_state``) and remembered: the loads of a time step ask for the same
@@ -318,32 +338,11 @@ class Orbit:
         vel = np.stack([-speed * s, speed * root * c], axis=-1)
         return pos, vel
 
-    def position(self, t):
-        """Absolute position of the reference point (m): shape (3,) or ``t.shape + (3,)``."""
-        if isinstance(t, float):
-            return self.arc(t)._one(t)[:3].copy()
-        return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[0] @ arc.axes[:, :2].T)
-
-    def velocity(self, t):
-        """Absolute velocity of the reference point (m/s)."""
-        if isinstance(t, float):
-            return self.arc(t)._one(t)[3:].copy()
-        return self._each_arc(t, lambda arc, s: arc._perifocal_at(s)[1] @ arc.axes[:, :2].T)
-
-    def true_anomaly(self, t):
-        """True anomaly (rad) at ``t``, continuous in time on each arc (not wrapped)."""
-        return self._each_arc(t, Orbit._true_anomaly)
-
     def _true_anomaly(self, t):
         pos = self._perifocal_at(t)[0]
         angle = np.arctan2(pos[..., 1], pos[..., 0])
         mean = self.mean_anomaly0 + self.mean_motion * (t - self.t0)
         return angle + 2 * np.pi * np.round((mean - angle) / (2 * np.pi))
-
-    def lvlh(self, t):
-        """The orbiting frame at ``t``: rows radial, along-track, orbit normal, in the
-        system's axes; shape (3, 3) or ``t.shape + (3, 3)``."""
-        return self._each_arc(t, Orbit._lvlh)
 
     def _lvlh(self, t):
         pos = self._perifocal_at(t)[0]
@@ -353,45 +352,11 @@ class Orbit:
         normal = np.broadcast_to(self.axes[:, 2], radial.shape[:-1] + (3,))
         return np.stack([radial @ plane, along @ plane, normal], axis=-2)
 
-    def angular_velocity(self, t):
-        """Angular velocity of the orbiting frame (rad/s, a vector along the orbit normal
-        in the system's axes): ``h / |R|^2``."""
-        return self._each_arc(t, Orbit._angular_velocity)
-
     def _angular_velocity(self, t):
         pos = self._perifocal_at(t)[0]
         h = np.sqrt(self.mu * self.a * (1.0 - self.e**2))
         rate = h / np.sum(pos**2, axis=-1)
         return rate[..., None] * self.axes[:, 2]
-
-    def to_lvlh(self, t, x):
-        """Offsets ``x`` (..., 3) in the system's axes, expressed in the orbiting frame at
-        ``t`` (a scalar, or one time per leading entry of ``x``)."""
-        frame = self.lvlh(t)
-        x = np.asarray(x, dtype=float)
-        if frame.ndim == 2:
-            return x @ frame.T
-        return np.einsum("tij,t...j->t...i", frame, x)
-
-    def libration(self, t, axis):
-        """In-plane and out-of-plane libration angles (rad) of the vectors ``axis``
-        (n, 3; a tether's end-to-end line) at the times ``t`` (n,) in the orbiting frame:
-        the in-plane angle (pitch) ``atan2(along-track, radial)``, a turn about the orbit
-        normal, and the out-of-plane angle (roll), positive away from the orbit normal, a
-        turn about the along-track axis.  Returns ``(in_plane, out_of_plane)``, (n,)
-        each."""
-        y = self.to_lvlh(np.asarray(t, dtype=float), axis)
-        in_plane = np.arctan2(y[:, 1], y[:, 0])
-        out_of_plane = np.arcsin(-y[:, 2] / np.linalg.norm(y, axis=1))
-        return in_plane, out_of_plane
-
-    def from_lvlh(self, t, y):
-        """Inverse of :meth:`to_lvlh`."""
-        frame = self.lvlh(t)
-        y = np.asarray(y, dtype=float)
-        if frame.ndim == 2:
-            return y @ frame
-        return np.einsum("tji,t...j->t...i", frame, y)
 
     @property
     def central_body(self):
@@ -431,6 +396,110 @@ class Orbit:
         return (f"Orbit(mu={self.mu:.10g}, a={self.a:.10g}, e={self.e:.6g}, "
                 f"inclination={self.inclination:.6g}, raan={self.raan:.6g}, "
                 f"argp={self.argp:.6g}, anomaly={self.anomaly:.6g}, t0={self.t0:.6g})")
+
+
+class Reference(_FunctionsOfTime):
+    """The reference of a run of a system in orbit: the system's ``orbit`` and the arcs
+    of the rebases of Encke's rectification (``solvers.rectify``), each in force from its
+    rebase time on.  A run's state, not the model's: ``simulate`` makes one per run from
+    ``System.orbit`` (the terms reading ``R(t)``, ``V(t)`` hold it through the system's
+    binding, ``Layout.reference``), checkpoints save its ``rebases`` and the run's
+    ``Result`` carries it (``Result.reference``).
+
+    Parameters
+    ----------
+    orbit : Orbit
+        The orbit as given: the arc in force before the first rebase.
+    rebases : array_like (k, 7), optional
+        Rebases to make at once (``restore``).
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> orbit = sc.Orbit(sc.MU_EARTH, 7e6)
+    >>> reference = sc.Reference(orbit)
+    >>> reference.rebase(orbit.position(10.0) + 1.0, orbit.velocity(10.0), 10.0)
+    >>> reference.rebases.shape, len(sc.Reference(orbit).rebases)
+    ((1, 7), 0)
+    """
+
+    def __init__(self, orbit, rebases=None):
+        self.orbit = orbit
+        self.restore(rebases)
+
+    @property
+    def mu(self):
+        """The orbit's gravitational parameter (m^3/s^2)."""
+        return self.orbit.mu
+
+    @property
+    def t0(self):
+        """The orbit's epoch (s)."""
+        return self.orbit.t0
+
+    @property
+    def central_body(self):
+        """The orbit's ``central_body``."""
+        return self.orbit.central_body
+
+    def body_rotation(self):
+        """The orbit's ``body_rotation()``."""
+        return self.orbit.body_rotation()
+
+    def copy(self):
+        """A reference with the same arcs, to the last bit, that later rebases of this one
+        leave alone."""
+        return Reference(self.orbit, self.rebases)
+
+    # --- the arcs of the rebases ---------------------------------------------------------
+    def rebase(self, r, v, t):
+        """Encke's rectification: from time ``t`` on, the reference is the orbit through
+        the absolute position ``r`` (m) and velocity ``v`` (m/s), ``from_state(mu, r, v,
+        t)``; before ``t`` the arcs in force stay.  Times of rebases must increase."""
+        t = float(t)
+        if self._starts and not t > self._starts[-1]:
+            raise ValueError(f"Reference.rebase: t = {t!r} s is not after the last "
+                             f"rebase at {self._starts[-1]!r} s")
+        row = np.concatenate([[t], np.asarray(r, dtype=float), np.asarray(v, dtype=float)])
+        self._arcs.append((row, Orbit.from_state(self.mu, row[1:4], row[4:], t)))
+        self._starts.append(t)
+
+    @property
+    def rebases(self):
+        """The rebases so far, one row ``(t, r, v)`` (7,) each: shape (k, 7)."""
+        return np.array([row for row, _ in self._arcs]).reshape(-1, 7)
+
+    def restore(self, rebases=None):
+        """Drop the rebases, then make those of ``rebases`` (rows of ``rebases``) again:
+        the same arcs, to the last bit."""
+        self._arcs, self._starts = [], []
+        rows = np.asarray([] if rebases is None else rebases, dtype=float).reshape(-1, 7)
+        for row in rows:
+            self.rebase(row[1:4], row[4:7], row[0])
+
+    def arc(self, t):
+        """The Keplerian orbit in force at the time ``t`` (a float): the orbit as given
+        before the first rebase, else that of the latest rebase at or before ``t``."""
+        if not self._starts or t < self._starts[0]:
+            return self.orbit
+        return self._arcs[bisect.bisect_right(self._starts, t) - 1][1]
+
+    def _each_arc(self, t, function):
+        """``function(arc, times)`` over the times ``t`` (array_like) in force on each
+        arc, gathered in the shape of ``t`` (leading axes)."""
+        t = np.asarray(t, dtype=float)
+        if not self._starts:
+            return function(self.orbit, t)
+        flat = t.reshape(-1)
+        index = np.searchsorted(self._starts, flat, side="right")
+        out = None
+        for k in np.unique(index):
+            where = index == k
+            part = function(self.orbit if k == 0 else self._arcs[k - 1][1], flat[where])
+            if out is None:
+                out = np.empty((flat.size, *part.shape[1:]))
+            out[where] = part
+        return out.reshape(t.shape + out.shape[1:])
 
 
 def co_rotation(omega, orbit):

@@ -122,7 +122,13 @@ class DifferentialGravity:
     axes).  The
     force on them is the differential gravity at the points, so the gravity-gradient
     torque on a rigid body is exact to second order in its size over the orbit radius.
+
+    The term reads the reference point ``R(t)`` of the run's ``Reference``
+    (``reads_reference``: the rectification's arcs), the orbit's ``mu`` and ``t0``.
     """
+
+    #: Bound with the run's reference (``bind(system, reference)``, ``layout.Layout``).
+    reads_reference = True
 
     def __init__(self, orbit, j2=None, body_radius=None):
         self.orbit = orbit
@@ -157,22 +163,26 @@ class DifferentialGravity:
             change += at_new - at_old
         return change
 
-    def bind(self, system):
+    def bind(self, system, reference=None):
         """The compiled term of the constant mass (``kernels.central``), combined with the
-        Python terms of the mass each deployment moves (``DeployedMass``) if any."""
-        term = self._constant_mass(system)
-        deployed = [DeployedMass(self, d, system).term()
+        Python terms of the mass each deployment moves (``DeployedMass``) if any, about
+        the reference point of ``reference`` (a run's ``Reference``; None: the orbit as
+        given)."""
+        reference = self.orbit if reference is None else reference
+        term = self._constant_mass(system, reference)
+        deployed = [DeployedMass(self, d, system, reference).term()
                     for d in system.deployments.values()]
         if not deployed:
             return term
         return combined([replace(term, add=term.evaluate, kernels=()), *deployed],
                         "differential gravity")
 
-    def field(self, t, delta):
+    def field(self, t, delta, reference=None):
         """``(a, phi, T)``: the differential acceleration (np, 3), the potential energy per
         unit mass (np,) and the acceleration's tangent (np, 3, 3) at the offsets ``delta``
-        (np, 3) at time ``t`` (``kernels.central.field``)."""
-        reference = self.orbit.position(t)
+        (np, 3) at time ``t`` (``kernels.central.field``) from the reference point of
+        ``reference`` (a run's ``Reference``; None: the orbit as given)."""
+        reference = (self.orbit if reference is None else reference).position(t)
         base = np.zeros(3)
         if self.j2 is not None:
             central.j2_acceleration(self.k, reference, base)
@@ -181,8 +191,9 @@ class DifferentialGravity:
         central.field(self.orbit.mu, self.k, reference, base, delta, a, phi, T)
         return a, phi, T
 
-    def _constant_mass(self, system):
-        """The compiled term of the bodies' and point masses' constant mass."""
+    def _constant_mass(self, system, orbit):
+        """The compiled term of the bodies' and point masses' constant mass, about the
+        reference point of ``orbit`` (an ``Orbit`` or a run's ``Reference``)."""
         points = system_mass_points(system)
         dofs = points.group_dofs()
         reference = np.zeros(3)
@@ -190,14 +201,14 @@ class DifferentialGravity:
         constants = np.array([self.orbit.mu, self.k, 0.0])
 
         def prepare(t):
-            reference[:] = self.orbit.position(t)
+            reference[:] = orbit.position(t)
             # a bound of the gradient's norm 3 mu / r^3 wherever r > |R| / 2 (J2's share
             # is below a tenth of it above the central body's surface)
             constants[2] = 24.0 * self.orbit.mu / float(reference @ reference) ** 1.5
             if constants[1] != 0.0:
                 central.j2_acceleration(constants[1], reference, base)
 
-        prepare(self.orbit.t0)
+        prepare(orbit.t0)
         pack = (points.vectors, points.coefficients, points.mass, points.groups, reference,
                 base, constants)
         return Term(kernels=((central.kernel, pack),), rows=dofs[:, :, None],
@@ -226,10 +237,12 @@ class DeployedMass:
     gravity : DifferentialGravity
     deployment : deploy.Deployment
     system : System
+    reference : Orbit or Reference
+        Whose reference point the offsets are taken from (the run's).
     """
 
-    def __init__(self, gravity, deployment, system):
-        self.gravity, self.deployment = gravity, deployment
+    def __init__(self, gravity, deployment, system, reference):
+        self.gravity, self.deployment, self.reference = gravity, deployment, reference
         cable = deployment.cable
         vectors, coefficients, mass = cable.mass_points()
         n, k = coefficients.shape
@@ -276,7 +289,7 @@ class DeployedMass:
         if self.stowed is not None:  # the material on the reel, in the same evaluation
             where.append(d.exit_point if self.anchor is None else
                          self.anchor[1] @ ev.q[self.anchor[0]])
-        a, phi, T = self.gravity.field(ev.t, np.vstack(where))
+        a, phi, T = self.gravity.field(ev.t, np.vstack(where), self.reference)
         per_point = np.einsum("p,pk,pi->pki", m, c, a[:n]).reshape(n, 3 * k)
         np.add.at(ev.f_ext, self.dofs, (lam - 1.0) * per_point)
         values = [np.einsum("p,pj,pl,pab->pjalb", (lam - 1.0) * m, c, c, T[:n]).ravel()]
@@ -298,7 +311,7 @@ class DeployedMass:
             ev.add_tangent(index, np.concatenate(values), sign=-1.0)
 
 
-def orbital_energy(system, q, v, t):
+def orbital_energy(system, q, v, t, reference=None):
     """Kinetic plus potential energy (J) in the central field of the system in orbit at
     ``(q, v, t)``, less that of its mass moving with the reference point:
     ``sum_p m_p (|V + v_p|^2 / 2 - mu / |R + delta_p|) - m (|V|^2 / 2 - mu / |R|)``, with
@@ -310,15 +323,16 @@ def orbital_energy(system, q, v, t):
     a tether's libration energy stays readable beside the orbit's.  The reference point's
     own energy is constant on its Keplerian orbit, so with the elastic energy added this is
     conserved by the equations of motion without other loads (the differential gravity is
-    the gradient of the mass points' potential).
+    the gradient of the mass points' potential).  ``reference``: the run's
+    (``Result.reference``: the orbit and its rebases); None: the orbit as given.
     """
-    orbit = system.orbit
-    if orbit is None:
+    if system.orbit is None:
         raise ValueError("orbital_energy: the system is not in orbit (System.add_orbit)")
     if system.deployments:
         raise ValueError("orbital_energy: the system deploys a cable (System.deploy), "
                          "whose mass moves between the reel and the tether; its "
                          "gravity is booked as external work (Result.energy)")
+    orbit = system.orbit if reference is None else reference
     points = system_mass_points(system)
     delta, speed = points.positions(q), points.positions(v)
     R, V = orbit.position(t), orbit.velocity(t)

@@ -19,10 +19,13 @@ torque (N m) and its derivatives in the length and the rate (the Newton tangent)
 A user's drive is any object with that hook.
 """
 
+import copy
+
 import numpy as np
 import scipy.sparse as sp
 
 from .contract import Term
+from .inputs import declared, reader
 from .kernels import drives
 from .section import check_positive
 
@@ -104,16 +107,22 @@ class Reel:
         """``Body.outputs``: the free length (m)."""
         return {"length": q[system.dofs(self)][0]}
 
-    def bind(self, system):
+    def inputs(self):
+        """The inputs the drive reads (``inputs.declared``)."""
+        return declared(self.drive)
+
+    def bind(self, system, inputs=None):
         """The term of the drive's torque on the length, ``torque / R``, booked as
-        external work (a brake's is negative); None for a free reel."""
+        external work (a brake's is negative); None for a free reel.  The drive reads the
+        run's values of its inputs (``inputs``: the run's ``InputTable``)."""
         if self.drive is None:
             return None
         dof = np.ascontiguousarray(system.dofs(self), dtype=np.int64)
-        c = np.array(self.drive.coefficients(0.0), dtype=float)
+        drive = reader(self.drive, inputs)
+        c = np.array(drive.coefficients(0.0), dtype=float)
 
         def prepare(t):
-            c[:] = self.drive.coefficients(t)
+            c[:] = drive.coefficients(t)
 
         pack = (dof, c, np.array([1.0 / self.radius]))
         return Term(kernels=((drives.reel_torque, pack),), prepare=prepare,
@@ -124,10 +133,29 @@ class Drive:
     """A reel's drive: a torque ``c0(t) + c1 l + c2 l'`` (N m) linear in the free length
     ``l`` and its rate, given by ``coefficients(t) -> (c0, c1, c2)`` (its one hook; the
     reel's compiled term refreshes them once per step).  Any of its functions of time
-    may be an ``Input`` that a controller sets."""
+    may be an ``Input`` that a controller sets: a drive names the attributes holding its
+    functions of time in ``functions``, which declares their inputs (``inputs``) and
+    gives the run's drive (``reading``)."""
+
+    #: The names of the attributes holding the drive's functions of time.
+    functions = ()
 
     def coefficients(self, t):
         raise NotImplementedError
+
+    def inputs(self):
+        """The inputs the drive's functions of time read (``inputs.declared``)."""
+        return declared(*(getattr(self, name) for name in self.functions))
+
+    def reading(self, table):
+        """The drive as a run reads it: a copy whose functions of time read the run's
+        ``table`` (``inputs.InputTable``); this one when it reads none."""
+        if not self.inputs():
+            return self
+        out = copy.copy(self)
+        for name in self.functions:
+            setattr(out, name, reader(getattr(self, name), table))
+        return out
 
     def torque(self, t, length, rate):
         """``(torque, d torque / d l, d torque / d l')`` at time ``t``."""
@@ -151,6 +179,8 @@ class Motor(Drive):
     """A prescribed torque ``torque(t)`` (N m; a number for a constant one, or an
     ``Input``)."""
 
+    functions = ("value",)
+
     def __init__(self, torque):
         self.value = torque if callable(torque) else (lambda t, c=float(torque): c)
 
@@ -173,6 +203,8 @@ class Servo(Drive):
     rate : callable, optional
         ``length'(t)`` (m/s); None: the reference rate is not fed forward.
     """
+
+    functions = ("length", "rate")
 
     def __init__(self, length, stiffness, damping, rate=None):
         self.length, self.rate = length, rate

@@ -8,6 +8,7 @@ with ``Result.load`` (``io.load_result``; xarray users open its store directly, 
 import numpy as np
 
 from .io.fingerprint import describe_bodies, describe_system, differences
+from .orbit import Reference
 from .records import FIELDS, input_records
 from .state import State
 
@@ -27,6 +28,9 @@ class Result:
     description : dict, optional
         The system as it was simulated (``io.fingerprint.describe_system``: a solver's
         ``Layout.description``); default: the system as it is now.
+    reference : orbit.Reference, optional
+        In orbit, the run's reference (the orbit and the rebases of its rectification);
+        default: the system's orbit as given, without rebases.
 
     Attributes
     ----------
@@ -47,6 +51,11 @@ class Result:
     inputs : dict
         The values the system's inputs (``inputs.Input``) held at each saved step, by
         name (``(nt, *shape)``; what controllers set: ``control``).
+    reference : orbit.Reference or None
+        In orbit, the reference the offsets were computed against (the run's: the
+        orbit's arcs and the rectification's rebases); its ``position(t)``, ``lvlh(t)``,
+        ... turn the saved offsets into absolute positions and orbiting frames.  None out
+        of orbit.
 
     Notes
     -----
@@ -82,8 +91,11 @@ class Result:
     ((30,), ['pin Node(cable, 0)'])
     """
 
-    def __init__(self, system, records, stats=None, description=None):
+    def __init__(self, system, records, stats=None, description=None, reference=None):
         self.system = system
+        orbit = getattr(system, "orbit", None)
+        self.reference = reference if reference is not None or orbit is None else \
+            Reference(orbit)
         for name in FIELDS:
             setattr(self, name, np.asarray(records[name]))
         self.inputs = input_records(records)
@@ -204,10 +216,13 @@ class Result:
         fingerprint, ``io.fingerprint``) raises ``io.StoreMismatch`` (``check=False``
         skips the test; sizes must still match).  Fields the store left out (by default
         the accelerations ``a``) are NaN.  ``stats``: the solver counters at the last
-        saved step, ``status`` and ``stopped``.  See ``io.load_result``."""
+        saved step, ``status`` and ``stopped``.  In orbit, ``reference`` holds the run's
+        rebases from its checkpoint; ``system`` is left as it is (its ``orbit`` too).
+        See ``io.load_result``."""
         from .io.reader import read_result
 
-        return cls(system, *read_result(path, system, check=check))
+        records, stats, reference = read_result(path, system, check=check)
+        return cls(system, records, stats, reference=reference)
 
 
 def _constraint_names(system):

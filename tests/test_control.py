@@ -32,13 +32,14 @@ class Ramp(sc.Controller):
 
 
 class Held(sc.Observer):
-    """Records the input's value at every saved step."""
+    """Records the run's value of the input at every saved step (``Step.inputs``: the
+    user's ``Input`` keeps its initial value)."""
 
     def __init__(self, x):
         self.x, self.values = x, []
 
     def saved(self, run, step):
-        self.values.append((step.t, self.x.value[1]))
+        self.values.append((step.t, step.inputs[self.x.name][1]))
 
 
 def held_values(controller, t_end=0.05):

@@ -109,7 +109,7 @@ def test_outputs_read_the_recorded_voltages():
     thrust = np.linalg.norm(esail.outputs(scene, result)["thrust"], axis=1)
     per_volt = sc.SolarWind().force_per_length
     assert thrust[-1] / thrust[0] == pytest.approx(per_volt(10e3) / per_volt(20e3), rel=1e-3)
-    assert voltages.value[0] == 10e3  # the inputs hold their values again
+    assert voltages.value[0] == 20e3  # the user's input keeps its initial value
     result.inputs.clear()
     with pytest.raises(ValueError, match="no history of the inputs 'voltages'"):
         esail.outputs(scene, result)

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..orbit import Reference
 from ..records import FIELDS, INPUT
 from . import lock
 from .fingerprint import check_fingerprint
@@ -305,23 +306,24 @@ class ShapeOnly:
 
 
 def read_result(path, system, check=True):
-    """``(records, stats)`` of the saved steps of the run directory ``path``: what
-    ``Result.load`` (``io.load_result``) makes its ``Result`` of.
+    """``(records, stats, reference)`` of the saved steps of the run directory ``path``:
+    what ``Result.load`` (``io.load_result``) makes its ``Result`` of.
 
     The store must have been written by ``system`` (its fingerprint, ``io.fingerprint``):
     otherwise ``StoreMismatch`` (``check=False`` skips the test; the sizes must still
     match).  Fields the store left out are NaN (``iterations``: -1).  ``stats``: the
     solver counters at the last saved step, ``status`` and ``stopped``.  Old run
-    directories (``chunk_*.npz``) are read too.  A system in orbit takes the rebases of
-    the run's reference (Encke's rectification, ``solvers.rectify``) from the checkpoint,
-    so that its orbit's functions of time are those the saved offsets were computed
-    against."""
+    directories (``chunk_*.npz``) are read too.  In orbit, ``reference`` is the run's
+    (``orbit.Reference``): ``system.orbit`` and the rebases of Encke's rectification
+    (``solvers.rectify``) from the checkpoint, so that its functions of time are those
+    the saved offsets were computed against; ``system`` is not changed (None out of
+    orbit)."""
     path = Path(path)
     manifest = read_manifest(path)
     if manifest is None:
         records, checkpoint = read_legacy(path, system)
         stats = {k[5:]: int(checkpoint[k]) for k in checkpoint if k.startswith("stat_")}
-        return records, stats
+        return records, stats, _reference(system, checkpoint)
     if check:
         check_fingerprint(path, manifest, system)
     elif (manifest.get("n_dofs", system.n_dofs) != system.n_dofs
@@ -330,14 +332,22 @@ def read_result(path, system, check=True):
                             f"{manifest.get('n_constraints')} multipliers; the given system "
                             f"has {system.n_dofs} and {system.n_constraints}")
     records = read_records(path, system, manifest)
-    if system.orbit is not None and manifest.get("checkpoint"):
-        system.orbit.restore(read_checkpoint(path, manifest).get("orbit_rebases"))
+    in_orbit = getattr(system, "orbit", None) is not None
+    reference = _reference(system, read_checkpoint(path, manifest)
+                           if in_orbit and manifest.get("checkpoint") else {})
     stats = {"status": manifest.get("status"),
              "stopped": manifest.get("message") if manifest.get("status") == "stopped"
              else None}
     if manifest["saved"]:
         stats.update(_counters(path, manifest))
-    return records, stats
+    return records, stats, reference
+
+
+def _reference(system, checkpoint):
+    """The run's reference of ``system`` (in orbit; else None) with the rebases of
+    ``checkpoint`` (a mapping; none without ``orbit_rebases``)."""
+    orbit = getattr(system, "orbit", None)
+    return None if orbit is None else Reference(orbit, checkpoint.get("orbit_rebases"))
 
 
 def _counters(path, manifest):

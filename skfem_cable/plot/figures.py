@@ -320,7 +320,7 @@ def orbiting(result, x):
     centre = system.centre_of_mass(result.q)
     rel = np.asarray(x, dtype=float) - centre.reshape(
         (len(centre),) + (1,) * (np.ndim(x) - 2) + (3,))
-    return system.orbit.to_lvlh(result.t, rel)
+    return result.reference.to_lvlh(result.t, rel)
 
 
 def tip_frame(result):

@@ -404,7 +404,7 @@ def animate(result, path, every=None, max_frames=150, fps=15, points_per_element
     idx = list(range(0, n, every))
     if idx[-1] != n - 1:
         idx.append(n - 1)
-    moved = export.output_frame(result.system, frame)
+    moved = export.output_frame(result.system, frame, result.reference)
     shown = [moved.configuration(result.t[i], result.q[i], result.v[i]) for i in idx]
     grids = _grids(result.system, [(q, v, result.t[i]) for i, (q, v) in zip(idx, shown)],
                    points_per_element)

@@ -119,7 +119,8 @@ def _run_dynamic(out, name, system, initial, options, settings, parameters, outp
                "outputs": run_outputs(result)}
     summary["frame"] = frame
     if system.orbit is not None:
-        summary["orbit"] = orbit_summary(system, result.state(0), result.state(len(result) - 1))
+        summary["orbit"] = orbit_summary(system, result.state(0), result.state(len(result) - 1),
+                                         result.reference)
         summary["orbit"].update(rectification=stats["rectification"],
                                 rectifications=stats["rectifications"])
     complete_summary(summary, result, outputs,

@@ -51,24 +51,26 @@ def orbit_elements(orbit):
             "t": orbit.t0, "period": orbit.period}
 
 
-def centre_of_mass_orbit(system, state):
+def centre_of_mass_orbit(system, state, reference=None):
     """The osculating orbit of the centre of mass of ``system`` (in orbit) at ``state``:
     ``Orbit.from_state(mu, R(t) + x_cm, V(t) + v_cm, t)``, with ``x_cm``, ``v_cm`` from
-    ``System.centre_of_mass``."""
+    ``System.centre_of_mass`` and ``R``, ``V`` of the run's ``reference``
+    (``Result.reference``; None: the orbit as given)."""
     v = np.zeros_like(state.q) if state.v is None else state.v
     x_cm, v_cm = system.centre_of_mass(state.q), system.centre_of_mass(v)
-    reference = system.orbit
+    reference = system.orbit if reference is None else reference
     return Orbit.from_state(reference.mu, reference.position(state.t) + x_cm,
                             reference.velocity(state.t) + v_cm, state.t)
 
 
-def orbit_summary(system, first, last):
+def orbit_summary(system, first, last, reference=None):
     """The orbit of a run of ``system`` (in orbit) for its summary: ``mu``, the
     ``reference`` orbit's elements and the osculating elements of the centre of mass at
-    the ``first`` and ``last`` states (``start``, ``end``; ``orbit_elements``)."""
+    the ``first`` and ``last`` states (``start``, ``end``; ``orbit_elements``) against the
+    run's ``reference`` (``Result.reference``; None: the orbit as given)."""
     return {"mu": system.orbit.mu, "reference": orbit_elements(system.orbit),
-            "start": orbit_elements(centre_of_mass_orbit(system, first)),
-            "end": orbit_elements(centre_of_mass_orbit(system, last))}
+            "start": orbit_elements(centre_of_mass_orbit(system, first, reference)),
+            "end": orbit_elements(centre_of_mass_orbit(system, last, reference))}
 
 
 def orbiting_cable_outputs(result, cable):
@@ -78,7 +80,7 @@ def orbiting_cable_outputs(result, cable):
     the end and their largest magnitudes over the run, and the centre tension (N, at
     mid-length) at the end and its largest over the run."""
     ends = result.position(cable, np.array([0.0, cable.length]))
-    in_plane, out_of_plane = result.system.orbit.libration(result.t, ends[:, 1] - ends[:, 0])
+    in_plane, out_of_plane = result.reference.libration(result.t, ends[:, 1] - ends[:, 0])
     centre = result.tension(cable, 0.5 * cable.length)
     return {"libration_in_plane": in_plane[-1], "libration_out_of_plane": out_of_plane[-1],
             "max_libration_in_plane_run": np.abs(in_plane).max(),

@@ -25,7 +25,7 @@ from scipy.spatial.transform import Rotation
 from ..cable import Cable
 from ..coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce, SunAtFocus
 from ..frames import R1, dcm_321, euler_321, euler_323, orbit_frame
-from ..inputs import system_inputs
+from ..inputs import InputTable, system_inputs
 from ..orbit import MU_SUN, Orbit
 from ..rigid import RigidBody
 from ..runner.directory import register_files
@@ -153,13 +153,15 @@ class ESailScene:
     orbit: Orbit | None = None
     options: dict = field(default_factory=dict)
 
-    def heliocentric(self, t):
+    def heliocentric(self, t, reference=None):
         """Heliocentric position (m) of the origin of the system's coordinates at times
-        ``t`` (nt,): ``R0`` fixed, or the orbit's reference point ``R(t)``; (nt, 3)."""
+        ``t`` (nt,): ``R0`` fixed, or the reference point ``R(t)`` of the run's
+        ``reference`` (``Result.reference``: the orbit and its rebases; None: the orbit as
+        given); (nt, 3)."""
         t = np.asarray(t, dtype=float)
         if self.orbit is None:
             return np.broadcast_to(self.R0, t.shape + (3,))
-        return self.orbit.position(t)
+        return (self.orbit if reference is None else reference).position(t)
 
 
 def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass, omega):
@@ -353,7 +355,7 @@ def outputs(scene, result):
     d = result.q[:, system.dofs(hub)]
     C_I_B = hub.rotation(d)
     origin = hub.positions(d, np.zeros(3))
-    C_I_O = orbit_frame(scene.heliocentric(result.t) + origin)
+    C_I_O = orbit_frame(scene.heliocentric(result.t, result.reference) + origin)
     out = {"t": result.t}
     rho_Z, tau_Z, ratio = [], [], []
     for zeta, cable in zip(scene.zeta, scene.tethers):
@@ -429,32 +431,29 @@ def _coulomb_resultants(scene, result, C_I_B):
         raise ValueError(f"outputs: the result holds no history of the inputs "
                          f"{', '.join(map(repr, missing))} (set by controllers): the "
                          "Coulomb force of past saved steps cannot be recomputed")
-    held = {name: x.value for name, x in inputs.items()}
-    try:
-        return _resultants(scene, result, C_I_B, inputs)
-    finally:
-        for name, x in inputs.items():
-            x.value = held[name]
+    return _resultants(scene, result, C_I_B, InputTable(inputs))
 
 
-def _resultants(scene, result, C_I_B, inputs):
-    """``_coulomb_resultants`` with the ``inputs`` set, at each saved step, to the values
-    the result recorded."""
+def _resultants(scene, result, C_I_B, table):
+    """``_coulomb_resultants`` with the inputs of ``table`` (an ``inputs.InputTable``)
+    set, at each saved step, to the values the result recorded."""
     wf, system = scene.wind_force, scene.system
+    sources = wf.sources(table)
     nt, p = len(result.t), len(scene.tethers)
     force = np.zeros((nt, p, 3))
     moment = np.zeros((nt, p, 3))
     for k, t in enumerate(result.t):
-        for name, x in inputs.items():
-            x.value = result.inputs[name][k]
-        coef = wf.coefficients(t)
+        for name in table.values:
+            table.set(name, result.inputs[name][k])
+        coef = wf.coefficients(t, sources)
         start = 0
         for i, cable in enumerate(scene.tethers):
             qc = result.q[k, system.dofs(cable)]
             qe = cable.element_vectors(qc)
             r = np.einsum("egA,eAi->egi", cable.S, qe)
             a = np.einsum("egA,eAi->egi", cable.Sx, qe)
-            f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t)
+            f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t,
+                              result.reference)
             start += cable.n_elements
             fw = f * cable.weights[..., None]
             force[k, i] = fw.sum(axis=(0, 1))

@@ -468,11 +468,12 @@ class GeneralizedAlpha(StepControl, Diagnosis):
 
     def series_writer(self, run_dir, append=False, frame="inertial", **detail):
         """The writer of the run's ParaView series (``io.SeriesObserver``):
-        ``export.SeriesWriter`` of the system in ``frame`` (``detail``:
-        ``points_per_element``)."""
+        ``export.SeriesWriter`` of the system in ``frame``, turning in orbit with the
+        run's reference (``detail``: ``points_per_element``)."""
         from ..export import SeriesWriter  # meshio only when a series is written
 
-        return SeriesWriter(run_dir, self.system, append=append, frame=frame, **detail)
+        return SeriesWriter(run_dir, self.system, append=append, frame=frame,
+                            reference=self.lay.reference, **detail)
 
     def energies(self):
         """Kinetic, axial, bending and potential energy, dissipated energy and external

@@ -10,7 +10,8 @@ paper, Sect. 2).  After every step, when the offset ``x`` of the centre of mass 
 ``tolerance |R|`` or its velocity ``u`` exceeds ``tolerance |V|`` (``|R|`` and ``|V|``
 taken at their smallest on the arc in force: periapsis distance, apoapsis speed), the
 reference becomes
-the orbit through ``R + x, V + u`` from that time on (``Orbit.rebase``: Battin,
+the orbit through ``R + x, V + u`` from that time on (``orbit.Reference.rebase`` of the
+run's reference, never the user's ``Orbit``: Battin,
 *An Introduction to the Mathematics and Methods of Astrodynamics*, AIAA 1999, on
 Encke's method), and every position coordinate moves by ``-(R_new(t) - R(t))``, every
 velocity of a position by ``-(V_new(t) - V(t))`` and every acceleration of a position by
@@ -59,10 +60,12 @@ class Rectification:
         beyond which the reference is re-based, > 0.
     t : float
         The run's start time (s): where the constraints are checked.
+    reference : orbit.Reference
+        The run's reference (``Layout.reference``), which the rebases extend.
     """
 
-    def __init__(self, system, tolerance, t):
-        self.orbit, self.tolerance = system.orbit, float(tolerance)
+    def __init__(self, system, tolerance, t, reference):
+        self.reference, self.tolerance = reference, float(tolerance)
         self.gravity = system.orbit_gravity
         n = system.n_dofs
         self.positions = system.vectors[system.vector_is_position]  # (k, 3) coordinates
@@ -72,14 +75,14 @@ class Rectification:
             unit[i, self.positions[:, i]] = 1.0
         mass = unit[0] @ (M @ unit[0])
         self.weights = np.asarray(M @ unit.T).T / mass  # centre of mass: weights @ q
-        self.reason = _tied(system, self.positions, t, self.orbit)
+        self.reason = _tied(system, self.positions, t, reference)
         self._bounds(t)
 
     def _bounds(self, t):
         """The squared limits of the offset and the velocity of the centre of mass on
         the arc in force at ``t``: ``tolerance`` times its smallest distance ``a (1 -
         e)`` and smallest speed (at apoapsis), so that no step asks the orbit."""
-        arc = self.orbit.arc(float(t))
+        arc = self.reference.arc(float(t))
         slowest = arc.mu / arc.a * (1.0 - arc.e) / (1.0 + arc.e)
         self.limits = (self.tolerance**2 * (arc.a * (1.0 - arc.e)) ** 2,
                        self.tolerance**2 * slowest)
@@ -99,12 +102,12 @@ class Rectification:
         return np.inf
 
     def snapshot(self):
-        """The rebases so far, for a checkpoint (``Orbit.rebases``)."""
-        return {"orbit_rebases": self.orbit.rebases}
+        """The rebases so far, for a checkpoint (``Reference.rebases``)."""
+        return {"orbit_rebases": self.reference.rebases}
 
     def restore(self, snap):
-        """The rebases of a checkpoint back on the orbit."""
-        self.orbit.restore(snap.get("orbit_rebases"))
+        """The rebases of a checkpoint back on the run's reference."""
+        self.reference.restore(snap.get("orbit_rebases"))
         self._bounds(float(snap["t"]))
 
     def after_step(self, integrator):
@@ -113,18 +116,18 @@ class Rectification:
         x, u = self.weights @ integrator.q, self.weights @ integrator.v
         if x @ x <= self.limits[0] and u @ u <= self.limits[1]:
             return False
-        t, orbit = integrator.t, self.orbit
-        R, V = orbit.position(t), orbit.velocity(t)
-        orbit.rebase(R + x, V + u, t)
+        t, reference = integrator.t, self.reference
+        R, V = reference.position(t), reference.velocity(t)
+        reference.rebase(R + x, V + u, t)
         self._bounds(t)
-        new = orbit.position(t)
-        integrator.shift(self.shift(R - new), self.shift(V - orbit.velocity(t)),
+        new = reference.position(t)
+        integrator.shift(self.shift(R - new), self.shift(V - reference.velocity(t)),
                          self.shift(-self.gravity.frame_change(R, new)))
         integrator.stats["rectifications"] = integrator.stats.get("rectifications", 0) + 1
         return True
 
 
-def _tied(system, positions, t, orbit):
+def _tied(system, positions, t, reference):
     """Why the rectification must stay off for ``system`` (a constraint that a
     translation of all positions violates, named), or None.
 
@@ -137,7 +140,7 @@ def _tied(system, positions, t, orbit):
     if not system.n_constraints:
         return None
     q = system.q0
-    size = 1e-3 * np.linalg.norm(orbit.position(float(t)))
+    size = 1e-3 * np.linalg.norm(reference.position(float(t)))
     rest = system.constraint_values(q, t)
     for axis in np.eye(3):
         step = np.zeros(system.n_dofs)

@@ -23,7 +23,6 @@ import numpy as np
 
 from ..contract import Observer, Run, Step
 from ..control import ControlLoop, check_resumed
-from ..inputs import system_inputs
 from ..kernels import compile_log
 from ..observing import Observers
 from ..records import FIELDS, SETTINGS, settings_array, step_record
@@ -130,22 +129,34 @@ def _stats(integ, clock, stopped=None):
     return stats
 
 
-def _step_hooks(system, integ, settings, rectify, controllers, inputs, t_start, dt):
+def _reference(integ):
+    """A copy of the run's reference (in orbit; else None) for its ``Result``: the
+    orbit and the rebases so far, left alone by a later run on the same system."""
+    reference = integ.lay.reference
+    return None if reference is None else reference.copy()
+
+
+def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
     loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
-    counters; a fresh run of a system in orbit starts on the orbit as given."""
+    counters.  A run starts from the model as given: the inputs at their initial values
+    (``Layout.inputs``), in orbit the reference without rebases (``Layout.reference``);
+    a resumed run then takes its checkpoint's (the hooks' ``restore``)."""
     hooks = []
-    if system.orbit is not None:
+    integ.lay.inputs.reset()
+    reference = integ.lay.reference
+    if reference is not None:
         settings["rectify"] = rectify
-        system.orbit.restore()
-        rectifier = None if rectify is None else Rectification(system, rectify, t_start)
+        reference.restore()
+        rectifier = None if rectify is None else Rectification(system, rectify, t_start,
+                                                                reference)
         integ.stats.update(rectifications=0, rectification="none" if rectifier is None
                            else rectifier.reason or "on")
         if rectifier is not None and rectifier.reason is None:
             hooks.append(rectifier)
     if controllers:
-        hooks.append(ControlLoop(system, controllers, t_start, dt, inputs))
+        hooks.append(ControlLoop(system, controllers, t_start, dt, integ.lay.inputs))
         settings["controllers"] = [f"{c.name}: every {c.sample_time:g} s, delay "
                                    f"{getattr(c, 'delay', 0.0):g} s" for c in controllers]
         integ.stats["control_updates"] = 0
@@ -220,8 +231,10 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         that leaves the centre of mass further than ``rectify |R|`` from the reference
         point, or faster than ``rectify |V|`` relative to it; None: never.  Off (and
         said in ``stats["rectification"]``) when a constraint ties the system to the
-        reference point.  A fresh run starts on the orbit as given, dropping the
-        rebases of an earlier run; a continued one takes them from its checkpoint.
+        reference point.  The rebases are the run's (``orbit.Reference``, in its
+        checkpoints and its ``Result.reference``): the system's ``Orbit`` stays as
+        given, every fresh run starts on it, a continued one takes the rebases from its
+        checkpoint.
     controllers : sequence of control.Controller
         Closed-loop control (``control``): each controller's ``update(t, state)`` is
         called at ``t_start + k sample_time`` and the inputs (``inputs.Input``) it names
@@ -288,8 +301,8 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         settings["initial_acceleration"] = initial_acceleration
     if pseudo_acceleration != "fitted":
         settings["pseudo_acceleration"] = pseudo_acceleration
-    inputs = system_inputs(system)
-    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers, inputs,
+    inputs = integ.lay.inputs  # the run's values of the inputs
+    hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers,
                                       t_start, None if adaptive else dt)
     if resume is not None:
         snap = resume.snapshot
@@ -307,8 +320,6 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         recorder = _Recorder(system, resume.records)
     else:
         q, v = _initial_arrays(system, initial)
-        for x in inputs.values():  # a fresh run starts from the inputs' initial values
-            x.reset()
         integ.initialize(q, v, t_start)
         for hook in hooks:
             hook.start(integ)
@@ -317,14 +328,13 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
     run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
     watch = Observers(run, [recorder, *(observers or ())],
                       lambda: Result(system, recorder.arrays(), _stats(integ, clock),
-                                     integ.lay.description))
+                                     integ.lay.description, _reference(integ)))
     clock.start()
 
     def save(index):
         """Hand the current state to every observer; returns a stop message or None."""
         return watch.saved(Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam,
-                                integ.iterations, integ.energies(),
-                                {name: x.value for name, x in inputs.items()}))
+                                integ.iterations, integ.energies(), inputs.snapshot()))
 
     def fixed_steps(i, stop):
         while stop is None and i < n_steps:
@@ -355,4 +365,4 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         system.check_unchanged(integ.lay, "during the run")  # an observer's edit: refused
         run.stop_reason = stop
     return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason),
-                  integ.lay.description)
+                  integ.lay.description, _reference(integ))
