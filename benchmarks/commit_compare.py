@@ -167,8 +167,8 @@ system, initial, dt, rho = scene.system, scene.initial, 1e-3, 0.8
 
 
 def time_case(tree, case, steps):
-    """``{"ms_per_step", "newton_per_step"}`` of ``case`` (a ``Case``) over ``steps`` steps
-    in a fresh process on ``tree``, or ``{"error": message}``."""
+    """``{"ms_per_step", "wall_ms_per_step", "newton_per_step"}`` of ``case`` (a ``Case``) over
+    ``steps`` steps in a fresh process on ``tree``, or ``{"error": message}``."""
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1",
                SKFEM_CABLE_THREADS="1")
     proc = subprocess.run([sys.executable, "-c", SNIPPET, case.build, str(steps)], env=env,
