@@ -2,7 +2,10 @@
 
 Extra arguments go to the task's command; a leading ``--`` is dropped, so that
 ``python3 tasks.py bench -- --quick kernel_cost`` runs ``skfem-cable bench --quick
-kernel_cost`` (its tables stream as they are computed).
+kernel_cost`` (its tables stream as they are computed), and ``python3 tasks.py bench
+--against [REF]`` times the tracked cases of ``benchmarks/commit_compare.py`` here and at
+the commit ``REF`` (default: its fixed reference), printing each ratio and flagging those
+above 1.05: run it before every speed-relevant commit.
 
 Each task creates (or reuses) the local virtual environment ``.venv``, installs the
 package with its test and docs extras when ``pyproject.toml`` changed since the last

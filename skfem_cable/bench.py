@@ -38,7 +38,8 @@ RESULTS = BENCHMARKS / "results"
 #: Benchmarks left out of the default ``--quick`` set (they still accept ``--quick``), and
 #: why: their quick variants take from 25 s to 3 minutes on 2 cores.
 NOT_QUICK = {
-    "commit_compare": "about 30 s quick: a git worktree of another commit, fresh processes",
+    "commit_compare": "about 80 s quick: six cases in fresh processes, here and in a git "
+                      "worktree of the reference commit (bench --against)",
     "adaptive_fronts": "about 40 s quick: a fixed 0.025 s reference and eight runs of the "
                        "12-tether sail",
     "esail_full": "about 15 s quick: the full-size sail (100 tethers) built and run five "
@@ -206,7 +207,7 @@ def save_record(folder, rec, started):
     return path
 
 
-def run(names=(), quick=False, out=None, json_dir=RESULTS):
+def run(names=(), quick=False, out=None, json_dir=RESULTS, args=()):
     """Run benchmarks one after the other, printing their output as it comes.
 
     Parameters
@@ -219,6 +220,8 @@ def run(names=(), quick=False, out=None, json_dir=RESULTS):
         Also save each benchmark's output as ``out/NAME.txt``.
     json_dir : Path
         Folder of the JSON records.
+    args : sequence of str
+        More arguments passed to every script (after ``--quick``).
 
     Returns
     -------
@@ -230,7 +233,7 @@ def run(names=(), quick=False, out=None, json_dir=RESULTS):
     if quick and not names:
         print(f"== quick set: {', '.join(chosen)} (left out, run them by name: "
               f"{', '.join(n for n in available if n in NOT_QUICK)})", flush=True)
-    args = ["--quick"] if quick else []
+    args = ["--quick"] * quick + list(args)
     status, start = 0, time.perf_counter()
     for i, name in enumerate(chosen, 1):
         status |= run_one(name, available[name], args, f"[{i}/{len(chosen)}]", out, json_dir)

@@ -30,6 +30,7 @@ EPILOG = """examples:
   skfem-cable validate
   skfem-cable bench kernel_cost step_cost
   skfem-cable bench --quick
+  skfem-cable bench --against abb2314 --repeats 3 --cases pendulum esail
 """
 
 
@@ -285,6 +286,15 @@ def build_parser():
                        help="also save each benchmark's output as DIR/NAME.txt")
     bench.add_argument("--json", type=_directory, metavar="DIR", default=None,
                        help="folder of the JSON records (default: benchmarks/results)")
+    bench.add_argument("--against", nargs="?", const="", default=None, metavar="REF",
+                       help="time the tracked cases of benchmarks/commit_compare.py in this "
+                       "tree and at the commit REF (default: its fixed REFERENCE), print "
+                       "each ratio and flag those above 1.05 (a report: exit status 0)")
+    bench.add_argument("--cases", nargs="+", metavar="CASE",
+                       help="with --against: the tracked cases to time (default: all)")
+    bench.add_argument("--repeats", type=_positive_int, metavar="N",
+                       help="with --against: runs of each tree per case (default 5; "
+                       "--quick: 1), the minimum reported")
     return parser
 
 
@@ -437,8 +447,31 @@ def cmd_bench(args):
         return 0
     _check_folder("--out", args.out)  # before any benchmark runs
     _check_folder("--json", args.json)
-    return bench.run(args.names, quick=args.quick, out=args.out,
-                     json_dir=bench.RESULTS if args.json is None else args.json)
+    names, script_args = _against(args)
+    return bench.run(names, quick=args.quick, out=args.out,
+                     json_dir=bench.RESULTS if args.json is None else args.json,
+                     args=script_args)
+
+
+def _against(args):
+    """``(names, script arguments)`` of ``bench``: with ``--against``, the benchmark
+    ``commit_compare`` with ``--against``, ``--cases`` and ``--repeats``; else the NAMEs
+    and no arguments.  Raises ``ValueError`` for NAMEs with ``--against``, or ``--cases``
+    or ``--repeats`` without it."""
+    if args.against is None:
+        if args.cases is not None or args.repeats is not None:
+            raise ValueError("--cases and --repeats go with --against (the tracked cases of "
+                             "benchmarks/commit_compare.py)")
+        return args.names, []
+    if args.names:
+        raise ValueError(f"--against times the tracked cases, not benchmarks by name: drop "
+                         f"{' '.join(args.names)} (or choose cases with --cases)")
+    script_args = ["--against", args.against] if args.against else []
+    if args.cases is not None:
+        script_args += ["--cases", *args.cases]
+    if args.repeats is not None:
+        script_args += ["--repeats", str(args.repeats)]
+    return ["commit_compare"], script_args
 
 
 COMMANDS = {"run": cmd_run, "sweep": cmd_sweep, "validate": cmd_validate, "bench": cmd_bench}
