@@ -117,16 +117,6 @@ def test_esail_full_parts_of_a_step():
     assert all(parts[k] > 0 for k in ("factor", "solve", "evaluate"))
 
 
-def test_commit_compare_against_head():
-    """Against HEAD itself (a git worktree): the same Newton iterations per step (the
-    pendulum only: the E-sail's setup would double the test's time)."""
-    rows = load(BENCH / "commit_compare.py").main(["--base", "HEAD", "--quick",
-                                                   "--cases", "pendulum"])
-    assert [r["case"] for r in rows] == ["pendulum"]
-    assert max(abs(r["here"]["newton_per_step"] / r["base"]["newton_per_step"] - 1)
-               for r in rows) < 0.05
-
-
 @pytest.mark.slow
 def test_peers_pendulum_against_exudyn():
     """Runs where the ``peers`` extra is installed: both codes reach the same tip."""
