@@ -6,11 +6,12 @@ them (``docs/locking.md`` measures the three).
     The axial part at the assumed Green strain (``kernels.assumed_strain``): on
     the cubic element the continuous piecewise quadratic with the strain's nodal values
     and element means, ``2 n + 1`` values for ``n`` elements; on the quintic the C1
-    piecewise quartic with its nodal values and slopes and element means, ``3 n + 2``.
+    piecewise quintic with its nodal values and slopes, element means and first
+    moments, ``4 n + 2``.
     No membrane locking, the full rule's accuracy on taut cables (exact axial and
     geometric stiffness about a uniformly stretched cable), tension recovered from the
     assumed strain.  The bending part on the Gauss rule of the assumed strain (3 points
-    on the cubic element, 5 on the quintic).  Needs a law whose axial part depends on the
+    on the cubic element, 6 on the quintic).  Needs a law whose axial part depends on the
     stretch alone (``CableLaw.check_strain``).
 ``"paper"``
     The paper's formulation: every term on the Gauss rule of ``Cable.intorder`` (5
@@ -126,7 +127,7 @@ class Lobatto(_Recovered):
 
 class AssumedStrain:
     """The axial part at the assumed strain (``kernels.assumed_strain``), the bending
-    part on the 3-point Gauss rule; strain and tension recovered from the assumed strain
+    part on its Gauss rule; strain and tension recovered from the assumed strain
     (``recovered``)."""
 
     name = "assumed-strain"

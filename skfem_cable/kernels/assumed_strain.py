@@ -51,9 +51,9 @@ as ``kernels.cable``'s template is in the law's Gauss module, with the element l
 """
 
 import functools
-import math
 
 import numpy as np
+import sympy as sp
 
 from ..elements.base import hermite_coefficients
 
@@ -73,42 +73,48 @@ def gauss(points):
 class Rule:
     """The assumed strain of an element type whose nodal fields are the derivatives
     ``orders`` (``CableElement.orders``, ``m = len(orders)``: the field is of degree
-    ``2 m - 1``, its slope and its linearised strain of degree ``2 m - 2``, its raw Green
-    strain of degree ``4 m - 4``).
+    ``2 m - 1``, its slope of degree ``2 m - 2``, its raw Green strain of degree
+    ``4 m - 4``).
 
-    In each element the assumed strain is the polynomial of degree ``2 m - 2`` that takes
+    In each element the assumed strain is the polynomial of degree ``3 m - 4`` that takes
     the raw strain's derivatives of orders ``0 .. m - 2`` at the element's two nodes and
-    its mean over the element: the Hermite interpolant of the nodal data plus the bubble
-    ``xi^(m-1) (1 - xi)^(m-1)``, scaled to mean 1, that restores the mean.  Over a mesh of
-    ``n`` elements it is a ``C^(m-2)`` piecewise polynomial of degree ``2 m - 2`` fixed by
-    ``(m - 1)(n + 1) + n`` values, the space of the field's linearised strain itself: no
-    membrane locking, no spurious zero-energy mode, and a strain already in that space is
-    its own assumed strain.  The cubic element (``m = 2``): the quadratic with the nodal
-    values and the mean, ``2 n + 1`` values; the quintic (``m = 3``): the quartic with the
-    nodal values and slopes and the mean, ``3 n + 2`` values.
+    its moments of orders ``0 .. m - 2`` over the element (against the shifted Legendre
+    polynomials ``L_k(xi) = P_k(2 xi - 1)``): the Hermite interpolant of the nodal data
+    plus the bubbles ``xi^(m-1) (1 - xi)^(m-1) q(xi)`` dual to the moments, which restore
+    them.  Over a mesh of ``n`` elements it is a ``C^(m-2)`` piecewise polynomial fixed by
+    ``(m - 1)(2 n + 1)`` values.  The cubic element (``m = 2``): the continuous quadratic
+    with the strain's nodal values and element means, ``2 n + 1`` values, the space of
+    its linearised strain; the quintic (``m = 3``): the C1 quintic with the strain's nodal
+    values and slopes and its element means and first moments, ``4 n + 2`` values.  Both
+    leave the element about ``2 n`` inextensible modes in a plane, as many as a cubic
+    element leaves: no membrane locking.  (A quartic with the means alone, ``3 n + 2``
+    values, the space of the quintic's linearised strain, does not lock either and its
+    tension is smooth in bending, but it loses the first moments and with them three
+    orders on curved cables whose tension varies; the quintic's first moments carry an
+    oscillation of the tension in bending instead: ``docs/locking.md``.)
 
-    The raw strain is sampled at the two nodes, the ``2 m - 1`` points of the Gauss rule
-    (exact for its mean, and for the energy of the Green law at the assumed strain), then
-    the ``2 m - 4`` interior points of the ``(2 m - 2)``-point Gauss-Lobatto rule (none on
-    the cubic element): ``4 m - 3`` points that fix the raw strain, so that its nodal
-    derivatives are exact combinations of the samples.
+    The raw strain is sampled at the two nodes, the ``3 m - 3`` points of the Gauss rule
+    (exact for its moments, and for the energy of the Green law at the assumed strain),
+    then the ``m - 2`` interior points of the ``m``-point Gauss-Lobatto rule (none on the
+    cubic element, the midpoint on the quintic): ``4 m - 3`` points, which fix the raw
+    strain, so that its nodal derivatives are exact combinations of the samples.
 
     Attributes
     ----------
     samples : ndarray (4 m - 3,)
         Reference coordinates of the samples of the raw strain.
-    gauss : tuple of ndarray (2 m - 1,)
-        The Gauss rule on [0, 1], coordinates and weights (the samples ``2 .. 2 m``): the
-        rule of the energy at the assumed strain and of the bending part.
-    map : ndarray (2 m - 1, 4 m - 3)
+    gauss : tuple of ndarray (3 m - 3,)
+        The Gauss rule on [0, 1], coordinates and weights (the samples ``2 .. 3 m - 2``):
+        the rule of the energy at the assumed strain and of the bending part.
+    map : ndarray (3 m - 3, 4 m - 3)
         Raw strains at ``samples`` -> assumed strains at the Gauss points
         (``assumed_map``).
     """
 
     def __init__(self, orders):
         self.m = len(orders)
-        self.gauss = gauss(2 * self.m - 1)
-        lobatto = np.polynomial.legendre.Legendre.basis(2 * self.m - 3).deriv().roots()
+        self.gauss = gauss(3 * self.m - 3)
+        lobatto = np.polynomial.legendre.Legendre.basis(self.m - 1).deriv().roots()
         self.samples = np.concatenate([[0.0, 1.0], self.gauss[0], (lobatto + 1) / 2])
         self.map = self.assumed_map(self.gauss[0])
 
@@ -128,21 +134,41 @@ class Rule:
                 rows.append(derivative @ through)
         return np.array(rows)
 
+    def moments(self):
+        """The map (m - 1, n_samples) from the raw strains at ``samples`` to their moments
+        ``int eps L_k dxi``, ``k = 0 .. m - 2``, by the Gauss rule (exact)."""
+        x, w = self.gauss
+        out = np.zeros((self.m - 1, self.samples.size))
+        out[:, 2:2 + x.size] = w * _legendre(self.m - 2, x)
+        return out
+
     def assumed_map(self, xi):
         """The map (len(xi), n_samples) from the raw strains at ``samples`` to the assumed
         strain at the reference coordinates ``xi``: the Hermite interpolant of the nodal
-        data (``nodal``), plus the bubble times the raw strain's mean (the Gauss rule)
-        less the interpolant's."""
+        data (``nodal``), plus the bubbles times the raw strain's moments (``moments``)
+        less the interpolant's (moments and bubbles in exact arithmetic)."""
         xi = np.atleast_1d(np.asarray(xi, dtype=float))
         m = self.m
         hermite = hermite_coefficients(tuple(range(m - 1)))  # (2 m - 2 functions, powers)
         functions = np.polynomial.polynomial.polyval(xi, hermite.T)
-        means = hermite @ (1.0 / np.arange(1, 2 * m - 1))
-        bubble = math.comb(2 * m - 2, m - 1) * (2 * m - 1) * xi ** (m - 1) * (1 - xi) ** (m - 1)
+        t = sp.Symbol("xi")
+        legendre = [sp.legendre(k, 2 * t - 1) for k in range(m - 1)]
+        power_moments = np.array([[float(sp.integrate(t**j * L, (t, 0, 1))) for L in legendre]
+                                  for j in range(2 * m - 2)])
+        bubble = t ** (m - 1) * (1 - t) ** (m - 1)
+        gram = sp.Matrix(m - 1, m - 1, lambda i, j: sp.integrate(
+            bubble * legendre[i] * legendre[j], (t, 0, 1)))
+        dual = np.array(gram.inv().tolist(), dtype=float)
+        bubbles = (dual @ _legendre(m - 2, xi)) * xi ** (m - 1) * (1 - xi) ** (m - 1)
         nodal = self.nodal()
-        out = functions.T @ nodal - bubble[:, None] * (means @ nodal)[None, :]
-        out[:, 2:2 + self.gauss[1].size] += bubble[:, None] * self.gauss[1][None, :]
-        return out
+        return (functions.T @ nodal - bubbles.T @ ((hermite @ power_moments).T @ nodal)
+                + bubbles.T @ self.moments())
+
+
+def _legendre(degree, xi):
+    """The shifted Legendre polynomials ``P_k(2 xi - 1)``, ``k = 0 .. degree``, at ``xi``:
+    (degree + 1, len(xi))."""
+    return np.polynomial.legendre.legvander(2 * np.asarray(xi) - 1, degree).T
 
 
 @functools.cache
