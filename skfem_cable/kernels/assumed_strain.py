@@ -13,11 +13,11 @@ element:
 degree 4).  Over a mesh of ``n`` elements this is a continuous piecewise quadratic fixed by
 ``2 n + 1`` values, as many as the linearised strain of the cubic field has: no membrane
 locking and no spurious zero-energy mode (``docs/locking.md``).  The quintic element's is
-the quartic with the strain's nodal values and slopes and its mean, ``3 n + 2`` values, as
-many as its linearised strain has (``Rule``).  The law's axial energy
-``W(eps)`` and dissipation ``D(eps, eps_dot)`` (``CableLaw.strain``) are integrated on
-``eps_bar`` with the Gauss rule (3 points on the cubic element, 5 on the quintic), exactly
-for the Green law.  Hence:
+the quintic with the strain's nodal values and slopes and its mean and first moment,
+``4 n + 2`` values (``Rule``).  The law's axial energy ``W(eps)`` and dissipation
+``D(eps, eps_dot)`` (``CableLaw.strain``) are integrated on ``eps_bar`` with the Gauss
+rule (3 points on the cubic element, 6 on the quintic), exactly for the Green law.
+Hence:
 
 * a strain that is already a continuous quadratic (every state of a straight cable, to
   first order, and a straight cable under centrifugal or uniform tension) is its own
@@ -41,7 +41,7 @@ gives, with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T
 + cK sum_j n_j (S_x,j^T S_x,j) (x) I3``,  ``n_j = sum_g w_g sigma_g MAP[g, j]``.
 
 The bending part (the law's terms with ``r_xx``) is integrated as ``kernels.cable`` does,
-at the Gauss points (the samples ``2 .. G + 1``).  ``span`` is compiled
+at the Gauss points (the samples ``2 .. ng + 1``).  ``span`` is compiled
 in the assumed-strain module of each law (``laws.codegen``, kind ``"assumed-strain"``) next
 to the law's ``strain_point`` functions and the ``point_*`` functions of its bending part,
 as ``kernels.cable``'s template is in the law's Gauss module, with the element loop of
@@ -185,11 +185,15 @@ CUBIC_MAP = rule((0, 1)).map
 def span(first, last, step, state, elements, law, out, coef, acc):
     """``span_sized`` with the cubic element's sizes and map fixed (``CUBIC`` functions,
     5 samples, 3 Gauss points, ``CUBIC_MAP``: its loops unrolled; read from the tables
-    they cost it a fifth of an evaluation), or read from the tables."""
+    they cost it a fifth of an evaluation), the quintic's sizes fixed (6 functions, 9
+    samples, 6 Gauss points: a third of an evaluation), or read from the tables."""
     Sx, w = elements[1], elements[3]
     if Sx.shape[2] == CUBIC and Sx.shape[1] == 5 and w.shape[1] == 3:  # noqa: F821
         span_sized(first, last, step, state, elements, law, out, coef, acc,
                    (CUBIC, 5, 3, CUBIC_MAP))  # noqa: F821
+    elif Sx.shape[2] == 6 and Sx.shape[1] == 9 and w.shape[1] == 6:
+        span_sized(first, last, step, state, elements, law, out, coef, acc,
+                   (6, 9, 6, elements[5]))
     else:
         span_sized(first, last, step, state, elements, law, out, coef, acc,
                    (Sx.shape[2], Sx.shape[1], w.shape[1], elements[5]))
