@@ -1,8 +1,9 @@
 """Convergence of the three element types side by side (``Cable(..., element=...)``,
 ``skfem_cable.elements``): ``"linear"`` (two nodes, positions only, the ``"segment"``
 formulation), ``"hermite3"`` (the cubic Hermite, its default ``"assumed-strain"``
-formulation) and ``"hermite5"`` (the quintic Hermite, ``"paper"``: every term on 9 Gauss
-points).
+formulation) and ``"hermite5"`` (the quintic Hermite, its default ``"assumed-strain"``
+formulation; its ``"paper"`` formulation, every term on 9 Gauss points, for comparison in
+the elastica, membrane locking and the tether).
 
 1. Elastic catenary: a cable of 12 m hanging under gravity between pins at ``(0, 0, 0)``
    and ``(10, 0, 2)`` m (``EA = 1e4 N``, weight 0.98 N/m, strain 7e-4 at the supports),
@@ -27,8 +28,9 @@ points).
    (``analytic.elastica_tip_load_angle``).
 3. Membrane locking: the elastica's tip error (against ``REFERENCE`` quintic elements)
    and tension error at ``EA L^2 / EI`` = 1e7, 1e9 and 1e11 for the cubic element
-   (assumed strain and paper's formulation) and the quintic one (``solve_static`` to
-   ``LOCKING_TOL``); the reference is checked against half its elements.
+   and the quintic one, each in the assumed strain and the paper's formulation
+   (``solve_static`` to ``LOCKING_TOL``); the reference is checked against half its
+   elements.
 4. The catenary from a straight start: built straight along the chord and solved by
    ``solve_static``'s continuation, on 4, 16 and 64 elements: Newton iterations, time and
    the distance from the solution of section 1 (the same equilibrium, or not).
@@ -132,6 +134,7 @@ VARIANTS = {
     "hermite5": ("hermite5", None),
     "hermite3 (lobatto)": ("hermite3", "lobatto"),
     "hermite3 (paper)": ("hermite3", "paper"),
+    "hermite5 (paper)": ("hermite5", "paper"),
 }
 #: Meshes (elements) of each case and variant, full and ``--quick``.
 MESHES = {
@@ -141,12 +144,13 @@ MESHES = {
                      "hermite5": (2, 4, 8, 16, 32, 64),
                      "hermite3 (lobatto)": (2, 4, 8, 16, 32, 64)},
         "elastica": {"hermite3": (2, 4, 8, 16, 32, 64),
-                     "hermite5": (2, 4, 8, 16, 32)},
+                     "hermite5": (2, 4, 8, 16, 32), "hermite5 (paper)": (2, 4, 8, 16, 32)},
         "locking": ((1e7, 1e9, 1e11), (4, 8, 16)),
         "cost": (600, 6000, 60000),
         "straight": (4, 16, 64),
         "tether": {"linear": (4, 8, 16, 32, 64, 128), "hermite3": (2, 4, 8, 16, 32),
-                   "hermite5": (1, 2, 4, 8), "hermite3 (paper)": (2, 4, 8, 16, 32),
+                   "hermite5": (1, 2, 4, 8), "hermite5 (paper)": (1, 2, 4, 8),
+                   "hermite3 (paper)": (2, 4, 8, 16, 32),
                    "hermite3 (lobatto)": (2, 4, 8, 16, 32)},
         "pendulum": {"hermite3": (2, 4, 8, 16, 32), "hermite5": (2, 4, 8, 16)},
         # reference (quintic elements) at PENDULUM_DT; time-error mesh and step divisions
@@ -172,7 +176,8 @@ CASES = ("catenary", "elastica", "locking", "straight", "cost", "tether", "pendu
 ELEMENTS = ("linear", "hermite3", "hermite5")
 STYLES = {"linear": {"color": "C2", "marker": "s"}, "hermite3": {"color": "C0", "marker": "o"},
           "hermite5": {"color": "C3", "marker": "^"},
-          "hermite3 (paper)": {"color": "C0", "marker": "o", "ls": "--", "mfc": "none"}}
+          "hermite3 (paper)": {"color": "C0", "marker": "o", "ls": "--", "mfc": "none"},
+          "hermite5 (paper)": {"color": "C3", "marker": "^", "ls": "--", "mfc": "none"}}
 
 
 def timed_solve(system, repeats, **kwargs):
@@ -320,7 +325,8 @@ def elastica_rows(meshes, repeats):
 # --------------------------------------------------------------------------------------
 # 3. membrane locking
 # --------------------------------------------------------------------------------------
-def locking_rows(slendernesses, ns, variants=("hermite3", "hermite3 (paper)", "hermite5")):
+def locking_rows(slendernesses, ns, variants=("hermite3", "hermite3 (paper)", "hermite5",
+                                              "hermite5 (paper)")):
     """Tip and tension errors of the elastica at ``EA L^2 / EI`` in ``slendernesses`` (the
     area of ``ELASTICA_SECTION`` scaled): ``{(slenderness, variant): [errors per n]}``,
     and ``{slenderness: |tip(REFERENCE) - tip(REFERENCE / 2)|}`` (quintic) under

@@ -43,9 +43,10 @@ def cable_term(edofs, passes, key, name):
         One kernel call each: a compiled hook of the generated module of a law (or of a
         part of it, ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)``
         (shape-function derivatives and weights of its own rule, element lengths), its
-        parameter values and whether its dissipation is active.  The formulation
-        (``formulation``) decides the passes: the paper's and the assumed strain have one,
-        the Lobatto formulation two (the axial and the bending part).
+        parameter values and whether its dissipation is active (the assumed strain's
+        tables end with its map, ``kernels.assumed_strain.Rule.map``, which no stretch changes).
+        The formulation (``formulation``) decides the passes: the paper's and the assumed
+        strain have one, the Lobatto formulation two (the axial and the bending part).
     key : hashable
     name : str
     """

@@ -3,13 +3,16 @@ without ``r_xx``) and its bending part, and how strain and tension are recovered
 them (``docs/locking.md`` measures the three).
 
 ``"assumed-strain"`` (the default)
-    The axial part at the assumed Green strain (``kernels.assumed_strain``): the
-    continuous piecewise quadratic with the strain's nodal values and element means,
-    ``2 n + 1`` values for ``n`` elements.  No membrane locking, the full rule's accuracy
-    on taut cables (exact axial and geometric stiffness about a uniformly stretched
-    cable), tension recovered from the assumed strain.  The bending part on the 3-point
-    Gauss rule.  Needs a law whose axial part depends on the stretch alone
-    (``CableLaw.check_strain``).
+    The axial part at the assumed Green strain (``kernels.assumed_strain``): on
+    the cubic element the continuous piecewise quadratic with the strain's nodal values
+    and element means, ``2 n + 1`` values for ``n`` elements; on the quintic the C1
+    piecewise quintic with its nodal values and slopes, element means and first
+    moments, ``4 n + 2``.
+    No membrane locking, the full rule's accuracy on taut cables (exact axial and
+    geometric stiffness about a uniformly stretched cable), tension recovered from the
+    assumed strain.  The bending part on the Gauss rule of the assumed strain (3 points
+    on the cubic element, 6 on the quintic).  Needs a law whose axial part depends on the
+    stretch alone (``CableLaw.check_strain``).
 ``"paper"``
     The paper's formulation: every term on the Gauss rule of ``Cable.intorder`` (5
     points), or, with ``Cable.quadrature``, the axial and the bending part each on a
@@ -34,22 +37,17 @@ s, stretch)`` (the recovered fields at arc lengths ``s``).
 import numpy as np
 
 from .kernels import assumed_strain
+from .kernels.assumed_strain import gauss
 
 #: Rule of the axial part of the law on a ``"lobatto"`` cable: 3-point Gauss-Lobatto
 #: (Simpson: the nodes and the midpoint), reference coordinates and weights.
 LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
 
-#: Rule of the bending part of the law of the locking-free formulations: the 3-point Gauss
-#: rule on [0, 1] (exact for the linearised bending stiffness; as accurate as 5 points on
-#: the elastica and a third cheaper), the one ``kernels.assumed_strain`` takes the strain's
-#: means with.
+#: Rule of the bending part of the law of the Lobatto formulation: the 3-point Gauss rule
+#: on [0, 1] (exact for the linearised bending stiffness; as accurate as 5 points on the
+#: elastica and a third cheaper), the one the assumed strain of the cubic element takes
+#: the strain's means with (``kernels.assumed_strain.Rule``).
 BENDING_RULE = (assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)
-
-
-def gauss(points):
-    """The Gauss-Legendre rule of ``points`` points on [0, 1]: coordinates and weights."""
-    x, w = np.polynomial.legendre.leggauss(points)
-    return (x + 1) / 2, w / 2
 
 
 class Paper:
@@ -129,7 +127,7 @@ class Lobatto(_Recovered):
 
 class AssumedStrain:
     """The axial part at the assumed strain (``kernels.assumed_strain``), the bending
-    part on the 3-point Gauss rule; strain and tension recovered from the assumed strain
+    part on its Gauss rule; strain and tension recovered from the assumed strain
     (``recovered``)."""
 
     name = "assumed-strain"
@@ -139,10 +137,11 @@ class AssumedStrain:
 
     def passes(self, cable):
         """One pass: the axial part at the assumed strain and the bending part on the
-        3-point Gauss rule (``kernels.assumed_strain``)."""
-        Sx = cable.tables_at(assumed_strain.SAMPLES, np.zeros(5))[0]
-        _, Sxx, w, h = cable.tables_at(*BENDING_RULE)
-        return [(cable.law, "assumed-strain", (Sx, Sxx, w, h))]
+        Gauss rule of the element's ``kernels.assumed_strain.Rule``."""
+        assumed = assumed_strain.rule(cable.element.orders)
+        Sx = cable.tables_at(assumed.samples, np.zeros(assumed.samples.size))[0]
+        _, Sxx, w, h = cable.tables_at(*assumed.gauss)
+        return [(cable.law, "assumed-strain", (Sx, Sxx, w, h, assumed.map))]
 
     def strain(self, cable, q, s, stretch=1.0):
         return self.recovered(cable, *self.assumed(cable, q, stretch), s)
@@ -159,11 +158,12 @@ class AssumedStrain:
 
     def assumed(self, cable, q, stretch=1.0):
         """The assumed strain at the start, the midpoint and the end of every element
-        (three arrays (..., n_elements)): ``assumed_map`` of the raw strains at the
-        element's five ``SAMPLES``."""
-        a = cable.slopes_at(q, assumed_strain.SAMPLES, stretch)
+        (three arrays (..., n_elements)): the element's ``Rule.assumed_map``
+        (``kernels.assumed_strain``) of the raw strains at its samples."""
+        assumed = assumed_strain.rule(cable.element.orders)
+        a = cable.slopes_at(q, assumed.samples, stretch)
         raw = 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
-        return tuple(np.moveaxis(raw @ assumed_strain.assumed_map(self.POINTS).T, -1, 0))
+        return tuple(np.moveaxis(raw @ assumed.assumed_map(self.POINTS).T, -1, 0))
 
     @staticmethod
     def axial_force(cable, eps, e, stretch=1.0, t=0.0):

@@ -59,10 +59,10 @@ def test_linear_element_refuses_bending_and_clamps_clearly():
     assert cable.law.name == "truss" and cable.n_dofs == 9
     with pytest.raises(ValueError, match="Node\\(cable, 0\\) has no slope.*'linear'"):
         sc.System([cable]).clamp(cable.node(0))
-    with pytest.raises(ValueError, match="'assumed-strain' is not available on the element "
+    with pytest.raises(ValueError, match="'lobatto' is not available on the element "
                                          "'hermite5'"):
         sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, element="hermite5",
-                          formulation="assumed-strain")
+                          formulation="lobatto")
     with pytest.raises(ValueError, match="element must be one of"):
         sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, element="hermite7")
 

@@ -1,6 +1,6 @@
 """Template of the compiled kernel of the assumed-strain cable (``formulation``): the axial
-part of the law at the assumed strain and its bending part on the 3-point Gauss rule, in one
-pass over the elements.
+part of the law at the assumed strain and its bending part on a Gauss rule, in one pass
+over the elements, for any element type (``Rule`` builds its tables).
 
 The Green strain ``eps = (|r_x|^2 - 1)/2`` of the C1 cubic field is continuous across the
 nodes; in a bent element it is a quartic.  The assumed strain ``eps_bar`` replaces it by
@@ -12,9 +12,12 @@ element:
 (``xi`` in [0, 1]; the mean is exact with the 3-point Gauss rule, the quartic being of
 degree 4).  Over a mesh of ``n`` elements this is a continuous piecewise quadratic fixed by
 ``2 n + 1`` values, as many as the linearised strain of the cubic field has: no membrane
-locking and no spurious zero-energy mode (``docs/locking.md``).  The law's axial energy
-``W(eps)`` and dissipation ``D(eps, eps_dot)`` (``CableLaw.strain``) are integrated on
-``eps_bar`` with the 3-point Gauss rule, exactly for the Green law.  Hence:
+locking and no spurious zero-energy mode (``docs/locking.md``).  The quintic element's is
+the quintic with the strain's nodal values and slopes and its mean and first moment,
+``4 n + 2`` values (``Rule``).  The law's axial energy ``W(eps)`` and dissipation
+``D(eps, eps_dot)`` (``CableLaw.strain``) are integrated on ``eps_bar`` with the Gauss
+rule (3 points on the cubic element, 6 on the quintic), exactly for the Green law.
+Hence:
 
 * a strain that is already a continuous quadratic (every state of a straight cable, to
   first order, and a straight cable under centrifugal or uniform tension) is its own
@@ -25,11 +28,12 @@ locking and no spurious zero-energy mode (``docs/locking.md``).  The law's axial
   Lobatto rule integrates it with Simpson's rule: an error of fourth order in the element
   length, and the sixth-order frequencies of taut cables fall to fourth).
 
-With the raw strains ``eps_j`` at the five sampling points ``j`` (``SAMPLES``: the nodes,
-then the Gauss points) and the constant map ``MAP`` (3 x 5) from them to the assumed
-strains at the Gauss points ``g``, ``eps_bar_g = MAP[g, j] eps_j``, the chain rule gives,
-with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T ad_j``
-(12-vectors, ``S_x,j`` the slope table at ``j``), ``sigma = W' + D_ed``,
+With the raw strains ``eps_j`` at the sampling points ``j`` (``Rule.samples``: the nodes,
+the Gauss points, then the points that make the raw strain's nodal derivatives exact) and
+the constant map ``MAP`` (``Rule.map``, 3 x 5 on the cubic element) from them to the
+assumed strains at the Gauss points ``g``, ``eps_bar_g = MAP[g, j] eps_j``, the chain rule
+gives, with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T ad_j``
+(``3 nf``-vectors, ``S_x,j`` the slope table at ``j``), ``sigma = W' + D_ed``,
 ``k = d sigma/d eps`` and ``c = d sigma/d eps_dot``:
 
 ``f = sum_g w_g sigma_g beta_g``,
@@ -37,47 +41,168 @@ with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T ad_j``
 + cK sum_j n_j (S_x,j^T S_x,j) (x) I3``,  ``n_j = sum_g w_g sigma_g MAP[g, j]``.
 
 The bending part (the law's terms with ``r_xx``) is integrated as ``kernels.cable`` does,
-at the Gauss points (the samples 2 to 4).  ``span`` is compiled
+at the Gauss points (the samples ``2 .. ng + 1``).  ``span`` is compiled
 in the assumed-strain module of each law (``laws.codegen``, kind ``"assumed-strain"``) next
 to the law's ``strain_point`` functions and the ``point_*`` functions of its bending part,
 as ``kernels.cable``'s template is in the law's Gauss module, with the element loop of
 ``kernels.chunks`` around ``span``.  The tables are those of
-``kernels.cable`` with ``Sx`` at the five sampling points and ``Sxx`` at the Gauss points.
+``kernels.cable`` with ``Sx`` at the sampling points and ``Sxx`` at the Gauss points, and
+``MAP``.
 """
 
-import numpy as np
+import functools
 
-#: Gauss points and weights on [0, 1] (3 points): the mean of the raw strain and the rule
-#: of the energy.
+import numpy as np
+import sympy as sp
+
+from ..elements.base import hermite_coefficients
+
+#: Gauss points and weights on [0, 1] (3 points): the cubic element's rule of the mean of
+#: the raw strain, of the energy at the assumed strain and of the bending part
+#: (``Rule`` builds every element's).
 GAUSS_XI = 0.5 + 0.5 * np.polynomial.legendre.leggauss(3)[0]
 GAUSS_W = 0.5 * np.polynomial.legendre.leggauss(3)[1]
 
-#: Reference coordinates of the sampling points of the raw strain: the nodes, then the
-#: Gauss points.
-SAMPLES = np.concatenate([[0.0, 1.0], GAUSS_XI])
+
+def gauss(points):
+    """The Gauss-Legendre rule of ``points`` points on [0, 1]: coordinates and weights."""
+    x, w = np.polynomial.legendre.leggauss(points)
+    return (x + 1) / 2, w / 2
 
 
-def assumed_map(xi):
-    """The map (len(xi), 5) from the raw strains at ``SAMPLES`` to the assumed strain at
-    the reference coordinates ``xi``: the nodal values, and the mean by the Gauss rule
-    (module docstring)."""
-    xi = np.atleast_1d(np.asarray(xi, dtype=float))
-    bubble = 6 * xi * (1 - xi)
-    out = np.empty((xi.size, 5))
-    out[:, 0] = 1 - xi - bubble / 2
-    out[:, 1] = xi - bubble / 2
-    out[:, 2:] = bubble[:, None] * GAUSS_W[None, :]
-    return out
+class Rule:
+    """The assumed strain of an element type whose nodal fields are the derivatives
+    ``orders`` (``CableElement.orders``, ``m = len(orders)``: the field is of degree
+    ``2 m - 1``, its slope of degree ``2 m - 2``, its raw Green strain of degree
+    ``4 m - 4``).
+
+    In each element the assumed strain is the polynomial of degree ``3 m - 4`` that takes
+    the raw strain's derivatives of orders ``0 .. m - 2`` at the element's two nodes and
+    its moments of orders ``0 .. m - 2`` over the element (against the shifted Legendre
+    polynomials ``L_k(xi) = P_k(2 xi - 1)``): the Hermite interpolant of the nodal data
+    plus the bubbles ``xi^(m-1) (1 - xi)^(m-1) q(xi)`` dual to the moments, which restore
+    them.  Over a mesh of ``n`` elements it is a ``C^(m-2)`` piecewise polynomial fixed by
+    ``(m - 1)(2 n + 1)`` values.  The cubic element (``m = 2``): the continuous quadratic
+    with the strain's nodal values and element means, ``2 n + 1`` values, the space of
+    its linearised strain; the quintic (``m = 3``): the C1 quintic with the strain's nodal
+    values and slopes and its element means and first moments, ``4 n + 2`` values.  Both
+    leave the element about ``2 n`` inextensible modes in a plane, as many as a cubic
+    element leaves: no membrane locking.  (A quartic with the means alone, ``3 n + 2``
+    values, the space of the quintic's linearised strain, does not lock either and its
+    tension is smooth in bending, but it loses the first moments and with them three
+    orders on curved cables whose tension varies; the quintic's first moments carry an
+    oscillation of the tension in bending instead: ``docs/locking.md``.)
+
+    The raw strain is sampled at the two nodes, the ``3 m - 3`` points of the Gauss rule
+    (exact for its moments, and for the energy of the Green law at the assumed strain),
+    then the ``m - 2`` interior points of the ``m``-point Gauss-Lobatto rule (none on the
+    cubic element, the midpoint on the quintic): ``4 m - 3`` points, which fix the raw
+    strain, so that its nodal derivatives are exact combinations of the samples.
+
+    Attributes
+    ----------
+    samples : ndarray (4 m - 3,)
+        Reference coordinates of the samples of the raw strain.
+    gauss : tuple of ndarray (3 m - 3,)
+        The Gauss rule on [0, 1], coordinates and weights (the samples ``2 .. 3 m - 2``):
+        the rule of the energy at the assumed strain and of the bending part.
+    map : ndarray (3 m - 3, 4 m - 3)
+        Raw strains at ``samples`` -> assumed strains at the Gauss points
+        (``assumed_map``).
+    """
+
+    def __init__(self, orders):
+        self.m = len(orders)
+        self.gauss = gauss(3 * self.m - 3)
+        lobatto = np.polynomial.legendre.Legendre.basis(self.m - 1).deriv().roots()
+        self.samples = np.concatenate([[0.0, 1.0], self.gauss[0], (lobatto + 1) / 2])
+        self.map = self.assumed_map(self.gauss[0])
+
+    def nodal(self):
+        """The map (2 (m - 1), n_samples) from the raw strains at ``samples`` to their
+        derivatives in ``xi`` of orders ``0 .. m - 2`` at ``xi = 0``, then at ``xi = 1``:
+        the values are samples, the derivatives those of the polynomial through them (in
+        Legendre polynomials of ``t = 2 xi - 1``, well conditioned)."""
+        legendre = np.polynomial.legendre
+        n = self.samples.size
+        through = np.linalg.inv(legendre.legvander(2 * self.samples - 1, n - 1))
+        rows = []
+        for end, sample in zip((-1.0, 1.0), np.eye(n)):
+            rows.append(sample)
+            for k in range(1, self.m - 1):
+                derivative = 2.0**k * legendre.legval(end, legendre.legder(np.eye(n), k))
+                rows.append(derivative @ through)
+        return np.array(rows)
+
+    def moments(self):
+        """The map (m - 1, n_samples) from the raw strains at ``samples`` to their moments
+        ``int eps L_k dxi``, ``k = 0 .. m - 2``, by the Gauss rule (exact)."""
+        x, w = self.gauss
+        out = np.zeros((self.m - 1, self.samples.size))
+        out[:, 2:2 + x.size] = w * _legendre(self.m - 2, x)
+        return out
+
+    def assumed_map(self, xi):
+        """The map (len(xi), n_samples) from the raw strains at ``samples`` to the assumed
+        strain at the reference coordinates ``xi``: the Hermite interpolant of the nodal
+        data (``nodal``), plus the bubbles times the raw strain's moments (``moments``)
+        less the interpolant's (moments and bubbles in exact arithmetic)."""
+        xi = np.atleast_1d(np.asarray(xi, dtype=float))
+        m = self.m
+        hermite = hermite_coefficients(tuple(range(m - 1)))  # (2 m - 2 functions, powers)
+        functions = np.polynomial.polynomial.polyval(xi, hermite.T)
+        t = sp.Symbol("xi")
+        legendre = [sp.legendre(k, 2 * t - 1) for k in range(m - 1)]
+        power_moments = np.array([[float(sp.integrate(t**j * L, (t, 0, 1))) for L in legendre]
+                                  for j in range(2 * m - 2)])
+        bubble = t ** (m - 1) * (1 - t) ** (m - 1)
+        gram = sp.Matrix(m - 1, m - 1, lambda i, j: sp.integrate(
+            bubble * legendre[i] * legendre[j], (t, 0, 1)))
+        dual = np.array(gram.inv().tolist(), dtype=float)
+        bubbles = (dual @ _legendre(m - 2, xi)) * xi ** (m - 1) * (1 - xi) ** (m - 1)
+        nodal = self.nodal()
+        return (functions.T @ nodal - bubbles.T @ ((hermite @ power_moments).T @ nodal)
+                + bubbles.T @ self.moments())
 
 
-#: Raw strains at ``SAMPLES`` -> assumed strains at the Gauss points.
-MAP = assumed_map(GAUSS_XI)
+def _legendre(degree, xi):
+    """The shifted Legendre polynomials ``P_k(2 xi - 1)``, ``k = 0 .. degree``, at ``xi``:
+    (degree + 1, len(xi))."""
+    return np.polynomial.legendre.legvander(2 * np.asarray(xi) - 1, degree).T
+
+
+@functools.cache
+def rule(orders):
+    """The assumed strain (``Rule``) of the element type with the nodal fields
+    ``orders``, built once."""
+    return Rule(orders)
+
+
+#: The cubic element's map (``Rule.map``), a constant of the compiled kernels.
+CUBIC_MAP = rule((0, 1)).map
 
 
 def span(first, last, step, state, elements, law, out, coef, acc):
+    """``span_sized`` with the cubic element's sizes and map fixed (``CUBIC`` functions,
+    5 samples, 3 Gauss points, ``CUBIC_MAP``: its loops unrolled; read from the tables
+    they cost it a fifth of an evaluation), the quintic's sizes fixed (6 functions, 9
+    samples, 6 Gauss points: a third of an evaluation), or read from the tables."""
+    Sx, w = elements[1], elements[3]
+    if Sx.shape[2] == CUBIC and Sx.shape[1] == 5 and w.shape[1] == 3:  # noqa: F821
+        span_sized(first, last, step, state, elements, law, out, coef, acc,
+                   (CUBIC, 5, 3, CUBIC_MAP))  # noqa: F821
+    elif Sx.shape[2] == 6 and Sx.shape[1] == 9 and w.shape[1] == 6:
+        span_sized(first, last, step, state, elements, law, out, coef, acc,
+                   (6, 9, 6, elements[5]))
+    else:
+        span_sized(first, last, step, state, elements, law, out, coef, acc,
+                   (Sx.shape[2], Sx.shape[1], w.shape[1], elements[5]))
+
+
+def span_sized(first, last, step, state, elements, law, out, coef, acc, sizes):
     """Add the elastic and damping forces of the elements ``range(first, last, step)`` of
     the assumed-strain cable to ``f`` and ``cK K + cC C`` into ``data``: the axial part at the
-    assumed strain and the bending part on the 3-point Gauss rule (the element loop,
+    assumed strain and the bending part on the Gauss rule (the element loop,
     ``kernels.chunks``, calls it for its chunks of elements).
 
     Parameters
@@ -85,61 +210,68 @@ def span(first, last, step, state, elements, law, out, coef, acc):
     first, last, step : int
         The elements ``range(first, last, step)``.
     state : tuple ``(q, v)``
-    elements : tuple ``(edofs, Sx, Sxx, w, h)``
-        Global DOF of each element coordinate, int (ne, 12); the slope table at the five
-        ``SAMPLES`` (ne, 5, 4) (the nodes, then the Gauss points); the second-derivative
-        table at the Gauss points (ne, 3, 4); the Gauss weights times the element lengths
-        (ne, 3); element lengths (ne,).
+    elements : tuple ``(edofs, Sx, Sxx, w, h, MAP)``
+        Global DOF of each element coordinate, int (ne, 3 nf); the slope table at the
+        ``ns`` sampling points (ne, ns, nf) (the nodes, the ``ng`` Gauss points, the
+        others: ``Rule.samples``); the second-derivative table at the Gauss points (ne,
+        ng, nf); the Gauss weights times the element lengths (ne, ng); element lengths
+        (ne,); the element's ``Rule.map`` (``span`` passes it, or ``CUBIC_MAP``, in
+        ``sizes``).
     law, out, coef, acc
         As in ``kernels.cable.span``: the axial part's energy and power go to ``acc[0]``,
         ``acc[2]``, the bending part's to ``acc[1]``, ``acc[3]``.
+    sizes : tuple ``(nf, ns, ng, MAP)``
+        The numbers of functions, samples and Gauss points, and the map (ng, ns) from the
+        raw strains at the samples to the assumed strains at the Gauss points.
     """
     q, v = state
-    edofs, Sx, Sxx, w, h = elements
+    edofs, Sx, Sxx, w, h = elements[:5]
+    nf, ns, ng, MAP = sizes
     prm, damped = law
     f, fd, data, scatter, energy, power = out
     cK, cC = coef
     ne = w.shape[0]
+    nd = 3 * nf
     want_matrix = scatter.shape[0] == ne
     damped = DAMPED and damped  # noqa: F821 (constants of the generated module)
     bending = BENDING  # noqa: F821
-    qe = np.empty((4, 3))
-    ve = np.zeros((4, 3))
-    a = np.empty((5, 3))
-    ad = np.zeros((5, 3))
-    raw = np.empty(5)
-    rate = np.zeros(5)
-    n = np.empty(5)
-    Bj = np.empty((5, 12))
-    Bdj = np.zeros((5, 12))
-    beta = np.empty((3, 12))
-    gamma = np.zeros((3, 12))
-    sb = np.empty((3, 12))
+    qe = np.empty((nf, 3))
+    ve = np.zeros((nf, 3))
+    a = np.empty((ns, 3))
+    ad = np.zeros((ns, 3))
+    raw = np.empty(ns)
+    rate = np.zeros(ns)
+    n = np.empty(ns)
+    Bj = np.empty((ns, nd))
+    Bdj = np.zeros((ns, nd))
+    beta = np.empty((ng, nd))
+    gamma = np.zeros((ng, nd))
+    sb = np.empty((ng, nd))
     x = np.empty(6)
     xd = np.zeros(6)
     G = np.zeros(6)
     H = np.zeros((6, 6))
     Gd = np.zeros(6)
     Hc = np.zeros((6, 6))
-    T = np.empty((6, 12))
-    S6 = np.empty((2, 4))
-    fe = np.empty(12)
-    fde = np.zeros(12)
-    Ke = np.empty((12, 12))
+    T = np.empty((6, nd))
+    S6 = np.empty((2, nf))
+    fe = np.empty(nd)
+    fde = np.zeros(nd)
+    Ke = np.empty((nd, nd))
     for e in range(first, last, step):
-        for A in range(4):
+        for A in range(nf):
             for i in range(3):
                 qe[A, i] = q[edofs[e, 3 * A + i]]
                 if damped:
                     ve[A, i] = v[edofs[e, 3 * A + i]]
         # the raw strains and their rates at the samples
-        for j in range(5):
+        for j in range(ns):
             sa = 0.0
             sr = 0.0
             for i in range(3):
                 aj = 0.0
                 adj = 0.0
-                for A in range(4):
+                for A in range(nf):
                     aj += Sx[e, j, A] * qe[A, i]
                     adj += Sx[e, j, A] * ve[A, i]
                 a[j, i] = aj
@@ -148,7 +280,7 @@ def span(first, last, step, state, elements, law, out, coef, acc):
                 sr += aj * adj
             raw[j] = 0.5 * (sa - 1.0)
             rate[j] = sr
-            for A in range(4):
+            for A in range(nf):
                 for i in range(3):
                     Bj[j, 3 * A + i] = Sx[e, j, A] * a[j, i]
                     if damped:
@@ -156,64 +288,68 @@ def span(first, last, step, state, elements, law, out, coef, acc):
         # the axial part at the assumed strain of the Gauss points
         n[:] = 0.0
         fde[:] = 0.0
-        for g in range(3):
+        for g in range(ng):
             eps = 0.0
             epsd = 0.0
-            for j in range(5):
-                eps += MAP[g, j] * raw[j]  # noqa: F821
-                epsd += MAP[g, j] * rate[j]  # noqa: F821
+            for j in range(ns):
+                eps += MAP[g, j] * raw[j]
+                epsd += MAP[g, j] * rate[j]
             wg = w[e, g]
-            for m in range(12):
+            for m in range(nd):
                 b = 0.0
                 bd = 0.0
-                for j in range(5):
-                    b += MAP[g, j] * Bj[j, m]  # noqa: F821
+                for j in range(ns):
+                    b += MAP[g, j] * Bj[j, m]
                     if damped:
-                        bd += MAP[g, j] * Bdj[j, m]  # noqa: F821
+                        bd += MAP[g, j] * Bdj[j, m]
                 beta[g, m] = b
                 gamma[g, m] = bd
             if damped:
                 W, P, sigma, k, c, sd = strain_point_d(eps, epsd, prm, h[e])  # noqa: F821
                 acc[2] += wg * P
-                for m in range(12):
+                for m in range(nd):
                     sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
                     fde[m] += wg * sd * beta[g, m]
             else:
                 W, sigma, k = strain_point(eps, prm, h[e])  # noqa: F821
-                for m in range(12):
+                for m in range(nd):
                     sb[g, m] = wg * cK * k * beta[g, m]
             acc[0] += wg * W
-            for j in range(5):
-                n[j] += wg * sigma * MAP[g, j]  # noqa: F821
-        for m in range(12):
+            for j in range(ns):
+                n[j] += wg * sigma * MAP[g, j]
+        for m in range(nd):
             s = 0.0
-            for j in range(5):
+            for j in range(ns):
                 s += n[j] * Bj[j, m]
             fe[m] = s
         if want_matrix:
-            for r in range(12):
-                for m in range(12):
-                    Ke[r, m] = beta[0, r] * sb[0, m] + beta[1, r] * sb[1, m] + beta[2, r] * sb[2, m]
-            for A in range(4):
-                for B in range(4):
+            for r in range(nd):
+                for m in range(nd):
                     s = 0.0
-                    for j in range(5):
+                    for g in range(ng):
+                        s += beta[g, r] * sb[g, m]
+                    Ke[r, m] = s
+            for A in range(nf):
+                for B in range(nf):
+                    s = 0.0
+                    for j in range(ns):
                         s += n[j] * Sx[e, j, A] * Sx[e, j, B]
                     s *= cK
                     for i in range(3):
                         Ke[3 * A + i, 3 * B + i] += s
-        # the bending part at the Gauss points (the samples 2..4), as kernels.cable adds a
-        # point (written out in both templates: shared njit helpers measured 20 to 60 %
-        # slower, numba optimising less across a call than within one function)
+        # the bending part at the Gauss points (the samples 2 .. ng + 1), as
+        # kernels.cable adds a point (written out in both templates: shared njit helpers
+        # measured 20 to 60 % slower, numba optimising less across a call than within one
+        # function)
         if bending:
-            for g in range(3):
-                for A in range(4):
+            for g in range(ng):
+                for A in range(nf):
                     S6[0, A] = Sx[e, 2 + g, A]
                     S6[1, A] = Sxx[e, g, A]
                 for i in range(3):
                     bx = 0.0
                     bxd = 0.0
-                    for A in range(4):
+                    for A in range(nf):
                         bx += S6[1, A] * qe[A, i]
                         bxd += S6[1, A] * ve[A, i]
                     x[i] = a[2 + g, i]
@@ -232,7 +368,7 @@ def span(first, last, step, state, elements, law, out, coef, acc):
                 else:
                     ea, eb = point_g(x, prm, h[e], G)  # noqa: F821
                 acc[1] += wg * eb
-                for A in range(4):
+                for A in range(nf):
                     for i in range(3):
                         fe[3 * A + i] += wg * (S6[0, A] * G[i] + S6[1, A] * G[3 + i])
                         if damped:
@@ -240,7 +376,7 @@ def span(first, last, step, state, elements, law, out, coef, acc):
                 if want_matrix:
                     # Ke += B^T Hw B with B = S6 (x) I3: T = Hw B, then B^T T
                     for r in range(6):
-                        for B in range(4):
+                        for B in range(nf):
                             for j in range(3):
                                 h0 = cK * H[r, j]
                                 h1 = cK * H[r, 3 + j]
@@ -248,15 +384,15 @@ def span(first, last, step, state, elements, law, out, coef, acc):
                                     h0 += cC * Hc[r, j]
                                     h1 += cC * Hc[r, 3 + j]
                                 T[r, 3 * B + j] = wg * (h0 * S6[0, B] + h1 * S6[1, B])
-                    for A in range(4):
+                    for A in range(nf):
                         for i in range(3):
-                            for m in range(12):
+                            for m in range(nd):
                                 Ke[3 * A + i, m] += S6[0, A] * T[i, m] + S6[1, A] * T[3 + i, m]
-        for m in range(12):
+        for m in range(nd):
             f[edofs[e, m]] += fe[m]
             if damped:
                 fd[edofs[e, m]] += fde[m]
         if want_matrix:
-            for r in range(12):
-                for m in range(12):
+            for r in range(nd):
+                for m in range(nd):
                     data[scatter[e, r, m]] += Ke[r, m]

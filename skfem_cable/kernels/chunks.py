@@ -66,12 +66,13 @@ def force_tangent_parallel(state, elements, law, out, coef):
 
 def arguments(pack, index, ev):
     """The arguments of ``force_tangent`` for the packed evaluation ``ev``: ``pack =
-    (edofs, Sx, Sxx, w, h, prm, damped)`` (``kernels.cable.span``), the tangent entries at
-    ``index``, int (ne, 3 nf, 3 nf)."""
+    (edofs, Sx, Sxx, w, h, ..., prm, damped)`` (the template's tables, ``elements`` of
+    ``kernels.cable.span`` or ``kernels.assumed_strain.span``, then the law's values), the
+    tangent entries at ``index``, int (ne, 3 nf, 3 nf)."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, Sx, Sxx, w, h, prm, damped = pack
+    prm, damped = pack[-2], pack[-1]
     scatter = index if data.size else index[:0]
-    return ((q, v), (edofs, Sx, Sxx, w, h), (prm, damped and s[3] != 0.0),
+    return ((q, v), pack[:-2], (prm, damped and s[3] != 0.0),
             (f, fd, data, scatter, energy, power), (s[1], s[2]))
 
 

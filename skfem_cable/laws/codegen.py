@@ -38,7 +38,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from ..kernels import assumed_strain, chunks, generated
+from ..kernels import CUBIC, assumed_strain, chunks, generated
 from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
@@ -246,8 +246,17 @@ LOOP = ((INLINED, chunks.chunk), (INLINED, chunks.close),
 #: The kinds of generated module of a law and the template each compiles: ``"gauss"``,
 #: the law on a Gauss (or any) rule (``kernels.cable``; the paper's and the Lobatto
 #: formulations), and ``"assumed-strain"``, the axial part at the assumed strain and the
-#: bending part on the 3-point Gauss rule (``kernels.assumed_strain``).
+#: bending part on a Gauss rule (``kernels.assumed_strain``).
 TEMPLATES = {"gauss": template, "assumed-strain": assumed_strain}
+
+
+def _template(module):
+    """The functions of a template module with their decorators: its ``span``, and the
+    ``span_sized`` it calls with the cubic element's sizes fixed, inlined, if it has one
+    (``kernels.assumed_strain``)."""
+    sized = getattr(module, "span_sized", None)
+    return ([(INLINED, sized)] if sized is not None else []) + [("@njit(cache=True)",
+                                                                module.span)]
 
 
 def source(law, kind="gauss"):
@@ -268,13 +277,14 @@ def source(law, kind="gauss"):
         'edit: regenerated when the law or the generator changes."""',
         "import math  # noqa: F401\n\nimport numpy  # noqa: F401\nimport numpy as np\n"
         "from numba import njit, prange"
-        + ("" if kind == "gauss" else "\n\nfrom skfem_cable.kernels.assumed_strain import MAP"),
+        + ("" if kind == "gauss" else
+           "\n\nfrom skfem_cable.kernels.assumed_strain import CUBIC_MAP"),
         f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}\n"
-        f"CHUNK = {chunks.CHUNK}",
+        f"CHUNK = {chunks.CHUNK}\nCUBIC = {CUBIC}",
         f"PARAMETERS = {law.parameters!r}",
         *points,
         *extra,
-        "@njit(cache=True)\n" + inspect.getsource(module.span),
+        *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in _template(module)),
         *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in LOOP),
     ]
     return "\n\n\n".join(parts) + "\n"
