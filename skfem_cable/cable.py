@@ -594,7 +594,7 @@ class Cable(CableFields):
                     "the material's; use an undamped law for a deploying cable")
             if deployment is not None:  # the term's own tables, rescaled in time
                 tables = tuple(np.array(t) for t in tables)
-            module = piece.compiled(kind)
+            module = piece.compiled(kind, self.element.orders)
             passes.append((module.kernel_parallel if threads > 1 else module.kernel, tables,
                            values, damped))
             key.append((piece.key, kind, damped, tables[0].shape[1]))

@@ -291,7 +291,7 @@ class AssumedStrain:
         self._inverse = _local_inverse(M, rows, self.strain.element_dofs.T)
         self._bending = None if cable.law.part(1).vanishes else \
             _law_forms(_point(cable, cable.law.part(1)))
-        module = cable.law.compiled("assumed-strain")
+        module = cable.law.compiled("assumed-strain", cable.element.orders)
         values = cable.law.parameter_values(cable.section)
         self._axial = np.vectorize(lambda e, ed, h: module.strain_point_d(e, ed, values, h),
                                    otypes=[float] * 6)

@@ -141,7 +141,7 @@ class AssumedStrain:
         assumed = assumed_strain.rule(cable.element.orders)
         Sx = cable.tables_at(assumed.samples, np.zeros(assumed.samples.size))[0]
         _, Sxx, w, h = cable.tables_at(*assumed.gauss)
-        return [(cable.law, "assumed-strain", (Sx, Sxx, w, h, assumed.map))]
+        return [(cable.law, "assumed-strain", (Sx, Sxx, w, h))]
 
     def strain(self, cable, q, s, stretch=1.0):
         return self.recovered(cable, *self.assumed(cable, q, stretch), s)
@@ -173,7 +173,7 @@ class AssumedStrain:
         law = cable.law
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(cable.h[e] * lam, np.shape(eps))
-        sigma = law.compiled("assumed-strain").numpy_strain(
+        sigma = law.compiled("assumed-strain", cable.element.orders).numpy_strain(
             eps, law.values_at(cable.section, t, np.ndim(eps)), h)["s"]
         return sigma * np.sqrt(np.maximum(1 + 2 * eps, 0.0))
 

@@ -51,10 +51,11 @@ def test_assumed_strain_rule_keeps_the_nodal_derivatives_and_moments():
     """The quintic's rule: the raw strain (degree 8) is fixed by its 9 samples; a quintic
     raw strain is its own assumed strain, and the assumed strain keeps the nodal values
     and slopes, the mean and the first moment of any raw strain of degree 8.  The cubic's
-    rule is the map the compiled kernels take as a constant."""
+    rule is the quadratic with the strain's nodal values and its mean (the map the cubic
+    element always had)."""
     from numpy.polynomial import polynomial as P
 
-    from skfem_cable.kernels.assumed_strain import CUBIC_MAP, rule
+    from skfem_cable.kernels.assumed_strain import GAUSS_W, GAUSS_XI, rule
 
     quintic = rule((0, 1, 2))
     assert quintic.samples.size == 9 and quintic.map.shape == (6, 9)
@@ -74,7 +75,10 @@ def test_assumed_strain_rule_keeps_the_nodal_derivatives_and_moments():
     for weight in (np.ones_like(at), 2 * at - 1):
         kept = w @ (weight * (quintic.assumed_map(at) @ raw))
         assert kept == pytest.approx(w @ (weight * P.polyval(at, octic)), abs=1e-14)
-    assert np.array_equal(rule((0, 1)).map, CUBIC_MAP)
+    bubble = 6 * GAUSS_XI * (1 - GAUSS_XI)
+    quadratic = np.column_stack([1 - GAUSS_XI - bubble / 2, GAUSS_XI - bubble / 2,
+                                 bubble[:, None] * GAUSS_W[None, :]])
+    assert np.allclose(rule((0, 1)).map, quadratic, rtol=0, atol=1e-15)
 
 
 @pytest.mark.parametrize("law", ["cable", "truss"])

@@ -8,9 +8,9 @@ drag, the electrodynamic force), whose work per point is light, are compiled twi
 ``nf`` fixed at ``CUBIC`` (the paper's cubic element: its loops unrolled, as fast as code
 written for it) and general: reading ``nf`` from the tables cost the E-sail's step 3 %.
 The laws' kernels (``cable``) read it, their point functions dominating; the assumed
-strain's (``assumed_strain``) has copies with the cubic element's sizes and map and the
-quintic's sizes fixed (read from the tables they cost the cubic a fifth more time per
-evaluation and the quintic a half), and reads them on other elements.
+strain's (``assumed_strain``) is compiled per element type, with its sizes and map
+fixed (read from the tables they cost the cubic a fifth more time per evaluation and the
+quintic a half).
 """
 
 from . import cache, compile_log

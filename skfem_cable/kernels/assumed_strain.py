@@ -178,28 +178,20 @@ def rule(orders):
     return Rule(orders)
 
 
-#: The cubic element's map (``Rule.map``), a constant of the compiled kernels.
-CUBIC_MAP = rule((0, 1)).map
+def constants(orders):
+    """The constants of the generated module of the element type with the nodal fields
+    ``orders`` (``laws.codegen``): its numbers of functions ``NF``, samples ``NS`` and
+    Gauss points ``NG``, and its ``MAP`` (``Rule.map``), so that ``span``'s loops unroll
+    (read from the tables they cost the cubic element a fifth more time per evaluation
+    and the quintic a half).  Each element type compiles a module of its own, and only
+    when a cable of that type takes the assumed strain."""
+    assumed = rule(tuple(orders))
+    return (f"ORDERS = {tuple(orders)!r}\nNF = {2 * len(orders)}\n"
+            f"NS = {assumed.samples.size}\nNG = {assumed.gauss[0].size}\n"
+            "MAP = rule(ORDERS).map")
 
 
 def span(first, last, step, state, elements, law, out, coef, acc):
-    """``span_sized`` with the cubic element's sizes and map fixed (``CUBIC`` functions,
-    5 samples, 3 Gauss points, ``CUBIC_MAP``: its loops unrolled; read from the tables
-    they cost it a fifth of an evaluation), the quintic's sizes fixed (6 functions, 9
-    samples, 6 Gauss points: a third of an evaluation), or read from the tables."""
-    Sx, w = elements[1], elements[3]
-    if Sx.shape[2] == CUBIC and Sx.shape[1] == 5 and w.shape[1] == 3:  # noqa: F821
-        span_sized(first, last, step, state, elements, law, out, coef, acc,
-                   (CUBIC, 5, 3, CUBIC_MAP))  # noqa: F821
-    elif Sx.shape[2] == 6 and Sx.shape[1] == 9 and w.shape[1] == 6:
-        span_sized(first, last, step, state, elements, law, out, coef, acc,
-                   (6, 9, 6, elements[5]))
-    else:
-        span_sized(first, last, step, state, elements, law, out, coef, acc,
-                   (Sx.shape[2], Sx.shape[1], w.shape[1], elements[5]))
-
-
-def span_sized(first, last, step, state, elements, law, out, coef, acc, sizes):
     """Add the elastic and damping forces of the elements ``range(first, last, step)`` of
     the assumed-strain cable to ``f`` and ``cK K + cC C`` into ``data``: the axial part at the
     assumed strain and the bending part on the Gauss rule (the element loop,
@@ -210,23 +202,23 @@ def span_sized(first, last, step, state, elements, law, out, coef, acc, sizes):
     first, last, step : int
         The elements ``range(first, last, step)``.
     state : tuple ``(q, v)``
-    elements : tuple ``(edofs, Sx, Sxx, w, h, MAP)``
+    elements : tuple ``(edofs, Sx, Sxx, w, h)``
         Global DOF of each element coordinate, int (ne, 3 nf); the slope table at the
         ``ns`` sampling points (ne, ns, nf) (the nodes, the ``ng`` Gauss points, the
         others: ``Rule.samples``); the second-derivative table at the Gauss points (ne,
         ng, nf); the Gauss weights times the element lengths (ne, ng); element lengths
-        (ne,); the element's ``Rule.map`` (``span`` passes it, or ``CUBIC_MAP``, in
-        ``sizes``).
+        (ne,).
     law, out, coef, acc
         As in ``kernels.cable.span``: the axial part's energy and power go to ``acc[0]``,
         ``acc[2]``, the bending part's to ``acc[1]``, ``acc[3]``.
-    sizes : tuple ``(nf, ns, ng, MAP)``
-        The numbers of functions, samples and Gauss points, and the map (ng, ns) from the
-        raw strains at the samples to the assumed strains at the Gauss points.
+
+    The numbers of functions ``nf``, samples ``ns`` and Gauss points ``ng`` and the map
+    ``MAP`` (ng, ns) from the raw strains at the samples to the assumed strains at the
+    Gauss points are constants of the generated module (``constants``).
     """
     q, v = state
-    edofs, Sx, Sxx, w, h = elements[:5]
-    nf, ns, ng, MAP = sizes
+    edofs, Sx, Sxx, w, h = elements
+    nf, ns, ng, amap = NF, NS, NG, MAP  # noqa: F821 (constants of the generated module)
     prm, damped = law
     f, fd, data, scatter, energy, power = out
     cK, cC = coef
@@ -292,16 +284,16 @@ def span_sized(first, last, step, state, elements, law, out, coef, acc, sizes):
             eps = 0.0
             epsd = 0.0
             for j in range(ns):
-                eps += MAP[g, j] * raw[j]
-                epsd += MAP[g, j] * rate[j]
+                eps += amap[g, j] * raw[j]
+                epsd += amap[g, j] * rate[j]
             wg = w[e, g]
             for m in range(nd):
                 b = 0.0
                 bd = 0.0
                 for j in range(ns):
-                    b += MAP[g, j] * Bj[j, m]
+                    b += amap[g, j] * Bj[j, m]
                     if damped:
-                        bd += MAP[g, j] * Bdj[j, m]
+                        bd += amap[g, j] * Bdj[j, m]
                 beta[g, m] = b
                 gamma[g, m] = bd
             if damped:
@@ -316,7 +308,7 @@ def span_sized(first, last, step, state, elements, law, out, coef, acc, sizes):
                     sb[g, m] = wg * cK * k * beta[g, m]
             acc[0] += wg * W
             for j in range(ns):
-                n[j] += wg * sigma * MAP[g, j]
+                n[j] += wg * sigma * amap[g, j]
         for m in range(nd):
             s = 0.0
             for j in range(ns):

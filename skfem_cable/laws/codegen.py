@@ -38,7 +38,7 @@ import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from ..kernels import CUBIC, assumed_strain, chunks, generated
+from ..kernels import assumed_strain, chunks, generated
 from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
@@ -250,20 +250,20 @@ LOOP = ((INLINED, chunks.chunk), (INLINED, chunks.close),
 TEMPLATES = {"gauss": template, "assumed-strain": assumed_strain}
 
 
-def _template(module):
-    """The functions of a template module with their decorators: its ``span``, and the
-    ``span_sized`` it calls with the cubic element's sizes fixed, inlined, if it has one
-    (``kernels.assumed_strain``)."""
-    sized = getattr(module, "span_sized", None)
-    return ([(INLINED, sized)] if sized is not None else []) + [("@njit(cache=True)",
-                                                                module.span)]
+def sizing(kind, orders):
+    """The element type (its nodal fields ``orders``) that the module of ``kind`` is
+    compiled for, when its template takes the element's sizes as constants
+    (``constants``: ``kernels.assumed_strain``); None when one module serves every
+    element (``kernels.cable`` reads them from the tables)."""
+    return tuple(orders) if hasattr(TEMPLATES[kind], "constants") else None
 
 
-def source(law, kind="gauss"):
-    """The text of the generated module of ``law`` of ``kind`` (``TEMPLATES``): the point
-    functions of the law (``"gauss"``) or of its bending part with the axial part in the
-    strain (``"assumed-strain"``), the template's ``span`` and the element loop
-    (``LOOP``)."""
+def source(law, kind="gauss", orders=None):
+    """The text of the generated module of ``law`` of ``kind`` (``TEMPLATES``) for the
+    element type of nodal fields ``orders`` (``sizing``): the point functions of the law
+    (``"gauss"``) or of its bending part with the axial part in the strain
+    (``"assumed-strain"``), the element type's constants, the template's ``span`` and the
+    element loop (``LOOP``)."""
     if kind == "gauss":
         points, d = _point_functions(law.symbolic, law.damped)
         extra = [_numpy_function(d, law.symbolic)]
@@ -277,31 +277,38 @@ def source(law, kind="gauss"):
         'edit: regenerated when the law or the generator changes."""',
         "import math  # noqa: F401\n\nimport numpy  # noqa: F401\nimport numpy as np\n"
         "from numba import njit, prange"
-        + ("" if kind == "gauss" else
-           "\n\nfrom skfem_cable.kernels.assumed_strain import CUBIC_MAP"),
+        + ("" if orders is None else
+           f"\n\nfrom {module.__name__} import rule"),
         f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}\n"
-        f"CHUNK = {chunks.CHUNK}\nCUBIC = {CUBIC}",
+        f"CHUNK = {chunks.CHUNK}"
+        + ("" if orders is None else "\n" + module.constants(orders)),
         f"PARAMETERS = {law.parameters!r}",
         *points,
         *extra,
-        *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in _template(module)),
+        "@njit(cache=True)\n" + inspect.getsource(module.span),
         *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in LOOP),
     ]
     return "\n\n\n".join(parts) + "\n"
 
 
-def module_name(law, kind="gauss"):
-    """Module name of ``law`` of ``kind``: its name and a digest of its expressions, the
-    template and the generator."""
+def module_name(law, kind="gauss", orders=None):
+    """Module name of ``law`` of ``kind`` for the element type of nodal fields ``orders``
+    (``sizing``): its name and a digest of its expressions, the template, the element type
+    and the generator."""
     digest = generated.digest(law.key, kind, GENERATOR, inspect.getsource(TEMPLATES[kind]),
                               inspect.getsource(chunks), repr(law.parameters),
-                              sp.__version__)
+                              repr(orders), sp.__version__)
     safe = re.sub(r"\W", "_", law.name)[:40]
     suffix = "" if kind == "gauss" else "_" + re.sub(r"\W", "_", kind)
+    suffix += "" if orders is None else f"_{2 * len(orders)}"
     return f"skfem_cable_law_{safe}{suffix}_{digest}"
 
 
-def load(law, kind="gauss"):
-    """Import (generating it first if needed) the module of ``law`` of ``kind``."""
-    return generated.load("laws", module_name(law, kind), lambda: source(law, kind),
-                          description=f"the kernel of the law {law.name!r} ({kind})")
+def load(law, kind="gauss", orders=None):
+    """Import (generating it first if needed) the module of ``law`` of ``kind`` for the
+    element type of nodal fields ``orders`` (``sizing``)."""
+    return generated.load("laws", module_name(law, kind, orders),
+                          lambda: source(law, kind, orders),
+                          description=f"the kernel of the law {law.name!r} ({kind}"
+                          + ("" if orders is None else f", {2 * len(orders)} functions")
+                          + ")")

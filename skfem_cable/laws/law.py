@@ -361,13 +361,17 @@ class CableLaw:
             self._dissipates[values] = any(d.subs(subs) != 0 for d in s.D)
         return self._dissipates[values]
 
-    def compiled(self, kind="gauss"):
-        """The generated module of this law of ``kind`` (``laws.codegen.TEMPLATES``): its
-        compiled ``kernel`` and numpy functions; built once and cached on disk."""
-        if kind not in self._compiled:
-            from .codegen import load
-            self._compiled[kind] = load(self, kind)
-        return self._compiled[kind]
+    def compiled(self, kind="gauss", orders=(0, 1)):
+        """The generated module of this law of ``kind`` (``laws.codegen.TEMPLATES``) for
+        the element type with the nodal fields ``orders`` (the kinds whose template is
+        sized by the element; the others serve every element): its compiled ``kernel``
+        and numpy functions; built once and cached on disk."""
+        from .codegen import load, sizing
+
+        key = (kind, sizing(kind, orders))
+        if key not in self._compiled:
+            self._compiled[key] = load(self, kind, key[1])
+        return self._compiled[key]
 
 
 def cable_law(energy=None, *, dissipation=None, name=None):
