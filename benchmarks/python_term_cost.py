@@ -6,10 +6,11 @@ tether (a Python ``add`` hook, anchored at the tip's start, ``k = 1e-4 N/m``), a
 same rig with the spring's compiled twin; alternately, ``--repeats`` times, in one process
 (numba caches warm: one untimed run of each first).  The cost per step is the difference
 of a run of ``--steps`` steps and one of a sixth of them over the difference of their
-steps (``commit_compare``); the table gives the minimum ms per step of each, the Newton
-corrections per step and the ratio (Python term / compiled twin).  It uses only the public
-API, so ``PYTHONPATH=<other tree> python benchmarks/python_term_cost.py`` times another
-commit.  Machines are noisy: read the ratio.
+steps (``commit_compare``), in CPU time of the process (one thread: on a shared machine
+wall time also counts the other processes' turns); the table gives the minimum ms per
+step of each, the Newton corrections per step and the ratio (Python term / compiled
+twin).  It uses only the public API, so ``PYTHONPATH=<other tree> python
+benchmarks/python_term_cost.py`` times another commit.
 """
 
 import argparse
@@ -68,10 +69,10 @@ def rig(spring):
 
 
 def run(scene, n):
-    start = time.perf_counter()
+    start = time.process_time()
     r = sc.simulate(scene.system, t_end=n * DT, dt=DT, rho_inf=RHO, initial=scene.initial,
                     every=n)
-    return time.perf_counter() - start, r
+    return time.process_time() - start, r
 
 
 def per_step(scene, steps):
@@ -86,8 +87,8 @@ def main(argv=None):
     """Time both rigs; returns ``{"python": ..., "compiled": ..., "ratio": ...}`` (ms per
     step, minimum over the repeats) and prints the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--steps", type=int, default=600)
+    parser.add_argument("--repeats", type=int, default=10)
+    parser.add_argument("--steps", type=int, default=1800)
     args = parser.parse_args(argv)
     scenes = {"python": rig(NodeSpring), "compiled": rig(CompiledNodeSpring)}
     best, runs = {}, {}
