@@ -1,8 +1,9 @@
-"""Cost of one generalized-alpha time step versus the number of elements, compiled and
-Python Newton steps side by side.
+"""Cost of one generalized-alpha time step versus the number of elements, the Newton step
+compiled and interpreted side by side.
 
-A pendulum cable (100 m, pinned, released horizontally) is integrated by each path
-(``simulate(..., compiled=True/False)``, the same iterates) for one step and for ``1 +
+A pendulum cable (100 m, pinned, released horizontally) is integrated by each run of the
+one Newton step (``simulate(..., compiled=True/False)``: compiled, or the same generated
+source interpreted, the debugging mode since issue 46; the same iterates) for one step and for ``1 +
 steps`` steps, each the minimum over repeats.  The cost of a step is the difference over
 ``steps``: the steps of a run, without its setup (the layout's solver, the consistent
 initial state) and its first step (the release, whose Newton refactors the tangent up to

@@ -14,8 +14,8 @@ its forces through one of two hooks, called once per Newton iteration with the p
   tuple of arrays and scalars fixed at binding) and the *packed evaluation*
   ``ev = (q, v, s, f, f_ext, f_damping, data, energy, power)`` (see ``Evaluation.packed``).
   Terms with kernels are evaluated inside the compiled Newton step of the
-  generalized-alpha integrator (``solvers.compiled``); a term with a Python ``add`` makes
-  the integrator take its Python step.
+  generalized-alpha integrator (``solvers.compiled``); a term with a Python ``add`` is
+  called back from it (``numba.objmode``), the rest of the step staying compiled.
 
 Sign conventions (residual ``r = f_int - f_ext + C_q^T lambda``):
 
@@ -31,7 +31,7 @@ such as a deploying tether, ``deploy``) is added like an external force: ``-(F_i
 into ``ev.f_ext``, with ``F_in`` the body's inertial force ``d/dt dT/dv - dT/dq`` and ``M``
 the constant mass it declared, evaluated at the accelerations ``ev.a``; its tangent
 carries ``ev.cM`` times the derivative in ``a`` (``add_tangent(..., da=...)``).  Such a
-term has a Python ``add`` (the integrator then takes its Python step).
+term has a Python ``add`` (called back from the compiled step).
 
 A term evaluated outside its domain raises ``OutOfDomain`` (a Newton iterate may leave
 it where the converged state would not).

@@ -256,21 +256,26 @@ class Layout:
         packed = (q, lam, np.array([t, cK, scale]), r_c, f_con,
                   NO_DATA if data is None else data)
         for k in self.nonlinear:
-            c, d, rows = constraints[k], self.cdofs[k], self.crows[k]
-            kernel = getattr(c, "kernel", None)
+            kernel = getattr(constraints[k], "kernel", None)
             if kernel is not None:
                 kernel[0](kernel[1], self.cindex[k], packed)
-                continue
-            qc = q[d]
-            Jc = c.jacobian(qc, t)
-            f_con[d] += Jc.T @ lam[rows]
-            r_c[rows] = scale * c.value(qc, t)
-            if data is not None:
-                data[self.jac_index[k]] += scale * Jc.ravel()
-                data[self.jacT_index[k]] += scale * Jc.T.ravel()
-                H = c.hessian(qc, lam[rows], t)
-                if H is not None:
-                    data[self.hess_index[k]] += cK * H.ravel()
+            else:
+                self.python_constraint(k, q, t, lam, f_con, r_c, scale, data, cK)
+
+    def python_constraint(self, k, q, t, lam, f_con, r_c, scale, data=None, cK=1.0):
+        """``constraints`` for the nonlinear constraint ``k`` without compiled kernel,
+        through its ``value``, ``jacobian`` and ``hessian``."""
+        c, d, rows = self.system.constraints[k], self.cdofs[k], self.crows[k]
+        qc = q[d]
+        Jc = c.jacobian(qc, t)
+        f_con[d] += Jc.T @ lam[rows]
+        r_c[rows] = scale * c.value(qc, t)
+        if data is not None:
+            data[self.jac_index[k]] += scale * Jc.ravel()
+            data[self.jacT_index[k]] += scale * Jc.T.ravel()
+            H = c.hessian(qc, lam[rows], t)
+            if H is not None:
+                data[self.hess_index[k]] += cK * H.ravel()
 
     @staticmethod
     def _constant_force(system, terms):

@@ -11,6 +11,8 @@ import hashlib
 import importlib.util
 import sys
 
+import numba
+
 from ..atomic import write_atomic
 from . import compile_log
 from .cache import cache_dir
@@ -21,25 +23,32 @@ def digest(*parts):
     return hashlib.sha256("|".join(parts).encode()).hexdigest()[:16]
 
 
-def load(kind, name, make_source, namespace=None, description=None):
+def load(kind, name, make_source, namespace=None, description=None, jit=True):
     """Import the module ``name`` of ``kind``, writing it first with ``make_source()``
     if it is not in the cache; ``namespace`` (a dict) is placed in the module before its
     text runs (objects its text refers to by name, e.g. compiled kernels); numba's
     compilation of the module is reported as that of ``description`` (``compile_log``;
-    default: the module ``name``)."""
-    if name in sys.modules:
-        return sys.modules[name]
+    default: the module ``name``).  ``jit=False``: the same text imported under
+    ``numba.config.DISABLE_JIT`` (its functions stay Python; what it imports compiled
+    stays compiled), as the module ``name + "_python"``."""
+    module_name = name if jit else name + "_python"
+    if module_name in sys.modules:
+        return sys.modules[module_name]
     compile_log.DESCRIPTIONS[name] = description or f"module {name}"
     path = cache_dir(kind) / f"{name}.py"
     if not path.exists():
         write_atomic(path, make_source().encode())
-    spec = importlib.util.spec_from_file_location(name, path)
+    spec = importlib.util.spec_from_file_location(module_name, path)
     module = importlib.util.module_from_spec(spec)
     module.__dict__.update(namespace or {})
-    sys.modules[name] = module
+    sys.modules[module_name] = module
+    disabled = numba.config.DISABLE_JIT
+    numba.config.DISABLE_JIT = disabled or not jit
     try:
         spec.loader.exec_module(module)
     except BaseException:
-        del sys.modules[name]
+        del sys.modules[module_name]
         raise
+    finally:
+        numba.config.DISABLE_JIT = disabled
     return module

@@ -1,12 +1,13 @@
 """Template of the compiled Newton iteration of one generalized-alpha step.
 
-``newton`` is not compiled here: ``solvers.compiled`` copies its source into a module
-generated for each sequence of term kernels, next to that module's ``evaluate`` (which
-calls the kernels of the system's terms in order, see ``contract.Term.kernels``), and
-compiles it there with ``numba.njit(cache=True)``.  It is the loop of
-``GeneralizedAlpha._try_step`` operation for operation (the same sums in the same order),
-so both give the same iterates; the integrator keeps the energy books, the instability
-guard and the step control in Python, once per step.
+The one definition of the iteration.  ``newton`` is not compiled here:
+``solvers.compiled`` copies its source into a module generated for each sequence of term
+kernels, next to that module's ``evaluate`` (which calls the kernels of the system's terms
+in order, see ``contract.Term.kernels``, and calls back its Python terms,
+``kernels.callbacks``), and compiles it there with ``numba.njit(cache=True)``, or imports
+it interpreted (``GeneralizedAlpha(compiled=False)``, the debugging mode); the integrator
+keeps the energy books, the instability guard and the step control in Python, once per
+step.
 """
 
 import numpy as np
@@ -197,7 +198,7 @@ def _iterate(terms, model, lu, state, out, prm):
             if not tangent:  # tangent requested after this evaluation: rebuild it
                 _residual(terms, model, q1, v1, a1, lam1, rhs, data, out, mbar, bp)
             singular = _factor(lu, data, model[5], xscale, res_weight)
-            if singular >= 0:
+            if singular != -1:
                 return SINGULAR, it, factorizations, corrections, singular
             factorizations += 1
             for i in range(n):
@@ -237,7 +238,7 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     """Evaluate every term and constraint at ``(q1, v1, lam1)`` (and, with ``data`` not
     empty, the iteration matrix) and write the scaled residual into ``r``: dynamic rows
     ``(M a1 + f - f_const - f_ext + C_q^T lam1) / beta'``, constraint rows
-    ``mbar (C q1 - c(t1))`` (``System.evaluate`` and ``GeneralizedAlpha._try_step``)."""
+    ``mbar (C q1 - c(t1))`` (as ``System.evaluate`` writes them)."""
     (m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
      c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t) = model
     f, f_ext, fd, f_con, energy, power, s, cs = out[7], out[8], out[9], out[10], out[11], \
@@ -271,9 +272,9 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
 
 def _factor(lu, data, diag_index, xscale, res_weight):
     """LU of the matrix values ``data`` (``PatternSolver.factor``) and the new residual
-    weights; returns the unknown of a zero pivot, or -1."""
+    weights; returns the unknown of a zero pivot (-2: not located), or -1."""
     singular = lu_factor(lu, data)  # noqa: F821
-    if singular >= 0:
+    if singular != -1:
         return singular
     for i in range(res_weight.size):
         res_weight[i] = 1.0 / (abs(data[diag_index[i]]) * xscale[i])

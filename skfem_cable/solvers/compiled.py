@@ -1,52 +1,63 @@
-"""The compiled Newton step: the iteration of a generalized-alpha step without Python.
+"""The Newton step of the generalized-alpha integrator, written once and compiled per system.
 
-For a system whose terms all give compiled ``kernels`` (``contract.Term``), whose
-constraints are linear in the coordinates (pins to fixed or moving points, body points and
-joints of natural coordinates; a moving point's offset is evaluated once per step) or have
-a compiled ``kernel``, and
-whose iteration matrix is banded (``linalg.PatternSolver``), a module is generated for the
-sequence of kernels: ``evaluate`` calls them in order, ``newton`` (the template
+A module is generated for the system's sequence of *slots*: ``evaluate`` calls its terms'
+compiled ``kernels`` (``contract.Term``) in order, ``constrain`` its nonlinear constraints'
+``kernel`` (the rigid body's, ``kernels.rigid``; linear constraints, pins to fixed or moving
+points, body points and joints of natural coordinates, are a sparse product in the
+template, a moving point's offset evaluated once per step), and ``newton`` (the template
 ``kernels.step``) predicts, evaluates, assembles into the fixed pattern, factors, solves,
 updates and tests convergence in one compiled call.  The module is written to the cache of
 ``kernels.generated`` and compiled once per machine.
 
-Nonlinear constraints take part through their compiled ``kernel`` (the rigid body's,
-``kernels.rigid``).  Systems outside these bounds (a Python ``add`` hook, a nonlinear
-constraint without kernel, a pattern that no band solver takes) take the Python step,
-which computes the same iterates; ``GeneralizedAlpha.step_path`` says which is used and
-why.
+What is Python in a system takes part from inside the compiled call through
+``numba.objmode`` blocks, emitted only where the system has such parts
+(``PythonParts``): a term with a Python ``add`` hook (called once per evaluation, on an
+``Evaluation`` that views the step's arrays), a nonlinear constraint without kernel
+(``Layout.python_constraint``), and the sparse LU of an iteration matrix that no band
+solver takes (``linalg.PatternSolver``); a fully compiled system's module has none.
+
+``GeneralizedAlpha(compiled=False)`` runs the same generated module interpreted
+(``numba.config.DISABLE_JIT`` while it is imported; the kernels it calls stay compiled):
+the debugging mode, with the compiled run's iterates.  ``GeneralizedAlpha.step_path``
+says which run is used and which parts are Python.
 """
 
 import functools
 import inspect
+import itertools
+import weakref
 
 import numba
 import numpy as np
 
-from ..contract import NO_INDEX
-from ..kernels import books, bordered, generated, lapack
+from ..contract import NO_INDEX, Evaluation
+from ..kernels import books, bordered, callbacks, generated, lapack
 from ..kernels import step as template
+from ..linalg import SingularMatrixError
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "8"
+GENERATOR = "9"
 
 _TEMPLATE_FUNCTIONS = ("newton", "_finish", "_iterate", "_residual", "_factor",
                        "pseudo_acceleration", "first_error_factor", "error_factor")
 
 
-def unsupported(system, solver):
-    """Why ``system`` cannot take the compiled step with ``solver`` (None if it can)."""
+#: The slot of a Python part in the sequences of kernels given to ``module``.
+PYTHON = "python"
+
+
+def python_parts(system, solver):
+    """What of ``system`` is Python in its step with ``solver`` (a list of reasons,
+    empty for a fully compiled system)."""
     lay = system.layout
-    for term, _ in lay.body_terms + lay.load_terms:
-        if term.add is not None:
-            return f"term {term.name!r} has a Python add hook"
-    for c in system.constraints:
-        if not c.linear and getattr(c, "kernel", None) is None:
-            return f"constraint {c.name!r} is nonlinear and has no compiled kernel"
+    parts = [f"term {term.name!r} has a Python add hook"
+             for term, _ in lay.body_terms + lay.load_terms if term.add is not None]
+    parts += [f"constraint {c.name!r} is nonlinear and has no compiled kernel"
+              for c in system.constraints if not c.linear and getattr(c, "kernel", None) is None]
     if solver.method != "banded":
-        return (f"the iteration matrix has band half-width {solver.band}, wider than the "
-                "banded solver's limit")
-    return None
+        parts.append(f"the iteration matrix has band half-width {solver.band}, wider than "
+                     "the banded solver's limit: sparse LU")
+    return parts
 
 
 def _source_id(py):
@@ -88,8 +99,16 @@ def _kernel_source_id(function):
     return "\n".join(ids) if ids else _source_id(function)
 
 
-def _calls(prefix, n, pack, index, ev):
-    return [f"    {prefix}{k}({pack}[{k}], {index}[{k}], {ev})" for k in range(n)] or ["    pass"]
+def _calls(prefix, slots, pack, index, ev, python):
+    """The lines calling ``slots`` in order: a compiled function ``{prefix}{k}``, or the
+    objmode call ``python`` (formatted with the slot ``k``) for a ``PYTHON`` slot."""
+    return ["    " + python.format(k=k) if f is PYTHON
+            else f"    {prefix}{k}({pack}[{k}], {index}[{k}], {ev})"
+            for k, f in enumerate(slots)] or ["    pass"]
+
+
+def _names(prefix, slots):
+    return "".join("_, " if f is PYTHON else f"{prefix}{k}, " for k, f in enumerate(slots))
 
 
 #: The decorator of the generated module's functions but ``newton``: inlined into it by
@@ -97,30 +116,45 @@ def _calls(prefix, n, pack, index, ev):
 #: ``newton`` (each compiled function would compile again all that it calls).
 _INLINED = '@njit(cache=True, inline="always")'
 
+#: The objmode calls (``kernels.callbacks``) a module needs for Python terms, Python
+#: constraints and a sparse LU.
+_TERM_CALLS, _CONSTRAINT_CALLS, _LU_CALLS = ("python_term",), ("python_constraint",), \
+    ("lu_factor", "lu_solve")
 
-def source(n_kernels, n_constraints):
-    """Text of the generated module for ``n_kernels`` term kernels ``k0 ... k{n-1}`` and
-    ``n_constraints`` constraint kernels ``c0 ...`` (taken from the injected tuples
-    ``KERNELS`` and ``CONSTRAINT_KERNELS``)."""
-    names = "".join(f"k{k}, " for k in range(n_kernels))
-    cnames = "".join(f"c{k}, " for k in range(n_constraints))
+
+def source(kernels, constraint_kernels, sparse):
+    """Text of the generated module for the slots ``kernels`` (term kernels ``k0 ...``,
+    taken from the injected tuple ``KERNELS``, or ``PYTHON``) and ``constraint_kernels``
+    (``c0 ...``, from ``CONSTRAINT_KERNELS``), with the sparse LU if ``sparse``."""
+    calls = ((_TERM_CALLS if PYTHON in kernels else ())
+             + (_CONSTRAINT_CALLS if PYTHON in constraint_kernels else ())
+             + (_LU_CALLS if sparse else ()))
+    imports = "import numpy as np\nfrom numba import njit" + (", objmode" if calls else "")
+    imports += "\n\n" + ("from skfem_cable.solvers.compiled import python_part\n" if calls else "")
+    if not sparse:
+        imports += "from skfem_cable.kernels.bordered import factor as lu_factor, " \
+            "solve as lu_solve\n"
     parts = [
         '"""Generated by skfem_cable.solvers.compiled: the compiled Newton step for one '
         'sequence of term kernels.  Do not edit."""',
-        "import numpy as np\nfrom numba import njit\n\n"
-        "from skfem_cable.kernels.bordered import factor as lu_factor, solve as lu_solve\n"
-        "from skfem_cable.kernels.books import correct_elastic, step_books",
+        imports + "from skfem_cable.kernels.books import correct_elastic, step_books",
         f"CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = {template.CONVERGED}, "
         f"{template.NON_FINITE}, {template.NO_CONVERGENCE}, {template.SINGULAR}\n"
         f"ETA_FIRST = {template.ETA_FIRST!r}\n"
         f"{', '.join(template.PRM_SLOTS)} = range({len(template.PRM_SLOTS)})",
-        f"({names}) = KERNELS  # noqa: F821 (placed by the loader)" if n_kernels else "",
-        f"({cnames}) = CONSTRAINT_KERNELS  # noqa: F821" if n_constraints else "",
+        f"({_names('k', kernels)}) = KERNELS  # noqa: F821 (placed by the loader)"
+        if kernels else "",
+        f"({_names('c', constraint_kernels)}) = CONSTRAINT_KERNELS  # noqa: F821"
+        if constraint_kernels else "",
         f"{_INLINED}\ndef evaluate(packs, indices, ev):\n"
-        + "\n".join(_calls("k", n_kernels, "packs", "indices", "ev")),
+        + "\n".join(_calls("k", kernels, "packs", "indices", "ev",
+                            "python_term(packs[{k}], {k}, ev[6].size > 0)")),
         f"{_INLINED}\ndef constrain(packs, indices, cev):\n"
-        + "\n".join(_calls("c", n_constraints, "packs", "indices", "cev")),
+        + "\n".join(_calls("c", constraint_kernels, "packs", "indices", "cev",
+                            "python_constraint(packs[{k}], {k}, cev[3], cev[5].size > 0)")),
     ]
+    parts += ["@njit(cache=True)\n" + inspect.getsource(getattr(callbacks, name))
+              for name in calls]
     parts += [("@njit(cache=True)" if name == "newton" else _INLINED) + "\n"
               + inspect.getsource(getattr(template, name)) for name in _TEMPLATE_FUNCTIONS]
     return "\n\n\n".join(p for p in parts if p) + "\n"
@@ -128,7 +162,7 @@ def source(n_kernels, n_constraints):
 
 #: Modules whose compiled functions the generated module calls: numba's cache of a module
 #: does not notice changes in the functions it calls, so their text is part of the digest.
-_CALLED_MODULES = (bordered, books, lapack)
+_CALLED_MODULES = (bordered, books, lapack, callbacks)
 
 
 @functools.cache
@@ -137,45 +171,132 @@ def _template_id():
                    + [inspect.getsource(m) for m in _CALLED_MODULES])
 
 
+def _slot_id(function):
+    return PYTHON if function is PYTHON else _kernel_source_id(function)
+
+
 @functools.cache
-def module(kernels, constraint_kernels):
-    """The generated module of the term and constraint kernel functions (tuples; imported,
-    generated and compiled when first needed, then remembered)."""
+def module(kernels, constraint_kernels, sparse=False, jit=True):
+    """The generated module of the term and constraint slots (tuples of kernel functions
+    or ``PYTHON``), with the sparse LU if ``sparse`` (imported, generated and compiled
+    when first needed, then remembered); ``jit=False``: the same module interpreted."""
+    text = source(kernels, constraint_kernels, sparse)
     name = "skfem_cable_step_" + generated.digest(
-        GENERATOR, numba.__version__, _template_id(),
-        *(_kernel_source_id(k) for k in kernels), "constraints",
-        *(_kernel_source_id(k) for k in constraint_kernels))
-    return generated.load("steps", name,
-                          lambda: source(len(kernels), len(constraint_kernels)),
+        GENERATOR, numba.__version__, _template_id(), text,
+        *(_slot_id(k) for k in kernels), "constraints",
+        *(_slot_id(k) for k in constraint_kernels))
+    return generated.load("steps", name, lambda: text,
                           {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels},
                           f"the Newton step of {len(kernels)} term and "
-                          f"{len(constraint_kernels)} constraint kernels")
+                          f"{len(constraint_kernels)} constraint kernels", jit=jit)
+
+
+_PARTS = {}
+_KEYS = itertools.count()
+
+
+def python_part(key):
+    """The ``PythonParts`` registered under ``key`` (the generated modules' objmode calls
+    find them so: a number passes through compiled code, a Python object does not)."""
+    return _PARTS[key]
+
+
+class PythonParts:
+    """The Python parts of one integrator's compiled step, called back from it: terms with
+    an ``add`` hook, on an ``Evaluation`` that views the step's arrays; nonlinear
+    constraints without kernel; the sparse LU (``linalg.PatternSolver``).
+
+    Parameters
+    ----------
+    integrator : GeneralizedAlpha
+    arrays : dict
+        ``CompiledNewton.arrays``, the step's arrays.
+    terms, constraints : dict
+        The Python terms ``slot -> (term, index)`` and constraints ``slot -> k`` (the
+        constraint's position in the system).
+    """
+
+    def __init__(self, integrator, arrays, terms, constraints):
+        self.lay, self.solver = integrator.lay, integrator.solver
+        self.arrays, self.terms, self.constraints = arrays, terms, constraints
+        ev = Evaluation(integrator.system, 0.0, arrays["q1"], arrays["v1"], arrays["lam1"],
+                        a=arrays["a1"], cM=1.0)
+        ev.f, ev.f_ext, ev.f_damping = arrays["f"], arrays["f_ext"], arrays["fd"]
+        ev.energy, ev.power = arrays["energy"], arrays["power"]
+        self.ev = ev
+
+    def term(self, slot, tangent):
+        """Evaluate the term of ``slot`` at the step's iterate (``s = [t1, cK, cC, 1]``)."""
+        ev, s = self.ev, self.arrays["s"]
+        ev.t, ev.cK, ev.cC = float(s[0]), float(s[1]), float(s[2])
+        ev.data = self.arrays["data"] if tangent else None
+        term, index = self.terms[slot]
+        term.add(ev, index)
+
+    def constraint(self, slot, r_c, tangent):
+        """Evaluate the constraint of ``slot`` into the rows ``r_c`` and the step's
+        ``f_con`` (``cs = [t1, cK, scale]``)."""
+        a, cs = self.arrays, self.arrays["cs"]
+        self.lay.python_constraint(self.constraints[slot], a["q1"], float(cs[0]), a["lam1"],
+                                   a["f_con"], r_c, cs[2], a["data"] if tangent else None,
+                                   cs[1])
+
+    def factor(self, data):
+        """Factor ``data``; the unknown of a zero pivot (-2: not located), or -1."""
+        try:
+            self.solver.factor(data)
+        except SingularMatrixError as exc:
+            return exc.index if exc.index >= 0 else -2
+        return -1
+
+    def solve(self, rhs, dx):
+        dx[:] = self.solver.solve(rhs)
+
+
+def _term_slots(lay, key):
+    """``(functions, packs, indices)`` of the slots of the terms of ``lay`` in order (a
+    term's kernels, or one ``PYTHON`` slot for an ``add`` hook, its pack the ``key`` of
+    the ``PythonParts``), and the Python terms ``{slot: (term, index)}``."""
+    slots, python = [], {}
+    for term, index in lay.body_terms + lay.load_terms:
+        if term.add is not None:
+            python[len(slots)] = (term, index)
+        index = NO_INDEX if index is None else index
+        kernels = ((PYTHON, np.int64(key)),) if term.add is not None else term.kernels
+        slots += [(function, pack, index) for function, pack in kernels]
+    return tuple(zip(*slots)) if slots else ((), (), ()), python
+
+
+def _constraint_slots(system, lay, key):
+    """The same for the nonlinear constraints of ``lay`` (a compiled ``kernel`` or a
+    ``PYTHON`` slot), and the Python constraints ``{slot: k}``."""
+    slots, python = [], {}
+    for k in lay.nonlinear:
+        kernel = getattr(system.constraints[k], "kernel", None)
+        if kernel is None:
+            python[len(slots)] = k
+        function, pack = (PYTHON, np.int64(key)) if kernel is None else kernel
+        slots.append((function, pack, lay.cindex[k]))
+    return tuple(zip(*slots)) if slots else ((), (), ()), python
 
 
 class CompiledNewton:
-    """The compiled Newton iteration of a ``GeneralizedAlpha`` integrator (its arrays are
-    shared: a factor made by either path serves both)."""
+    """The Newton iteration of a ``GeneralizedAlpha`` integrator: the generated module of
+    its slots, compiled (``jit``) or interpreted, and the arrays it works in (a factor made
+    here serves ``GeneralizedAlpha._factor`` and the reverse)."""
 
-    def __init__(self, integrator):
+    def __init__(self, integrator, jit=True):
         g = integrator
         lay, n, N = g.lay, g.n, g.lay.N
-        functions, packs, indices = [], [], []
-        for term, index in lay.body_terms + lay.load_terms:
-            index = NO_INDEX if index is None else index
-            for function, pack in term.kernels:
-                functions.append(function)
-                packs.append(pack)
-                indices.append(index)
-        cfunctions, cpacks, cindices = [], [], []
-        for k in lay.nonlinear:
-            function, pack = g.system.constraints[k].kernel
-            cfunctions.append(function)
-            cpacks.append(pack)
-            cindices.append(lay.cindex[k])
-        self.newton = module(tuple(functions), tuple(cfunctions)).newton
-        self.terms = (tuple(packs), tuple(indices), tuple(cpacks), tuple(cindices))
+        key = next(_KEYS)
+        (functions, packs, indices), python_terms = _term_slots(lay, key)
+        (cfunctions, cpacks, cindices), python_constraints = _constraint_slots(g.system, lay,
+                                                                               key)
+        sparse = g.solver.method != "banded"
+        self.newton = module(functions, cfunctions, sparse, jit).newton
+        self.terms = (packs, indices, cpacks, cindices)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
-                        if term.prepare is not None]
+                        if term.kernels and term.prepare is not None]
         empty_csr = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
         if lay.C_lin is not None:
             C, CT = lay.C_lin, lay.C_lin_T
@@ -188,7 +309,7 @@ class CompiledNewton:
         self.model = (M.indptr, M.indices, M.data, g.base, lay.f_const,
                       np.ascontiguousarray(g.diag_index, dtype=np.int64), g.xscale,
                       g.inv_xscale, *lin, self.lin_rows, self.c_t)
-        self.lu = g.solver.lu
+        self.lu = np.array([key]) if sparse else g.solver.lu
         self.history = np.zeros(g.max_iter + 1)
         names = ("q1", "v1", "a1", "lam1", "r", "data", "nodata", "f", "f_ext", "fd",
                  "f_con", "energy", "power", "res_weight", "history", "fq", "fv", "flam",
@@ -201,6 +322,9 @@ class CompiledNewton:
         self.no_change = np.zeros(n)  # da_prev before there is one (its factor c0 is 0)
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
+        if python_terms or python_constraints or sparse:
+            _PARTS[key] = PythonParts(g, self.arrays, python_terms, python_constraints)
+            weakref.finalize(self, _PARTS.pop, key, None)
         prm = self.prm = np.zeros(len(template.PRM_SLOTS))
         prm[template.ALPHA_M], prm[template.ALPHA_F] = g.alpha_m, g.alpha_f
         prm[template.GAMMA], prm[template.BETA] = g.gamma, g.beta

@@ -22,10 +22,10 @@ import scipy.sparse as sp
 
 from ..contract import OutOfDomain
 from ..kernels import step as codes
-from ..kernels.books import correct_elastic, step_books
+from ..kernels.books import step_books
 from ..kernels.error import error_ratio
 from ..linalg import PatternSolver, SingularMatrixError
-from .compiled import CompiledNewton, unsupported
+from .compiled import CompiledNewton, python_parts
 from .diagnosis import Diagnosis
 from .guard import EnergyGuard
 from .step_control import StepControl
@@ -131,10 +131,12 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         takes: first order in the first step).  With ``initial_acceleration="zero"`` it
         starts at zero.
     compiled : bool or None
-        Newton iteration in one compiled call (``solvers.compiled``: same iterates, no
-        Python per iteration).  None (default) uses it when the system allows it, True
-        requires it (``ValueError`` naming the reason otherwise), False takes the Python
-        iteration.  ``step_path`` says which one is used and why.
+        The Newton iteration is one definition (``kernels.step``), generated per system
+        and run in one compiled call (``solvers.compiled``); a term with a Python ``add``
+        hook, a nonlinear constraint without kernel and a sparse LU are called back from
+        it (``numba.objmode``), the rest stays compiled.  None and True (default: None)
+        run it compiled; False runs the same generated source interpreted (a debugging
+        mode, with the same iterates).  ``step_path`` says which, and what is Python.
     """
 
     def __init__(self, system, rho_inf=0.8, tol=1e-11, max_iter=12, newton="modified",
@@ -226,15 +228,10 @@ class GeneralizedAlpha(StepControl, Diagnosis):
     def _compiled_newton(self, compiled):
         if compiled not in (None, True, False):
             raise ValueError(f"compiled must be None, True or False, got {compiled!r}")
-        reason = "compiled=False" if compiled is False else unsupported(self.system,
-                                                                        self.solver)
-        if reason is not None:
-            if compiled:
-                raise ValueError(f"compiled=True: the compiled step cannot run: {reason}")
-            self.step_path = f"python ({reason})"
-            return None
-        self.step_path = "compiled"
-        return CompiledNewton(self)
+        parts = python_parts(self.system, self.solver)
+        self.step_path = "python (compiled=False)" if compiled is False else \
+            "compiled" + (f" (Python: {'; '.join(parts)})" if parts else "")
+        return CompiledNewton(self, jit=compiled is not False)
 
     # --- initial state ----------------------------------------------------------------------
     def initialize(self, q, v, t):
@@ -593,15 +590,14 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         # the factored matrix fits while the step is the same up to round-off (the macro
         # steps t_i - t_(i-1) of simulate differ in the last bits)
         need = fresh or self.h_factored is None or abs(self.h_factored - h) > 1e-9 * h
-        if self.compiled is not None:
-            return self._compiled_step(h, need, full)
         try:
-            return self._python_step(h, need, full)
+            return self._newton_step(h, need, full)
         except OutOfDomain as exc:  # an iterate left a term's domain: retry smaller
             return False, f"t={self.t + h:.6g}, h={h:.3g}: {exc}"
 
-    def _compiled_step(self, h, need, full):
-        """The Newton iteration of ``_python_step`` in one compiled call."""
+    def _newton_step(self, h, need, full):
+        """The Newton iteration of the step (``solvers.compiled``, in one call) and its
+        acceptance."""
         t1 = self.t + h
         status, it, factored, corrected, singular = self.compiled.iterate(self, h, t1, need,
                                                                           full)
@@ -625,79 +621,6 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         return self._accept(t1, h, arrays["q1"].copy(), arrays["v1"].copy(),
                             arrays["a1"].copy(), arrays["lam1"].copy(), info, it,
                             self.compiled.prm[codes.RATE])
-
-    def _python_step(self, h, need, full):
-        system, lay, n = self.system, self.lay, self.n
-        gm, bt = self.gamma, self.beta
-        bp, gp = self._coefficients(h)
-        t1 = self.t + h
-        a1 = self.predicted_acceleration(h)
-        abar1 = self._next_abar(a1)
-        q1 = self.q + h * self.v + h * h * ((0.5 - bt) * self.abar + bt * abar1)
-        v1 = self.v + h * ((1.0 - gm) * self.abar + gm * abar1)
-        lam1 = self.lam.copy()
-        history = []
-        dq_err = dq_before = dx_err = np.inf
-        eta = codes.first_error_factor(self.newton_rate)
-        exact = False
-        for it in range(self.max_iter + 1):
-            data = self.base.copy() if need else None
-            r, info = system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
-                                      scale=self.mbar, data=data, a=a1, cM=1.0, layout=lay)
-            r[:n] = (lay.mass @ a1 + r[:n]) / bp
-            err = max(np.max(np.abs(r[:n]) * self.res_weight, initial=0.0),
-                      np.max(np.abs(r[n:]), initial=0.0) * self.con_weight)
-            history.append(err)
-            if not np.isfinite(err):
-                return False, self._diagnose(t1, h, history, r, "non-finite residual")
-            tol = self.tol
-            if self.tol_local is not None:
-                e = np.max(np.abs(self.local_error(h, q1, a1)) * self.inv_xscale, initial=0.0)
-                tol = max(tol, self.tol_local * e)
-            if it > 0 and ((err <= tol and dq_err <= tol) or (
-                    exact and err <= 1e3 * tol and dq_err <= 1e3 * tol
-                    and (err >= 0.5 * history[-2] or dq_err >= 0.5 * dq_before))):
-                # converged, or (after an exact-tangent correction) residual and correction
-                # stalled at their round-off floor (stiff cables: the strain carries an
-                # absolute error of about 1e-16 L/h)
-                break
-            if it > 0 and not exact and err > tol and err >= 0.5 * history[-2]:
-                need = True  # the stale tangent no longer reduces the residual
-            if it == self.max_iter:
-                return False, self._diagnose(t1, h, history, r, "no convergence")
-            exact = need
-            if need:
-                if data is None:  # tangent requested after this evaluation: rebuild it
-                    data = self.base.copy()
-                    system.evaluate(q1, v1, t1, lam1, cK=1.0 / bp, cC=gp / bp,
-                                    scale=self.mbar, data=data, a=a1, cM=1.0, layout=lay)
-                try:
-                    self._factor(q1, v1, t1, lam1, h, a1, data)
-                except SingularMatrixError as exc:
-                    self.h_factored = None
-                    return False, self._singular(t1, h, exc.index)
-                need = full
-            dx = self.solver.solve(-r)
-            dq = dx[:n]
-            q1 += dq
-            v1 += gp * dq
-            a1 += bp * dq
-            lam1 += (bp * self.mbar) * dx[n:]
-            dq_before, dq_err = dq_err, np.max(np.abs(dq) * self.inv_xscale)
-            self.stats["newton"] += 1
-            dx_before = dx_err
-            dx_err = max(dq_err, np.max(np.abs(dx[n:]), initial=0.0) * self.con_weight
-                         * self.mbar)
-            eta = codes.error_factor(eta, dx_err, dx_before, it)
-            if dq_err > tol and (dq_err > 0.25 * dq_before
-                                 or (it >= 3 and eta * eta * dx_err > self.tol)):
-                need = True  # modified Newton contracts too slowly: refresh the tangent
-            if eta * dx_err <= self.tol:  # the error left after this correction
-                correct_elastic(info["f"], info["f_damping"], dq, info["energy"])
-                it += 1
-                break
-        info["abar"] = self._next_abar(a1)
-        return self._accept(t1, h, q1, v1, a1, lam1, info, it, eta)
 
     def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations, rate):
         """Book the energies of a converged step (with the evaluation ``info`` of its

@@ -254,12 +254,12 @@ def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
         (of the time loop), ``compile_time`` (numba compiling the kernels, or loading them
         from its cache, in the whole call: the first run on a machine compiles),
         ``integration_time`` (``wall_time`` less the compilation in it), ``solver``,
-        ``path`` (``GeneralizedAlpha.step_path``: the compiled or the Python Newton step,
-        and why), ``stopped`` (the message of the observer that stopped the run, or None)
-        and, with ``rtol``/``atol``, ``h_min`` and ``h_max``, the smallest and largest
-        accepted steps; in orbit ``rectification`` (``"on"``, ``"none"`` or why it is
-        off) and ``rectifications`` (how many rebases); with controllers
-        ``control_updates`` (their calls).
+        ``path`` (``GeneralizedAlpha.step_path``: the compiled Newton step and its
+        Python parts, or its interpreted run), ``stopped`` (the message of the observer
+        that stopped the run, or None) and, with ``rtol``/``atol``, ``h_min`` and
+        ``h_max``, the smallest and largest accepted steps; in orbit ``rectification``
+        (``"on"``, ``"none"`` or why it is off) and ``rectifications`` (how many
+        rebases); with controllers ``control_updates`` (their calls).
 
     Raises
     ------
