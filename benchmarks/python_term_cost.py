@@ -89,7 +89,11 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=10)
     parser.add_argument("--steps", type=int, default=1800)
+    parser.add_argument("--quick", action="store_true",
+                        help="two repeats of 300 steps (indicative)")
     args = parser.parse_args(argv)
+    if args.quick:
+        args.repeats, args.steps = 2, 300
     scenes = {"python": rig(NodeSpring), "compiled": rig(CompiledNodeSpring)}
     best, runs = {}, {}
     for scene in scenes.values():

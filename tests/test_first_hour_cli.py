@@ -52,7 +52,8 @@ def _numeric_options():
 def _base(command):
     """A command line of ``command`` that every option can be added to."""
     return {"run": ["run", "pendulum"],
-            "sweep": ["sweep", "pendulum", "--param", "elements=2", "--out", "unused"]}[command]
+            "sweep": ["sweep", "pendulum", "--param", "elements=2", "--out", "unused"],
+            "bench": ["bench", "--against", "HEAD", "--cases", "pendulum"]}[command]
 
 
 # --- --out that cannot be made ------------------------------------------------------------------
