@@ -5,7 +5,6 @@ name, and so is a paper cable with a Gauss rule per part, which the forms on ``c
 assembled 49 % off."""
 
 import contextlib
-import importlib.util
 import io
 import re
 from pathlib import Path
@@ -13,26 +12,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 import skfem
+from test_laws import DAMPED, LAWS  # the law gallery and its damped section
 
 import skfem_cable as sc
 from skfem_cable.elements.hermite5 import ElementLineCableHermite5
 
 ROOT = Path(__file__).resolve().parents[1]
-DEMOS = ROOT / "demos"
-DAMPED = sc.Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0, gamma_axial=0.02,
-                    gamma_bending=0.05)
-
-
-def gallery():
-    spec = importlib.util.spec_from_file_location("law_gallery", DEMOS / "law_gallery.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-GALLERY = gallery()
-LAWS = {"green": "cable", "truss": "truss", "biot": GALLERY.biot,
-        "polymer": GALLERY.polymer, "power-law": GALLERY.damped_biot}
 
 
 def curved(n, law="cable", **kwargs):
