@@ -55,9 +55,10 @@ def test_rodchain_solve_table():
 
 
 def test_compiled_step_is_faster_than_python():
-    """At 10 elements the compiled step takes about half the Python step's time (ratio in
-    one run of both, measured 0.3-0.5): a ratio at 1 means the compiled path is lost."""
-    rows = load(BENCH / "step_cost.py").table((10, 20, 40), steps=50, repeats=3)["rows"]
+    """At 10 elements the compiled step takes less than the interpreted run of the same
+    generated source (``compiled=False``): a ratio at 1 means the compiled path is lost.
+    One size: the interpreted step runs plain-Python loops, and larger sizes only cost."""
+    rows = load(BENCH / "step_cost.py").table((10,), steps=50, repeats=3)["rows"]
     assert rows[0]["ratio"] < 1.0
 
 
