@@ -39,6 +39,7 @@ import numpy as np
 
 from .io.fingerprint import code_digest, digest
 from .io.manifest import StoreMismatch
+from .section import real_number
 from .state import State
 
 #: Relative tolerance of times that fall on a sample or a delay.
@@ -134,13 +135,9 @@ def _name(controller):
 
 def _seconds(name, what, value, positive):
     """``value`` (s) as a float, or ``ValueError`` naming the controller and ``what``:
-    a finite number, > 0 when ``positive``, else >= 0."""
-    bound = "> 0" if positive else ">= 0"
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) \
-            or not np.isfinite(value) or not (value > 0 if positive else value >= 0):
-        raise ValueError(f"controller {name!r}: {what} must be a finite number {bound} "
-                         f"(s), got {value!r}")
-    return float(value)
+    a finite number, > 0 when ``positive``, else >= 0 (``section.real_number``)."""
+    return real_number(f"controller {name!r}: {what}", value, allow_zero=not positive,
+                       hint=" (s)")
 
 
 def _check_memory(controller, error=TypeError):

@@ -27,6 +27,18 @@ def check_positive(name, value, allow_zero=False):
     return v
 
 
+def real_number(name, value, allow_zero=False, hint=""):
+    """Return ``float(value)``; raise ``ValueError`` naming ``name`` (and ``hint``, what
+    the value means) unless it is a finite real number > 0 (>= 0 with ``allow_zero``),
+    given as a number: not a bool and not a string, which ``check_positive`` would take
+    (``True`` or ``"1e-4"`` read as numbers would be values nobody asked for)."""
+    bound = ">= 0" if allow_zero else "> 0"
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) \
+            or not math.isfinite(value) or not (value >= 0 if allow_zero else value > 0):
+        raise ValueError(f"{name} must be a finite number {bound}{hint}, got {value!r}")
+    return float(value)
+
+
 def positive_int(name, value):
     """Return ``int(value)``; raise ``ValueError`` naming ``name`` unless it is an integer
     >= 1 (not a bool: ``True`` is no count)."""

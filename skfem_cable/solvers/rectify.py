@@ -30,21 +30,18 @@ the three axes (``_tied``).  The arcs are part of the checkpoint, so a
 rectified run continues bit for bit.
 """
 
-import numbers
-
 import numpy as np
+
+from ..section import real_number
 
 
 def check_rectify(tolerance):
     """``simulate``'s ``rectify``: None or a finite number > 0 (not a bool, not a string:
     ``True`` or ``"1e-4"`` taken as a number would be a tolerance nobody asked for);
     ``ValueError`` naming it otherwise."""
-    if tolerance is None:
-        return
-    if isinstance(tolerance, bool) or not isinstance(tolerance, numbers.Real) or \
-            not (np.isfinite(tolerance) and tolerance > 0):
-        raise ValueError(f"rectify must be a finite number > 0 (a relative offset of the "
-                         f"centre of mass, e.g. 1e-4) or None, got {tolerance!r}")
+    if tolerance is not None:
+        real_number("rectify", tolerance, hint=" (a relative offset of the centre of mass, "
+                    "e.g. 1e-4) or None")
 
 
 class Rectification:
