@@ -23,6 +23,7 @@ from .fields import CableFields
 from .formulation import FORMULATIONS
 from .laws import BUILTIN, CableLaw
 from .linalg import thread_count
+from .lines import LinePoints
 from .node import Node
 from .section import Section
 from .stretched import Stretched
@@ -567,6 +568,12 @@ class Cable(CableFields):
     def global_element_dofs(self, system):
         """Global coordinates of every element, int (ne, 3 n_functions)."""
         return self.element_dofs + system.dofs(self)[0]
+
+    def line_points(self, system):
+        """The cable's points for line loads (the line-body hook, ``lines``): the Gauss
+        points of ``intorder`` in every element, with the tables ``S``, ``Sx`` and
+        ``weights``."""
+        return LinePoints(self.global_element_dofs(system), self.S, self.Sx, self.weights)
 
     def bind(self, system):
         """The term of the cable's elastic and damping forces (see ``contract``): the

@@ -10,10 +10,10 @@ from scipy.linalg import lapack
 
 import skfem_cable as sc
 from skfem_cable.kernels.bordered import band_substitute
+from skfem_cable.kernels.generated import source_id
 from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
 from skfem_cable.linalg import PatternSolver, SingularMatrixError
 from skfem_cable.scenes import classics, esail
-from skfem_cable.solvers.compiled import _kernel_source_id
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 
@@ -321,7 +321,7 @@ def test_generated_module_digest_covers_the_kernels_compiled_callees(tmp_path, m
     monkeypatch.syspath_prepend(str(tmp_path))
     import digest_kernel
 
-    text = _kernel_source_id(digest_kernel.kernel)
+    text = source_id(digest_kernel.kernel)
     for part in ("def kernel", "def scale", "def inner", "2.5 * x"):
         assert part in text, part
     assert text.count("def inner") == 1

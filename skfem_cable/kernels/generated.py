@@ -9,6 +9,7 @@ input never meets a stale module.
 
 import hashlib
 import importlib.util
+import inspect
 import sys
 
 import numba
@@ -52,3 +53,42 @@ def load(kind, name, make_source, namespace=None, description=None, jit=True):
     finally:
         numba.config.DISABLE_JIT = disabled
     return module
+
+
+def _source_id(py):
+    try:
+        text = inspect.getsource(py)
+    except (OSError, TypeError):
+        text = repr(py)
+    return f"{py.__module__}.{py.__qualname__}:{text}"
+
+
+def _compiled_callees(py):
+    """The compiled functions that ``py`` names through its globals, directly or as an
+    attribute of a module it names (in its code and in the code nested in it)."""
+    names, stack = set(), [py.__code__]
+    while stack:
+        code = stack.pop()
+        names.update(code.co_names)
+        stack.extend(c for c in code.co_consts if inspect.iscode(c))
+    found = []
+    for name in sorted(names):
+        value = py.__globals__.get(name)
+        candidates = [value] if not inspect.ismodule(value) else \
+            [getattr(value, attr, None) for attr in sorted(names)]
+        found += [c for c in candidates if hasattr(c, "py_func")]
+    return found
+
+
+def source_id(function):
+    """The source of a kernel and of every compiled function it calls, transitively:
+    numba's cache of the generated module does not notice changes in a callee."""
+    ids, seen, stack = [], set(), [function]
+    while stack:
+        py = getattr(stack.pop(), "py_func", None)
+        if py is None or py in seen:
+            continue
+        seen.add(py)
+        ids.append(_source_id(py))
+        stack.extend(_compiled_callees(py))
+    return "\n".join(ids) if ids else _source_id(function)
