@@ -506,6 +506,12 @@ class Cable(CableFields):
             raise IndexError(f"node index {index} out of range for {n} nodes")
         return Node(self, index % n)
 
+    @property
+    def has_slopes(self):
+        """Whether the nodes carry a slope ``r_x`` (the element's fields include it; the
+        ``Node`` contract)."""
+        return 1 in self.element.orders
+
     def node_dofs(self, index):
         """Local coordinates of the node ``index`` (non-negative), field by field in the
         order of the element's ``orders`` (``[r, r_x]``, six, on the cubic element)."""

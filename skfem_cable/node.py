@@ -7,9 +7,11 @@ class Node:
 
     Attributes
     ----------
-    body : Cable
-        The body the node belongs to: its ``node_dofs(index)`` are the node's local
-        coordinates, field by field in the order of its ``element.orders``.
+    body : Cable or any body with nodes
+        The body the node belongs to, which declares ``node_dofs(index)`` (the node's
+        local coordinates: its position first, then its slope if ``has_slopes``) and
+        ``has_slopes`` (whether its nodes carry a slope ``r_x``): a cable, or a user's
+        line body.
     index : int
         Index of the node in the body (non-negative).
     position_dofs, slope_dofs : int ndarray (3,)
@@ -38,16 +40,15 @@ class Node:
     @property
     def has_slope(self):
         """Whether the node carries a slope ``r_x`` (its element has one)."""
-        return 1 in self.body.element.orders
+        return self.body.has_slopes
 
     @property
     def slope_dofs(self):
         """Local coordinates of the node's slope ``r_x`` in its body."""
         if not self.has_slope:
-            raise ValueError(f"{self!r} has no slope: its element "
-                             f"{self.body.element.name!r} has positions only; a clamp or a "
-                             "slope constraint needs an element with slopes (e.g. "
-                             "element='hermite3')")
+            raise ValueError(f"{self!r} has no slope: its body {self.body.name!r} has "
+                             "positions only at its nodes; a clamp or a slope constraint "
+                             "needs an element with slopes (e.g. element='hermite3')")
         return self.body.node_dofs(self.index)[3:6]
 
     def __repr__(self):

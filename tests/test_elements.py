@@ -57,7 +57,7 @@ def test_linear_element_refuses_bending_and_clamps_clearly():
         sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, law="cable", element="linear")
     cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, SEC, element="linear")
     assert cable.law.name == "truss" and cable.n_dofs == 9
-    with pytest.raises(ValueError, match="Node\\(cable, 0\\) has no slope.*'linear'"):
+    with pytest.raises(ValueError, match="Node\\(cable, 0\\) has no slope.*positions only"):
         sc.System([cable]).clamp(cable.node(0))
     with pytest.raises(ValueError, match="'lobatto' is not available on the element "
                                          "'hermite5'"):
