@@ -6,7 +6,6 @@ Run ``skfem-cable --help`` or ``skfem-cable COMMAND --help``.
 
 import argparse
 import inspect
-import math
 import os
 import shlex
 import sys
@@ -14,10 +13,9 @@ import textwrap
 from contextlib import contextmanager
 from pathlib import Path
 
-from . import durations
 from .control import ControlError
-from .elements import DEFAULT_ELEMENT, ELEMENTS
-from .formulation import DEFAULT, FORMULATIONS
+from .runner import values
+from .runner.options import FLAGS, RunOptions, add_flags
 from .solvers.static import StaticConvergenceError
 from .solvers.step_control import SimulationError
 
@@ -32,62 +30,6 @@ EPILOG = """examples:
   skfem-cable bench --quick
   skfem-cable bench --against abb2314 --repeats 3 --cases pendulum esail
 """
-
-
-def _number(text):
-    """``text`` as a float; NaN when it is not a number (refused by the checks below)."""
-    try:
-        return float(text)
-    except ValueError:
-        return math.nan
-
-
-def _finite_float(text):
-    """``text`` as a finite number, or the ``argparse`` error that says so."""
-    value = _number(text)
-    if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
-    return value
-
-
-def _positive_float(text):
-    """``text`` as a finite number > 0, or the ``argparse`` error that says so."""
-    value = _number(text)
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0, got {text}")
-    return value
-
-
-def _duration(text):
-    """``text`` as a duration > 0 in seconds (``durations.parse``: ``30d``, ``12h``,
-    ``90min``, ``0.5s`` or a number of seconds), or the ``argparse`` error that says so."""
-    forms = "seconds, or a number with a suffix s, min, h or d (30d)"
-    try:
-        value = durations.parse(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a finite number of {forms}, got "
-                                         f"{text}") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be a finite number > 0 of {forms}, got {text}")
-    return value
-
-
-def _positive_int(text):
-    """``text`` as an integer >= 1, or the ``argparse`` error that says so."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text}")
-    return value
-
-
-def _directory(text):
-    if not text.strip():
-        raise argparse.ArgumentTypeError("is empty (an unset variable?): give a directory "
-                                         "('.' for the current one)")
-    return Path(text)
 
 
 def _wrap(text):
@@ -162,7 +104,6 @@ def _sweepable_scenes():
 
 def build_parser():
     """The argument parser (exposed for the documentation and the tests)."""
-    from .export import FRAMES
     from .scenes.catalog import SCENES
 
     parser = _Parser(
@@ -185,47 +126,8 @@ def build_parser():
         epilog=f"scenes:\n{scenes}\n  FILE.toml        a scene file (schema: docs/scene_files.md)",
         formatter_class=argparse.RawDescriptionHelpFormatter)
     run.add_argument("scene", metavar="SCENE", help="built-in scene name or path of a .toml file")
-    run.add_argument("--t-end", type=_duration, metavar="T",
-                     help="end time: seconds, or with a suffix s, min, h, d (30d) "
-                          "(default: the scene's)")
-    run.add_argument("--dt", type=_duration, metavar="DT",
-                     help="time step in s (hanging-chain: output spacing; default: the scene's)")
-    run.add_argument("--elements", type=_positive_int, metavar="N",
-                     help="elements per cable (hanging-chain: number of rods)")
-    run.add_argument("--formulation", choices=tuple(FORMULATIONS), metavar="NAME",
-                     help="formulation of the cables of a built-in scene: "
-                     f"{', '.join(FORMULATIONS)} (default {DEFAULT}: locking-free with the "
-                     "paper's accuracy on taut cables; paper: the paper's own, whose "
-                     "tension locks in bending; docs/locking.md)")
-    run.add_argument("--element", choices=tuple(ELEMENTS), metavar="NAME",
-                     help="element type of the cables of the cantilever, pendulum and "
-                     f"spinning-tether scenes: {', '.join(ELEMENTS)} (default "
-                     f"{DEFAULT_ELEMENT}; docs/elements.md)")
-    run.add_argument("--model", metavar="NAME",
-                     help="model of a scene that has several (tss: ancf, the default, or "
-                     "rodchain)")
-    run.add_argument("--alpha", type=_finite_float, metavar="DEG",
-                     help="sailing angle in degrees (esail only)")
-    run.add_argument("--out", type=_directory, metavar="DIR", help="run directory to write")
-    run.add_argument("--every", type=_positive_int, metavar="K",
-                     help="save every K-th step (default: the scene's)")
-    run.add_argument("--no-progress", action="store_true",
-                     help="no progress bar (default: shown when stderr is a terminal)")
-    run.add_argument("--no-plots", action="store_true",
-                     help="write no figures or snapshot into the run directory")
-    run.add_argument("--animate", action="store_true",
-                     help="also render animation.gif of the run (needs OpenGL)")
-    run.add_argument("--frame", choices=tuple(FRAMES), metavar="FRAME",
-                     help="frame of the ParaView series and the renders: inertial (default) "
-                     "or lvlh, the orbiting frame of a system in orbit (x radial, y "
-                     "along-track, z orbit normal; velocities relative to it)")
-    existing = run.add_mutually_exclusive_group()
-    existing.add_argument("--overwrite", action="store_true",
-                          help="replace the run already in --out DIR (removes only the "
-                          "files skfem-cable wrote)")
-    existing.add_argument("--resume", action="store_true",
-                          help="continue the interrupted (or finished) run in --out DIR, "
-                          "with the same scene and options (--t-end may grow)")
+    add_flags(run, [n for n in FLAGS if n not in ("overwrite", "resume")])
+    add_flags(run.add_mutually_exclusive_group(), ("overwrite", "resume"))
 
     sweep = sub.add_parser(
         "sweep", help="run a scene over a grid of parameters on Dask distributed",
@@ -243,21 +145,18 @@ def build_parser():
     sweep.add_argument("--param", action="append", required=True, metavar="NAME=V1,V2",
                        help="a swept parameter of the scene's build function and its values "
                        "(repeat for more dimensions), e.g. alpha=0,10,20")
-    sweep.add_argument("--t-end", type=_duration, metavar="T",
-                       help="end time of every run: seconds, or with a suffix s, min, h, d "
-                            "(default: the scene's)")
-    sweep.add_argument("--out", type=_directory, metavar="DIR", required=True,
-                       help="study directory to write")
+    add_flags(sweep, ("t_end",), help="end time of every run: seconds, or with a suffix s, "
+              "min, h, d (default: the scene's)")
+    add_flags(sweep, ("out",), required=True, help="study directory to write")
     where = sweep.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="address of a running Dask scheduler, e.g. tcp://host:8786")
-    where.add_argument("--workers", type=_positive_int, metavar="N",
+    where.add_argument("--workers", type=values.positive_int, metavar="N",
                        help="worker processes of the local cluster (default: the cores)")
-    sweep.add_argument("--no-progress", action="store_true",
-                       help="no progress bar (default: shown when stderr is a terminal)")
+    add_flags(sweep, ("progress",))
     sweep.add_argument("--plots", action="store_true", help="write each run's figures")
-    sweep.add_argument("--overwrite", action="store_true",
-                       help="run every point again, replacing the runs already in DIR")
+    add_flags(sweep, ("overwrite",),
+              help="run every point again, replacing the runs already in DIR")
 
     val = sub.add_parser(
         "validate", help="run the validation cases and print a table against the references",
@@ -282,9 +181,9 @@ def build_parser():
     bench.add_argument("--quick", action="store_true",
                        help="small sizes and few repeats (passed to every script); without "
                        "NAMEs the quick set, under a minute")
-    bench.add_argument("--out", type=_directory, metavar="DIR",
+    bench.add_argument("--out", type=values.directory, metavar="DIR",
                        help="also save each benchmark's output as DIR/NAME.txt")
-    bench.add_argument("--json", type=_directory, metavar="DIR", default=None,
+    bench.add_argument("--json", type=values.directory, metavar="DIR", default=None,
                        help="folder of the JSON records (default: benchmarks/results)")
     bench.add_argument("--against", nargs="?", const="", default=None, metavar="REF",
                        help="time the tracked cases of benchmarks/commit_compare.py in this "
@@ -292,7 +191,7 @@ def build_parser():
                        "each ratio and flag those above 1.05 (a report: exit status 0)")
     bench.add_argument("--cases", nargs="+", metavar="CASE",
                        help="with --against: the tracked cases to time (default: all)")
-    bench.add_argument("--repeats", type=_positive_int, metavar="N",
+    bench.add_argument("--repeats", type=values.positive_int, metavar="N",
                        help="with --against: runs of each tree per case (default 5; "
                        "--quick: 1), the minimum reported")
     return parser
@@ -300,16 +199,10 @@ def build_parser():
 
 def cmd_run(args):
     from .runner.directory import check_run_dir
-    from .runner.options import RunOptions
     from .runner.summary import format_summary
     from .scenes.catalog import run_scene
 
-    options = RunOptions(out=args.out, t_end=args.t_end, dt=args.dt, elements=args.elements,
-                         formulation=args.formulation, alpha=args.alpha, every=args.every,
-                         progress=False if args.no_progress else None,
-                         plots=not args.no_plots, animate=args.animate,
-                         overwrite=args.overwrite, resume=args.resume, frame=args.frame,
-                         model=args.model, element=args.element)
+    options = RunOptions.from_args(args)
     check_run_dir(args.out, args.overwrite, args.resume)  # before any work
     try:
         summary = run_scene(args.scene, options)
@@ -379,7 +272,7 @@ def cmd_sweep(args):
     try:
         with _client(args.scheduler) as client:
             ds = sweep(build, grid, client=client, store=args.out, fixed=fixed,
-                       workers=args.workers, progress=False if args.no_progress else None,
+                       workers=args.workers, progress=args.progress,
                        plots=args.plots, overwrite=args.overwrite)
     except KeyboardInterrupt as err:
         return _sweep_interrupted(args, err)

@@ -17,6 +17,7 @@ import pytest
 import skfem_cable as sc
 from skfem_cable import bench, cli, study
 from skfem_cable.io.progress import Progress
+from skfem_cable.runner import values
 from skfem_cable.scenes import catalog
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -43,7 +44,7 @@ def _numeric_options():
     checked by one of the command's number types."""
     parser = cli.build_parser()
     commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    checks = (cli._positive_float, cli._positive_int, cli._finite_float, cli._duration)
+    checks = (values.positive_int, values.finite_float, values.duration)
     return [(name, action.option_strings[0], action.type)
             for name, sub in commands.choices.items() for action in sub._actions
             if action.type in checks]
@@ -121,7 +122,7 @@ def test_negative_numbers_reach_the_range_check(value, capsys):
     """Before: ``--dt -1e-3`` got argparse's ``expected one argument`` (its pattern of a
     negative number has no exponent), ``--dt=-1e-3`` the range check."""
     for command, option, check in _numeric_options():
-        if check is cli._finite_float and value not in ("-inf", "nan"):
+        if check is values.finite_float and value not in ("-inf", "nan"):
             continue  # a finite negative number is a valid value there
         with pytest.raises(SystemExit) as info:
             cli.main([*_base(command), option, value])

@@ -99,7 +99,7 @@ def run_chain(name, chain, initial, options, defaults, loads=None, parameters=No
     summary : dict
     result : RodChainResult
     """
-    options.reject(name, "alpha", "every", "formulation")
+    options.reject(name, "every", "formulation")
     if options.value("frame", "inertial") != "inertial":
         raise ValueError(f"scene {name!r} is a rod-chain run, written in the inertial frame: "
                          f"--frame {options.frame} has no meaning for it")

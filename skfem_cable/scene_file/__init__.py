@@ -84,7 +84,7 @@ def load(path, elements=None):
 
 def run(path, options):
     """Run a scene file into the run directory ``options.out``; returns the summary."""
-    options.reject(Path(path).name, "alpha", "formulation")
+    options.reject(Path(path).name, "formulation")
     spec = load(path, options.elements)
     kind = chain_scene if isinstance(spec, ChainSceneSpec) else system_scene
     return kind.run(path, spec, options)

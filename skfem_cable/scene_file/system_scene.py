@@ -79,7 +79,7 @@ def build(root, elements=None):
 def run(path, spec, options):
     """Run the ``SceneSpec`` read from ``path`` into the run directory ``options.out``;
     returns the summary."""
-    options.reject(Path(path).name, "alpha", "formulation")
+    options.reject(Path(path).name, "formulation")
     name = Path(path).stem
     parameters = {"file": str(path), "title": spec.title, "initial": spec.motion}
     if spec.analysis == "dynamic":

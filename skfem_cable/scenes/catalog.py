@@ -24,6 +24,7 @@ import numpy as np
 
 from ..analytic import elastica_tip_load
 from ..runner.drive import RunScene, run_static
+from ..runner.options import OPT_IN
 from ..solvers.static import solve_static
 from . import classics
 
@@ -46,7 +47,7 @@ class Entry:
     target: object
     help: str
     build: object = None
-    #: The opt-in options (``OPT_IN``) the scene takes, e.g. ``("model",)``.
+    #: The opt-in options (``runner.options.OPT_IN``) the scene takes, e.g. ``("model",)``.
     takes: tuple = ()
 
     def runner(self):
@@ -63,14 +64,10 @@ class Entry:
 
 SCENES = {}
 
-#: Options that only the scenes naming them in ``takes`` accept (the others refuse them).
-OPT_IN = ("model", "element")
-
-
 def register(name, target, help, build=None, takes=()):
     """Add (or replace) the scene ``name``; ``target(options) -> summary``; ``build``:
     ``build(**params) -> RunScene`` for sweeps (optional); ``takes``: the options of
-    ``OPT_IN`` it accepts."""
+    ``runner.options.OPT_IN`` it accepts."""
     SCENES[name] = Entry(name, target, help, build, tuple(takes))
 
 
@@ -113,7 +110,7 @@ def cantilever(options):
     straight cable (20 load steps) and compared with the exact elastica; the
     VTU series uses ``k`` as its time value, so ParaView steps through the loads
     (``--formulation paper`` shows the tension stripes of membrane locking)."""
-    options.reject("cantilever", "t_end", "dt", "every", "alpha")
+    options.reject("cantilever", "t_end", "dt", "every")
     n = options.value("elements", 16)
     section = classics.ELASTICA_SECTION
     rows, steps = [], []
@@ -166,7 +163,6 @@ def pendulum_scene(elements=16, formulation=None, t_end=1.0, dt=1e-3, every=10,
 
 def pendulum(options):
     """Flexible pendulum released horizontally (``classics.pendulum``)."""
-    options.reject("pendulum", "alpha")
     return pendulum_scene(options.value("elements", 16), options.formulation,
                           element=options.element).run(options)
 
@@ -196,7 +192,6 @@ def spinning_tether_scene(elements=10, formulation=None, spin=2.0, tip_mass=0.5,
 
 def spinning_tether(options):
     """``spinning_tether_scene`` (2 rad/s, 0.5 kg tip mass) run by ``skfem-cable run``."""
-    options.reject("spinning-tether", "alpha")
     return spinning_tether_scene(options.value("elements", 10), options.formulation,
                                  element=options.element).run(options)
 
@@ -299,7 +294,7 @@ def esail_numbers(scene, result):
 
 register("esail", "skfem_cable.scenes.esail:run",
          "E-sail baseline of the paper (12 tethers, 3 spin periods); --alpha sailing angle",
-         build=esail_scene)
+         build=esail_scene, takes=("alpha",))
 register("cantilever", cantilever,
          "static elastica under tip loads k = PL^2/EI = 1..10 against the exact solution",
          takes=("element",))
@@ -312,10 +307,10 @@ register("hanging-chain", "skfem_cable.scenes.hanging_chain:run",
          "steel rod chain released from horizontal, against rigid links")
 register("esail-orbit", esail_orbit,
          "E-sail baseline on the circular orbit of 1 AU for a day; --alpha sailing angle",
-         build=esail_orbit_scene)
+         build=esail_orbit_scene, takes=("alpha",))
 register("esail-full", esail_full,
          "full-size E-sail (100 tethers of 20 km) at 1 AU, adaptive steps; --alpha, "
-         "--t-end 30d", build=esail_full_scene)
+         "--t-end 30d", build=esail_full_scene, takes=("alpha",))
 register("tss", "skfem_cable.scenes.tss:run",
          "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations; "
          "--model ancf (default) or rodchain",

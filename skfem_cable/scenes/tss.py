@@ -220,6 +220,5 @@ def scene(model="ancf", elements=None, formulation=None, altitude=ALTITUDE, pitc
 def run(options):
     """``skfem-cable run tss``: the ``--model`` (default ANCF), ``--elements`` per tether
     (default 8 ANCF elements, 3 rods)."""
-    options.reject("tss", "alpha")
     return scene(model=options.value("model", "ancf"), elements=options.elements,
                  formulation=options.formulation).run(options)
