@@ -9,7 +9,7 @@ import numpy as np
 
 from .io.fingerprint import describe_bodies, describe_system, differences
 from .orbit import Reference
-from .protocols import IntegrableSystem
+from .protocols import IntegrableSystem, SystemView
 from .records import FIELDS, input_records
 from .state import State
 
@@ -21,7 +21,9 @@ class Result:
     Parameters
     ----------
     system : System
-        The system that was run.
+        The system that was run (the fields along cables, ``position``, ``tension``, ...,
+        read an ``IntegrableSystem``; a run store hands a rod chain's run its
+        ``SystemView``).
     records : dict of array_like
         The ``FIELDS``, each with the saved steps along its first axis.
     stats : dict, optional
@@ -92,7 +94,7 @@ class Result:
     ((30,), ['pin Node(cable, 0)'])
     """
 
-    def __init__(self, system: IntegrableSystem, records, stats=None, description=None,
+    def __init__(self, system: SystemView, records, stats=None, description=None,
                  reference=None):
         self.system = system
         orbit = system.orbit
