@@ -60,7 +60,7 @@ from . import laws as laws  # element laws: energy densities -> compiled kernels
 from . import plot as plot  # renders and figures
 from . import sensors as sensors  # what a controller measures
 from .cable import Cable
-from .contract import Evaluation, Observer, Term
+from .contract import Evaluation, Term
 from .control import ControlError, Controller
 from .coulomb import SolarWind, SolarWindForce
 from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
@@ -78,6 +78,7 @@ from .laws import CableLaw, cable_law
 from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
 from .node import Node
 from .orbit import AU, MU_EARTH, MU_SUN, R_EARTH, Orbit, Reference
+from .protocols import Observer
 from .reel import Brake, Motor, Reel, Servo
 from .result import Result
 from .rigid import RigidBody

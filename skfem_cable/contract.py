@@ -54,18 +54,20 @@ the Hessian term (``kernels.rigid`` does it for the rigid body).
 An *observer* receives the state at the start, at every saved step and at the end of a
 time integration; see ``Observer``.
 
-What plugs in is stated as ``typing.Protocol``s, each with its hooks: ``Body``, ``Load``,
-``Constraint``, ``Observer`` (and ``Line``, a body with fields along an arc length).  They
-are structural: a user's class need not inherit from them, only provide the hooks; a
-``System`` refuses a body that lacks one, naming it.
+What plugs in is stated as ``typing.Protocol``s in ``protocols``: ``Body``, ``Line``,
+``Load``, ``Constraint``, ``Observer``, with what the solvers and ``io`` read of a system
+and the step hooks.
 """
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Protocol, runtime_checkable
+from typing import Any
 
 import numpy as np
 from numba import njit
+
+# The protocols moved to ``protocols``; their old names here stay for one release.
+from .protocols import Body, Constraint, Line, Load, Observer, check_body  # noqa: F401
 
 #: Indices of ``Evaluation.energy`` and ``Evaluation.power``: the stretching (axial) and
 #: bending parts of the stored elastic energy and of the dissipated power.  A body with
@@ -354,162 +356,6 @@ class Shape:
     cells: np.ndarray
     part: int
     data: dict = field(default_factory=dict)
-
-
-@runtime_checkable
-class Body(Protocol):
-    """A body of a ``System``: coordinates, mass, internal forces, and what it shows.
-
-    ``name``, ``n_dofs``, ``q0`` (its initial coordinates), ``position_mask`` (True for
-    coordinates that are lengths: scales for convergence tests) and ``energy_parts``
-    (the names of the stored energy its term books in the two slots of
-    ``Evaluation.energy``, e.g. a cable's ``("axial", "bending")``; ``()`` for a body that
-    stores none: ``System.energy_parts`` reports them by these names); optionally
-    ``vector_mask`` (True for coordinates that are parts of 3-vectors in space, which
-    rigid motions move; all True by default).
-    """
-
-    name: str
-    n_dofs: int
-    q0: np.ndarray
-    position_mask: np.ndarray
-    energy_parts: tuple
-
-    def describe_dof(self, index):
-        """Which coordinate ``index`` (local) is, for messages: ``"node 3 r_x[1]"``."""
-
-    def mass_matrix(self):
-        """The constant mass matrix (scipy sparse, ``n_dofs`` square)."""
-
-    def mass_points(self):
-        """Where the mass is, for gravity fields that vary in space (an orbit's):
-        ``(vectors (np, nf), coefficients (np, nf), mass (np,))``, point ``p`` at ``sum_j
-        coefficients[p, j] q[vectors[p, j]: +3]`` of the body's coordinates ``q``, masses
-        that reproduce the body's mass, centre of mass and second moments (empty arrays
-        for a body without mass in space)."""
-
-    def internal_constraints(self):
-        """The body's own constraints (a list, maybe empty)."""
-
-    def bind(self, system):
-        """The ``Term`` of its internal forces in ``system``, or None."""
-
-    def show(self, system, q, v, t, **detail):
-        """What ParaView draws of it at the system's coordinates ``q`` and velocities ``v``
-        and time ``t``: a ``Shape``, or None for a body with nothing in space (a reel).
-        ``detail``: ``points_per_element`` (samples of a line per element), ``resolution``
-        (segments around a surface); a body ignores what it does not use."""
-
-    def outputs(self, system, q, t):
-        """Its key numbers for a run's summary at ``q`` and ``t``: a dict of numbers and
-        short arrays."""
-
-
-#: What a ``Body`` provides (``check_body``): the protocol's attributes and hooks.
-BODY_HOOKS = (*Body.__annotations__,
-              *(name for name, hook in vars(Body).items()
-                if callable(hook) and not name.startswith("_")))
-
-
-def check_body(body):
-    """Refuse a body that lacks a hook of ``Body``, naming the hooks."""
-    missing = [name for name in BODY_HOOKS if not hasattr(body, name)]
-    if missing:
-        raise TypeError(f"{body!r} is not a body: it lacks {', '.join(sorted(missing))} "
-                        "(the hooks of skfem_cable.contract.Body; docs/extending.md, "
-                        "'A body')")
-
-
-@runtime_checkable
-class Line(Body, Protocol):
-    """A body with fields along its arc length ``s`` (a cable): ``length``, and
-    ``interpolate(q, s)`` (position, slope and second derivative), ``strain``,
-    ``tension`` and ``curvature(q, s, stretch)`` of its own coordinates ``q``."""
-
-    length: float
-
-    def interpolate(self, q, s):
-        """``r``, ``r_s``, ``r_ss`` at arc lengths ``s``."""
-
-    def strain(self, q, s, stretch=1.0):
-        """Axial (Green) strain at arc lengths ``s``."""
-
-    def tension(self, q, s, stretch=1.0):
-        """Axial force (N) at arc lengths ``s``."""
-
-    def curvature(self, q, s, stretch=1.0):
-        """Curvature (1/m) at arc lengths ``s``."""
-
-
-@runtime_checkable
-class Load(Protocol):
-    """A load: ``bind(system)`` returns its ``Term`` (forces through ``add`` or
-    ``kernels``, constant ``force`` and ``mass``; see the module docstring).  A load of a
-    system in orbit that reads the reference point's motion ``R(t)``, ``V(t)`` declares
-    ``reads_reference = True`` and is bound with ``bind(system, reference)``: the run's
-    ``orbit.Reference`` (the orbit and the rectification's rebases), not
-    ``system.orbit``, whose single arc a rectified run leaves behind."""
-
-    def bind(self, system):
-        """The load's ``Term`` in ``system``."""
-
-
-@runtime_checkable
-class Constraint(Protocol):
-    """Equations ``C(q, t) = 0`` with multipliers: ``n_eq``, ``name``, ``labels`` (one
-    per equation), ``linear`` (constant Jacobian), and the hooks below on the
-    coordinates ``qc = q[dofs(system)]`` (module docstring; an optional compiled
-    ``kernel``)."""
-
-    n_eq: int
-    name: str
-    labels: list
-    linear: bool
-
-    def dofs(self, system):
-        """The global coordinates it reads."""
-
-    def value(self, qc, t=0.0):
-        """``C`` (n_eq,)."""
-
-    def jacobian(self, qc, t=0.0):
-        """``C_q`` (n_eq, len(qc))."""
-
-    def hessian(self, qc, lam, t=0.0):
-        """``d(C_q^T lam)/dq`` (len(qc) square), or None if zero."""
-
-    def velocity_term(self, qc, t=0.0):
-        """``C_t``."""
-
-    def accel_term(self, qc, vc, t=0.0):
-        """``(C_q v)_q v + 2 C_qt v + C_tt``."""
-
-
-class Observer(Protocol):
-    """Observers of a time integration (``simulate(..., observers=[...])``): a protocol
-    with default hooks, so a subclass overrides any of the three and a plain class with
-    all three needs no base.
-
-    ``start(run)``
-        Once before the first step (also when a run is resumed).  ``run`` carries the
-        ``system``, the ``integrator`` (its ``snapshot()`` is what a checkpoint needs), the
-        run's ``settings`` and ``stats``.
-    ``saved(run, step)``
-        At the initial state, every saved step and the last step, with a ``Step``.
-        Return a true value (e.g. a message string) to stop the run cleanly after this step.
-    ``finish(run, error)``
-        Once at the end, also when the run failed or was interrupted (``error`` is the
-        exception, or None).
-    """
-
-    def start(self, run):
-        pass
-
-    def saved(self, run, step):
-        return None
-
-    def finish(self, run, error):
-        pass
 
 
 @dataclass

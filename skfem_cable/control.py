@@ -237,7 +237,7 @@ class ControlLoop:
                     for k, v in getattr(controller, "memory", {}).items()})
         return out
 
-    # --- the step hook (``simulate``) ---------------------------------------------------
+    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
     def start(self, integrator):
         """A fresh run (its inputs at their initial values): the controllers' first
         samples at ``t_start``; when their outputs change inputs at once, the initial

@@ -9,6 +9,7 @@ import numpy as np
 
 from .io.fingerprint import describe_bodies, describe_system, differences
 from .orbit import Reference
+from .protocols import IntegrableSystem, SystemView
 from .records import FIELDS, input_records
 from .state import State
 
@@ -20,7 +21,9 @@ class Result:
     Parameters
     ----------
     system : System
-        The system that was run.
+        The system that was run (the fields along cables, ``position``, ``tension``, ...,
+        read an ``IntegrableSystem``; a run store hands a rod chain's run its
+        ``SystemView``).
     records : dict of array_like
         The ``FIELDS``, each with the saved steps along its first axis.
     stats : dict, optional
@@ -91,9 +94,10 @@ class Result:
     ((30,), ['pin Node(cable, 0)'])
     """
 
-    def __init__(self, system, records, stats=None, description=None, reference=None):
+    def __init__(self, system: SystemView, records, stats=None, description=None,
+                 reference=None):
         self.system = system
-        orbit = getattr(system, "orbit", None)
+        orbit = system.orbit
         self.reference = reference if reference is not None or orbit is None else \
             Reference(orbit)
         for name in FIELDS:
@@ -207,7 +211,7 @@ class Result:
         return held
 
     @classmethod
-    def load(cls, path, system, check=True):
+    def load(cls, path, system: IntegrableSystem, check=True):
         """Read the saved steps of a run directory written by ``io.RunStore`` (its Zarr
         store ``results.zarr``, up to the last commit of its manifest; old directories of
         ``chunk_*.npz`` files too).

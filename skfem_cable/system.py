@@ -25,13 +25,14 @@ import scipy.sparse as sp
 
 from . import constraints as cons
 from .cable import check_total_memory
-from .contract import Evaluation, Line, check_body
+from .contract import Evaluation
 from .io.fingerprint import describe_system, differences
 from .layout import Layout
 from .loads import Centrifugal, Gravity, PointLoad, PointMass, PointMoment, UniformLineLoad
 from .motion import SystemMotion, vector_blocks
 from .node import Node
 from .orbit_gravity import DifferentialGravity
+from .protocols import Line, check_body
 
 
 class SystemChanged(RuntimeError):

@@ -175,8 +175,9 @@ def test_observers_see_the_run():
 
 
 def test_simulate_module_does_no_io():
-    """The integrator imports the contract, the stepper and the in-memory ``Result`` only:
-    nothing of ``io``, ``export``, the progress bar or file formats."""
+    """The integrator imports the contract and the protocols, the stepper and the
+    in-memory ``Result`` only: nothing of ``io``, ``export``, the progress bar or file
+    formats."""
     tree = ast.parse(SIMULATE.read_text())
     imported = {}
     for node in ast.walk(tree):
@@ -186,9 +187,10 @@ def test_simulate_module_does_no_io():
         elif isinstance(node, ast.ImportFrom):
             module = "." * node.level + (node.module or "")
             imported.setdefault(module, set()).update(a.name for a in node.names)
-    assert set(imported) <= {"contextlib", "numbers", "time", "numpy", "..contract", "..result",
-                             "..records", "..observing", ".galpha", ".rectify", "..control",
-                             "..section", "..inputs", "..kernels"}, imported
+    assert set(imported) <= {"contextlib", "numbers", "time", "numpy", "..contract",
+                             "..protocols", "..result", "..records", "..observing",
+                             ".galpha", ".rectify", "..control", "..section", "..inputs",
+                             "..kernels"}, imported
     assert imported.get("..kernels", set()) <= {"compile_log"}  # its clock, no output
     assert imported[".galpha"] <= {"GeneralizedAlpha", "galpha_parameters"}
     assert imported["..result"] <= {"Result"}

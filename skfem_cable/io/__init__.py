@@ -15,6 +15,7 @@ progress reports (``docs/observers.md``, ``docs/output.md``).
 * ``run_observers``: the standard list for a run directory.
 """
 
+from ..protocols import SystemView
 from ..result import Result
 from .fingerprint import fingerprint
 from .lock import RunLocked
@@ -33,7 +34,7 @@ __all__ = ["DEFAULT_FIELDS", "Progress", "ProgressBar", "Resume", "RunExists", "
            "run_observers"]
 
 
-def load_result(path, system, check=True):
+def load_result(path, system: SystemView, check=True):
     """The saved steps of the run directory ``path`` as a ``Result``: ``Result.load``.
 
     The store must have been written by ``system`` (its fingerprint, ``io.fingerprint``):

@@ -39,6 +39,7 @@ import types
 
 import numpy as np
 
+from ..protocols import SystemView
 from .jsonable import jsonable
 from .manifest import StoreMismatch
 
@@ -110,8 +111,10 @@ class _Describer:
         bodies = () if system is None else system.bodies
         self.bodies = {id(b): {"body": k} for k, b in enumerate(bodies)}
         if parts and system is not None:  # the system's other parts, by reference too
-            for key in _ENTRIES[1:]:
-                self.bodies.update({id(x): {key: k} for k, x in enumerate(getattr(system, key))})
+            parts = {"constraints": system.constraints, "loads": system.loads,
+                     "point_masses": system.point_masses}
+            for key, entries in parts.items():
+                self.bodies.update({id(x): {key: k} for k, x in enumerate(entries)})
             if system.orbit is not None:
                 self.bodies[id(system.orbit)] = {"orbit": True}
         self.system, self.closures = system, closures
@@ -233,7 +236,7 @@ def _body(d, body):
     return entry
 
 
-def describe_bodies(system, bodies=None, version=VERSION):
+def describe_bodies(system: SystemView, bodies=None, version=VERSION):
     """The descriptions of ``bodies`` (default: all) of ``system``, as in
     ``describe_system``'s ``bodies`` (fingerprints of ``version``): what a ``Result``
     keeps of what was simulated."""
@@ -241,7 +244,7 @@ def describe_bodies(system, bodies=None, version=VERSION):
     return [_body(d, body) for body in (system.bodies if bodies is None else bodies)]
 
 
-def describe_system(system, version=VERSION):
+def describe_system(system: SystemView, version=VERSION):
     """The canonical description of ``system`` that its fingerprint hashes (a JSON-able
     dict), as fingerprints of ``version`` describe it."""
     d = _Describer(system, closures=version >= 2)
@@ -311,14 +314,14 @@ def _paths(old, new, path=()):
     return [".".join(path).replace(".[", "[") or "another class"]
 
 
-def digest(obj, system):
+def digest(obj, system: SystemView):
     """SHA-256 (hex) of the description of ``obj``, which refers to the parts of
     ``system`` (its bodies, loads, constraints, point masses and orbit) by their place:
     what a controller holds besides numbers and arrays (``control``)."""
     return _hash(_Describer(system, parts=True)(obj))
 
 
-def code_digest(cls, system, stop=()):
+def code_digest(cls, system: SystemView, stop=()):
     """SHA-256 (hex) of the functions that ``cls`` and its bases but ``stop`` define
     (described as parameters are: code, defaults, closures, globals; the parts of
     ``system`` by reference): what a controller's code is (``control``)."""
@@ -337,7 +340,7 @@ def _hash(value):
     return _digest(json.dumps(value, sort_keys=True, separators=(",", ":")).encode())
 
 
-def system_fingerprint(system, version=VERSION):
+def system_fingerprint(system: SystemView, version=VERSION):
     """SHA-256 (hex) of ``describe_system(system, version)``."""
     return _hash(describe_system(system, version))
 
@@ -352,7 +355,7 @@ def settings_fingerprint(settings):
     return _hash(_settings(settings))
 
 
-def fingerprint(system, settings=None):
+def fingerprint(system: SystemView, settings=None):
     """The fingerprint of a run: SHA-256 (hex) of the system (``system_fingerprint``) and,
     when given, of the solver settings ``settings`` (``run.settings``, without ``t_end``
     and ``n_steps``).
@@ -372,7 +375,7 @@ def fingerprint(system, settings=None):
     return _hash(parts)
 
 
-def outline(system):
+def outline(system: SystemView):
     """A short readable description of ``system`` for error messages: bodies with their
     sizes, constraint equations, loads."""
     bodies = ", ".join(f"{getattr(b, 'name', '?')} ({type(b).__name__}, {b.n_dofs} dofs)"
@@ -384,7 +387,7 @@ def outline(system):
             f"loads: {loads}; {len(system.point_masses)} point masses")
 
 
-def check_fingerprint(path, manifest, system, settings=None):
+def check_fingerprint(path, manifest, system: SystemView, settings=None):
     """Raise ``StoreMismatch`` unless the store of ``path`` (its ``manifest``) was written
     by ``system`` (and with ``settings``, when given)."""
     fp = manifest.get("fingerprint") or {}

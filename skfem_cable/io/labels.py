@@ -14,12 +14,14 @@ from collections import Counter
 
 import numpy as np
 
+from ..protocols import SystemView
+
 #: Names of the components of a position vector and of another vector (a slope).
 POSITION = ("x", "y", "z")
 DIRECTION = ("dx", "dy", "dz")
 
 
-def body_labels(system):
+def body_labels(system: SystemView):
     """One label per body: its name, made unique by ``#k`` on the ``k``-th repetition
     (``cable``, ``cable#2``); a body without a name is ``body<i>``."""
     seen, labels = Counter(), []
@@ -36,7 +38,7 @@ def _vectors_of(system, body):
     return system.vectors[inside], system.vector_is_position[inside]
 
 
-def dof_labels(system):
+def dof_labels(system: SystemView):
     """Labels of the coordinates ``q`` (arrays of ``n_dofs``): ``body`` (``body_labels``),
     ``node`` (index of the body's point; -1 for a coordinate of no point), ``component``
     (``x y z`` of a position, ``dx dy dz`` of another vector, the body's
@@ -61,7 +63,7 @@ def dof_labels(system):
             "component": np.array(component, dtype=str), "label": np.array(label, dtype=str)}
 
 
-def multiplier_labels(system):
+def multiplier_labels(system: SystemView):
     """Labels of the multipliers ``lam`` (arrays of ``n_constraints``): ``constraint``
     (its name) and ``equation`` (its label of the equation, else its index)."""
     constraint, equation = [], []
@@ -89,7 +91,7 @@ class Points:
         ``System.cables``); NaN for other bodies' points and where padded.
     """
 
-    def __init__(self, system):
+    def __init__(self, system: SystemView):
         cables = {id(c) for c in system.cables()}
         rows = []
         for name, body in zip(body_labels(system), system.bodies):

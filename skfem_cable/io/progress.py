@@ -5,7 +5,7 @@ import sys
 import time
 
 from .. import durations
-from ..contract import Observer
+from ..protocols import Observer
 
 
 def eta(elapsed, frac):

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..orbit import Reference
+from ..protocols import SystemView
 from ..records import FIELDS, INPUT
 from . import lock
 from .fingerprint import check_fingerprint
@@ -284,7 +285,7 @@ def read_checkpoint(path, manifest=None):
         return {k: ck[k] for k in ck.files}
 
 
-def read_run(path, system=None):
+def read_run(path, system: SystemView | None = None):
     """``(records, checkpoint)`` of the run directory ``path``: the committed saved steps
     (arrays keyed by ``records.FIELDS``) and the checkpoint (also of the old format).
     Without ``system``, fields the store left out are omitted from ``records``."""
@@ -305,7 +306,7 @@ class ShapeOnly:
         self.n_constraints = int(manifest.get("n_constraints", 0))
 
 
-def read_result(path, system, check=True):
+def read_result(path, system: SystemView, check=True):
     """``(records, stats, reference)`` of the saved steps of the run directory ``path``:
     what ``Result.load`` (``io.load_result``) makes its ``Result`` of.
 
@@ -332,7 +333,7 @@ def read_result(path, system, check=True):
                             f"{manifest.get('n_constraints')} multipliers; the given system "
                             f"has {system.n_dofs} and {system.n_constraints}")
     records = read_records(path, system, manifest)
-    in_orbit = getattr(system, "orbit", None) is not None
+    in_orbit = system.orbit is not None
     reference = _reference(system, read_checkpoint(path, manifest)
                            if in_orbit and manifest.get("checkpoint") else {})
     stats = {"status": manifest.get("status"),
@@ -346,7 +347,7 @@ def read_result(path, system, check=True):
 def _reference(system, checkpoint):
     """The run's reference of ``system`` (in orbit; else None) with the rebases of
     ``checkpoint`` (a mapping; none without ``orbit_rebases``)."""
-    orbit = getattr(system, "orbit", None)
+    orbit = system.orbit
     return None if orbit is None else Reference(orbit, checkpoint.get("orbit_rebases"))
 
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..atomic import write_atomic
+from ..protocols import SystemView
 from .fingerprint import check_fingerprint
 from .legacy import LEGACY_RESUME, is_legacy
 from .manifest import MANIFEST, StoreCorrupt, StoreError, read_manifest, write_manifest
@@ -33,7 +34,7 @@ class Resume:
     manifest: dict = field(default_factory=dict)
 
 
-def resume(path, system=None):
+def resume(path, system: SystemView | None = None):
     """The ``Resume`` of the run directory ``path`` (for ``simulate(resume=...)``).
 
     With ``system``, first check that the store was written by it (``StoreMismatch``

@@ -45,6 +45,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..inputs import system_inputs
+from ..protocols import SystemView
 from ..records import ENERGIES, FIELDS, INPUT
 from .labels import POSITION, Points, dof_labels, multiplier_labels
 
@@ -118,7 +119,7 @@ def check_fields(fields):
     return tuple(f for f in FIELDS if f in fields or f == "t")
 
 
-def layout(system):
+def layout(system: SystemView):
     """Attributes describing the coordinates and multipliers of ``system``."""
     bodies, offset = [], 0
     for body in system.bodies:
@@ -154,7 +155,7 @@ class Variable(NamedTuple):
         return values.reshape(len(records), *self.tail)
 
 
-def variables(system, fields):
+def variables(system: SystemView, fields):
     """``{variable: Variable}`` of a store; the positions ``r`` (``labels.Points``) come
     with ``q``."""
     n, m = system.n_dofs, system.n_constraints
@@ -182,7 +183,7 @@ def variables(system, fields):
     return spec
 
 
-def coordinates(system, variables):
+def coordinates(system: SystemView, variables):
     """``{name: (dims, values)}`` of the labels of the dimensions of ``variables``:
     written once, when the store is created."""
     dims = {d for var in variables.values() for d in var.dims}

@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from .. import export
-from ..contract import Observer
+from ..protocols import Observer
 from ..section import positive_int
 from . import signals
 

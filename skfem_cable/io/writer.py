@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import is_temporary, remove_temporaries, write_atomic
-from ..contract import Observer
+from ..protocols import Observer
 from ..records import FIELDS, settings_array, step_record
 from ..result import Result
 from . import lock, signals

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import write_atomic
-from ..contract import Line
 from ..io.jsonable import jsonable
 from ..orbit import Orbit
+from ..protocols import Line
 from .directory import DESCRIPTIONS, SUMMARY, described_files
 
 

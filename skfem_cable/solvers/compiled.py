@@ -34,6 +34,7 @@ from ..contract import NO_INDEX, Evaluation
 from ..kernels import books, bordered, callbacks, generated, lapack
 from ..kernels import step as template
 from ..linalg import SingularMatrixError
+from ..protocols import IntegrableSystem
 
 #: Bump when the generated code changes meaning (part of every module's digest).
 GENERATOR = "9"
@@ -46,7 +47,7 @@ _TEMPLATE_FUNCTIONS = ("newton", "_finish", "_iterate", "_residual", "_factor",
 PYTHON = "python"
 
 
-def python_parts(system, solver):
+def python_parts(system: IntegrableSystem, solver):
     """What of ``system`` is Python in its step with ``solver`` (a list of reasons,
     empty for a fully compiled system)."""
     lay = system.layout

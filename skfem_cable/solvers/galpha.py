@@ -25,6 +25,7 @@ from ..kernels import step as codes
 from ..kernels.books import step_books
 from ..kernels.error import error_ratio
 from ..linalg import PatternSolver, SingularMatrixError
+from ..protocols import IntegrableSystem, StepHook
 from .compiled import CompiledNewton, python_parts
 from .diagnosis import Diagnosis
 from .guard import EnergyGuard
@@ -139,9 +140,9 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         mode, with the same iterates).  ``step_path`` says which, and what is Python.
     """
 
-    def __init__(self, system, rho_inf=0.8, tol=1e-11, max_iter=12, newton="modified",
-                 method="auto", energy_tol=0.05, compiled=None, rtol=None, atol=None,
-                 tol_local=None, initial_acceleration="consistent",
+    def __init__(self, system: IntegrableSystem, rho_inf=0.8, tol=1e-11, max_iter=12,
+                 newton="modified", method="auto", energy_tol=0.05, compiled=None,
+                 rtol=None, atol=None, tol_local=None, initial_acceleration="consistent",
                  pseudo_acceleration="fitted"):
         if newton not in ("modified", "full"):
             raise ValueError(f"newton must be 'modified' or 'full', got {newton!r}")
@@ -200,7 +201,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             term.energy_change is not None for term, _ in lay.body_terms + lay.load_terms)
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
-        self.hooks = []  # simulate's step hooks (their state joins the snapshot)
+        self.hooks: list[StepHook] = []  # simulate's (their state joins the snapshot)
         self.compiled = self._compiled_newton(compiled)
 
     def _error_control(self, rtol, atol):

@@ -95,10 +95,13 @@ class EnergyGuard:
     def describe_history(self):
         return ", ".join(f"t={t:.6g}: {b:.6g} J" for t, b in self.history)
 
+    # --- checkpoints (``protocols.Checkpointed``) -----------------------------------------
     def snapshot(self):
+        """The references of the balance (``guard_*``), for the integrator's checkpoint."""
         return {"guard_" + k: np.float64(getattr(self, k)) for k in self.STATE}
 
     def restore(self, snap):
+        """The references of a checkpoint back (none in one written before the guard)."""
         if "guard_lowest" in snap:
             for k in self.STATE:
                 setattr(self, k, float(snap["guard_" + k]))

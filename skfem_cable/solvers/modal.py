@@ -5,6 +5,7 @@ from scipy.sparse.linalg import LinearOperator, eigs
 
 from ..linalg import PatternSolver
 from ..loads import vector3
+from ..protocols import IntegrableSystem
 from ..solvers.static import constraint_scale
 from .steady import frame_rates, rotating_frame
 
@@ -12,7 +13,7 @@ from .steady import frame_rates, rotating_frame
 DENSE_LIMIT = 600
 
 
-def modes(system, state=None, k=6, sigma=None, spin=None):
+def modes(system: IntegrableSystem, state=None, k=6, sigma=None, spin=None):
     """Lowest ``k`` natural frequencies (Hz) and mode shapes about ``state``.
 
     With ``spin`` (rad/s, a 3-vector) the system is taken in a frame rotating at that rate

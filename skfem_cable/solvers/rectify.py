@@ -32,6 +32,7 @@ rectified run continues bit for bit.
 
 import numpy as np
 
+from ..protocols import IntegrableSystem
 from ..section import real_number
 
 
@@ -61,7 +62,7 @@ class Rectification:
         The run's reference (``Layout.reference``), which the rebases extend.
     """
 
-    def __init__(self, system, tolerance, t, reference):
+    def __init__(self, system: IntegrableSystem, tolerance, t, reference):
         self.reference, self.tolerance = reference, float(tolerance)
         self.gravity = system.orbit_gravity
         n = system.n_dofs
@@ -90,7 +91,7 @@ class Rectification:
         out[self.positions] = delta
         return out
 
-    # --- the step hook (``simulate``) ---------------------------------------------------
+    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
     def start(self, integrator):
         """A fresh run: nothing to do (``simulate`` starts it on the orbit as given)."""
 

@@ -15,10 +15,11 @@ conditions the same way, by a dynamic relaxation with added damping before the r
 
 import numpy as np
 
+from ..protocols import IntegrableSystem
 from .simulate import simulate
 
 
-def settle(system, duration, dt, initial=None, t_start=0.0, **options):
+def settle(system: IntegrableSystem, duration, dt, initial=None, t_start=0.0, **options):
     """The state of ``system`` after ``duration`` of steps ``dt`` at ``rho_inf = 0``
     (module docstring).
 

@@ -21,10 +21,11 @@ import time
 
 import numpy as np
 
-from ..contract import Observer, Run, Step
+from ..contract import Run, Step
 from ..control import ControlLoop, check_resumed
 from ..kernels import compile_log
 from ..observing import Observers
+from ..protocols import IntegrableSystem, Observer, StepHook
 from ..records import FIELDS, SETTINGS, settings_array, step_record
 from ..result import Result
 from ..section import positive_int
@@ -136,7 +137,7 @@ def _reference(integ):
     return None if reference is None else reference.copy()
 
 
-def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
+def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt) -> list[StepHook]:
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
     loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
@@ -163,7 +164,7 @@ def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt):
     return hooks
 
 
-def simulate(system, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
+def simulate(system: IntegrableSystem, t_end, dt, rho_inf=0.8, initial=None, t_start=0.0, every=1,
              observers=(), resume=None, tol=1e-11, max_iter=12, newton="modified",
              max_halvings=10, method="auto", energy_tol=0.05, compiled=None, rtol=None,
              atol=None, tol_local=None, rectify=1e-4, controllers=(),

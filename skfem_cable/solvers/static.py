@@ -8,6 +8,7 @@ from scipy.sparse.linalg import lsqr
 from ..constraints import dependence_message, dependent_constraints
 from ..kernels.assumed_strain import GAUSS_W, GAUSS_XI
 from ..linalg import PatternSolver, SingularMatrixError
+from ..protocols import IntegrableSystem
 from ..state import State
 
 
@@ -110,8 +111,9 @@ def line_search_alpha(residual, merit, q, lam, dx, r0, m0, factor, scale, max_st
     return alpha
 
 
-def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line_search=True,
-                 max_bisections=8, method="auto", return_last_converged=False, relax=True):
+def solve_static(system: IntegrableSystem, load_steps=1, tol=1e-10, max_iter=30, initial=None,
+                 line_search=True, max_bisections=8, method="auto",
+                 return_last_converged=False, relax=True):
     """Solve ``f_int(q) - f_ext(q) + C_q^T lambda = 0``, ``C(q) = 0``.
 
     Parameters
@@ -188,9 +190,9 @@ def solve_static(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, lin
                        max_bisections, method, return_last_converged, relax)
 
 
-def equilibrium(system, load_steps=1, tol=1e-10, max_iter=30, initial=None, line_search=True,
-                max_bisections=8, method="auto", return_last_converged=False, relax=True,
-                motion=None):
+def equilibrium(system: IntegrableSystem, load_steps=1, tol=1e-10, max_iter=30, initial=None,
+                line_search=True, max_bisections=8, method="auto",
+                return_last_converged=False, relax=True, motion=None):
     """``solve_static`` in a frame where the system moves rigidly: with ``motion`` (an
     object with ``velocity(q)``, the velocities of the rigid motion, and ``operator``,
     their constant derivative ``dv/dq``), the forces are evaluated at those velocities

@@ -38,6 +38,7 @@ from scipy.spatial.transform import Rotation
 
 from ..constraints import LinearConstraint
 from ..loads import Centrifugal, vector3
+from ..protocols import IntegrableSystem
 from ..state import State
 from .static import StaticConvergenceError, constraint_jacobian, equilibrium
 
@@ -190,8 +191,8 @@ def check_space_fixed(system, omega, t=0.0):
             "simulate the system")
 
 
-def solve_steady(system, omega, center=(0.0, 0.0, 0.0), initial=None, load_steps=1,
-                 tol=1e-10, max_iter=30, method="auto"):
+def solve_steady(system: IntegrableSystem, omega, center=(0.0, 0.0, 0.0), initial=None,
+                 load_steps=1, tol=1e-10, max_iter=30, method="auto"):
     """Relative equilibrium of ``system`` spinning at ``omega`` about the axis through
     ``center``: statics in the rotating frame (elastic, centrifugal and constant loads),
     with the gauge conditions of a system free to translate along or turn about the axis
