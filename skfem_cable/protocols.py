@@ -123,6 +123,18 @@ class Line(Body, Protocol):
 
 
 @runtime_checkable
+class LineBody(Body, Protocol):
+    """A body that line loads reach (``Gravity`` and the orbit's differential gravity need
+    only ``Body``): its points as linear combinations of its 3-vector coordinates, their
+    slopes along the reference arc length and their weights (``lines.LinePoints``).  The
+    gather, interpolation and scatter of every built-in line load are written once, on
+    these tables (``kernels.line``); a cable, a rod or a user's element gets them all."""
+
+    def line_points(self, system):
+        """The body's ``lines.LinePoints`` with global coordinates in ``system``."""
+
+
+@runtime_checkable
 class Load(Protocol):
     """A load: ``bind(system)`` returns its ``Term`` (forces through ``add`` or
     ``kernels``, constant ``force`` and ``mass``; see the module docstring).  A load of a
