@@ -1,8 +1,9 @@
 """Line bodies as line loads see them: the hook ``line_points(system)`` and its tables.
 
 A *line body* (``protocols.LineBody``: a cable, a rod, a user's element with fields along an
-arc length) declares its quadrature by returning ``LinePoints`` from ``line_points(system)``: where its points
-are as linear combinations of its 3-vector coordinates, their slopes, and their weights.
+arc length) declares its quadrature by returning ``LinePoints`` from
+``line_points(system)``: where its points are as linear combinations of its 3-vector
+coordinates, their slopes, and their weights.
 That is all a line load reads of it (``Gravity``'s constant field and the differential
 gravity of an orbit read the generic ``Body`` hooks ``mass_matrix`` and ``mass_points``):
 the gather, interpolation and scatter are written once, in ``kernels.line``.  A body's
