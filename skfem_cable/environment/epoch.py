@@ -55,6 +55,7 @@ class Epoch:
 
     Examples
     --------
+    >>> import numpy as np
     >>> import skfem_cable as sc
     >>> epoch = sc.Epoch("2026-01-01T00:00:00")
     >>> R = epoch.gcrs_to_itrs(0.0)

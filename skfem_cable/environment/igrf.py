@@ -66,6 +66,7 @@ class IGRF:
 
     Examples
     --------
+    >>> import numpy as np
     >>> import skfem_cable as sc
     >>> igrf = sc.environment.IGRF("2026-01-01")
     >>> B, dB = igrf.field([[sc.R_EARTH + 400e3, 0.0, 0.0]])
