@@ -84,26 +84,29 @@ class IGRF:
         """The field ``B`` (T) and its gradient ``dB/dx`` (T/m; ``[..., i, j] = dB_i /
         dx_j``) at absolute GCRS positions ``x`` (..., 3) (m), ``t`` s after the epoch:
         shapes (..., 3) and (..., 3, 3)."""
+        shifts = self.gradient_step * np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
+        B, R = self._itrs(x, t, shifts)
+        dB = (B[1:4] - B[4:7]).transpose(1, 2, 0) / (2.0 * self.gradient_step)
+        dB_gcrs = np.einsum("ki,nkl,lj->nij", R, dB, R)
+        return (B[0] @ R).reshape(np.shape(x)), dB_gcrs.reshape(np.shape(x) + (3,))
+
+    def __call__(self, x, t=0.0):
+        """The field ``B`` (T) alone at GCRS positions ``x`` (..., 3): the callable field
+        ``ElectrodynamicForce`` accepts."""
+        B, R = self._itrs(x, t, np.zeros((1, 3)))
+        return (B[0] @ R).reshape(np.shape(x))
+
+    def _itrs(self, x, t, shifts):
+        """The ITRS field (k, n, 3) at the Earth-fixed images of the positions ``x``
+        shifted by each of ``shifts`` (k, 3) (m, Earth-fixed axes), and ``R(t)``."""
         x = np.asarray(x, dtype=float)
         if x.shape[-1:] != (3,):
             raise ValueError(f"positions must have shape (..., 3), got {x.shape}")
         R = self.epoch.gcrs_to_itrs(t)
         y = x.reshape(-1, 3) @ R.T
-        shifts = self.gradient_step * np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
         B = itrs_field((y[None, :, :] + shifts[:, None, :]).reshape(-1, 3),
-                       self.epoch.datetime(t)).reshape(7, -1, 3)
-        dB = (B[1:4] - B[4:7]).transpose(1, 2, 0) / (2.0 * self.gradient_step)
-        B_gcrs = B[0] @ R
-        dB_gcrs = np.einsum("ki,nkl,lj->nij", R, dB, R)
-        return B_gcrs.reshape(x.shape), dB_gcrs.reshape(x.shape + (3,))
-
-    def __call__(self, x, t=0.0):
-        """The field ``B`` (T) alone at GCRS positions ``x`` (n, 3): the callable field
-        ``ElectrodynamicForce`` accepts."""
-        x = np.asarray(x, dtype=float)
-        R = self.epoch.gcrs_to_itrs(t)
-        B = itrs_field(x.reshape(-1, 3) @ R.T, self.epoch.datetime(t)) @ R
-        return B.reshape(x.shape)
+                       self.epoch.datetime(t))
+        return B.reshape(len(shifts), -1, 3), R
 
     def __repr__(self):
         return f"IGRF({self.epoch!r})"

@@ -161,11 +161,15 @@ def sampled(name, value, stations):
     """A function of arc length from a number or from values (n,) at ``stations`` (n,)
     (piecewise linear), vectorised over arc lengths."""
     values = np.asarray(value, dtype=float)
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"{name} must be finite, got {value!r}")
     if values.ndim == 0:
         return lambda s: np.full(np.shape(s), float(values))
-    if stations is None or np.shape(stations) != values.shape:
+    if stations is None or np.shape(stations) != values.shape or values.ndim != 1:
         raise ValueError(f"{name} given at points needs stations of the same shape (arc "
                          f"lengths, m), got {values.shape} and {np.shape(stations)}")
+    if not np.all(np.diff(stations) > 0.0):
+        raise ValueError(f"stations must increase (arc lengths, m), got {stations!r}")
     return lambda s: np.interp(s, stations, values)
 
 
