@@ -8,7 +8,13 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_bvp, trapezoid
 
-from skfem_cable.environment import BareTether, Cathode, OMLProblem
+from skfem_cable.environment import (
+    BareTether,
+    Cathode,
+    OMLProblem,
+    UniformPlasma,
+    motional_field,
+)
 from skfem_cable.environment.oml import ELECTRON_MASS, collection_coefficient
 from skfem_cable.environment.plasma import OXYGEN_ION_MASS
 
@@ -169,3 +175,25 @@ def test_energy_identity():
     books = ohmic + R_L * I0**2 + V_C * I0 + sheath
     print(f"energy identity: relative error {abs(books / motional - 1):.2e}")
     assert books == pytest.approx(motional, rel=1e-6)
+
+
+def test_warm_start_gives_the_same_profile():
+    """A warm start from the profile of slightly different fields (the previous step's)
+    converges to the cold start's profile within 1e-8 of the largest current."""
+    tether = tape(4.0 * L_star())
+    problem = OMLProblem(tether, E_M, DENSITY, Cathode(20.0))
+    previous = OMLProblem(tether, 1.01 * E_M, 0.99 * DENSITY, Cathode(20.0)).solve()
+    cold, warm = problem.solve(), problem.solve(start=previous)
+    s = np.linspace(0.0, tether.length, 501)
+    assert np.abs(warm.current(s) - cold.current(s)).max() < 1e-8 * cold.current(s).max()
+
+
+def test_motional_field_of_a_vertical_tether():
+    """A tether along the local vertical (+x) of an equatorial prograde orbit (+y at 7.6
+    km/s) in a northward field (+z, 25 uT): ``E_m = (v - omega x r) B`` along the tether,
+    upwards, with the co-rotating plasma's velocity (0.48 km/s at 6778 km)."""
+    r = np.array([[6.778e6, 0.0, 0.0]])
+    plasma = UniformPlasma(1e11, velocity=np.cross([0.0, 0.0, 7.292115e-5], r[0]))
+    E = motional_field([[0.0, 7.6e3, 0.0]], plasma.velocity(r), [[0.0, 0.0, 2.5e-5]],
+                       [[1.0, 0.0, 0.0]])
+    assert E[0] == pytest.approx((7.6e3 - 7.292115e-5 * 6.778e6) * 2.5e-5, rel=1e-14)

@@ -8,8 +8,8 @@ the ionosphere, the neutral atmosphere, and the OML current along a bare tether.
 * ``MSIS`` (module ``msis``): the neutral mass density (pymsis, NRLMSIS 2.1);
 * ``IRI`` (module ``iri``): the electron density (PyIRI), ``UniformPlasma`` (module
   ``plasma``);
-* ``BareTether``, ``Cathode``, ``OMLProblem``, ``OMLProfile`` (module ``oml``): the OML
-  current and bias along a bare tether.
+* ``BareTether``, ``Cathode``, ``OMLProblem``, ``OMLProfile``, ``motional_field``
+  (module ``oml``): the OML current and bias along a bare tether.
 
 The libraries (ppigrf, pymsis, PyIRI, astropy) are the optional extra ``space``
 (``pip install -e .[space]``); they are imported when a model is first used.
@@ -19,8 +19,8 @@ from .epoch import Epoch, corotation_velocity
 from .igrf import IGRF
 from .iri import IRI
 from .msis import MSIS
-from .oml import BareTether, Cathode, OMLProblem, OMLProfile
+from .oml import BareTether, Cathode, OMLProblem, OMLProfile, motional_field
 from .plasma import UniformPlasma
 
 __all__ = ["BareTether", "Cathode", "Epoch", "IGRF", "IRI", "MSIS", "OMLProblem",
-           "OMLProfile", "UniformPlasma", "corotation_velocity"]
+           "OMLProfile", "UniformPlasma", "corotation_velocity", "motional_field"]

@@ -39,7 +39,8 @@ The problem is solved as a whole by collocation: scipy's ``solve_bvp`` (fourth-o
 Lobatto IIIA collocation with Newton's method and mesh refinement on the residual, to
 the tolerance ``TOL``), the segments between the insulated interval's edges stacked on a
 common variable and joined by continuity conditions (the right-hand side jumps there),
-from the guess ``I = 0``, ``dV = dV(0) + int_0^s E_m``.  A single shooting on the free
+from the guess ``I = 0``, ``dV = dV(0) + int_0^s E_m`` on 101 nodes, or from a previous
+profile (a warm start).  A single shooting on the free
 end's bias is ill-conditioned once ``L > L*``: where the bias is small (behind an ideal
 contactor) the linearised system ``ddV'' = (e N p / pi) sqrt(2 e / m_e) / (2 sigma A
 sqrt(dV)) ddV`` grows and decays exponentially in both directions (measured: the
@@ -49,7 +50,7 @@ tolerance); collocation is not affected.  One limit remains: with an ideal conta
 (``V_C = 0``) and no load, a tether longer than about 10 ``L*`` has a long segment at
 nearly zero bias, where the collection's ``sqrt(dV)`` is not differentiable, and the
 mesh refinement exceeds ``MAX_NODES`` (``RuntimeError``); any cathode drop (a hollow
-cathode's 10 to 20 V) removes it (15 ``L*`` with 20 V: 9351 nodes, 0.7 s).  There the
+cathode's 10 to 20 V) removes it (15 ``L*`` with 20 V: 960 nodes, 54 ms).  There the
 high-bias OML law itself fails (``e dV`` below ``k T_e``).
 
 The characteristic length of the theory (Sanmartín et al. 1993): with an ideal
@@ -148,6 +149,14 @@ class BareTether:
         c = collection_coefficient(check_positive("density", density), self.perimeter,
                                    ELECTRON_MASS)
         return (1.5 * self.conductivity * self.area * np.sqrt(E) / c) ** (2.0 / 3.0)
+
+
+def motional_field(velocity, plasma_velocity, field, tangent):
+    """The motional field ``E_m = ((v - v_plasma) x B) . t`` (V/m) at points along a
+    tether: the velocities (m/s), the field ``B`` (T) and the unit tangent ``t = dr/ds``
+    (towards the free end), each (..., 3); shape (...)."""
+    relative = np.asarray(velocity, dtype=float) - np.asarray(plasma_velocity, dtype=float)
+    return np.einsum("...i,...i->...", np.cross(relative, field), tangent)
 
 
 def collection_coefficient(density, perimeter, mass):
@@ -274,17 +283,9 @@ class OMLProblem:
                                                   on)
                           for k, (a, b, on) in enumerate(self.segments)])
 
-    def boundary(self, Y0, Y1):
-        """``dV(0) = -V_C - R_L I(0) + V_s``, ``I(L) = 0`` and the continuity of ``(I,
-        dV)`` between consecutive segments."""
-        cathode = (Y0[1] + self.cathode.voltage_drop + self.resistance * Y0[0]
-                   - self.supply)
-        return np.concatenate([[cathode, Y1[-2]], Y1[:-2] - Y0[2:]])
-
-    def solve(self, nodes=1001):
-        """The profile (``OMLProfile``) by ``solve_bvp`` from ``nodes`` equally spaced
-        values of ``tau``; raises ``RuntimeError`` when the collocation does not
-        converge."""
+    def guess(self, nodes):
+        """The common variable's ``nodes`` values and the guess ``I = 0``, ``dV = dV(0) +
+        int_0^s E_m`` on each segment (2 m, nodes)."""
         L = self.tether.length
         tau, guess = np.linspace(0.0, L, nodes), []
         dV = self.supply - self.cathode.voltage_drop
@@ -294,7 +295,27 @@ class OMLProblem:
                                                    * (self.E(s[1:]) + self.E(s[:-1])))])
             guess += [np.zeros_like(s), dV + emf]
             dV += emf[-1]
-        sol = solve_bvp(self.stacked_rhs, self.boundary, tau, np.vstack(guess), tol=TOL,
+        return tau, np.vstack(guess)
+
+    def boundary(self, Y0, Y1):
+        """``dV(0) = -V_C - R_L I(0) + V_s``, ``I(L) = 0`` and the continuity of ``(I,
+        dV)`` between consecutive segments."""
+        cathode = (Y0[1] + self.cathode.voltage_drop + self.resistance * Y0[0]
+                   - self.supply)
+        return np.concatenate([[cathode, Y1[-2]], Y1[:-2] - Y0[2:]])
+
+    def solve(self, nodes=101, start=None):
+        """The profile (``OMLProfile``) by ``solve_bvp``, from ``nodes`` equally spaced
+        values of the common variable and the guess of the module docstring, or from the
+        mesh and values of the profile ``start`` of the same tether (a warm start, e.g.
+        the previous step's); raises ``RuntimeError`` when the collocation does not
+        converge."""
+        if start is not None:
+            tau = start.solution.x
+            guess = start.solution(tau)
+        else:
+            tau, guess = self.guess(nodes)
+        sol = solve_bvp(self.stacked_rhs, self.boundary, tau, guess, tol=TOL,
                         max_nodes=MAX_NODES)
         if not sol.success:
             raise RuntimeError(f"OML collocation did not converge: {sol.message}")
