@@ -53,6 +53,7 @@ import importlib.util
 from . import kernels as kernels  # first: numba caches and reports the kernels defined after
 
 # isort: split
+from . import environment as environment  # IGRF, IRI, NRLMSIS, epochs, OML current
 from . import export as export  # VTU files for ParaView
 from . import forms as forms  # scikit-fem forms of the element laws
 from . import io as io  # observers: run store, ParaView series, progress bar
@@ -72,6 +73,7 @@ from .elements import (
     ElementLineCableHermite5,
     ElementLineCableLinear,
 )
+from .environment import Epoch
 from .formulation import FORMULATIONS
 from .inputs import Input
 from .laws import CableLaw, cable_law
@@ -113,6 +115,7 @@ __all__ = [
     "Centrifugal",
     "CurrentProfile",
     "ElectrodynamicForce",
+    "Epoch",
     "Evaluation",
     "FreeMolecularDrag",
     "Gravity",
@@ -151,6 +154,7 @@ __all__ = [
     "cable_law",
     "circular_anchor",
     "esail",
+    "environment",
     "io",
     "laws",
     "modes",

@@ -1,0 +1,96 @@
+"""The neutral atmosphere: NRLMSIS 2.1 (pymsis) at inertial positions.
+
+``MSIS(epoch, f107=..., f107a=..., ap=...).density(x, t)`` is the total neutral mass
+density (kg/m^3) at GCRS positions ``x`` (..., 3) (m), ``t`` seconds after the epoch:
+the positions are turned into WGS84 geodetic longitude, latitude and height
+(``Epoch.geodetic``) and handed to ``pymsis.calculate`` with the space-weather indices.
+
+The indices are arguments, never downloaded: pymsis fetches them from a space-weather
+file over the network when they are missing, which a run must not do.  ``f107`` is the
+daily F10.7 solar radio flux of the previous day, ``f107a`` its 81-day centred mean (both
+in solar flux units, 1e-22 W m^-2 Hz^-1) and ``ap`` the daily geomagnetic Ap index;
+each is a number or a function of ``t`` (s after the epoch) for a long run that crosses
+days.  Typical values: solar minimum ``f107 = f107a = 70``, moderate 150, maximum 250;
+quiet ``ap = 4``, storm 100 and above.
+
+References
+----------
+1. J. T. Emmert et al., "NRLMSIS 2.0: A whole-atmosphere empirical model of temperature
+   and neutral species densities", Earth Space Sci. 8 (2021) e2020EA001321; NRLMSIS 2.1
+   (Emmert et al., 2022, the nitric-oxide update): the default of pymsis.
+2. G. Lucas et al., pymsis: a Python interface to the NRLMSIS models.
+"""
+
+import numpy as np
+
+from .epoch import Epoch
+
+VERSION = 2.1
+"""The NRLMSIS version pymsis evaluates."""
+
+
+def index(name, value, low, high):
+    """A space-weather index ``value(t)``: a number in ``[low, high]`` or a callable of
+    ``t`` (s), checked at ``t = 0``."""
+    function = value if callable(value) else (lambda t: value)
+    sample = function(0.0)
+    try:
+        sample = float(sample)
+    except (TypeError, ValueError):
+        sample = np.nan
+    if not low <= sample <= high:
+        raise ValueError(f"{name} must be a number in [{low}, {high}] or a function of t "
+                         f"giving one, got {value!r}")
+    return function
+
+
+class MSIS:
+    """The NRLMSIS 2.1 neutral mass density at inertial positions.
+
+    Parameters
+    ----------
+    epoch : Epoch, datetime, astropy Time or str
+        The instant of ``t = 0``.
+    f107, f107a : float or callable
+        Daily F10.7 of the previous day and its 81-day centred mean (sfu, in [0, 500]),
+        or functions of ``t`` (s).
+    ap : float or callable
+        Daily Ap index (in [0, 400]) or a function of ``t``.
+
+    Notes
+    -----
+    A load evaluates the density once per step (its ``Term.prepare(t)``, at the step's
+    positions) and keeps it through the Newton iterations: one pymsis call per step for
+    all the points.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> msis = sc.environment.MSIS("2026-01-01", f107=150.0, f107a=150.0, ap=4.0)
+    >>> rho = msis.density([[sc.R_EARTH + 400e3, 0.0, 0.0]])
+    >>> bool(1e-13 < rho[0] < 1e-10)
+    True
+    """
+
+    def __init__(self, epoch, f107, f107a, ap):
+        self.epoch = Epoch(epoch)
+        self.f107 = index("f107", f107, 0.0, 500.0)
+        self.f107a = index("f107a", f107a, 0.0, 500.0)
+        self.ap = index("ap", ap, 0.0, 400.0)
+
+    def density(self, x, t=0.0):
+        """The neutral mass density (kg/m^3) at GCRS positions ``x`` (..., 3) (m):
+        shape (...)."""
+        import pymsis
+        x = np.asarray(x, dtype=float)
+        lon, lat, height = self.epoch.geodetic(x.reshape(-1, 3), t)
+        n = lon.size
+        dates = np.full(n, np.datetime64(self.epoch.datetime(t), "ns"))
+        out = pymsis.calculate(dates, lon, lat, height,
+                               np.full(n, float(self.f107(t))),
+                               np.full(n, float(self.f107a(t))),
+                               np.full((n, 7), float(self.ap(t))), version=VERSION)
+        return out[:, pymsis.Variable.MASS_DENSITY].reshape(x.shape[:-1])
+
+    def __repr__(self):
+        return f"MSIS({self.epoch!r})"
