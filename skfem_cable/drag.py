@@ -213,7 +213,8 @@ class QuadraticDrag(AlongCable):
         for checks and plots)."""
         h, scratch = np.empty(3), np.empty((4, 3, 3))
         kernel.point_force(np.asarray(slope, float), np.asarray(relative_velocity, float),
-                           self.coef, h, scratch[0], scratch[1], scratch[2, 0], scratch[3, 0])
+                           self.coef, False, h, scratch[0], scratch[1], scratch[2, 0],
+                           scratch[3, 0])
         return h
 
     #: Bound with the run's reference in orbit (``bind(system, reference)``).

@@ -34,7 +34,7 @@ import numpy as np
 from numba import njit
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
     """The flow velocity ``c`` (3,) at ``x`` and its gradient ``dc = dc/dx`` (3, 3);
     ``slope`` (3,) is scratch."""
@@ -62,11 +62,12 @@ def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
             dc[i, j] = W[i, j] + slope[i] * vertical[j]
 
 
-@njit(cache=True)
-def point_force(a, u, coef, h, Hu, Ha, t, un):
-    """Force ``lam h`` per unit length (into ``h``) and its derivatives ``df/du`` (``Hu``)
-    and ``df/da`` (``Ha``) at one point; ``coef = [k_n, k_t, k_x, deformed]``; ``t``,
-    ``un`` (3,) are scratch (they receive the tangent and the normal relative flow)."""
+@njit(cache=True, inline="always")
+def point_force(a, u, coef, want, h, Hu, Ha, t, un):
+    """Force ``lam h`` per unit length (into ``h``) and, if ``want``, its derivatives
+    ``df/du`` (``Hu``) and ``df/da`` (``Ha``) at one point;
+    ``coef = [k_n, k_t, k_x, deformed]``; ``t``, ``un`` (3,) are scratch (they receive the
+    tangent and the normal relative flow)."""
     kn, kt, kx, deformed = coef[0], coef[1], coef[2], coef[3]
     p = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
     for i in range(3):
@@ -79,7 +80,7 @@ def point_force(a, u, coef, h, Hu, Ha, t, un):
     lam = p if deformed != 0.0 else 1.0
     for i in range(3):
         h[i] = kn * m * un[i] + (kt * abs(s) + kx * m) * s * t[i]
-    for i in range(3):
+    for i in range(3 if want else 0):
         for j in range(3):
             d = 1.0 if i == j else 0.0
             P = d - t[i] * t[j]
@@ -96,20 +97,21 @@ def point_force(a, u, coef, h, Hu, Ha, t, un):
         h[i] *= lam
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     """The drag's point function for the loop of ``kernels.line.module``: the force ``f``
     per unit length at the position ``x``, slope ``a`` and velocity ``xd``, with
     ``Fa = df/da``, ``Fv = df/dxd = -df/du`` and ``Fx = df/du dc/dx`` (the flow's
     gradient); ``params = (coef, uniform, W, vertical, heights, velocities, sigma)``
-    (``sigma`` of shape (1,)).  The derivatives are computed whatever ``want`` says (they
-    cost little next to the force's square roots)."""
+    (``sigma`` of shape (1,)); the derivatives only if ``want``."""
     coef, uniform, W, vertical, heights, velocities, sigma = params
     c, u, dc, Hu = work[0, 0], work[0, 1], work[1], work[2]
     flow(x, uniform, W, vertical, heights, velocities, sigma[0], c, dc, work[0, 2])
     for i in range(3):
         u[i] = c[i] - xd[i]
-    point_force(a, u, coef, f, Hu, Fa, work[3, 0], work[3, 1])
+    point_force(a, u, coef, want, f, Hu, Fa, work[3, 0], work[3, 1])
+    if not want:
+        return
     for i in range(3):
         for j in range(3):
             Fx[i, j] = Hu[i, 0] * dc[0, j] + Hu[i, 1] * dc[1, j] + Hu[i, 2] * dc[2, j]
