@@ -266,8 +266,8 @@ def test_a_body_without_the_hook_is_refused(make):
         make(hub)
 
 
-CABLE = sc.Cable.straight([0, 0, -1.0], [3.0, 0.4, -0.2], 5,
-                          sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0))
+SECTION_OF_CABLE = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0)
+CABLE = sc.Cable.straight([0, 0, -1.0], [3.0, 0.4, -0.2], 5, SECTION_OF_CABLE)
 CABLE_PROFILE = sc.CurrentProfile([-0.9, -0.4, 0.3], [[0.3, 1.0, -0.2], [1.2, -0.4, 0.5],
                                                       [0.1, 0.2, 0.9]],
                                   vertical=[0, 0.6, 0.8], ramp=lambda t: 1.0 + t)
@@ -342,3 +342,15 @@ def test_ported_loads_equal_the_hand_written_loops_on_a_cable(name):
         if now is not None:
             assert now[0] == pytest.approx(before[0], rel=1e-13)
             assert now[1] == pytest.approx(before[1], abs=1e-13 * 40 * before[0])
+
+
+@pytest.mark.parametrize("element", ["hermite3", "hermite5", "linear"])
+def test_uniform_load_on_a_cable_is_the_scikit_fem_assembly(element):
+    """``LinePoints.force`` on a cable of each element equals ``Cable.line_load`` (the
+    scikit-fem assembly on the exact rule) to round-off."""
+    cable = sc.Cable.straight([0, 0, 0], [2.0, 0.5, -1.0], 3, SECTION_OF_CABLE, element=element)
+    value = np.array([0.3, -2.0, 1.1])
+    dofs, f = UniformLineLoad(cable, value).bind(sc.System([cable])).force
+    expected = cable.line_load(value)
+    assert np.array_equal(dofs, np.arange(cable.n_dofs))
+    assert np.allclose(f, expected, rtol=0, atol=1e-15 * abs(expected).max())
