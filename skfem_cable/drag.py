@@ -1,9 +1,13 @@
-"""Quadratic drag of a surrounding flow on cables: Morison drag in water (with buoyancy and
-added mass) and free-molecular drag of a rarefied atmosphere on low-orbit tethers.
+"""Quadratic drag of a surrounding flow on cables and other line bodies: Morison drag in
+water (with buoyancy and added mass) and free-molecular drag of a rarefied atmosphere on
+low-orbit tethers.
 
-Both are compiled loads (``kernels.drag``): the generalized force ``int S^T f dx`` with
-its exact tangent in the coordinates and the velocities, evaluated inside the compiled
-Newton step; a current that changes in time is refreshed once per step (``Term.prepare``).
+Both are compiled loads: their force at a point (``kernels.drag.point``) in the one loop
+of the line loads (``kernels.line.module``) over the body's points (``lines``, the
+line-body hook), the generalized force ``int S^T f dx`` with its exact tangent in the
+coordinates and the velocities, evaluated inside the compiled Newton step; a current that
+changes in time is refreshed once per step (``Term.prepare``).
+
 The force is per unit *reference* length by default, as in MoorDyn (its drag uses the
 unstretched segment lengths): the diameter and the drag coefficients are nominal values
 of the unstretched line, and the difference from the deformed length is of the order of
@@ -35,6 +39,9 @@ import numpy as np
 
 from .contract import Term
 from .kernels import drag as kernel
+from .kernels import line
+from .linalg import thread_count
+from .lines import check_line_body, line_points
 from .loads import AlongCable, UniformLineLoad, vector3
 from .orbit import co_rotation
 from .section import check_positive
@@ -175,7 +182,7 @@ class Flow:
 
 class QuadraticDrag(AlongCable):
     """Drag ``lam (k_n |u_n| u_n + k_t |s| s t + k_x |u_n| s t)`` per unit length of one
-    cable, with ``u`` the flow velocity relative to the cable, ``t`` its tangent,
+    line body (a cable), with ``u`` the flow velocity relative to the cable, ``t`` its tangent,
     ``s = u . t`` and ``u_n = u - s t`` (the model of ``kernels.drag``); the common base
     of ``MorisonDrag`` and ``FreeMolecularDrag``, which set the coefficients.  In a
     system in orbit ``u`` is relative to the cable's absolute velocity ``V(t) + v``
@@ -184,7 +191,8 @@ class QuadraticDrag(AlongCable):
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The line (any body with the hook ``line_points``, ``lines``).
     coefficients : (k_n, k_t, k_x)
         In kg/m^2 (N per metre per (m/s)^2), each >= 0.
     flow : Flow
@@ -196,7 +204,7 @@ class QuadraticDrag(AlongCable):
     def __init__(self, cable, coefficients, flow, deformed_length=False):
         if not isinstance(deformed_length, bool):
             raise TypeError(f"deformed_length must be True or False, got {deformed_length!r}")
-        self.cable, self.flow = cable, flow
+        self.cable, self.flow = check_line_body(cable, "cable"), flow
         self.coef = np.array([*coefficients, float(deformed_length)])
 
     def line_force(self, slope, relative_velocity):
@@ -205,34 +213,37 @@ class QuadraticDrag(AlongCable):
         for checks and plots)."""
         h, scratch = np.empty(3), np.empty((4, 3, 3))
         kernel.point_force(np.asarray(slope, float), np.asarray(relative_velocity, float),
-                           self.coef, h, scratch[0], scratch[1], scratch[2, 0], scratch[3, 0])
+                           self.coef, False, h, scratch[0], scratch[1], scratch[2, 0],
+                           scratch[3, 0])
         return h
 
     #: Bound with the run's reference in orbit (``bind(system, reference)``).
     reads_reference = True
 
     def bind(self, system, reference=None):
-        """The compiled term (``kernels.drag.kernel``); a time-dependent current, or the
-        reference point of a system in orbit (``Flow``: of ``reference``, the run's
-        ``Reference``; None: the orbit as given), refreshes its arrays once per time step
-        (``Term.prepare``)."""
-        c = self.cable
+        """The compiled term: the loop of ``kernels.line`` with the point function
+        ``kernels.drag.point`` over the body's points (``lines.line_points``); a
+        time-dependent current, or the reference point of a system in orbit (``Flow``: of
+        ``reference``, the run's ``Reference``; None: the orbit as given), refreshes its
+        arrays once per time step (``Term.prepare``)."""
+        points = line_points(self.cable, system)
         orbit = system.orbit if reference is None else reference
-        mass = self.added_mass(system)
-        edofs = np.ascontiguousarray(c.global_element_dofs(system))
         arrays = self.flow.arrays(orbit)
-        pack = (edofs, c.S, c.Sx, c.weights, self.coef.copy(), *arrays)
+        module = line.module(kernel.point)
+        hook = module.kernel_parallel if thread_count() > 1 else module.kernel
+        rows, cols = points.tangent_pattern()
 
         def prepare(t):
             self.flow.refresh(arrays, t, orbit)
 
-        return Term(kernels=((kernel.kernel, pack),), rows=edofs[:, :, None],
-                    cols=edofs[:, None, :], mass=mass,
+        return Term(kernels=((hook, points.pack((self.coef.copy(), *arrays))),),
+                    rows=rows, cols=cols, mass=self.added_mass(system),
                     prepare=None if self.flow.steady and orbit is None else prepare,
-                    name=f"{type(self).__name__} {c.name}")
+                    name=f"{type(self).__name__} {self.cable.name}")
 
     def added_mass(self, system):
-        """``(rows, cols, values)`` of a constant added mass, or None (no added mass)."""
+        """``(rows, cols, values)`` of a constant added mass in ``system``, or None (no
+        added mass)."""
         return None
 
 
@@ -251,7 +262,8 @@ class MorisonDrag(QuadraticDrag):
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The line (any body with the hook ``line_points``, ``lines``).
     rho : float
         Density of the water (kg/m^3), > 0.
     diameter : float
@@ -303,16 +315,13 @@ class MorisonDrag(QuadraticDrag):
                          Flow(current), deformed_length)
 
     def added_mass(self, system):
-        """The isotropic added mass ``C_a rho pi d^2 / 4 int S^T S dx`` (global
-        ``(rows, cols, values)``), or None when ``C_a = 0``."""
+        """The isotropic added mass ``C_a rho pi d^2 / 4 int S^T S dx`` on the line's
+        points (``lines.LinePoints.mass``: global ``(rows, cols, values)``), or None when
+        ``C_a = 0``."""
         if self.ca == 0.0:
             return None
-        c = self.cable
-        scale = self.ca * self.rho * np.pi * self.diameter**2 / 4 / c.section.mass_per_length
-        M = c.mass_matrix().tocoo()
-        offset = system.dofs(c)[0]
-        return (M.row.astype(np.int64) + offset, M.col.astype(np.int64) + offset,
-                scale * M.data)
+        mass_per_length = self.ca * self.rho * np.pi * self.diameter**2 / 4
+        return line_points(self.cable, system).mass(mass_per_length)
 
 
 class FreeMolecularDrag(QuadraticDrag):
@@ -339,7 +348,8 @@ class FreeMolecularDrag(QuadraticDrag):
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The line (any body with the hook ``line_points``, ``lines``).
     density : float
         Atmospheric density ``rho`` (kg/m^3), > 0.
     diameter : float
@@ -384,7 +394,8 @@ class Buoyancy(UniformLineLoad):
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The line (any body with the hook ``line_points``, ``lines``).
     rho : float
         Density of the water (kg/m^3), > 0.
     diameter : float

@@ -112,12 +112,30 @@ class LinePoints:
         places of a line load's tangent (``contract.Term``)."""
         return self.edofs[:, :, None], self.edofs[:, None, :]
 
+    def mass(self, mass_per_length):
+        """``(rows, cols, values)``: the consistent mass ``m sum w S_A S_B`` (on each of
+        the three components) of a uniform mass per length ``m`` (kg/m) carried by the
+        line, e.g. an added mass (``Term.mass``); exact when the rule integrates the
+        products of the functions exactly (class notes)."""
+        M = np.einsum("eg,egA,egB->eAB", mass_per_length * self.w, self.S, self.S)
+        ne, nf = M.shape[:2]
+        vectors = self.edofs.reshape(ne, nf, 3)
+        rows = np.broadcast_to(vectors[:, :, None, :], (ne, nf, nf, 3))
+        cols = np.broadcast_to(vectors[:, None, :, :], (ne, nf, nf, 3))
+        values = np.broadcast_to(M[..., None], (ne, nf, nf, 3))
+        return rows.ravel(), cols.ravel(), values.ravel()
+
+
+def check_line_body(body, name="body"):
+    """``body``, or ``TypeError`` naming the parameter ``name`` when it is not a line body
+    (it has no hook ``line_points``: no points for a line load)."""
+    if not callable(getattr(body, "line_points", None)):
+        raise TypeError(f"{name} must be a line body, with the hook line_points(system) -> "
+                        f"LinePoints (skfem_cable.lines), got {body!r}")
+    return body
+
 
 def line_points(body, system):
     """``body.line_points(system)``, or ``TypeError`` naming the body when it is not a line
-    body (it has no points for a line load)."""
-    hook = getattr(body, "line_points", None)
-    if hook is None:
-        raise TypeError(f"{body!r} is not a line body: a line load needs its hook "
-                        "line_points(system) -> LinePoints (skfem_cable.lines)")
-    return hook(system)
+    body (``check_line_body``)."""
+    return check_line_body(body).line_points(system)

@@ -27,6 +27,8 @@ import numpy as np
 from .contract import Term, combined
 from .inputs import declared, reader
 from .kernels import drives
+from .kernels import line as kernel
+from .lines import check_line_body, line_points
 
 
 def vector3(v, name):
@@ -153,9 +155,10 @@ class PointMoment:
 
 
 class AlongCable:
-    """Base of the loads that act along one cable, ``self.cable``: it names it in
-    ``cables`` (the contract of loads along cables, ``System.layout`` refuses a deploying
-    one unless the load ``stretches``)."""
+    """Base of the loads that act along one line body (a cable), ``self.cable``: it names
+    it in ``cables`` (the contract of loads along lines, ``System.layout`` refuses a
+    deploying one unless the load ``stretches``).  The load reads the body through its
+    line-body hook only (``lines.line_points``)."""
 
     @property
     def cables(self):
@@ -164,11 +167,13 @@ class AlongCable:
 
 class UniformLineLoad(AlongCable):
     """Uniform distributed load (N per metre of reference length, fixed in space) along a
-    cable: the consistent generalized force ``int S^T f dx`` (scikit-fem assembly).
+    cable or any line body: the consistent generalized force ``int S^T f dx`` over the
+    body's points (``lines.LinePoints.force``).
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The line (any body with the hook ``line_points``, ``lines``).
     force_per_length : array_like (3,)
         The load (N/m).
     """
@@ -176,7 +181,7 @@ class UniformLineLoad(AlongCable):
     label = "line load"
 
     def __init__(self, cable, force_per_length):
-        self.cable = cable
+        self.cable = check_line_body(cable, "cable")
         self.value = vector3(force_per_length, "force_per_length")
 
     def space_fixed_force(self, t):
@@ -187,7 +192,7 @@ class UniformLineLoad(AlongCable):
         return f"{type(self).__name__}({self.cable.name!r}, {self.value.tolist()})"
 
     def bind(self, system):
-        return Term(force=(system.dofs(self.cable), self.cable.line_load(self.value)),
+        return Term(force=line_points(self.cable, system).force(self.value),
                     name=f"{self.label} {self.cable.name}")
 
 
@@ -270,15 +275,17 @@ class PointMass:
 
 
 class LineLoad(AlongCable):
-    """Distributed force ``force(x, v, t)`` (N per metre of reference length) along a cable,
-    depending on the position ``x``, the velocity ``v`` and the time ``t``.
+    """Distributed force ``force(x, v, t)`` (N per metre of reference length) along a cable
+    or any line body, depending on the position ``x``, the velocity ``v`` and the time
+    ``t``.
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The line (any body with the hook ``line_points``, ``lines``).
     force : callable
         ``force(x, v, t) -> (n, 3)`` with ``x`` and ``v`` the positions and velocities at
-        the cable's ``n`` Gauss points, ``(n, 3)`` each (vectorised: one call per
+        the line's ``n`` points (``lines.LinePoints``), ``(n, 3)`` each (vectorised: one call per
         evaluation).
     dq, dv : callable, optional
         Exact Jacobians ``dq(x, v, t)``, ``dv(x, v, t) -> (n, 3, 3)`` with
@@ -292,7 +299,9 @@ class LineLoad(AlongCable):
     Notes
     -----
     The generalized force is ``int S^T f dx`` and its tangent blocks ``int S^T (df/dx) S dx``
-    and ``int S^T (df/dv) S dx`` (``S`` the cable's shape functions).  Its work is booked as
+    and ``int S^T (df/dv) S dx`` (``S`` the line's functions), gathered and scattered by
+    the compiled passes of ``kernels.line`` (``points``, ``assemble``) around the Python
+    ``force``: the term's ``add`` is the only Python of the step.  Its work is booked as
     external work (drag: negative).  ``demos/drag_terminal_speed.py`` is a complete example.
 
     Examples
@@ -317,14 +326,15 @@ class LineLoad(AlongCable):
             raise TypeError("force must be a callable (x, v, t) -> (n, 3) array")
         if not 0 < fd_step < 1:
             raise ValueError(f"fd_step must lie in (0, 1), got {fd_step!r}")
-        self.cable, self.fn, self.dq, self.dv, self.fd_step = cable, force, dq, dv, fd_step
+        self.cable = check_line_body(cable, "cable")
+        self.fn, self.dq, self.dv, self.fd_step = force, dq, dv, fd_step
 
     def evaluate(self, x, v, t):
         """``force(x, v, t)`` with its shape checked."""
         f = np.asarray(self.fn(x, v, t), dtype=float)
         if f.shape != x.shape:
             raise ValueError(f"LineLoad force(x, v, t) must return shape {x.shape} (one "
-                             f"3-vector per Gauss point), got {f.shape}")
+                             f"3-vector per point of the line), got {f.shape}")
         return f
 
     def jacobians(self, x, v, t, f, want_dv):
@@ -351,36 +361,31 @@ class LineLoad(AlongCable):
         return J
 
     def bind(self, system):
-        cable = self.cable
-        edofs = cable.global_element_dofs(system)
-        S = cable.S  # (ne, nq, nf)
-        w = cable.weights  # (ne, nq)
-        ne, nq, nf = S.shape
+        """The term: its ``add`` gathers the points' positions and velocities
+        (``kernels.line.points``), calls ``force`` (and the Jacobians for a tangent) and
+        scatters them (``kernels.line.assemble``), into arrays made once here."""
+        points = line_points(self.cable, system)
+        rows, cols = points.tangent_pattern()
+        ne, nq = points.shape
+        X, A, V = (np.empty((ne, nq, 3)) for _ in range(3))
+        zero = np.zeros((ne, nq, 3, 3))
+        no_tangent = (np.zeros(0), np.zeros((0, 0, 0), dtype=np.int64))
 
         def add(ev, index):
-            qe = ev.q[edofs].reshape(ne, nf, 3)
-            x = np.einsum("egA,eAi->egi", S, qe).reshape(-1, 3)
-            if ev.dynamic:
-                v = np.einsum("egA,eAi->egi", S, ev.v[edofs].reshape(ne, nf, 3)).reshape(-1, 3)
-            else:
-                v = np.zeros_like(x)
+            kernel.points(points.edofs, points.S, points.Sx, ev.q, ev.v, X, A, V)
+            x, v = X.reshape(-1, 3), V.reshape(-1, 3)
             f = self.evaluate(x, v, ev.t)
-            fe = np.einsum("eg,egA,egi->eAi", w, S, f.reshape(ne, nq, 3)).reshape(ne, 3 * nf)
-            np.add.at(ev.f_ext, edofs, fe)
+            Fx = Fv = zero
+            data, index = (ev.data, index) if ev.want_tangent else no_tangent
             if ev.want_tangent:
                 dq, dv = self.jacobians(x, v, ev.t, f, ev.dynamic)
-                ev.add_tangent(index, self._element_matrix(S, w, dq),
-                               None if dv is None else self._element_matrix(S, w, dv),
-                               sign=-1.0)
+                Fx = dq.reshape(zero.shape)
+                Fv = zero if dv is None else dv.reshape(zero.shape)
+            kernel.assemble(points.edofs, points.S, points.Sx, points.w,
+                            f.reshape(X.shape), Fx, zero, Fv, ev.cK,
+                            ev.cC if ev.dynamic else 0.0, ev.f_ext, data, index)
 
-        return Term(add=add, rows=edofs[:, :, None], cols=edofs[:, None, :],
-                    name=f"line load {cable.name}")
-
-    @staticmethod
-    def _element_matrix(S, w, J):
-        ne, nq, nf = S.shape
-        Ke = np.einsum("eg,egA,egij,egB->eAiBj", w, S, J.reshape(ne, nq, 3, 3), S)
-        return Ke.reshape(ne, 3 * nf, 3 * nf)
+        return Term(add=add, rows=rows, cols=cols, name=f"line load {self.cable.name}")
 
 
 class Centrifugal:

@@ -1,9 +1,10 @@
-"""Numba kernel of quadratic fluid drag on cables (``drag``: Morison and free-molecular).
+"""The point function of quadratic fluid drag on line bodies (``drag``: Morison and
+free-molecular), for the one loop of the line loads (``kernels.line.module``).
 
-At every Gauss point, with ``r = S q`` the position, ``a = r_x = S_x q`` the slope,
-``p = |a|``, ``t = a / p`` the tangent, ``u = c(r, t) - r_dot`` the velocity of the flow
-relative to the cable, ``s = t . u`` and ``u_n = u - s t`` (``m = |u_n|``), the force per
-unit length is
+At every point of a line body (``lines.LinePoints``), with ``r = S q`` the position,
+``a = r_x = S_x q`` the slope, ``p = |a|``, ``t = a / p`` the tangent,
+``u = c(r, t) - r_dot`` the velocity of the flow relative to the line, ``s = t . u`` and
+``u_n = u - s t`` (``m = |u_n|``), the force per unit length is
 
     h = k_n m u_n + k_t |s| s t + k_x m s t,
 
@@ -23,7 +24,8 @@ Exact derivatives (``G(w) = |w| I + w w^T / |w|``, ``P = I - t t^T``, ``u^T P = 
 
 (terms divided by ``m`` are dropped at ``m = 0``, their limit or a subgradient), and
 ``df/du = lam dh/du``, ``df/da = lam dh/da + [deformed] h t^T``,
-``df/dr = df/du (W + sigma U'(z) e^T)``, ``df/dr_dot = -df/du``.
+``df/dr = df/du (W + sigma U'(z) e^T)``, ``df/dr_dot = -df/du``; the loop of
+``kernels.line`` integrates them into the generalized force and its tangent.
 """
 
 import math
@@ -31,10 +33,8 @@ import math
 import numpy as np
 from numba import njit
 
-from . import CUBIC
 
-
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
     """The flow velocity ``c`` (3,) at ``x`` and its gradient ``dc = dc/dx`` (3, 3);
     ``slope`` (3,) is scratch."""
@@ -62,11 +62,12 @@ def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
             dc[i, j] = W[i, j] + slope[i] * vertical[j]
 
 
-@njit(cache=True)
-def point_force(a, u, coef, h, Hu, Ha, t, un):
-    """Force ``lam h`` per unit length (into ``h``) and its derivatives ``df/du`` (``Hu``)
-    and ``df/da`` (``Ha``) at one point; ``coef = [k_n, k_t, k_x, deformed]``; ``t``,
-    ``un`` (3,) are scratch (they receive the tangent and the normal relative flow)."""
+@njit(cache=True, inline="always")
+def point_force(a, u, coef, want, h, Hu, Ha, t, un):
+    """Force ``lam h`` per unit length (into ``h``) and, if ``want``, its derivatives
+    ``df/du`` (``Hu``) and ``df/da`` (``Ha``) at one point;
+    ``coef = [k_n, k_t, k_x, deformed]``; ``t``, ``un`` (3,) are scratch (they receive the
+    tangent and the normal relative flow)."""
     kn, kt, kx, deformed = coef[0], coef[1], coef[2], coef[3]
     p = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
     for i in range(3):
@@ -79,7 +80,7 @@ def point_force(a, u, coef, h, Hu, Ha, t, un):
     lam = p if deformed != 0.0 else 1.0
     for i in range(3):
         h[i] = kn * m * un[i] + (kt * abs(s) + kx * m) * s * t[i]
-    for i in range(3):
+    for i in range(3 if want else 0):
         for j in range(3):
             d = 1.0 if i == j else 0.0
             P = d - t[i] * t[j]
@@ -96,86 +97,22 @@ def point_force(a, u, coef, h, Hu, Ha, t, un):
         h[i] *= lam
 
 
-@njit(cache=True)
-def kernel(pack, index, ev):
-    """``_kernel`` with the number of element functions fixed for the cubic element
-    (``kernels.CUBIC``), or read from the tables."""
-    nf = pack[1].shape[2]
-    if nf == CUBIC:
-        _kernel(pack, index, ev, CUBIC)
-    else:
-        _kernel(pack, index, ev, nf)
-
-
 @njit(cache=True, inline="always")
-def _kernel(pack, index, ev, nf):
-    """The drag's compiled hook of the evaluation contract (``contract.Term.kernels``):
-    ``int S^T f dx`` into the external forces of the packed evaluation ``ev`` and
-    ``-(cK dF/dq + cC dF/dv)`` into its matrix values at ``index`` (ne, 3 nf, 3 nf), with
-    ``pack = (edofs, S, Sx, w, coef, uniform, W, vertical, heights, velocities, sigma)``
-    (``sigma`` of shape (1,)) and ``nf`` functions per element."""
-    q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, S, Sx, w, coef, uniform, W, vertical, heights, velocities, sigma = pack
-    ne, nq = w.shape
-    nd = 3 * nf
-    want = data.size > 0
-    cK, cC = s[1], s[2] if s[3] != 0.0 else 0.0
-    qe = np.empty((nf, 3))
-    ve = np.empty((nf, 3))
-    x = np.empty(3)
-    a = np.empty(3)
-    u = np.empty(3)
-    c = np.empty(3)
-    dc = np.empty((3, 3))
-    h = np.empty(3)
-    Hu = np.empty((3, 3))
-    Ha = np.empty((3, 3))
-    Hx = np.empty((3, 3))
-    scratch = np.empty((3, 3))
-    fe = np.empty(nd)
-    Ke = np.empty((nd, nd))
-    for e in range(ne):
-        for A in range(nf):
-            for i in range(3):
-                qe[A, i] = q[edofs[e, 3 * A + i]]
-                ve[A, i] = v[edofs[e, 3 * A + i]]
-        fe[:] = 0.0
-        Ke[:] = 0.0
-        for g in range(nq):
-            for i in range(3):
-                x[i] = 0.0
-                a[i] = 0.0
-                u[i] = 0.0
-                for A in range(nf):
-                    x[i] += S[e, g, A] * qe[A, i]
-                    a[i] += Sx[e, g, A] * qe[A, i]
-                    u[i] -= S[e, g, A] * ve[A, i]
-            flow(x, uniform, W, vertical, heights, velocities, sigma[0], c, dc, scratch[0])
-            for i in range(3):
-                u[i] += c[i]
-            point_force(a, u, coef, h, Hu, Ha, scratch[1], scratch[2])
-            wg = w[e, g]
-            for A in range(nf):
-                for i in range(3):
-                    fe[3 * A + i] += wg * S[e, g, A] * h[i]
-            if not want:
-                continue
-            for i in range(3):
-                for j in range(3):
-                    Hx[i, j] = Hu[i, 0] * dc[0, j] + Hu[i, 1] * dc[1, j] + Hu[i, 2] * dc[2, j]
-            for A in range(nf):
-                sA = wg * S[e, g, A]
-                for B in range(nf):
-                    sB = S[e, g, B]
-                    xB = Sx[e, g, B]
-                    for i in range(3):
-                        for j in range(3):
-                            # external force: -(cK dF/dq + cC dF/dv), dF/dv = -dF/du
-                            Ke[3 * A + i, 3 * B + j] -= sA * (
-                                cK * (sB * Hx[i, j] + xB * Ha[i, j]) - cC * sB * Hu[i, j])
-        for k in range(nd):
-            f_ext[edofs[e, k]] += fe[k]
-        if want:
-            for k in range(nd):
-                for m in range(nd):
-                    data[index[e, k, m]] += Ke[k, m]
+def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
+    """The drag's point function for the loop of ``kernels.line.module``: the force ``f``
+    per unit length at the position ``x``, slope ``a`` and velocity ``xd``, with
+    ``Fa = df/da``, ``Fv = df/dxd = -df/du`` and ``Fx = df/du dc/dx`` (the flow's
+    gradient); ``params = (coef, uniform, W, vertical, heights, velocities, sigma)``
+    (``sigma`` of shape (1,)); the derivatives only if ``want``."""
+    coef, uniform, W, vertical, heights, velocities, sigma = params
+    c, u, dc, Hu = work[0, 0], work[0, 1], work[1], work[2]
+    flow(x, uniform, W, vertical, heights, velocities, sigma[0], c, dc, work[0, 2])
+    for i in range(3):
+        u[i] = c[i] - xd[i]
+    point_force(a, u, coef, want, f, Hu, Fa, work[3, 0], work[3, 1])
+    if not want:
+        return
+    for i in range(3):
+        for j in range(3):
+            Fx[i, j] = Hu[i, 0] * dc[0, j] + Hu[i, 1] * dc[1, j] + Hu[i, 2] * dc[2, j]
+            Fv[i, j] = -Hu[i, j]
