@@ -9,119 +9,27 @@ Examples
 (4, 5, 30, 2.0)
 """
 
-import math
-import os
-
 import numpy as np
 from skfem import Basis, BilinearForm, ElementVector, LinearForm, MeshLine, asm
 from skfem.helpers import dot
 from skfem.quadrature import get_quadrature
 
-from .contract import Term
+from .cable_options import formulation_name, gauss_rules, is_count, resolve_law
+from .cable_shapes import CableShapes
+from .cable_term import cable_term
 from .elements import DEFAULT_ELEMENT, ELEMENTS, element_type
 from .fields import CableFields
 from .formulation import FORMULATIONS
-from .laws import BUILTIN, CableLaw
 from .linalg import thread_count
 from .lines import LinePoints
+from .memory import check_memory
 from .node import Node
 from .section import Section
 from .stretched import Stretched
 from .varying import Varying
 
 
-def cable_term(edofs, passes, key, name):
-    """The term of the elastic and damping forces of the elements of one or more cables
-    that share a law, its parameter values and quadrature (see ``contract``): one
-    compiled kernel call per pass.  Cables with the same ``key`` are merged
-    (``merge_cable_terms``), so an E-sail's tethers are one call.
-
-    Parameters
-    ----------
-    edofs : int ndarray (ne, 3 n_functions)
-        Global coordinates of each element (``n_functions`` of its element type).
-    passes : sequence of ``(function, tables, values, damped)``
-        One kernel call each: a compiled hook of the generated module of a law (or of a
-        part of it, ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)``
-        (shape-function derivatives and weights of its own rule, element lengths), its
-        parameter values and whether its dissipation is active (the assumed strain's
-        tables end with its map, ``kernels.assumed_strain.Rule.map``, which no stretch changes).
-        The formulation (``formulation``) decides the passes: the paper's and the assumed
-        strain have one, the Lobatto formulation two (the axial and the bending part).
-    key : hashable
-    name : str
-    """
-    edofs = np.ascontiguousarray(edofs, dtype=np.int64)
-    kernels = tuple((function, (edofs, *(np.ascontiguousarray(t) for t in tables),
-                                np.array(values, dtype=float), bool(damped)))
-                    for function, tables, values, damped in passes)
-    return Term(kernels=kernels, rows=edofs[:, :, None], cols=edofs[:, None, :], key=key,
-                merge=merge_cable_terms, name=name)
-
-
-def merge_cable_terms(terms):
-    """One term for the concatenated elements of ``terms`` (same key: same passes)."""
-    kernels = []
-    for k, (function, pack) in enumerate(terms[0].kernels):
-        packs = [t.kernels[k][1] for t in terms]
-        tables = tuple(np.concatenate(parts) for parts in zip(*(p[:5] for p in packs)))
-        kernels.append((function, (*tables, *pack[5:])))
-    edofs = kernels[0][1][0]
-    return Term(kernels=tuple(kernels), rows=edofs[:, :, None], cols=edofs[:, None, :],
-                key=terms[0].key, merge=merge_cable_terms,
-                name=" + ".join(t.name for t in terms))
-
-
-#: Memory (bytes) per element to build a cable, its system layout and a time
-#: integration (measured: 4.7 kB, 12 kB and 8 kB at 1e5 elements).
-MEMORY_PER_ELEMENT = 25e3
-
-
-def check_memory(n_elements, what=None):
-    """Refuse ``n_elements`` cable elements that cannot be built and simulated in this
-    machine's memory: one cable's, or all the cables of a scene or system (``what`` says
-    which, default ``"n_elements = N: a cable of that size"``)."""
-    try:
-        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (AttributeError, ValueError, OSError):  # not a POSIX system: no estimate
-        return
-    need = MEMORY_PER_ELEMENT * n_elements
-    if need > total:
-        what = what or f"n_elements = {n_elements}: a cable of that size"
-        raise ValueError(f"{what} needs about {need / 1e9:.3g} GB to build and simulate, "
-                         f"and this machine has {total / 1e9:.3g} GB; at most about "
-                         f"{int(total / MEMORY_PER_ELEMENT)} elements fit")
-
-
-def check_total_memory(counts):
-    """``check_memory`` of the cables with the element ``counts`` together (a system's
-    or a scene's; the guard of each cable alone lets 30 cables of 900,000 elements
-    through on 24 GB)."""
-    total = int(sum(counts))
-    check_memory(total, f"a system of {len(counts)} cables with {total} elements in all")
-
-
-def _is_count(value):
-    """Whether ``value`` is a whole number >= 1 (an int, or a float without fraction)."""
-    try:
-        return math.isfinite(value) and int(value) == value and value >= 1
-    except (TypeError, ValueError):
-        return False
-
-
-def _point(name, value):
-    """``value`` as an array of 3 finite coordinates; ``ValueError`` naming ``name``
-    otherwise."""
-    try:
-        x = np.asarray(value, float)
-    except (TypeError, ValueError):
-        x = None
-    if x is None or x.shape != (3,) or not np.isfinite(x).all():
-        raise ValueError(f"{name} must be 3 finite coordinates (m), got {value!r}")
-    return x
-
-
-class Cable(CableFields):
+class Cable(CableFields, CableShapes):
     """Gradient-deficient ANCF cable (Eqs. 16-26): nodal positions and slopes (and, on the
     quintic element, second derivatives), or positions only (the linear element).
 
@@ -266,16 +174,16 @@ class Cable(CableFields):
         if not isinstance(section, Section):
             raise TypeError(f"section must be a skfem_cable.Section, got {type(section).__name__}")
         element = element_type(element)
-        law = _law(law, element)
+        law = resolve_law(law, element)
         law.parameter_values(section)  # every parameter has a value
         law.symbolic  # noqa: B018 (the law is well formed: errors now, not at the first step)
         if quadrature is not None and formulation is None and locking_free is None:
             formulation = "paper"
-        formulation = _formulation(formulation, locking_free, element)
+        formulation = formulation_name(formulation, locking_free, element)
         if formulation == "assumed-strain":
             law.check_strain()
         intorder = element.intorder if intorder is None else intorder
-        if not _is_count(intorder):
+        if not is_count(intorder):
             raise ValueError(f"intorder must be a positive integer, got {intorder!r}")
         x = mesh.p[0]
         if np.any(np.diff(x) <= 0) or np.any(mesh.t[1] != mesh.t[0] + 1):
@@ -298,7 +206,7 @@ class Cable(CableFields):
         self.xi = X[0]
         self.S = self._shape(self.xi)[0]
         self.Sx, self.Sxx, self.weights, _ = self.tables_at(self.xi, W)
-        self.quadrature = _quadrature(quadrature, formulation, len(self.xi))
+        self.quadrature = gauss_rules(quadrature, formulation, len(self.xi))
         self.formulation = formulation
         self._mass = None
 
@@ -345,137 +253,6 @@ class Cable(CableFields):
         _, Sx, Sxx = self._shape(xi)
         return Sx, Sxx, np.ascontiguousarray(np.asarray(weights)[None, :] * self.h[:, None]), \
             self.h
-
-    @classmethod
-    def straight(cls, start, end, n_elements, section, law=None, **kwargs):
-        """A stress-free straight cable from ``start`` to ``end`` with ``n_elements`` elements.
-
-        Parameters
-        ----------
-        start, end : array_like (3,)
-            End points (m); the reference length is their distance.
-        n_elements : int
-            Number of equal elements, >= 1.
-        section : Section
-        law : CableLaw or str
-            See ``Cable``.
-        **kwargs
-            The other parameters of ``Cable`` (``element``, ``intorder``, ``name``,
-            ``formulation``, ``quadrature``).
-
-        Returns
-        -------
-        Cable
-            Nodes equally spaced, unit slopes along ``end - start``.
-
-        Examples
-        --------
-        >>> import skfem_cable as sc
-        >>> sec = sc.Section.circular(1e-3, 2e11, 7850.0)
-        >>> tether = sc.Cable.straight([0, 0, 0], [0, 10, 0], 5, sec, law="truss", name="t1")
-        >>> tether.n_dofs, tether.q0[:6].tolist()
-        (36, [0.0, 0.0, 0.0, 0.0, 1.0, 0.0])
-        """
-        start, end = _point("start", start), _point("end", end)
-        return cls.between(start, end, np.linalg.norm(end - start), n_elements, section,
-                           law=law, **kwargs)
-
-    @classmethod
-    def between(cls, start, end, length, n_elements, section, sag=None, law=None, **kwargs):
-        """A cable of unstretched ``length`` from ``start`` to ``end``, whatever their
-        distance: stretched straight when ``length`` is at most the distance, else hanging
-        as the inextensible catenary of that length through both points, sagging along
-        ``sag`` (a start that ``solve_static`` converges from under the weight).
-
-        Parameters
-        ----------
-        start, end : array_like (3,)
-            End points (m), distinct.
-        length : float
-            Unstretched length (m), > 0: the mesh's arc length.
-        n_elements : int
-            Number of equal elements, >= 1.
-        section : Section
-        sag : array_like (3,), optional
-            The direction the slack cable sags to (the direction of its weight), not
-            parallel to ``end - start``; default ``(0, 0, -1)``.  Not used by a cable that
-            is stretched straight.
-        law : CableLaw or str
-            See ``Cable``.
-        **kwargs
-            The other parameters of ``Cable`` (``element``, ``quadrature``, ``name``, ...).
-
-        Returns
-        -------
-        Cable
-            Nodes equally spaced in the unstretched arc length; straight: slopes
-            ``(end - start) / length`` (``|r_x| >= 1``, the uniform stretch); slack: the
-            catenary's unit tangents (and curvatures on an element that has them).
-
-        Examples
-        --------
-        MoorDyn's pendulum line, 100.5 m long between points 100.499 m apart, and the
-        same line stretched between points 101 m apart:
-
-        >>> import numpy as np, skfem_cable as sc
-        >>> sec = sc.Section.circular(0.05, 1e9 / (np.pi * 0.05**2), 1000.0)
-        >>> slack = sc.Cable.between([0, 0, 0], [10, 0, -100], 100.5, 20, sec, sag=[0, 0, -1])
-        >>> slack.length, bool(np.allclose(slack.q0[-6:-3], [10, 0, -100]))
-        (100.5, True)
-        >>> taut = sc.Cable.between([0, 0, 0], [0, 0, -101], 100.0, 4, sec)
-        >>> taut.q0[3:6].tolist()
-        [0.0, 0.0, -1.01]
-        """
-        if not _is_count(n_elements):
-            raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
-        check_memory(int(n_elements))
-        start, end = _point("start", start), _point("end", end)
-        chord = end - start
-        distance = np.linalg.norm(chord)
-        if not distance > 0:
-            raise ValueError(f"start and end must differ, got {start.tolist()} for both")
-        try:
-            length = float(length)
-        except (TypeError, ValueError):
-            length = np.nan
-        if not (np.isfinite(length) and length > 0):
-            raise ValueError(f"length must be a finite unstretched length > 0 (m), got "
-                             f"{length!r}")
-        s = np.linspace(0.0, length, int(n_elements) + 1)
-        if length <= distance:
-            slope = chord / length
-            positions = start + s[:, None] * slope
-            return cls(MeshLine(s), section, positions, np.tile(slope, (len(s), 1)),
-                       law=law, curvatures=np.zeros_like(positions), **kwargs)
-        fields = _catenary(chord, length, s, (0.0, 0.0, -1.0) if sag is None else sag)
-        positions, slopes, curvatures = fields
-        return cls(MeshLine(s), section, start + positions, slopes, law=law,
-                   curvatures=curvatures, **kwargs)
-
-    def hanging(self, start, end, sag):
-        """Coordinates of this cable hanging from ``start`` to ``end`` as the inextensible
-        catenary of its length sagging along ``sag``, the slack shape ``between`` builds
-        (``solve_static`` starts from it a cable whose ends are held closer than its
-        length); None when the ends are at least its length apart.
-
-        Parameters
-        ----------
-        start, end : array_like (3,)
-            End points (m).
-        sag : array_like (3,)
-            The direction the cable sags to, not parallel to ``end - start``.
-
-        Returns
-        -------
-        ndarray (n_dofs,) or None
-        """
-        start, end = _point("start", start), _point("end", end)
-        if not np.linalg.norm(end - start) < self.length:
-            return None
-        positions, slopes, curvatures = _catenary(end - start, self.length,
-                                                  self.mesh.p[0] - self.mesh.p[0, 0], sag)
-        fields = self._nodal_fields(start + positions, slopes, curvatures)
-        return np.stack(fields, axis=1).ravel()
 
     # --- layout -------------------------------------------------------------------------
     @property
@@ -620,100 +397,3 @@ class Cable(CableFields):
         return Stretched(deployment, term, passes).term(system, term)
 
 
-def _catenary(chord, length, s, sag):
-    """Positions (from the start), unit tangents and their arc-length derivatives at the
-    arc lengths ``s`` of the inextensible catenary of ``length`` spanning ``chord`` and
-    sagging along ``sag`` (``Cable.between``), each (len(s), 3)."""
-    from .analytic import catenary_xz, solve_catenary
-
-    down = _point("sag", sag)
-    if not np.linalg.norm(down) > 0:
-        raise ValueError(f"sag must be a non-zero direction, got {sag!r}")
-    up = -down / np.linalg.norm(down)
-    across = chord - (chord @ up) * up
-    span = np.linalg.norm(across)
-    if not span > 1e-9 * np.linalg.norm(chord):
-        raise ValueError(f"sag {np.asarray(sag).tolist()} is parallel to end - start: a "
-                         "slack cable needs a sag direction across the line between its "
-                         "ends")
-    across /= span
-    H, VA, _ = solve_catenary(span, chord @ up, length, 1.0)
-    xz = catenary_xz(s, H, VA, 1.0)
-    V = s - VA
-    T = np.hypot(H, V)
-    tangent = np.column_stack([H / T, V / T])
-    bend = np.column_stack([-H * V / T**3, H**2 / T**3])
-    basis = np.stack([across, up])
-    return xz @ basis, tangent @ basis, bend @ basis
-
-
-def _law(law, element):
-    """The ``CableLaw`` of ``Cable``'s ``law`` on ``element``: a built-in name resolved,
-    the default ``"cable"`` (``"truss"`` on an element without ``r_xx``), a law with
-    bending refused on such an element."""
-    if law is None:
-        law = "cable" if element.bending else "truss"
-    if isinstance(law, str):
-        if law not in BUILTIN:
-            raise ValueError(f"law must be a CableLaw or one of {tuple(BUILTIN)}, "
-                             f"got {law!r}")
-        law = BUILTIN[law]
-    if not isinstance(law, CableLaw):
-        raise TypeError(f"law must be a CableLaw (see skfem_cable.cable_law) or a name, "
-                        f"got {type(law).__name__}")
-    if law.bending and not element.bending:
-        raise ValueError(f"law {law.name!r} has bending (its energy reads r_xx), which the "
-                         f"element {element.name!r} does not have (it sees "
-                         f"{', '.join(element.fields)} only): use an axial law such as "
-                         "law='truss', or an element with bending, e.g. element='hermite3'")
-    return law
-
-
-#: Most Gauss points a part of the law may take (``quadrature``).
-MAX_GAUSS_POINTS = 20
-
-
-def _quadrature(quadrature, formulation, default):
-    """``Cable``'s ``quadrature`` checked and completed (``{"axial": na, "bending": nb}``,
-    a missing key taking ``default`` points, those of the rule of ``intorder``), or
-    None."""
-    if quadrature is None:
-        return None
-    if not isinstance(quadrature, dict) or not quadrature \
-            or set(quadrature) - {"axial", "bending"}:
-        raise ValueError("quadrature must be a dict with the keys 'axial' and/or 'bending' "
-                         f"(Gauss points per element), got {quadrature!r}")
-    if formulation != "paper":
-        raise ValueError(f"quadrature is for formulation='paper' (Gauss rules for the "
-                         f"axial and the bending part); formulation {formulation!r} "
-                         "chooses its own rules: leave one of the two out")
-    rules = {}
-    for part in ("axial", "bending"):
-        n = quadrature.get(part, default)
-        if not (_is_count(n) and n <= MAX_GAUSS_POINTS):
-            raise ValueError(f"quadrature[{part!r}] must be a whole number of Gauss points "
-                             f"in [1, {MAX_GAUSS_POINTS}], got {n!r}")
-        rules[part] = int(n)
-    return rules
-
-
-def _formulation(formulation, locking_free, element):
-    """The formulation's name from ``Cable``'s ``formulation`` and ``locking_free``, one
-    that ``element`` supports (its first by default)."""
-    if locking_free is not None:
-        if not isinstance(locking_free, bool):
-            raise TypeError(f"locking_free must be True or False, got {locking_free!r}")
-        named = "lobatto" if locking_free else "paper"
-        if formulation is not None and formulation != named:
-            raise ValueError(f"locking_free={locking_free} means formulation={named!r}, "
-                             f"which contradicts formulation={formulation!r}: give one")
-        formulation = named
-    if formulation is None:
-        return element.formulations[0]
-    if formulation not in FORMULATIONS:
-        raise ValueError(f"formulation must be one of {tuple(FORMULATIONS)}, "
-                         f"got {formulation!r}")
-    if formulation not in element.formulations:
-        raise ValueError(f"formulation {formulation!r} is not available on the element "
-                         f"{element.name!r}: it supports {element.formulations}")
-    return formulation

@@ -24,11 +24,11 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import constraints as cons
-from .cable import check_total_memory
 from .contract import Evaluation
 from .io.fingerprint import describe_system, differences
 from .layout import Layout
 from .loads import Centrifugal, Gravity, PointLoad, PointMass, PointMoment, UniformLineLoad
+from .memory import check_total_memory
 from .motion import SystemMotion, vector_blocks
 from .node import Node
 from .orbit_gravity import DifferentialGravity

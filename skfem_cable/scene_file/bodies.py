@@ -4,10 +4,11 @@ point masses and loads use.  ``Bodies`` holds what was defined so far, by name."
 
 import numpy as np
 
-from ..cable import Cable, check_total_memory
+from ..cable import Cable
 from ..elements import DEFAULT_ELEMENT, ELEMENTS
 from ..formulation import FORMULATIONS
 from ..laws import BUILTIN
+from ..memory import check_total_memory
 from ..rigid import RigidBody
 from ..section import Section
 from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
