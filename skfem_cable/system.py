@@ -24,7 +24,6 @@ import numpy as np
 import scipy.sparse as sp
 
 from . import constraints as cons
-from .contract import Evaluation
 from .io.fingerprint import describe_system, differences
 from .layout import Layout
 from .loads import Centrifugal, Gravity, PointLoad, PointMass, PointMoment, UniformLineLoad
@@ -33,6 +32,8 @@ from .motion import SystemMotion, vector_blocks
 from .node import Node
 from .orbit_gravity import DifferentialGravity
 from .protocols import Line, check_body
+from .system_deploying import SystemDeploying
+from .system_evaluation import SystemEvaluation
 
 
 class SystemChanged(RuntimeError):
@@ -40,7 +41,7 @@ class SystemChanged(RuntimeError):
     or since a ``Result`` read from it was simulated: the message names what changed."""
 
 
-class System(SystemMotion):
+class System(SystemMotion, SystemEvaluation, SystemDeploying):
     """Bodies, constraints, point masses and loads.
 
     Parameters
@@ -254,94 +255,6 @@ class System(SystemMotion):
         return self.add_constraint(cons.pin(node, target, velocity, acceleration,
                                             directions))
 
-    def deploy(self, cable, anchor=None, length=None, rate=None, acceleration=None,
-               direction=None, capacity=None, reel=None):
-        """Deploy (or retrieve) ``cable`` through a reel at ``anchor``: its node 0 is
-        pinned there and its free length follows ``length(t)``, or is the coordinate of a
-        ``reel`` with inertia and a torque law (see ``deploy``: the mesh stretches with
-        the length, the nodes keep their identity). Returns the system.
-
-        Parameters
-        ----------
-        cable : Cable
-            Node 0 at the anchor, node -1 the tip; its length as built is the mesh length
-            (build it with the free length at the start to start stress-free).
-        anchor : None, array_like (3,) or body point
-            The reel's exit point: fixed in space (None: node 0's initial position), or a
-            point of a rigid body (``RigidBody.point``), e.g. a hub.
-        length : callable or float
-            Free (unstretched) length ``length(t)`` (m), > 0; None with ``reel``.
-        rate, acceleration : callable, optional
-            Its exact first and second derivatives (else central differences).
-        direction : array_like (3,), optional
-            Exit direction (an exit guide): the slope at node 0 is clamped to it, fixed
-            in space for a fixed reel, in the body frame for a body ``anchor`` (it turns
-            with a hub, ``constraints.BodySlope``).
-        capacity : float, optional
-            Total tether length (reel and free, m): the material still on the reel moves
-            with a body ``anchor`` (its mass, ``rho A (capacity - length)``, changes) and,
-            with a ``reel``, turns with its drum.
-        reel : Reel, optional
-            A body of the system (``sc.Reel``) whose coordinate is the free length: the
-            length then follows from the reel's inertia and torque law, the tension at the
-            exit and the tether's inertia (instead of ``length``).
-
-        Returns
-        -------
-        System
-            ``self``.
-
-        Examples
-        --------
-        A tether deployed at 2 m/s from 1 m, with a 5 kg end mass:
-
-        >>> import numpy as np, skfem_cable as sc
-        >>> tether = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4,
-        ...                            sc.Section.circular(1e-3, 1e9, 1000.0))
-        >>> system = sc.System([tether]).deploy(tether, length=lambda t: 1 + 2 * t,
-        ...                                     rate=lambda t: 2.0, acceleration=lambda t: 0.0)
-        >>> system = system.add_point_mass(tether.node(-1), 5.0)
-        >>> round(system.deployments[id(tether)].stretch(0.5), 12)
-        2.0
-        """
-        from .deploy import Deployment
-
-        if id(cable) in self.deployments:
-            raise ValueError(f"cable {cable.name!r} is already deployed")
-        if (length is None) == (reel is None):
-            raise TypeError("deploy needs length (a callable length(t) or a number, m) or "
-                            "reel (a Reel body of the system), not both")
-        if reel is not None and not np.isclose(reel.q0[0], cable.length, rtol=1e-12):
-            raise ValueError(f"reel {reel.name!r} starts at the free length "
-                             f"{float(reel.q0[0])!r} m: it must be the length of "
-                             f"{cable.name!r} as built, {cable.length!r} m")
-        if direction is not None:
-            self.clamp(cable.node(0), direction=direction, position=anchor)
-        else:
-            self.pin(cable.node(0), anchor)
-        exit_point = cable.q0[:3] if anchor is None else anchor
-        deployment = Deployment(cable, length, rate, acceleration, exit_point, capacity,
-                                None if reel is None else int(self.dofs(reel)[0]))
-        self.deployments[id(cable)] = deployment
-        return self.add_load(deployment)
-
-    def deployment(self, body):
-        """The ``Deployment`` of ``body`` (``deploy``), or None."""
-        return self.deployments.get(id(body))
-
-    def stretch(self, cable, t, q=None):
-        """The mesh stretch of ``cable`` at times ``t`` (scalar or array) and coordinates
-        ``q`` (``(n_dofs,)`` or one row per time; needed for a reel's length): the free
-        length over the length as built for a deploying cable (``deploy``), else 1."""
-        deployment = self.deployment(cable)
-        if deployment is None:
-            return np.ones(np.shape(t)) if np.ndim(t) else 1.0
-        if np.ndim(t):
-            rows = [None] * np.size(t) if q is None else np.reshape(q, (np.size(t), -1))
-            return np.array([deployment.stretch(float(ti), qi)
-                             for ti, qi in zip(np.ravel(t), rows)]).reshape(np.shape(t))
-        return deployment.stretch(float(t), q)
-
     def add_load(self, load):
         """Add a contributor with ``bind(system) -> Term`` (loads, point masses, gravity,
         see ``loads`` and ``contract``). Returns the system."""
@@ -515,97 +428,3 @@ class System(SystemMotion):
             k -= c.n_eq
         raise IndexError(f"unknown {index} out of range: the system has {self.n_dofs} "
                          f"coordinates and {self.n_constraints} constraint equations")
-
-    # --- evaluation -------------------------------------------------------------------------
-    def constraint_values(self, q, t=0.0, layout=None):
-        """``C(q, t)`` of every constraint (``layout``: as in ``evaluate``)."""
-        lay = self._solved(layout)
-        r = np.zeros(lay.n_c)
-        lay.constraints(q, t, np.zeros(lay.n_c), np.zeros(self.n_dofs), r, 1.0)
-        return r
-
-    def constraint_velocity_term(self, q, t=0.0, layout=None):
-        """``C_t`` of every constraint: consistent velocities satisfy ``C_q v = -C_t``
-        (``layout``: as in ``evaluate``)."""
-        return self._constraint_terms(lambda c, d: c.velocity_term(q[d], t), layout)
-
-    def constraint_accel_term(self, q, v, t=0.0, layout=None):
-        """``(C_q v)_q v + 2 C_qt v + C_tt`` of every constraint (Eq. 2): consistent
-        accelerations satisfy ``C_q a = -`` this (``layout``: as in ``evaluate``)."""
-        return self._constraint_terms(lambda c, d: c.accel_term(q[d], v[d], t), layout)
-
-    def _constraint_terms(self, term, layout):
-        lay = self._solved(layout)
-        out = np.zeros(lay.n_c)
-        for c, d, rows in zip(self.constraints, lay.cdofs, lay.crows):
-            out[rows] = term(c, d)
-        return out
-
-    def evaluate(self, q, v, t, lam, load_factor=1.0, cK=1.0, cC=0.0, scale=1.0, data=None,
-                 reference_force=False, a=None, cM=0.0, layout=None):
-        """Residual of the equations of motion without inertia, and tangents.
-
-        ``r = [f_int(q, v) - load_factor f_ext(q, v, t) + C_q^T lambda, scale C(q, t)]``
-        with ``lambda = lam`` the true multipliers.  ``v = None`` means statics (no
-        damping, zero velocity).  If ``data`` (CSR values of the KKT pattern, holding the
-        caller's constant part ``Layout.mass_data``/``Layout.linear_data``) is given,
-        ``cK`` times the stiffness and ``cC`` times the damping tangent are added.  ``a``
-        and ``cM``: the accelerations and the coefficient of their derivatives, for terms
-        with inertia beyond the constant mass (``contract``).  ``layout``: the one a solver
-        took at its start (``current_layout``), which it evaluates without describing the
-        system again at every call; by default the system as it is now
-        (``current_layout``: an edit since the last solve is seen).
-
-        Returns
-        -------
-        r : ndarray (n_dofs + n_constraints,)
-        info : dict
-            ``energy`` (axial, bending), ``power`` (dissipated, axial and bending),
-            ``f`` (internal force: elastic and damping), ``f_damping`` (its damping part),
-            ``f_nc`` (non-constant external force, whose
-            work is booked as external work), ``f_con`` (``C_q^T lambda``: minus the
-            constraint forces, which work only where constraints are driven) and, with
-            ``reference_force``, ``force_ref`` (largest norm of the internal, external and
-            constraint forces: a scale for convergence tests).
-        """
-        lay = self._solved(layout)
-        n = self.n_dofs
-        ev = Evaluation(self, t, q, v, lam, cK, cC, data, a, cM)
-        for term, index in lay.body_terms:
-            term.evaluate(ev, index)
-        # loads see the load factor through their tangent coefficients
-        ev.cK, ev.cC = cK * load_factor, cC * load_factor
-        for term, index in lay.load_terms:
-            term.evaluate(ev, index)
-        f_ext = load_factor * (lay.f_const + ev.f_ext)
-        f_con = np.zeros(n)
-        r = np.empty(n + lay.n_c)
-        lay.constraints(q, t, lam, f_con, r[n:], scale, data, cK)
-        r[:n] = ev.f - f_ext + f_con
-        info = {"energy": ev.energy, "power": ev.power, "f": ev.f, "f_damping": ev.f_damping,
-                "f_nc": load_factor * ev.f_ext, "f_con": f_con}
-        if reference_force:
-            info["force_ref"] = max(np.linalg.norm(ev.f), np.linalg.norm(f_ext),
-                                    np.linalg.norm(f_con))
-        return r, info
-
-    def assemble(self, q, v=None, cK=1.0, cC=0.0):
-        """The bodies' internal force ``f = dU/dq + dD/dv`` and its tangent ``cK df/dq + cC
-        df/dv`` (sparse, ``n_dofs`` square) at ``q`` and ``v`` (None: statics, no
-        dissipation), by the compiled kernels; loads and constraints left out.
-
-        Examples
-        --------
-        >>> import skfem_cable as sc
-        >>> sec = sc.Section(E=1e9, A=1e-6, I=1e-12, rho=1e3)
-        >>> cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sec)
-        >>> f, K = sc.System([cable]).assemble(cable.q0 * 1.01)   # stretched by 1 %
-        >>> round(float(f[12]), 6), K.shape                      # the tip's axial force
-        (10.1505, (18, 18))
-        """
-        lay = self.current_layout()
-        data = np.zeros(lay.nnz)
-        _, info = self.evaluate(q, v, 0.0, np.zeros(self.n_constraints), load_factor=0.0,
-                                cK=cK, cC=cC, data=data, layout=lay)
-        n = self.n_dofs
-        return info["f"], lay.matrix(data)[:n, :n].tocsr()
