@@ -187,27 +187,28 @@ def draw(size, pedges, floor, path):
     rows = defaultdict(list)
     for name in sorted(size):
         rows[floor[name]].append(name)
-    width = max(len(r) for r in rows.values())
-    fig, ax = plt.subplots(figsize=(max(10, 1.9 * width), 1.25 * len(rows) + 1.2))
+    width = max(3, max(len(r) for r in rows.values()))
+    fig, ax = plt.subplots(figsize=(2.6 * width + 1, 0.8 * len(rows) + 1))
     xy = {}
     for f, names in rows.items():
-        for k, name in enumerate(names):
-            xy[name] = ((k + 0.5) * width / len(names), f)
+        for k, name in enumerate(names):  # a lone package stands left or right by turns
+            x = (k + 0.5) * width / len(names) if len(names) > 1 else width * (0.3 + 0.4 * (f % 2))
+            xy[name] = (x, f)
     for (a, b), n in pedges.items():
         (xa, ya), (xb, yb) = xy[a], xy[b]
         up = yb >= ya
-        ax.annotate("", xy=(xb, yb + 0.22), xytext=(xa, ya - 0.22),
+        ax.annotate("", xy=(xb, yb + 0.2), xytext=(xa, ya - 0.2),
                     arrowprops=dict(arrowstyle="-|>", lw=0.4 + 0.15 * min(n, 8),
                                     color="tab:red" if up else "0.6",
-                                    alpha=0.9 if up else 0.45,
+                                    alpha=0.9 if up else 0.35,
                                     connectionstyle="arc3,rad=0.08"))
     for name, (x, y) in xy.items():
         modules, n = size[name]
         label = name.removeprefix("skfem_cable.")
-        ax.add_patch(FancyBboxPatch((x - 0.42, y - 0.2), 0.84, 0.4,
+        ax.add_patch(FancyBboxPatch((x - 0.4, y - 0.2), 0.8, 0.4,
                                     boxstyle="round,pad=0.02", fc="#e8eef7", ec="#34558b"))
-        ax.text(x, y + 0.05, label, ha="center", va="center", fontsize=9, weight="bold")
-        ax.text(x, y - 0.11, f"{modules} mod, {n} lines", ha="center", va="center",
+        ax.text(x, y + 0.06, label, ha="center", va="center", fontsize=9, weight="bold")
+        ax.text(x, y - 0.1, f"{modules} modules, {n} lines", ha="center", va="center",
                 fontsize=6.5, color="0.3")
     ax.set_xlim(-0.1, width + 0.1)
     ax.set_ylim(-0.6, max(rows) + 0.6)
