@@ -217,8 +217,8 @@ def draw(size, pedges, floor, path):
     ax.set_xticks([])
     for side in ("top", "right", "bottom"):
         ax.spines[side].set_visible(False)
-    ax.set_title("skfem_cable: packages by floor (a package imports only floors below; "
-                 "red: an import up)", fontsize=10)
+    ax.set_title("skfem_cable: packages by floor (each imports the floors below; red: an "
+                 "import that is not down, a package cycle)", fontsize=10)
     fig.tight_layout()
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=130)
