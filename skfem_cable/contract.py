@@ -376,6 +376,11 @@ class Run:
         True when the run continues an interrupted one.
     stop_reason : str or None
         Set when an observer stopped the run.
+    make_result : callable
+        ``make_result(records, stats)``: the run's result of saved steps ``records`` (the
+        arrays of ``io.schema``) and counters ``stats`` (a ``Result``), which an observer
+        that holds steps hands back with an error (``err.result``) without knowing the
+        result's class.
     """
 
     system: Any
@@ -384,3 +389,4 @@ class Run:
     stats: dict
     resumed: bool = False
     stop_reason: str | None = None
+    make_result: Any = None

@@ -1,7 +1,7 @@
 """Time histories of a simulation: the saved steps, held in memory.
 
 ``simulate`` returns a ``Result``; a run directory written by ``io.RunStore`` is read back
-with ``Result.load`` (``io.load_result``; xarray users open its store directly, see
+with ``Result.load`` (xarray users open its store directly, see
 ``docs/output.md``).  Nothing here touches the disk except ``load``.
 """
 
@@ -222,7 +222,7 @@ class Result:
         the accelerations ``a``) are NaN.  ``stats``: the solver counters at the last
         saved step, ``status`` and ``stopped``.  In orbit, ``reference`` holds the run's
         rebases from its checkpoint; ``system`` is left as it is (its ``orbit`` too).
-        See ``io.load_result``."""
+        """
         from .io.reader import read_result
 
         records, stats, reference = read_result(path, system, check=check)

@@ -187,7 +187,7 @@ def test_simulate_module_does_no_io():
         elif isinstance(node, ast.ImportFrom):
             module = "." * node.level + (node.module or "")
             imported.setdefault(module, set()).update(a.name for a in node.names)
-    assert set(imported) <= {"contextlib", "numbers", "time", "numpy", "..contract",
+    assert set(imported) <= {"contextlib", "functools", "numbers", "time", "numpy", "..contract",
                              "..protocols", "..result", "..records", "..observing",
                              ".galpha", ".rectify", "..control", "..section", "..inputs",
                              "..kernels"}, imported

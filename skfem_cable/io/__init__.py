@@ -4,9 +4,8 @@ progress reports (``docs/observers.md``, ``docs/output.md``).
 * ``RunStore``: the run store (``writer``; its format: ``schema``): a Zarr store of the
   saved steps that xarray reads, a checkpoint and a manifest, committed
   crash-consistently as the run goes; ``resume(path)`` continues an interrupted run
-  (``resume``), ``load_result(path, system)`` (= ``Result.load``) and
-  ``open_dataset(path)`` read one back (``reader``; the format before the Zarr store:
-  ``legacy``);
+  (``resume``), ``Result.load(path, system)`` and ``open_dataset(path)`` read one back
+  (``reader``; the format before the Zarr store: ``legacy``);
 * ``fingerprint(system, settings)``: what a store must match to be read or continued
   (``fingerprint``); ``signals``: ``SIGTERM`` ends a run like Ctrl-C; ``lock``: one
   writer per run directory (``RunLocked`` refuses the second);
@@ -15,8 +14,6 @@ progress reports (``docs/observers.md``, ``docs/output.md``).
 * ``run_observers``: the standard list for a run directory.
 """
 
-from ..protocols import SystemView
-from ..result import Result
 from .fingerprint import fingerprint
 from .lock import RunLocked
 from .manifest import RunExists, StoreCorrupt, StoreError, StoreMismatch
@@ -30,19 +27,8 @@ from .writer import RunStore
 
 __all__ = ["DEFAULT_FIELDS", "Progress", "ProgressBar", "Resume", "RunExists", "RunLocked",
            "RunStore", "SeriesObserver", "StoreCorrupt", "StoreError", "StoreMismatch",
-           "Terminated", "fingerprint", "load_result", "open_dataset", "read_run", "resume",
+           "Terminated", "fingerprint", "open_dataset", "read_run", "resume",
            "run_observers"]
-
-
-def load_result(path, system: SystemView, check=True):
-    """The saved steps of the run directory ``path`` as a ``Result``: ``Result.load``.
-
-    The store must have been written by ``system`` (its fingerprint, ``io.fingerprint``):
-    otherwise ``StoreMismatch`` (``check=False`` skips the test; the sizes must still
-    match).  Fields the store left out are NaN (``iterations``: -1).  ``stats``: the
-    solver counters at the last saved step, ``status`` and ``stopped``.  Old run
-    directories (``chunk_*.npz``) are read too."""
-    return Result.load(path, system, check=check)
 
 
 def run_observers(output=None, progress=None, series_every=1, restart=False, chunk=200,

@@ -308,7 +308,7 @@ class ShapeOnly:
 
 def read_result(path, system: SystemView, check=True):
     """``(records, stats, reference)`` of the saved steps of the run directory ``path``:
-    what ``Result.load`` (``io.load_result``) makes its ``Result`` of.
+    what ``Result.load`` makes its ``Result`` of.
 
     The store must have been written by ``system`` (its fingerprint, ``io.fingerprint``):
     otherwise ``StoreMismatch`` (``check=False`` skips the test; the sizes must still

@@ -29,7 +29,6 @@ import numpy as np
 from ..atomic import is_temporary, remove_temporaries, write_atomic
 from ..protocols import Observer
 from ..records import FIELDS, settings_array, step_record
-from ..result import Result
 from . import lock, signals
 from .fingerprint import (
     VERSION,
@@ -165,8 +164,8 @@ class RunStore(Observer):
         except BaseException as err:
             self._release()
             if isinstance(err, OSError) and not hasattr(err, "result"):
-                _set_result(err, Result(run.system, empty_records(run.system, 0),
-                                        dict(run.stats)))
+                _set_result(err, run.make_result(empty_records(run.system, 0),
+                                                 dict(run.stats)))
             raise
 
     def saved(self, run, step):
@@ -280,7 +279,7 @@ class RunStore(Observer):
                                  {k: [r[k] for r, _ in self.pending] for k in FIELDS},
                                  FIELDS, len(self.pending))
             records = {k: np.concatenate([records[k], extra[k]]) for k in FIELDS}
-        return Result(run.system, records, dict(run.stats))
+        return run.make_result(records, dict(run.stats))
 
     def _release(self):
         self._lock.close()

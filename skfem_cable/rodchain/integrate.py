@@ -24,6 +24,7 @@ hence every step are those of the uninterrupted run; the work adds up step by st
 same order.
 """
 
+import functools
 import time
 
 import numpy as np
@@ -34,6 +35,7 @@ from ..io.fingerprint import check_fingerprint
 from ..kernels import rodchain as kern
 from ..observing import Observers
 from ..records import ENERGIES
+from ..result import Result
 from .export import ChainSeriesWriter
 from .result import RodChainResult, energies
 from .stored import ChainSystem
@@ -335,7 +337,8 @@ def integrate(chain, problem, q0, v0, t_end, dt, nsteps, every, method, rtol=Non
         if resume.manifest:
             check_fingerprint(resume.path, resume.manifest, system, settings)
         start = integ.restore(resume)
-    run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
+    run = Run(system, integ, settings, integ.stats, resumed=resume is not None,
+              make_result=functools.partial(Result, system))
     wall0 = time.perf_counter()
     count = start + 1
     watch = Observers(run, observers, lambda: result(count))

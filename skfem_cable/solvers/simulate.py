@@ -16,6 +16,7 @@ Examples
 ...                     observers=sc.io.run_observers("runs/a", restart=True))
 """
 
+import functools
 import numbers
 import time
 
@@ -326,7 +327,8 @@ def simulate(system: IntegrableSystem, t_end, dt, rho_inf=0.8, initial=None, t_s
             hook.start(integ)
         start_index = 0
         recorder = _Recorder(system)
-    run = Run(system, integ, settings, integ.stats, resumed=resume is not None)
+    run = Run(system, integ, settings, integ.stats, resumed=resume is not None,
+              make_result=functools.partial(Result, system))
     watch = Observers(run, [recorder, *(observers or ())],
                       lambda: Result(system, recorder.arrays(), _stats(integ, clock),
                                      integ.lay.description, _reference(integ)))
