@@ -275,7 +275,7 @@ def span(first, last, step, state, elements, law, out, coef, acc):
             for A in range(nf):
                 for i in range(3):
                     Bj[j, 3 * A + i] = Sx[e, j, A] * a[j, i]
-                    if damped:
+                    if damped and want_matrix:
                         Bdj[j, 3 * A + i] = Sx[e, j, A] * ad[j, i]
         # the axial part at the assumed strain of the Gauss points
         n[:] = 0.0
@@ -287,25 +287,30 @@ def span(first, last, step, state, elements, law, out, coef, acc):
                 eps += amap[g, j] * raw[j]
                 epsd += amap[g, j] * rate[j]
             wg = w[e, g]
-            for m in range(nd):
-                b = 0.0
-                bd = 0.0
-                for j in range(ns):
-                    b += amap[g, j] * Bj[j, m]
-                    if damped:
-                        bd += amap[g, j] * Bdj[j, m]
-                beta[g, m] = b
-                gamma[g, m] = bd
+            # beta serves the tangent and the damping force, gamma and sb the tangent alone
+            # (a residual without tangent skips them: most evaluations of a modified Newton)
+            if want_matrix or damped:
+                for m in range(nd):
+                    b = 0.0
+                    bd = 0.0
+                    for j in range(ns):
+                        b += amap[g, j] * Bj[j, m]
+                        if damped and want_matrix:
+                            bd += amap[g, j] * Bdj[j, m]
+                    beta[g, m] = b
+                    gamma[g, m] = bd
             if damped:
                 W, P, sigma, k, c, sd = strain_point_d(eps, epsd, prm, h[e])  # noqa: F821
                 acc[2] += wg * P
                 for m in range(nd):
-                    sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
                     fde[m] += wg * sd * beta[g, m]
+                    if want_matrix:
+                        sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
             else:
                 W, sigma, k = strain_point(eps, prm, h[e])  # noqa: F821
-                for m in range(nd):
-                    sb[g, m] = wg * cK * k * beta[g, m]
+                if want_matrix:
+                    for m in range(nd):
+                        sb[g, m] = wg * cK * k * beta[g, m]
             acc[0] += wg * W
             for j in range(ns):
                 n[j] += wg * sigma * amap[g, j]
