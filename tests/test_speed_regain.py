@@ -1,10 +1,12 @@
 """What the E-sail step skips to be fast (issue 47) gives what it gave: the assumed-strain
-kernel's residual without tangent."""
+kernel's residual without tangent, the Newton step's entry point, the constant offsets of
+fixed linear constraints."""
 
 import numpy as np
 import pytest
 
-from skfem_cable import Cable, Section, System
+from skfem_cable import Cable, Section, System, simulate
+from skfem_cable.solvers.compiled import entry_point
 
 DAMPED = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0, gamma_axial=0.3, gamma_bending=0.7)
 
@@ -37,3 +39,30 @@ def test_assumed_strain_residual_without_tangent_is_the_one_with_it(section):
         # the damping force is the derivative of the Rayleigh function: f_d . v = P
         assert info_r["f_damping"] @ v == pytest.approx(info_r["power"].sum(), rel=1e-10)
 
+
+def test_entry_point_is_the_compiled_function_for_the_types_of_its_arguments():
+    from numba import njit
+
+    @njit
+    def add(a, pair):
+        return a[0] + pair[0][0] + pair[1][0]
+
+    args = (np.ones(2), (np.full(3, 2.0), np.arange(4)))
+    assert add(*args) == 3.0
+    assert entry_point(add, args)(*args) == 3.0
+    assert entry_point(add.py_func, args) is add.py_func  # a Python function stays itself
+
+
+def test_pinned_pendulum_runs_on_its_constant_offsets_as_on_fresh_ones():
+    """A pin to a fixed point keeps its offset (set once per run); a pin moving in time
+    refreshes it at every step: both hold their constraint."""
+    cable = Cable.straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 4, DAMPED)
+    fixed = System([cable]).pin(cable.node(0)).add_gravity([0.0, -9.81, 0.0])
+    r = simulate(fixed, t_end=0.02, dt=1e-3)
+    assert np.abs(r.q[:, :3]).max() <= 1e-12
+    cable = Cable.straight([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], 4, DAMPED)
+    moving = System([cable]).pin(cable.node(0), lambda t: [0.0, 0.1 * t, 0.0],
+                                  velocity=lambda t: [0.0, 0.1, 0.0])
+    moving.add_gravity([0.0, -9.81, 0.0])
+    r = simulate(moving, t_end=0.02, dt=1e-3)
+    assert np.allclose(r.q[:, 1], 0.1 * r.t, rtol=0, atol=1e-12)
