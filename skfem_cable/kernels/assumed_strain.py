@@ -36,9 +36,12 @@ gives, with ``beta_g = MAP[g, j] S_x,j^T a_j`` and ``gamma_g = MAP[g, j] S_x,j^T
 (``3 nf``-vectors, ``S_x,j`` the slope table at ``j``), ``sigma = W' + D_ed``,
 ``k = d sigma/d eps`` and ``c = d sigma/d eps_dot``:
 
-``f = sum_g w_g sigma_g beta_g``,
+``f = sum_g w_g sigma_g beta_g = sum_j n_j S_x,j^T a_j``,
 ``K = sum_g w_g [(cK k_g + cC c_g) beta_g beta_g^T + cK c_g beta_g gamma_g^T]
-+ cK sum_j n_j (S_x,j^T S_x,j) (x) I3``,  ``n_j = sum_g w_g sigma_g MAP[g, j]``.
++ cK sum_j n_j (S_x,j^T S_x,j) (x) I3``,  ``n_j = sum_g w_g sigma_g MAP[g, j]``,
+
+and the damping part of ``f`` likewise from ``sum_g w_g D_ed,g MAP[g, j]``: a residual
+without tangent needs neither ``beta`` nor ``gamma``.
 
 The bending part (the law's terms with ``r_xx``) is integrated as ``kernels.cable`` does,
 at the Gauss points (the samples ``2 .. ng + 1``).  ``span`` is compiled
@@ -234,6 +237,7 @@ def span(first, last, step, state, elements, law, out, coef, acc):
     raw = np.empty(ns)
     rate = np.zeros(ns)
     n = np.empty(ns)
+    nsd = np.zeros(ns)
     Bj = np.empty((ns, nd))
     Bdj = np.zeros((ns, nd))
     beta = np.empty((ng, nd))
@@ -275,11 +279,11 @@ def span(first, last, step, state, elements, law, out, coef, acc):
             for A in range(nf):
                 for i in range(3):
                     Bj[j, 3 * A + i] = Sx[e, j, A] * a[j, i]
-                    if damped:
+                    if damped and want_matrix:
                         Bdj[j, 3 * A + i] = Sx[e, j, A] * ad[j, i]
         # the axial part at the assumed strain of the Gauss points
         n[:] = 0.0
-        fde[:] = 0.0
+        nsd[:] = 0.0
         for g in range(ng):
             eps = 0.0
             epsd = 0.0
@@ -287,25 +291,31 @@ def span(first, last, step, state, elements, law, out, coef, acc):
                 eps += amap[g, j] * raw[j]
                 epsd += amap[g, j] * rate[j]
             wg = w[e, g]
-            for m in range(nd):
-                b = 0.0
-                bd = 0.0
-                for j in range(ns):
-                    b += amap[g, j] * Bj[j, m]
-                    if damped:
-                        bd += amap[g, j] * Bdj[j, m]
-                beta[g, m] = b
-                gamma[g, m] = bd
+            # beta, gamma and sb serve the tangent alone (a residual without tangent skips
+            # them: most evaluations of a modified Newton)
+            if want_matrix:
+                for m in range(nd):
+                    b = 0.0
+                    bd = 0.0
+                    for j in range(ns):
+                        b += amap[g, j] * Bj[j, m]
+                        if damped:
+                            bd += amap[g, j] * Bdj[j, m]
+                    beta[g, m] = b
+                    gamma[g, m] = bd
             if damped:
                 W, P, sigma, k, c, sd = strain_point_d(eps, epsd, prm, h[e])  # noqa: F821
                 acc[2] += wg * P
-                for m in range(nd):
-                    sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
-                    fde[m] += wg * sd * beta[g, m]
+                for j in range(ns):
+                    nsd[j] += wg * sd * amap[g, j]
+                if want_matrix:
+                    for m in range(nd):
+                        sb[g, m] = wg * ((cK * k + cC * c) * beta[g, m] + cK * c * gamma[g, m])
             else:
                 W, sigma, k = strain_point(eps, prm, h[e])  # noqa: F821
-                for m in range(nd):
-                    sb[g, m] = wg * cK * k * beta[g, m]
+                if want_matrix:
+                    for m in range(nd):
+                        sb[g, m] = wg * cK * k * beta[g, m]
             acc[0] += wg * W
             for j in range(ns):
                 n[j] += wg * sigma * amap[g, j]
@@ -314,6 +324,11 @@ def span(first, last, step, state, elements, law, out, coef, acc):
             for j in range(ns):
                 s += n[j] * Bj[j, m]
             fe[m] = s
+            if damped:
+                s = 0.0
+                for j in range(ns):
+                    s += nsd[j] * Bj[j, m]
+                fde[m] = s
         if want_matrix:
             for r in range(nd):
                 for m in range(nd):

@@ -618,7 +618,7 @@ class GeneralizedAlpha(StepControl, Diagnosis):
                                          arrays["r"], what)
         info = {"f_damping": arrays["fd"].copy(), "f_nc": arrays["f_ext"].copy(),
                 "f_con": arrays["f_con"].copy(), "energy": arrays["energy"],
-                "abar": arrays["abar1"].copy(), "sums": tuple(arrays["books"])}
+                "abar": arrays["abar1"].copy(), "sums": arrays["books"].tolist()}
         return self._accept(t1, h, arrays["q1"].copy(), arrays["v1"].copy(),
                             arrays["a1"].copy(), arrays["lam1"].copy(), info, it,
                             self.compiled.prm[codes.RATE])

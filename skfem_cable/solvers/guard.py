@@ -15,6 +15,7 @@ the system's size per (first) step, ``m (L / h)^2``: round-off in a system at re
 growth.
 """
 
+import math
 from collections import deque
 
 import numpy as np
@@ -80,7 +81,7 @@ class EnergyGuard:
             return None
         grown = self.candidate[0] - self.lowest
         scale = max(self.largest, self.candidate[1], self.floor, 1e-300)
-        if not np.isfinite(grown) or grown > self.tol * scale:
+        if not math.isfinite(grown) or grown > self.tol * scale:
             return (f"energy balance grew by {grown:.4g} J ({grown / scale:.3g} of the "
                     f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
         return None
