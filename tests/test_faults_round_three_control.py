@@ -197,7 +197,7 @@ EA0 = 1e5
 
 
 def build(k):
-    law = laws.exudyn.with_parameters(EA=lambda t: EA0 * k * (1 + t))
+    law = laws.green.with_parameters(EA=lambda t: EA0 * k * (1 + t))
     cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0),
                               law=law)
     return sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])

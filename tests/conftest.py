@@ -1,0 +1,61 @@
+"""The test session's set-up: what the suite's processes share, and the order of its files.
+
+``python3 tasks.py test`` runs the suite on every core (pytest-xdist, ``--dist loadfile``:
+a file's tests on one worker).  Two things here keep that fast from a cold kernel cache:
+
+* **One package for every process.**  Tests that start Python processes (the CLI under a
+  signal, the dask workers of a sweep) import ``skfem_cable`` from this checkout: its
+  folder leads ``PYTHONPATH``.  Otherwise a process started outside the checkout imports
+  whatever ``skfem_cable`` the environment installed (another worktree's, in an editable
+  install made elsewhere), tests that code instead of this one, and compiles its kernels
+  again into a cache of their own (numba's cache is per source folder).
+* **The longest files first.**  xdist hands out the files in the order of its collection
+  (``--loadscope-reorder``, its default, would sort them by their number of tests, which
+  sent the few long E-sail runs last, onto one worker while the other waited).
+  ``LONGEST`` names the files that took longest on a cold cache; they start first, the
+  rest follow in alphabetical order, so that the last files handed out are short and the
+  two workers end together.
+"""
+
+import os
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: The test files that took longest on a cold kernel cache, longest first (seconds of one
+#: worker, ``pytest -n 2 --dist loadfile --durations=60`` from an empty cache).
+LONGEST = (
+    "test_peer_suites.py", "test_extending.py", "test_laws.py", "test_esail_baseline.py",
+    "test_compiled.py", "test_peer_api.py", "test_demos.py", "test_reel.py",
+    "test_faults_round_two.py", "test_one_engine.py", "test_mission.py", "test_deploy.py",
+    "test_faults_round_three_control.py", "test_sweep.py", "test_elements.py",
+    "test_esail_deployment.py", "test_bench_guard.py", "test_body_clamp.py",
+    "test_faults_records.py", "test_electrodynamic.py", "test_faults_round_three_orbit.py",
+    "test_cli.py", "test_esail_attitude.py", "test_orbit_scenes.py",
+    "test_tss_deployment.py", "test_faults.py", "test_plot.py", "test_control.py",
+    "test_esail.py", "test_validation_statics.py", "test_observers.py",
+)
+
+
+def _lead_pythonpath(folder):
+    """``PYTHONPATH`` with ``folder`` first (once)."""
+    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    os.environ["PYTHONPATH"] = os.pathsep.join([str(folder)] + [p for p in paths
+                                                                if p != str(folder)])
+
+
+_lead_pythonpath(ROOT)
+
+
+def pytest_configure(config):
+    """Files in the collection's order (``pytest_collection_modifyitems``), not in
+    xdist's order by number of tests."""
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
+
+
+def pytest_collection_modifyitems(config, items):
+    """The files of ``LONGEST`` first, in its order; the others after them as collected
+    (the tests of a file keep their order)."""
+    rank = {name: i for i, name in enumerate(LONGEST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(LONGEST)))
