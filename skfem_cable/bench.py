@@ -44,6 +44,8 @@ NOT_QUICK = {
                        "12-tether sail",
     "esail_full": "about 15 s quick: the full-size sail (100 tethers) built and run five "
                   "times over 300 s",
+    "esail_floor": "about 20 s quick: the machine's peaks in a fresh process, the E-sail "
+                   "rig's parts each in a compiled loop",
     "esail_report": "about 2 minutes quick: E-sail runs over a spin period",
     "laws": "about 3 minutes quick: a git worktree, fresh processes with cold caches",
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",
