@@ -15,7 +15,10 @@ As ``kernels.cable`` and ``kernels.assumed_strain``, this module is a template:
 ``span`` (the loop over a range of elements) and the law's point functions, and compiles
 them there.  ``kernel`` and ``kernel_parallel`` are the law's hooks of the
 evaluation contract (``contract.Term.kernels``); ``Cable.bind`` takes the second when the
-system runs on more than one thread (``linalg.thread_count``).
+system runs on more than one thread (``linalg.thread_count``).  ``span`` receives its
+bounds as ``int64`` only (``np.int64`` of the constants): numba compiles a function once per
+literal value of a constant argument, and each law's loop compiled twice cost the test
+suite about 190 s of CPU.
 """
 
 import numpy as np
@@ -30,7 +33,7 @@ def chunk(c, state, elements, law, out, coef, acc):
     ``acc[c]``."""
     first = c * CHUNK + (1 if c > 0 else 0)
     last = min(elements[4].shape[0], (c + 1) * CHUNK)
-    span(first, last, 1, state, elements, law, out, coef, acc[c])  # noqa: F821
+    span(first, last, np.int64(1), state, elements, law, out, coef, acc[c])  # noqa: F821
 
 
 def close(state, elements, law, out, coef, acc):
@@ -39,8 +42,8 @@ def close(state, elements, law, out, coef, acc):
     chunk has no such elements: ``span`` is not called (its scratch arrays, some twenty,
     cost the E-sail rig 0.35 us per evaluation)."""
     if elements[4].shape[0] > CHUNK:
-        span(CHUNK, elements[4].shape[0], CHUNK, state, elements, law, out,  # noqa: F821
-             coef, acc[-1])
+        span(np.int64(CHUNK), elements[4].shape[0], np.int64(CHUNK), state,  # noqa: F821
+             elements, law, out, coef, acc[-1])
     energy, power = out[4], out[5]
     for c in range(acc.shape[0]):
         energy[0] += acc[c, 0]
