@@ -54,7 +54,8 @@ class SeriesObserver(Observer):
     def start(self, run):
         append = self.append or run.resumed
         # the writer refuses a frame the run cannot give before any file changes
-        self.writer = run.integrator.series_writer(self.dir, append=append, frame=self.frame,
+        self.writer = run.integrator.series_writer(self.dir, export.SeriesWriter, append=append,
+                                                   frame=self.frame,
                                                    points_per_element=self.points_per_element)
         if not append:
             self.pvd.unlink(missing_ok=True)  # a series left by an earlier run

@@ -165,9 +165,10 @@ class Integration:
                                    if key.startswith("stepper_")}
         return k
 
-    def series_writer(self, run_dir, append=False, frame="inertial", **detail):
+    def series_writer(self, run_dir, writer, append=False, frame="inertial", **detail):
         """The writer of the run's ParaView series (``io.SeriesObserver``): the chain's
-        joints with the anchor of the run (``rodchain.export.ChainSeriesWriter``), in the
+        joints with the anchor of the run (``rodchain.export.ChainSeriesWriter``, not the
+        writer of a system of bodies ``writer`` that the observer offers), in the
         inertial frame only."""
         if frame != "inertial":
             raise ValueError(f"a rod-chain run is written in the inertial frame, not "

@@ -18,17 +18,18 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 """
 
 import numpy as np
-import scipy.sparse as sp
 
 from ..contract import OutOfDomain
 from ..kernels import step as codes
-from ..kernels.books import step_books
 from ..kernels.error import error_ratio
-from ..linalg import PatternSolver, SingularMatrixError
+from ..linalg import PatternSolver
 from ..protocols import IntegrableSystem, StepHook
+from .books import Books
+from .checkpoint import Checkpoint
 from .compiled import CompiledNewton, python_parts
 from .diagnosis import Diagnosis
 from .guard import EnergyGuard
+from .initial_state import InitialState
 from .step_control import StepControl
 
 
@@ -44,7 +45,7 @@ def galpha_parameters(rho_inf):
     return alpha_m, alpha_f, gamma, beta
 
 
-class GeneralizedAlpha(StepControl, Diagnosis):
+class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     """Integrator state and one step of the generalized-alpha method.
 
     Parameters
@@ -234,218 +235,6 @@ class GeneralizedAlpha(StepControl, Diagnosis):
             "compiled" + (f" (Python: {'; '.join(parts)})" if parts else "")
         return CompiledNewton(self, jit=compiled is not False)
 
-    # --- initial state ----------------------------------------------------------------------
-    def initialize(self, q, v, t):
-        """Consistent initial state: checks ``C(q, t) = 0``, projects ``v`` onto
-        ``C_q v = -C_t`` (mass-orthogonally), and solves for ``a`` and ``lambda`` from
-        Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v + C_tt)`` (or, with
-        ``initial_acceleration="zero"``, takes ``a = 0`` and ``lambda = 0``)."""
-        system, n = self.system, self.n
-        C = system.constraint_values(q, t, layout=self.lay)
-        if C.size and np.max(np.abs(C)) > 1e-8 * self.L_ref:
-            k = int(np.argmax(np.abs(C)))
-            raise ValueError(f"initial positions violate {system.describe_dof(n + k)} by "
-                             f"{C[k]:.3e}; start from positions that satisfy the constraints")
-        v, self.a, self.lam = self._consistent(q, v, t)
-        if self.zero_start:
-            self.a, self.lam = np.zeros_like(self.a), np.zeros_like(self.lam)
-        self.h_factored = None
-        self.t, self.q, self.v = float(t), q.copy(), v.copy()
-        self.abar, self.abar_h = self.a.copy(), None  # set by the first step (_fit_abar)
-        self.a_prev = self.h_prev = self.da_prev = self.h_prev2 = None
-        # the books open with the forces of the consistent state: the constraint forces
-        # of its multipliers and the inertia terms at its accelerations
-        _, info = system.evaluate(q, v, t, self.lam, scale=self.mbar, a=self.a,
-                                  layout=self.lay)
-        self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
-        self.iterations, self.newton_rate = 0, 1.0
-        self.guard.reset(self.t, self.energies())
-
-    def shift(self, dq, dv, da):
-        """Change the frame of the state at the current time: coordinates ``q + dq``,
-        velocities ``v + dv``, accelerations ``a + da`` (Encke's rectification moves the
-        reference point, ``solvers.rectify``); the pseudo-acceleration ``abar`` and the
-        last step's ``a`` move with ``a``, so the algorithm's memory of the motion, which
-        damps the unresolved modes, is kept.  (Starting again from the shifted state as
-        from an initial one re-excited a stiff tether's axial modes for tens of steps
-        after every rebase: the consistent accelerations differ from the algorithm's by
-        its damping of those modes.)  The iteration matrix is made again at the next
-        step.  The books stay open: the jump of the kinetic, stored and potential energy
-        that a change of frame makes is booked as external work, so the balance stays
-        closed, and the guard takes the new state as its reference."""
-        before = self.energies()
-        self.q, self.v, self.a = self.q + dq, self.v + dv, self.a + da
-        self.abar = self.abar + da
-        if self.a_prev is not None:
-            self.a_prev = self.a_prev + da
-        self.h_factored = None
-        _, info = self.system.evaluate(self.q, self.v, self.t, self.lam, scale=self.mbar,
-                                       a=self.a, layout=self.lay)
-        books = self._booked(info, self.q, self.v, self.t, start=True)
-        after = self._energies(books)
-        jump = sum(after[k] - before[k] for k in ("kinetic", "axial", "bending", "potential"))
-        books.update(dissipated=self.dissipated, external_work=self.external_work + jump)
-        self.__dict__.update(books)
-        self.guard.reset(self.t, self.energies())
-
-    def _consistent(self, q, v, t):
-        """``(v, a, lambda)`` of the state ``(q, v, t)``: ``v`` projected onto
-        ``C_q v = -C_t`` (mass-orthogonally, in the whole mass matrix: the constant one and
-        a deployment's inertia, whose reel row and column move the length with the
-        tether), ``a`` and ``lambda`` from Eq. 3 with ``C_q a = -((C_q v)_q v + 2 C_qt v +
-        C_tt)``."""
-        system, lay, n = self.system, self.lay, self.n
-        data = self.base.copy()
-        rest = np.zeros(n)  # accelerations: the unknowns of this solve
-        system.evaluate(q, v, t, np.zeros(lay.n_c), cK=0.0, cC=0.0, scale=self.mbar,
-                        data=data, a=rest, cM=1.0, layout=lay)
-        rhs = np.zeros(lay.N)
-        kkt = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
-        rhs[:n] = kkt[:n, :n] @ v
-        try:
-            self.solver.factor(data)
-        except SingularMatrixError as err:
-            raise self._singular_start(t, err.index, kkt[n:, :n]) from None
-        self.stats["factorizations"] += 1
-        rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t, lay)
-        v = self.solver.solve(rhs)[:n]
-        r, _ = system.evaluate(q, v, t, np.zeros(lay.n_c), scale=self.mbar, a=rest, layout=lay)
-        rhs = -r
-        rhs[n:] = -self.mbar * system.constraint_accel_term(q, v, t, lay)
-        sol = self.solver.solve(rhs)
-        return v, sol[:n], self.mbar * sol[n:]
-
-    def _fit_abar(self, h):
-        """Make the pseudo-acceleration fit a step ``h``: ``abar_n = a(t_n + (alpha_m -
-        alpha_f) h) + O(h^2)`` (Arnold & Bruls 2007), which the recursion keeps while the
-        step is constant.  After a change of step the offset ``abar_n - a_n`` is scaled by
-        ``h / h_old``.  At a start, a trial step from ``abar_0 = a_0`` gives ``a_1`` and
-        the step is taken again from ``abar_0 = a_0 + (alpha_m - alpha_f) (a_1 - a_0)``
-        (``a_1 - a_0 = h da/dt + O(h^2)`` where the motion is resolved, and bounded by the
-        integrator's own damping where it is not; a difference quotient of the
-        consistent accelerations would amplify the stiff modes and their round-off).
-        With ``abar_0 = a_0`` a spinning body's kinetic energy dropped by about ``0.36
-        (omega h)^2`` of itself in the first steps, and moved again at a shortened last
-        step."""
-        if self.abar_h is None and not self.fit_start:  # a plain start: abar_0 = a_0
-            self.abar_h = h
-        if self.abar_h is not None:
-            if abs(h - self.abar_h) > 1e-9 * h:
-                self.abar = self.a + (h / self.abar_h) * (self.abar - self.a)
-                self.abar_h = h
-            return
-        start, steps = self._snapshot(), self.stats["steps"]
-        ok, _ = self._try_step(h, fresh=True, full=self.newton == "full")
-        a1 = self.a
-        self.restore(start)
-        self.stats["steps"] = steps
-        if ok:
-            self.abar = self.a + (self.alpha_m - self.alpha_f) * (a1 - self.a)
-            self.abar_h = h
-
-    def _booked(self, info, q1, v1, t1, start=False):
-        """Energy books at the end ``(q1, v1, t1)`` of a step with the evaluation ``info``
-        there: the work of the damping and of the non-constant external forces over the
-        step, ``dq . (f_n + f_{n+1}) / 2`` (exact for the trapezoidal rule), the constraint
-        forces ``-C_q^T lambda`` counted as external (they work where a constraint is
-        driven, a moving pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), the work of the
-        explicit time dependence of stored energies (``System.energy_rate``: a deploying
-        cable's reel), ``h (P_n + P_{n+1}) / 2``, the work of the change of the terms'
-        data over the step (``System.energy_change``: a law parameter that varies in
-        time), and the kinetic and potential energy (``kernels.books``);
-        ``start`` opens the books at ``q1``."""
-        fd, fnc, fcon = info["f_damping"], info["f_nc"], info["f_con"]
-        if "sums" in info:  # computed by the compiled step
-            dissipated, external, kinetic, potential = info["sums"]
-        else:
-            M = self.lay.mass
-            before = (fd, fnc, fcon) if start else (self.fd, self.fnc, self.fcon)
-            dq = np.zeros_like(q1) if start else q1 - self.q
-            dissipated, external, kinetic, potential = step_books(
-                dq, before, (fd, fnc, fcon), (M.indptr, M.indices, M.data),
-                self.lay.f_const, q1, v1)
-        rate = self.system.energy_rate(q1, t1) if self.energy_depends_on_time else 0.0
-        if not start:
-            dissipated += self.dissipated
-            external += self.external_work + 0.5 * (t1 - self.t) * (self.energy_rate + rate)
-            if self.energy_changes:
-                external += self.system.energy_change(self.q, q1, self.t, t1)
-        return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
-                "external_work": external, "elastic": info["energy"].copy(),
-                "kinetic": kinetic, "potential": potential, "energy_rate": rate}
-
-    @staticmethod
-    def _energies(books):
-        return {"kinetic": books["kinetic"], "axial": books["elastic"][0],
-                "bending": books["elastic"][1], "potential": books["potential"],
-                "dissipated": books["dissipated"], "external_work": books["external_work"]}
-
-    # --- checkpoint -------------------------------------------------------------------------
-    STATE = ("t", "q", "v", "a", "abar", "lam", "fd", "fnc", "fcon", "dissipated",
-             "external_work", "elastic", "iterations")
-
-    def snapshot(self):
-        """Everything a continuation needs to be bit-for-bit identical, including the
-        state at which the current iteration matrix was factored (it is rebuilt from it),
-        the instability guard's references and the state of the run's step hooks
-        (``hooks``, set by ``simulate``: the rectification's rebases, the controllers')."""
-        snap = self._snapshot()
-        for hook in self.hooks:
-            snap.update(hook.snapshot())
-        return snap
-
-    def _snapshot(self):
-        snap = {k: np.copy(getattr(self, k)) for k in self.STATE}
-        snap.update(self.guard.snapshot())
-        snap["newton_rate"] = np.float64(self.newton_rate)
-        if self.h_next is not None:
-            snap["h_next"] = np.float64(self.h_next)
-        if self.a_prev is not None:
-            snap["a_prev"], snap["h_prev"] = np.copy(self.a_prev), np.float64(self.h_prev)
-        if self.da_prev is not None:
-            snap["da_prev"] = np.copy(self.da_prev)
-            snap["h_prev2"] = np.float64(self.h_prev2)
-        if self.abar_h is not None:
-            snap["abar_h"] = np.float64(self.abar_h)
-        if not self.fit_start:
-            snap["plain_start"] = np.float64(1.0)
-        if self.fresh_steps or self.strikes:
-            snap["newton_choice"] = np.array([self.fresh_steps, self.strikes])
-        if self.h_factored is not None:
-            snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
-        return snap
-
-    def restore(self, snap):
-        for k in self.STATE:
-            value = np.array(snap[k] if k in snap else np.zeros(self.n))  # fcon: pre-guard
-            setattr(self, k, value if value.ndim else value.item())
-        self.t = float(self.t)
-        at_end = {"f_damping": self.fd, "f_nc": self.fnc, "f_con": self.fcon,
-                  "energy": self.elastic}
-        start = self._booked(at_end, self.q, self.v, self.t, start=True)
-        self.kinetic, self.potential = start["kinetic"], start["potential"]
-        self.energy_rate = start["energy_rate"]
-        self.h_next = float(snap["h_next"]) if "h_next" in snap else None
-        self.newton_rate = float(snap["newton_rate"]) if "newton_rate" in snap else 1.0
-        self.a_prev = np.array(snap["a_prev"]) if "a_prev" in snap else None
-        self.h_prev = float(snap["h_prev"]) if "a_prev" in snap else None
-        self.da_prev = np.array(snap["da_prev"]) if "da_prev" in snap else None
-        self.h_prev2 = float(snap["h_prev2"]) if "da_prev" in snap else None
-        # a checkpoint written before abar_h existed: abar belongs to the last step
-        self.abar_h = float(snap["abar_h"]) if "abar_h" in snap else self.h_prev
-        self.fit_start = "plain_start" not in snap
-        choice = snap["newton_choice"] if "newton_choice" in snap else (0, 0)
-        self.fresh_steps, self.strikes = (int(k) for k in choice)
-        self.h_factored = None
-        if "guard_lowest" in snap:
-            self.guard.restore(snap)
-        else:  # a checkpoint written before the guard existed
-            self.guard.reset(self.t, self.energies())
-        if "fact_h" in snap:
-            at = {k: np.array(snap["fact_" + k]) for k in ("q", "v", "t", "lam", "h")}
-            a = np.array(snap["fact_a"]) if "fact_a" in snap else np.zeros(self.n)
-            self._factor(at["q"], at["v"], float(at["t"]), at["lam"], float(at["h"]), a)
-
     def _coefficients(self, h):
         bp = (1.0 - self.alpha_m) / (self.beta * h * h * (1.0 - self.alpha_f))
         return bp, self.gamma / (self.beta * h)
@@ -464,19 +253,13 @@ class GeneralizedAlpha(StepControl, Diagnosis):
         self.factored_at = {"q": q.copy(), "v": v.copy(), "t": t, "lam": lam.copy(), "h": h,
                             "a": a.copy()}
 
-    def series_writer(self, run_dir, append=False, frame="inertial", **detail):
-        """The writer of the run's ParaView series (``io.SeriesObserver``):
-        ``export.SeriesWriter`` of the system in ``frame``, turning in orbit with the
-        run's reference (``detail``: ``points_per_element``)."""
-        from ..export import SeriesWriter  # meshio only when a series is written
-
-        return SeriesWriter(run_dir, self.system, append=append, frame=frame,
-                            reference=self.lay.reference, **detail)
-
-    def energies(self):
-        """Kinetic, axial, bending and potential energy, dissipated energy and external
-        work (J) of the current state."""
-        return self._energies(self.__dict__)
+    def series_writer(self, run_dir, writer, append=False, frame="inertial", **detail):
+        """The writer of the run's ParaView series (``io.SeriesObserver``): ``writer``
+        (the series writer of a system of bodies that the observer gives,
+        ``export.SeriesWriter``: solvers write no files) of the system in ``frame``,
+        turning in orbit with the run's reference (``detail``: ``points_per_element``)."""
+        return writer(run_dir, self.system, append=append, frame=frame,
+                      reference=self.lay.reference, **detail)
 
     # --- one step ---------------------------------------------------------------------------
     def step(self, h):
