@@ -134,7 +134,7 @@ def test_wire_pinned_closer_than_its_length_hangs_as_the_catenary(build):
     4.352 N, 7.245 N) within 1e-3.  Measured: 2.9275 m, 4.3520 N, 7.2459 N.  Before,
     built straight: a loop in the middle elements, sag 2.632 m, 1.30 N and 7.73 N."""
     from skfem_cable.analytic import elastica_catenary
-    from skfem_cable.solvers.static import folds
+    from skfem_cable.solvers.static_states import folds
 
     cable, system = hanging_wire(build)
     state = sc.solve_static(system)
@@ -169,7 +169,7 @@ def test_hanging_start_leaves_cables_held_at_one_end():
     """A cable whose one end only is held (a pendulum pinned at a point off its end)
     keeps its start: ``hanging_start`` replaces a cable only when the constraints hold
     both of its ends closer than its length."""
-    from skfem_cable.solvers.static import hanging_start
+    from skfem_cable.solvers.static_states import hanging_start
 
     cable = sc.Cable.straight([0, 0, 0], [LENGTH, 0, 0], 16, WIRE)
     system = sc.System([cable]).pin(cable.node(0), [1.0, 0, 0]).add_gravity([0, 0, -9.81])
@@ -205,7 +205,7 @@ def test_a_cable_through_itself_is_named():
     the two arc lengths that meet (the circle closes at s = 2.86 m and 9.14 m); the
     straight wire and the hanging one pass.  The folded state of the wire's first load
     step crosses itself too, and the refusal says so."""
-    from skfem_cable.solvers.static import crossings, folds
+    from skfem_cable.solvers.static_states import crossings, folds
 
     cable = looped()
     system = sc.System([cable])

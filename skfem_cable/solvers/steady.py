@@ -40,7 +40,8 @@ from ..constraints import LinearConstraint
 from ..loads import Centrifugal, vector3
 from ..protocols import IntegrableSystem
 from ..state import State
-from .static import StaticConvergenceError, constraint_jacobian, equilibrium
+from .static import StaticConvergenceError, equilibrium
+from .static_states import constraint_jacobian
 
 #: A motion is free when the constraints change by less than this, relative to the norms
 #: of their Jacobian and of the motion.
