@@ -60,6 +60,10 @@ NOT_QUICK = {
 #: Distributions whose versions go into the records.
 PACKAGES = ("numpy", "scipy", "numba", "scikit-fem", "skfem_cable")
 
+#: The option of every benchmark script (and of ``skfem-cable bench``): small sizes and
+#: few repeats.
+QUICK = "--quick"
+
 
 def scripts(folder=BENCHMARKS):
     """The benchmark scripts.
@@ -235,7 +239,7 @@ def run(names=(), quick=False, out=None, json_dir=RESULTS, args=()):
     if quick and not names:
         print(f"== quick set: {', '.join(chosen)} (left out, run them by name: "
               f"{', '.join(n for n in available if n in NOT_QUICK)})", flush=True)
-    args = ["--quick"] * quick + list(args)
+    args = [QUICK] * quick + list(args)
     status, start = 0, time.perf_counter()
     for i, name in enumerate(chosen, 1):
         status |= run_one(name, available[name], args, f"[{i}/{len(chosen)}]", out, json_dir)
@@ -322,5 +326,5 @@ def arguments(doc, quick_help, argv=None):
     (described by ``quick_help``); ``doc`` is the script's docstring.  Returns the parsed
     arguments."""
     parser = argparse.ArgumentParser(description=doc.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help=quick_help)
+    parser.add_argument(QUICK, action="store_true", help=quick_help)
     return parser.parse_args(argv)

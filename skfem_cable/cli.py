@@ -104,6 +104,7 @@ def _sweepable_scenes():
 
 def build_parser():
     """The argument parser (exposed for the documentation and the tests)."""
+    from .bench import QUICK
     from .scenes.catalog import SCENES
 
     parser = _Parser(
@@ -178,7 +179,7 @@ def build_parser():
                        help="benchmarks to run, without .py (default: all, or with --quick "
                        "the quick set; see --list)")
     bench.add_argument("--list", action="store_true", help="list the benchmarks and exit")
-    bench.add_argument("--quick", action="store_true",
+    bench.add_argument(QUICK, action="store_true",
                        help="small sizes and few repeats (passed to every script); without "
                        "NAMEs the quick set, under a minute")
     bench.add_argument("--out", type=values.directory, metavar="DIR",
