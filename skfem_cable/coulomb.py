@@ -288,7 +288,7 @@ class SolarWindForce:
                 part(t)
 
         prepare(0.0)
-        hooks = line.module(kernel.point)
+        hooks = line.module(kernel.point, velocity=False)
         hook = hooks.kernel_parallel if thread_count() > 1 else hooks.kernel
         rows, cols = points.tangent_pattern()
         return Term(kernels=((hook, pack),), rows=rows, cols=cols, name="solar wind",
