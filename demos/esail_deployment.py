@@ -166,9 +166,9 @@ def build(l0=300.0, l1=1000.0, duration=2000.0, n_elements=6, n_tethers=4,
 def wind_force(system, wind, q, t):
     """Resultant (N) of the Coulomb drag on the tethers at coordinates ``q`` and time
     ``t``: ``int f (iR - (t . iR) t) ds`` over the deployed material (``ds = lam dx``)."""
-    total, start = np.zeros(3), 0
+    total = np.zeros(3)
     coef = wind.coefficients(t)
-    for cable in wind.cables:
+    for k, cable in enumerate(wind.cables):
         qe = q[system.dofs(cable)][cable.element_dofs].reshape(-1, 4, 3)
         r = np.einsum("egA,eAi->egi", cable.S, qe)
         a = np.einsum("egA,eAi->egi", cable.Sx, qe)
@@ -176,10 +176,8 @@ def wind_force(system, wind, q, t):
         iR /= np.linalg.norm(iR, axis=-1, keepdims=True)
         a /= np.linalg.norm(a, axis=-1, keepdims=True)
         f = iR - np.einsum("egi,egi->eg", a, iR)[..., None] * a
-        weight = coef[start: start + cable.n_elements, None] * cable.weights \
-            * system.stretch(cable, t)
+        weight = coef[k] * cable.weights * system.stretch(cable, t)
         total += np.einsum("eg,egi->i", weight, f)
-        start += cable.n_elements
     return total
 
 

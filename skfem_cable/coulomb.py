@@ -19,9 +19,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import lines
 from .contract import Term
 from .inputs import declared, reader
 from .kernels import coulomb as kernel
+from .kernels import line
 from .linalg import thread_count
 from .orbit import AU
 from .section import check_positive
@@ -34,8 +36,6 @@ ion-deflecting sheath of a tether is a few electron Debye lengths wide,
 ``lambda_D ~ sqrt(T_e / n)``, with the density ``n ~ r^-2`` and the electron temperature
 ``T_e ~ r^(-1/3)``, so ``lambda_D ~ r^(5/6)``; the force per unit length is the dynamic
 pressure ``m_p n u^2 ~ r^-2`` times the sheath width: ``r^-2 r^(5/6) = r^(-7/6)``."""
-
-_EMPTY = np.zeros(0)
 
 
 @dataclass
@@ -133,7 +133,9 @@ class SolarWindForce:
 
     Parameters
     ----------
-    cables : sequence of Cable
+    cables : sequence of line bodies
+        ``Cable``s, or any bodies with the line-body hook ``line_points`` (``lines``),
+        with the same points and functions per element.
     voltage : float, callable, or sequence of them (one per cable)
         Tether voltage ``V0`` (V); a callable ``V0(t)`` modulates it in time, and one
         callable may return the voltages of all the cables at once (an array, e.g. an
@@ -151,7 +153,9 @@ class SolarWindForce:
 
     Notes
     -----
-    Each tether element is pushed along the wind's component perpendicular to it, with
+    The force reads the cables only through their line-body hook; its kernel is the one
+    loop of the line loads with the point function ``kernels.coulomb.point``.  Each tether
+    element is pushed along the wind's component perpendicular to it, with
     ``SolarWind.force_per_length`` for a tether across the wind at 1 AU (Eqs. 27-35)
     times ``(AU / r)^p``; the wind blows radially from the Sun with the velocity
     ``u i_R`` of Eq. 32, not relative to the tether (as in the paper's force law).
@@ -190,11 +194,6 @@ class SolarWindForce:
         if not np.isfinite(exponent):
             raise ValueError(f"exponent must be finite, got {exponent!r}")
         self.scaling = np.array([AU, float(exponent)])
-        per = [np.full(c.n_elements, k) for k, c in enumerate(self.cables)]
-        self.cable_of_element = np.concatenate(per)
-        self.S = np.ascontiguousarray(np.concatenate([c.S for c in self.cables]))
-        self.Sx = np.ascontiguousarray(np.concatenate([c.Sx for c in self.cables]))
-        self.w = np.ascontiguousarray(np.concatenate([c.weights for c in self.cables]))
         self.voltages(0.0)  # a bad voltage callable fails now, not mid-run
 
     def inputs(self):
@@ -253,11 +252,9 @@ class SolarWindForce:
         return (coef[..., None] * (self.scaling[0] / rho) ** self.scaling[1]) * u_perp
 
     def coefficients(self, t, sources=None):
-        """Force per unit length on a perpendicular tether at 1 AU, per element (N/m), of
+        """Force per unit length on a perpendicular tether at 1 AU, per cable (N/m), of
         the voltages of ``sources`` (``voltages``)."""
-        per_cable = np.array([self.wind.force_per_length(V)
-                              for V in self.voltages(t, sources)])
-        return per_cable[self.cable_of_element]
+        return np.array([self.wind.force_per_length(V) for V in self.voltages(t, sources)])
 
     #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
     #: force per unit material length acts on the stretched mesh.
@@ -268,36 +265,41 @@ class SolarWindForce:
     reads_reference = True
 
     def bind(self, system, reference=None, inputs=None):
-        """The compiled term (``kernels.coulomb.kernel``, its ``kernel_parallel`` on more
-        than one thread, ``linalg.thread_count``); a time-modulated voltage, a
-        deploying tether (the mesh stretch ``lam(t)`` multiplies the force per unit mesh
-        length) or a moving Sun refreshes, once per time step (``Term.prepare``), only
-        what moves: the per-element coefficients or the Sun's position (seen from the
-        run's ``reference`` when the position has ``seen_from``, as ``SunAtFocus``); the
-        voltages read the run's values of their inputs (``inputs``: the run's
-        ``InputTable``)."""
-        edofs = np.ascontiguousarray(np.concatenate(
-            [c.global_element_dofs(system) for c in self.cables]))
-        coef = np.array(self.coefficients(0.0), dtype=float)
+        """The compiled term: the loop of ``kernels.line`` with the point function
+        ``kernels.coulomb.point`` over the points of the cables' line-body hook
+        (``lines.line_points``), the per-element coefficient its ``scale`` (its
+        ``kernel_parallel`` on more than one thread, ``linalg.thread_count``).  A
+        time-modulated voltage, a deploying tether (the mesh stretch ``lam(t)`` multiplies
+        the force per unit mesh length) or a moving Sun refreshes, once per time step
+        (``Term.prepare``), only what moves: the per-element coefficients or the Sun's
+        position (seen from the run's ``reference`` when the position has ``seen_from``,
+        as ``SunAtFocus``); the voltages read the run's values of their inputs
+        (``inputs``: the run's ``InputTable``)."""
+        parts = [lines.line_points(c, system) for c in self.cables]
+        points = lines.joined(parts)
+        cable_of_element = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
         sun = self.sun_at(0.0).copy()
-        refresh = self._refreshers(system, coef, sun, self.sun_source(reference),
-                                   self.sources(inputs))
+        pack = points.pack((sun, self.scaling), self.coefficients(0.0)[cable_of_element])
+        refresh = self._refreshers(system, (pack[4], cable_of_element), sun,
+                                   self.sun_source(reference), self.sources(inputs))
 
         def prepare(t):
             for part in refresh:
                 part(t)
 
         prepare(0.0)
-        pack = (edofs, self.S, self.Sx, self.w, coef, sun, self.scaling, np.zeros(3))
-        hook = kernel.kernel_parallel if thread_count() > 1 else kernel.kernel
-        return Term(kernels=((hook, pack),), rows=edofs[:, :, None],
-                    cols=edofs[:, None, :], name="solar wind",
+        hooks = line.module(kernel.point, velocity=False)
+        hook = hooks.kernel_parallel if thread_count() > 1 else hooks.kernel
+        rows, cols = points.tangent_pattern()
+        return Term(kernels=((hook, pack),), rows=rows, cols=cols, name="solar wind",
                     prepare=prepare if refresh else None)
 
-    def _refreshers(self, system, coef, sun, source, voltages):
-        """The functions of ``t`` refreshing, in place, the coefficients ``coef`` (with a
-        voltage callable or a deploying tether; of the ``voltages`` sources) and the
-        Sun's position ``sun`` (a callable ``sun_position``, evaluated as ``source``)."""
+    def _refreshers(self, system, elements, sun, source, voltages):
+        """The functions of ``t`` refreshing, in place, the per-element coefficients
+        ``coef`` of ``elements = (coef, cable_of_element)`` (with a voltage callable or a
+        deploying tether; of the ``voltages`` sources) and the Sun's position ``sun`` (a
+        callable ``sun_position``, evaluated as ``source``)."""
+        coef, cable_of_element = elements
         deploying = [system.deployment(c) is not None for c in self.cables]
         for cable, deploys in zip(self.cables, deploying):
             if deploys and system.deployment(cable).reel is not None:
@@ -305,10 +307,10 @@ class SolarWindForce:
                                  "the solar wind supports prescribed lengths only")
 
         def coefficients(t):
-            coef[:] = self.coefficients(t, voltages)
+            per_cable = self.coefficients(t, voltages)
             if any(deploying):
-                stretch = np.array([system.stretch(c, t) for c in self.cables])
-                coef[:] *= stretch[self.cable_of_element]
+                per_cable *= np.array([system.stretch(c, t) for c in self.cables])
+            coef[:] = per_cable[cable_of_element]
 
         def sun_position(t):
             sun[:] = source(t)
@@ -317,15 +319,19 @@ class SolarWindForce:
         return [part for part, needed in ((coefficients, moving),
                                           (sun_position, callable(self.sun))) if needed]
 
-    def add_force(self, edofs, q, t, f, data=None, index=None, cK=1.0):
-        """Add the generalized force on the cables with global element coordinates
-        ``edofs`` to ``f`` and, with ``data``, ``cK`` times its derivative at ``index``;
-        returns the force resultant (N)."""
-        resultant = np.zeros(3)
-        want = data is not None
-        kernel.force_tangent(q, (edofs, self.S, self.Sx, self.w),
-                             (self.coefficients(t), self.sun_at(t), self.scaling),
-                             (f, data if want else _EMPTY, index if want else
-                              np.zeros((0,) + edofs.shape[1:] * 2, dtype=np.int64),
-                              resultant), cK)
-        return resultant
+    def add_force(self, system, q, t, f, data=None, index=None, cK=1.0):
+        """Add the generalized force on the cables of ``system`` at the coordinates ``q``
+        and time ``t`` to ``f`` and, with ``data``, ``cK`` times its derivative at
+        ``index`` (ne, 3 nf, 3 nf); returns the force resultant (N).  The term's own
+        kernel (``bind``) evaluates it."""
+        term = self.bind(system)
+        (hook, pack), = term.kernels
+        if term.prepare is not None:
+            term.prepare(t)
+        q = np.ascontiguousarray(q, dtype=float)
+        if data is None:
+            data, index = np.zeros(0), np.zeros((0,) + pack[0].shape[1:] * 2, dtype=np.int64)
+        hook(pack, index, (q, np.zeros_like(q), np.array([t, -cK, 0.0, 0.0]),
+                           np.zeros_like(f), f, np.zeros_like(f), data, np.zeros(1),
+                           np.zeros(1)))
+        return pack[-1]

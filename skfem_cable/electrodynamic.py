@@ -6,11 +6,13 @@ feels, per unit reference length,
 
     f = I r_x x B(r)
 
-(``r_x dx`` is the element of length as a vector).  The load is compiled
-(``kernels.electrodynamic``) for a uniform field and for a ``MagneticDipole``, with its
-exact tangent; a general field ``B(x, t)`` takes the Python path with a central-difference
-gradient.  In an orbiting system (``System.add_orbit``) the coordinates are offsets from
-the orbit's reference point ``R(t)``: the field is evaluated at the absolute position
+(``r_x dx`` is the element of length as a vector), at the points of the cable's line-body
+hook (``lines``: any line body carries a current).  The load is compiled
+(``kernels.electrodynamic``, with the array passes of ``kernels.line``) for a uniform
+field and for a ``MagneticDipole``, with its exact tangent; a general field ``B(x, t)``
+takes the Python path with a central-difference gradient.  In an orbiting system
+(``System.add_orbit``) the coordinates are offsets from the orbit's reference point
+``R(t)``: the field is evaluated at the absolute position
 ``R(t) + x`` and the motional EMF uses the absolute velocity ``V(t) + v``; both are
 refreshed once per time step (``Term.prepare``).
 
@@ -34,6 +36,7 @@ References
 
 import numpy as np
 
+from . import lines
 from .contract import Evaluation, Term
 from .inputs import declared, reader
 from .kernels import electrodynamic as kernel
@@ -173,7 +176,9 @@ class ElectrodynamicForce(AlongCable):
 
     Parameters
     ----------
-    cable : Cable
+    cable : Cable or line body
+        The conductor: a ``Cable`` or any body with the line-body hook ``line_points``
+        (``lines``).
     current : float, callable or ``"short-circuit"``
         The current (A), positive towards increasing arc length; ``current(t)``; or
         ``"short-circuit"``: ``I = E / resistance`` with ``E`` the cable's motional EMF
@@ -275,18 +280,19 @@ class ElectrodynamicForce(AlongCable):
         return self._bind(system, reference, inputs)[0]
 
     def _bind(self, system, reference=None, inputs=None):
-        """``(term, out)``: the term and the array ``[I, E]`` its evaluations write."""
-        c = self.cable
+        """``(term, pack)``: the term and its pack (``kernels.electrodynamic.kernel``),
+        whose scratch holds the forces at the points and whose last array ``[I, E]``
+        the evaluations write; the points are the line-body hook's (``lines``)."""
         current, resistance = self.circuit
         run_drive = self.drive if inputs is None else _drive(reader(current, inputs),
                                                              resistance)
         orbit = system.orbit if reference is None else reference
-        edofs = np.ascontiguousarray(c.global_element_dofs(system))
-        ne, nq = c.weights.shape
+        points = lines.line_points(self.cable, system)
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
-        X, A, U = (np.zeros((ne, nq, 3)) for _ in range(3))
-        B, dB, out = np.zeros((ne, nq, 3)), np.zeros((ne, nq, 3, 3)), np.zeros(2)
-        plasma = co_rotation(self.plasma_rotation, orbit)
+        scratch = tuple(np.zeros(points.shape + shape) for shape in
+                        [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3)
+        pack = ((points.edofs, points.S, points.Sx, points.w), motion, source, drive,
+                co_rotation(self.plasma_rotation, orbit), scratch, np.zeros(2))
 
         def prepare(t):
             if orbit is not None:
@@ -296,23 +302,22 @@ class ElectrodynamicForce(AlongCable):
                 source[:] = self.compiled.sources(t)
 
         prepare(0.0 if orbit is None else orbit.t0)
-        name = f"electrodynamic force {c.name}"
-        rows, cols = edofs[:, :, None], edofs[:, None, :]
+        name = f"electrodynamic force {self.cable.name}"
+        rows, cols = points.tangent_pattern()
         if self.compiled is not None:
-            pack = (edofs, c.S, c.Sx, c.weights, motion, source, drive, plasma, X, A, U, B,
-                    dB, out)
             return Term(kernels=((kernel.kernel, pack),), rows=rows, cols=cols,
-                        prepare=prepare, name=name), out
+                        prepare=prepare, name=name), pack
 
         def add(ev, index):
             prepare(ev.t)
-            kernel.gauss_points(edofs, c.S, c.Sx, ev.q, ev.v, motion, X, A, U)
-            B[:], dB[:] = (y.reshape(ne, nq, *y.shape[1:])
+            packed = ev.packed()
+            kernel.gather(pack, packed)
+            X, B, dB = scratch[0], scratch[3], scratch[4]
+            B[:], dB[:] = (y.reshape(X.shape[:2] + y.shape[1:])
                            for y in self.field_and_gradient(X.reshape(-1, 3), ev.t))
-            kernel.assemble(edofs, c.S, c.Sx, c.weights, drive, plasma, X, A, U, B, dB, out,
-                            index, ev.packed())
+            kernel.finish(pack, index, packed)
 
-        return Term(add=add, rows=rows, cols=cols, name=name), out
+        return Term(add=add, rows=rows, cols=cols, name=name), pack
 
     def evaluate(self, system, q, v=None, t=0.0, reference=None):
         """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
@@ -328,15 +333,16 @@ class ElectrodynamicForce(AlongCable):
         drives the current against the EMF (a thruster); the force's power on the motion
         relative to the plasma is ``-I E``.
 
-        The total force is the sum of the generalized forces on the cable's position
-        coordinates (the Hermite position functions sum to one): ``int f dx``.
+        The total force is ``int f dx``, the sum of the forces at the points times their
+        weights.
         """
-        term, out = self._bind(system, reference)
+        term, pack = self._bind(system, reference)
         ev = Evaluation(system, t, np.asarray(q, dtype=float),
                         None if v is None else np.asarray(v, dtype=float),
                         np.zeros(system.n_constraints))
-        term.evaluate(ev, np.zeros(self.cable.element_dofs.shape + (12,), dtype=np.int64))
-        dofs = system.dofs(self.cable)
-        force = ev.f_ext[dofs][self.cable.position_mask].reshape(-1, 3).sum(axis=0)
+        term.evaluate(ev, np.zeros(np.broadcast_shapes(term.rows.shape, term.cols.shape),
+                                   dtype=np.int64))
+        points, out, F = pack[0], pack[-1], pack[5][5]
         return {"current": float(out[0]), "emf": float(out[1]),
-                "power": float(out[0] * out[1]), "force": force}
+                "power": float(out[0] * out[1]),
+                "force": np.einsum("eg,egi->i", points[3], F)}

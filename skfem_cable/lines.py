@@ -139,3 +139,15 @@ def line_points(body, system):
     """``body.line_points(system)``, or ``TypeError`` naming the body when it is not a line
     body (``check_line_body``)."""
     return check_line_body(body).line_points(system)
+
+
+def joined(points):
+    """One ``LinePoints`` of the points ``points`` (a sequence of ``LinePoints``) of several
+    line bodies, in order: a load on them all runs one loop.  Their elements must have the
+    same numbers of points and functions."""
+    shapes = sorted({p.S.shape[1:] for p in points})
+    if len(shapes) != 1:
+        raise ValueError(f"points: the line bodies of one load must have the same points "
+                         f"and functions per element, got (nq, nf) = {shapes}")
+    return LinePoints(*(np.concatenate([getattr(p, name) for p in points])
+                        for name in ("edofs", "S", "Sx", "w")))

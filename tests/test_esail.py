@@ -29,7 +29,7 @@ def test_force_per_length_by_hand():
     assert SolarWind().force_per_length(500.0) == 0.0  # below V1: no force
     cable, system, load = sun_facing_tether()
     f = np.zeros(system.n_dofs)
-    resultant = load.add_force(cable.global_element_dofs(system), system.q0, 0.0, f)
+    resultant = load.add_force(system, system.q0, 0.0, f)
     assert resultant == pytest.approx([hand * 10e3, 0, 0], rel=1e-9, abs=1e-15)
     # consistent nodal forces: the position DOFs carry the resultant
     assert f.reshape(-1, 2, 3)[:, 0].sum(axis=0) == pytest.approx(resultant, rel=1e-12)

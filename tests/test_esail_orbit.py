@@ -18,8 +18,7 @@ CONFIG = esail.BaselineConfig()
 def total_force(scene, q, t):
     """The Coulomb force resultant (N) of the compiled kernel on the whole sail."""
     wind, system = scene.wind_force, scene.system
-    edofs = np.concatenate([c.global_element_dofs(system) for c in wind.cables])
-    return wind.add_force(edofs, q, t, np.zeros(system.n_dofs))
+    return wind.add_force(system, q, t, np.zeros(system.n_dofs))
 
 
 @pytest.mark.parametrize("exponent", [THRUST_EXPONENT, 1.0])
@@ -72,8 +71,7 @@ def test_exponent_zero_is_the_uniform_wind_of_eq_29():
     t = a / np.linalg.norm(a, axis=-1, keepdims=True)
     f = load.coefficients(0.0)[0] * (i_R - np.sum(t * i_R, axis=-1, keepdims=True) * t)
     hand = np.einsum("eg,egi->i", cable.weights, f)
-    resultant = load.add_force(cable.global_element_dofs(system), q, 0.0,
-                               np.zeros(system.n_dofs))
+    resultant = load.add_force(system, q, 0.0, np.zeros(system.n_dofs))
     np.testing.assert_allclose(resultant, hand, rtol=1e-15, atol=1e-15 * np.abs(hand).max())
 
 

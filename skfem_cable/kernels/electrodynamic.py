@@ -1,9 +1,15 @@
-"""Numba kernel of the Lorentz force on a current-carrying cable (``electrodynamic``).
+"""Numba kernel of the Lorentz force on a current-carrying line body (``electrodynamic``).
 
-At every Gauss point, with ``x = R + S q`` the absolute position (``R`` the reference
-point of the system's orbit, zero without one), ``a = r_x = S_x q`` the slope and
-``B = B(x)`` the magnetic field, a current ``I`` along the cable (positive towards
-increasing arc length) feels the force per unit *reference* length
+The force at a point depends on the whole line (the current of the motional EMF, (3)), so
+the load runs the two array passes of ``kernels.line`` with its own work between them:
+``gather`` (``line.points``: the points' positions, slopes and velocities, made absolute),
+the field at the points (``dipole_points``, or a Python field), and ``finish`` (the EMF,
+the current, the force and its derivatives at the points, scattered by ``line.assemble``).
+
+At every point of the line body (``lines.LinePoints``), with ``x = R + S q`` the absolute
+position (``R`` the reference point of the system's orbit, zero without one),
+``a = r_x = S_x q`` the slope and ``B = B(x)`` the magnetic field, a current ``I`` along the
+line (positive towards increasing arc length) feels the force per unit *reference* length
 
     f = I a x B                                                        (1)
 
@@ -37,27 +43,21 @@ The field is ``B = B_0 + B_d`` with ``B_0`` uniform and ``B_d`` a dipole of mome
 import numpy as np
 from numba import njit
 
-from . import CUBIC
+from . import line
 
 
 @njit(cache=True)
-def gauss_points(edofs, S, Sx, q, v, motion, X, A, U):
-    """At every Gauss point: the absolute position ``X = R + S q``, the slope
-    ``A = S_x q`` and the absolute velocity ``U = V + S v`` (ne, nq, 3) each, with
-    ``motion = [R, V]`` (2, 3) the reference point's position and velocity (``v`` is zero
-    in statics: ``contract.Evaluation``)."""
-    ne, nq, nf = S.shape
+def offset(motion, X, U):
+    """Add the reference point's position and velocity ``motion = [R, V]`` (2, 3) to the
+    points' positions ``X`` and velocities ``U`` (ne, nq, 3) of ``line.points``: the
+    absolute ``x = R + S q`` and ``u = V + S v`` (``v`` is zero in statics:
+    ``contract.Evaluation``)."""
+    ne, nq = X.shape[:2]
     for e in range(ne):
         for g in range(nq):
             for i in range(3):
-                X[e, g, i] = motion[0, i]
-                A[e, g, i] = 0.0
-                U[e, g, i] = motion[1, i]
-                for k in range(nf):
-                    dof = edofs[e, 3 * k + i]
-                    X[e, g, i] += S[e, g, k] * q[dof]
-                    A[e, g, i] += Sx[e, g, k] * q[dof]
-                    U[e, g, i] += S[e, g, k] * v[dof]
+                X[e, g, i] += motion[0, i]
+                U[e, g, i] += motion[1, i]
 
 
 @njit(cache=True)
@@ -96,8 +96,9 @@ def dipole_points(source, X, B, dB):
 
 @njit(cache=True)
 def motional_emf(w, plasma, X, A, U, B):
-    """The motional EMF (3) of the cable (V) from the Gauss-point fields of
-    ``gauss_points`` and the field ``B``; ``plasma`` (3,) is ``Omega``."""
+    """The motional EMF (3) of the cable (V) from the points' absolute positions ``X``,
+    slopes ``A`` and velocities ``U`` (``gather``) and the field ``B``; ``plasma`` (3,) is
+    ``Omega``."""
     ne, nq = w.shape
     total = 0.0
     u = np.empty(3)
@@ -115,50 +116,20 @@ def motional_emf(w, plasma, X, A, U, B):
 
 
 @njit(cache=True)
-def assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev):
-    """``_assemble`` with the number of element functions fixed for the cubic element
-    (``kernels.CUBIC``), or read from the tables."""
-    nf = S.shape[2]
-    if nf == CUBIC:
-        _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, CUBIC)
-    else:
-        _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, nf)
-
-
-@njit(cache=True, inline="always")
-def _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, nf):
-    """The current ``I = I_0 + G E`` (``drive = [I_0, G]``; ``E`` by (3), the open-circuit
-    EMF, whatever the current) into ``out = [I, E]``, the generalized force
-    ``int S^T f dx`` of (1) into ``ev``'s external forces and ``-cK dF/dq`` (by (2), at
-    fixed ``I``) into its matrix values at ``index`` (ne, 3 nf, 3 nf), ``nf`` functions
-    per element."""
-    q, v, s, f, f_ext, fd, data, energy, power = ev
-    ne, nq = w.shape
-    nd = 3 * nf
-    E = motional_emf(w, plasma, X, A, U, B)
-    current = drive[0] + drive[1] * E
-    out[0], out[1] = current, E
-    want = data.size > 0
-    cK = s[1]
-    h = np.empty(3)
-    Hx = np.empty((3, 3))
-    Ha = np.empty((3, 3))
-    fe = np.empty(nd)
-    Ke = np.empty((nd, nd))
+def forces(current, want, A, B, dB, F, Fx, Fa):
+    """The force (1) ``F`` (ne, nq, 3) at the points of slopes ``A`` in the fields ``B``
+    (ne, nq, 3) of gradients ``dB`` (ne, nq, 3, 3), and if ``want`` its derivatives (2) at
+    fixed ``current``: ``Fx`` and ``Fa`` (ne, nq, 3, 3)."""
+    ne, nq = F.shape[:2]
     for e in range(ne):
-        fe[:] = 0.0
-        Ke[:] = 0.0
         for g in range(nq):
             a, b, db = A[e, g], B[e, g], dB[e, g]
-            h[0] = current * (a[1] * b[2] - a[2] * b[1])
-            h[1] = current * (a[2] * b[0] - a[0] * b[2])
-            h[2] = current * (a[0] * b[1] - a[1] * b[0])
-            wg = w[e, g]
-            for k in range(nf):
-                for i in range(3):
-                    fe[3 * k + i] += wg * S[e, g, k] * h[i]
+            F[e, g, 0] = current * (a[1] * b[2] - a[2] * b[1])
+            F[e, g, 1] = current * (a[2] * b[0] - a[0] * b[2])
+            F[e, g, 2] = current * (a[0] * b[1] - a[1] * b[0])
             if not want:
                 continue
+            Hx, Ha = Fx[e, g], Fa[e, g]
             for j in range(3):
                 # I [a]_x dB/dx, column j: I a x (dB[:, j])
                 Hx[0, j] = current * (a[1] * db[2, j] - a[2] * db[1, j])
@@ -168,28 +139,48 @@ def _assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev, nf
             Ha[0, 0], Ha[0, 1], Ha[0, 2] = 0.0, current * b[2], -current * b[1]
             Ha[1, 0], Ha[1, 1], Ha[1, 2] = -current * b[2], 0.0, current * b[0]
             Ha[2, 0], Ha[2, 1], Ha[2, 2] = current * b[1], -current * b[0], 0.0
-            for k in range(nf):
-                sk = cK * wg * S[e, g, k]
-                for m in range(nf):
-                    sm, xm = S[e, g, m], Sx[e, g, m]
-                    for i in range(3):
-                        for j in range(3):
-                            Ke[3 * k + i, 3 * m + j] -= sk * (sm * Hx[i, j] + xm * Ha[i, j])
-        for k in range(nd):
-            f_ext[edofs[e, k]] += fe[k]
-        if want:
-            for k in range(nd):
-                for m in range(nd):
-                    data[index[e, k, m]] += Ke[k, m]
+
+
+@njit(cache=True)
+def gather(pack, ev):
+    """The first pass: the absolute positions, slopes and velocities of the points into
+    the scratch ``X``, ``A``, ``U`` of ``pack`` (``kernel``), by ``line.points``."""
+    points, motion, source, drive, plasma, scratch, out = pack
+    edofs, S, Sx, w = points
+    X, A, U, B, dB, F, Fx, Fa, Fv = scratch
+    line.points(edofs, S, Sx, ev[0], ev[1], X, A, U)
+    offset(motion, X, U)
+
+
+@njit(cache=True)
+def finish(pack, index, ev):
+    """The second pass, with the fields ``B``, ``dB`` at the points in ``pack``: the
+    current ``I = I_0 + G E`` (``drive = [I_0, G]``; ``E`` by (3), the open-circuit EMF,
+    whatever the current) into ``out = [I, E]``, the force (1) at the points and, at fixed
+    ``I``, its derivatives (2), scattered by ``line.assemble`` into ``ev``'s external
+    forces and matrix values at ``index`` (ne, 3 nf, 3 nf)."""
+    points, motion, source, drive, plasma, scratch, out = pack
+    edofs, S, Sx, w = points
+    X, A, U, B, dB, F, Fx, Fa, Fv = scratch
+    q, v, s, f, f_ext, fd, data, energy, power = ev
+    E = motional_emf(w, plasma, X, A, U, B)
+    current = drive[0] + drive[1] * E
+    out[0], out[1] = current, E
+    want = data.size > 0
+    forces(current, want, A, B, dB, F, Fx, Fa)
+    line.assemble(edofs, S, Sx, w, F, Fx, Fa, Fv, s[1], 0.0, f_ext, data, index)
 
 
 @njit(cache=True)
 def kernel(pack, index, ev):
     """The compiled hook of the evaluation contract (``contract.Term.kernels``) for a
-    uniform field plus a dipole: ``pack = (edofs, S, Sx, w, motion (2, 3), source (2, 3),
-    drive (2,), plasma (3,), X, A, U (ne, nq, 3), B (ne, nq, 3), dB (ne, nq, 3, 3),
-    out (2,))``; ``X ... dB`` are scratch, ``out`` receives ``[I, E]``."""
-    edofs, S, Sx, w, motion, source, drive, plasma, X, A, U, B, dB, out = pack
-    gauss_points(edofs, S, Sx, ev[0], ev[1], motion, X, A, U)
-    dipole_points(source, X, B, dB)
-    assemble(edofs, S, Sx, w, drive, plasma, X, A, U, B, dB, out, index, ev)
+    uniform field plus a dipole: ``pack = ((edofs, S, Sx, w), motion (2, 3), source
+    (2, 3), drive (2,), plasma (3,), scratch, out (2,))`` with the line body's points
+    (``lines.LinePoints``), ``scratch = (X, A, U, B (ne, nq, 3), dB, F (ne, nq, 3),
+    Fx, Fa, Fv (ne, nq, 3, 3))`` (``Fv`` zero: the force does not depend on the
+    velocity at fixed current) and ``out`` receiving ``[I, E]``: ``gather``, the field
+    (4) at the points, ``finish``."""
+    gather(pack, ev)
+    points, motion, source, drive, plasma, scratch, out = pack
+    dipole_points(source, scratch[0], scratch[3], scratch[4])
+    finish(pack, index, ev)

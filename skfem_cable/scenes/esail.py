@@ -446,15 +446,12 @@ def _resultants(scene, result, C_I_B, table):
         for name in table.values:
             table.set(name, result.inputs[name][k])
         coef = wf.coefficients(t, sources)
-        start = 0
         for i, cable in enumerate(scene.tethers):
             qc = result.q[k, system.dofs(cable)]
             qe = cable.element_vectors(qc)
             r = np.einsum("egA,eAi->egi", cable.S, qe)
             a = np.einsum("egA,eAi->egi", cable.Sx, qe)
-            f = wf.line_force(r, a, coef[start: start + cable.n_elements, None], t,
-                              result.reference)
-            start += cable.n_elements
+            f = wf.line_force(r, a, coef[i, None, None], t, result.reference)
             fw = f * cable.weights[..., None]
             force[k, i] = fw.sum(axis=(0, 1))
             moment[k, i] = np.cross(r - qc[:3], fw).sum(axis=(0, 1))
