@@ -266,7 +266,8 @@ class SolarWindForce:
 
     def bind(self, system, reference=None, inputs=None):
         """The compiled term: the loop of ``kernels.line`` with the point function
-        ``kernels.coulomb.point`` over the points of the cables' line-body hook
+        ``kernels.coulomb.point`` (``point_uniform`` for a wind that does not scale with
+        the distance: no power at every point) over the points of the cables' line-body hook
         (``lines.line_points``), the per-element coefficient its ``scale`` (its
         ``kernel_parallel`` on more than one thread, ``linalg.thread_count``).  A
         time-modulated voltage, a deploying tether (the mesh stretch ``lam(t)`` multiplies
@@ -288,7 +289,8 @@ class SolarWindForce:
                 part(t)
 
         prepare(0.0)
-        hooks = line.module(kernel.point, velocity=False)
+        point = kernel.point if self.scaling[1] != 0.0 else kernel.point_uniform
+        hooks = line.module(point, velocity=False)
         hook = hooks.kernel_parallel if thread_count() > 1 else hooks.kernel
         rows, cols = points.tangent_pattern()
         return Term(kernels=((hook, pack),), rows=rows, cols=cols, name="solar wind",

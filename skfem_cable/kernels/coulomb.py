@@ -32,7 +32,22 @@ def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     ``work[2]`` the projections).  Inlined into the generated loop, as before the loop
     was generic (its CPU time per evaluation is the hand-written loop's)."""
     sun, scaling = params
-    d0, power = scaling[0], scaling[1]
+    _wind(sun, scaling[0], scaling[1], True, x, a, want, f, Fx, Fa, work)
+
+
+@njit(cache=True, inline="always")
+def point_uniform(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
+    """``point`` of a wind that does not scale with the distance (``p = 0``: ``s = 1``,
+    the paper's force law), without the power and its derivative at every point: the
+    same numbers, bit for bit."""
+    sun, scaling = params
+    _wind(sun, 1.0, 0.0, False, x, a, want, f, Fx, Fa, work)
+
+
+@njit(cache=True, inline="always")
+def _wind(sun, d0, power, scaled, x, a, want, f, Fx, Fa, work):
+    """The force and its derivatives of ``point``; ``scaled``: a constant of the inlined
+    copy, False when ``power`` is 0 (``s = 1``)."""
     r = work[0, 0]
     u = work[0, 1]
     for i in range(3):
@@ -43,7 +58,7 @@ def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
         r[i] /= rho
         u[i] = a[i] / p
     ti = r[0] * u[0] + r[1] * u[1] + r[2] * u[2]
-    s = (d0 / rho) ** power
+    s = (d0 / rho) ** power if scaled else 1.0
     for i in range(3):
         f[i] = s * (r[i] - ti * u[i])
     if not want:
