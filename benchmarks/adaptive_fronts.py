@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import (
+from skfem_cable.cli.bench import (
     RESULTS,
     arguments,
     largest_differences,

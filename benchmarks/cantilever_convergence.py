@@ -11,8 +11,8 @@ import time
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastica_tip_load
-from skfem_cable.bench import arguments
+from skfem_cable.analysis.analytic import elastica_tip_load
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import classics
 
 KS = (1, 2, 5, 10)

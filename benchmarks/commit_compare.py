@@ -36,7 +36,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from skfem_cable.bench import git_commit
+from skfem_cable.cli.bench import git_commit
 
 ROOT = Path(__file__).resolve().parents[1]
 

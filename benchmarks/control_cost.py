@@ -21,7 +21,7 @@ from dataclasses import replace
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import esail
 
 SETTINGS = {"full": {"t_end": 600.0, "repeats": 3}, "quick": {"t_end": 60.0, "repeats": 3}}

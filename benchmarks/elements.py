@@ -84,17 +84,17 @@ from scipy.optimize import brentq
 from skfem import MeshLine
 
 import skfem_cable as sc
-from skfem_cable.analytic import (
+from skfem_cable.analysis.analytic import (
     elastic_catenary,
     elastica_tip_load,
     elastica_tip_load_angle,
-    green_stretch,
     rotating_string,
     string_frequency,
 )
+from skfem_cable.bodies.catenary import green_stretch
+from skfem_cable.cli.validation import observed_rates
 from skfem_cable.scenes import classics
 from skfem_cable.scenes.classics import ELASTICA_SECTION
-from skfem_cable.validation import observed_rates
 
 #: Gravity (m/s^2).
 G = 9.81

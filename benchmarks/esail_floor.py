@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.kernels import bordered
 from skfem_cable.scenes import esail
 from skfem_cable.solvers import compiled as compiled_step

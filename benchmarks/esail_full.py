@@ -34,8 +34,8 @@ import numba
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import RESULTS, arguments, largest_differences, timings
-from skfem_cable.linalg import THREADS, PatternSolver
+from skfem_cable.cli.bench import RESULTS, arguments, largest_differences, timings
+from skfem_cable.core.linalg import THREADS, PatternSolver
 from skfem_cable.scenes import esail
 
 SETTINGS = {"full": {"t_end": 3600.0, "repeats": 10}, "quick": {"t_end": 300.0, "repeats": 5}}

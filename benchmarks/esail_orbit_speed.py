@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import esail
 
 SETTINGS = {"full": {"t_end": 86400.0, "repeats": 2},

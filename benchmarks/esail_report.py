@@ -13,8 +13,8 @@ import time
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
-from skfem_cable.coulomb import SolarWind
+from skfem_cable.cli.bench import arguments
+from skfem_cable.loads.coulomb import SolarWind
 from skfem_cable.scenes import esail
 
 

@@ -9,8 +9,8 @@ about 1 (linear cost).  Run ``python benchmarks/kernel_cost.py [--quick]`` (``--
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments, timings
-from skfem_cable.linalg import PatternSolver
+from skfem_cable.cli.bench import arguments, timings
+from skfem_cable.core.linalg import PatternSolver
 
 SIZES = {"full": (10, 30, 100, 300, 1000, 3000, 10000), "quick": (100, 300, 1000, 3000, 10000)}
 

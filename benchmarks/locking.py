@@ -1,5 +1,5 @@
 """Accuracy and cost of the three formulations of the cable (``Cable(...,
-formulation=...)``, ``skfem_cable.formulation``): the paper's (every term on the 5-point
+formulation=...)``, ``skfem_cable.bodies.formulation``): the paper's (every term on the 5-point
 Gauss rule), the Lobatto (the axial part on the 3-point Gauss-Lobatto rule, nodes and
 midpoint) and the default, the assumed strain (the axial strain interpolated from its
 nodal values and element means, ``kernels.assumed_strain``).  Both locking-free ones put
@@ -70,8 +70,12 @@ from pathlib import Path
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable import validation as V  # the cases of tests/test_validation_statics.py
-from skfem_cable.analytic import elastica_catenary, elastica_tip_load, elastica_tip_load_angle
+from skfem_cable.analysis.analytic import (
+    elastica_catenary,
+    elastica_tip_load,
+    elastica_tip_load_angle,
+)
+from skfem_cable.cli import validation as V  # the cases of tests/test_validation_statics.py
 from skfem_cable.scenes import classics, esail
 from skfem_cable.scenes.classics import ELASTICA_SECTION
 

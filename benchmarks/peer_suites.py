@@ -35,8 +35,8 @@ import tempfile
 import numpy as np
 from peers import import_peer, quiet
 
+from skfem_cable.results.timeseries import period
 from skfem_cable.scenes import peer_suites as ps
-from skfem_cable.timeseries import period
 
 CASES = ("cantilever", "free_beam", "tip_load", "softening", "pendulum")
 

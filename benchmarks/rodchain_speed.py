@@ -27,7 +27,7 @@ import scipy.sparse as sp
 from scipy.linalg import cho_factor, cho_solve
 from scipy.sparse.linalg import splu, spsolve
 
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.rodchain import RodChain
 
 DENSE_MAX = 4000

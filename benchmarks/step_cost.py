@@ -28,7 +28,7 @@ import time
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import classics
 
 SETTINGS = {"full": {"sizes": (10, 30, 100, 300, 1000, 3000, 10000), "steps": 400, "repeats": 3},

@@ -32,7 +32,7 @@ import time
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import classics
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.bench import arguments
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes.catalog import esail_scene
 from skfem_cable.study import run_name, run_point
 

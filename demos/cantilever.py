@@ -15,7 +15,7 @@ import time
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.analysis.analytic import elastica_tip_load
 from skfem_cable.scenes import classics
 
 

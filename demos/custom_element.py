@@ -17,7 +17,7 @@ elastica with both strain measures.
 
 import skfem_cable as sc
 from skfem_cable import laws
-from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.analysis.analytic import elastica_tip_load
 
 
 # --8<-- [start:biot]

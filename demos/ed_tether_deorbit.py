@@ -34,8 +34,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 import skfem_cable as sc
-from skfem_cable.electrodynamic import MU0_OVER_4PI, OMEGA_EARTH
-from skfem_cable.orbit_gravity import system_mass_points
+from skfem_cable.loads.electrodynamic import MU0_OVER_4PI, OMEGA_EARTH
+from skfem_cable.loads.orbit_gravity import system_mass_points
 
 #: The tether and its circuit (SI units).
 TETHER = {"length": 5e3, "radius": 1e-3, "E": 7e10, "density": 2700.0, "end_mass": 500.0,

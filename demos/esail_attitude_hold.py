@@ -23,8 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from skfem_cable.orbit import AU, MU_SUN
 from skfem_cable.scenes.esail_attitude import hold_sail_angle
+from skfem_cable.space.constants import AU, MU_SUN
 
 ALPHA = 30.0
 

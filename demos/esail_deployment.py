@@ -63,9 +63,9 @@ import numpy as np
 from scipy.optimize import root_scalar
 
 import skfem_cable as sc
-from skfem_cable.deploy import smooth_profile
-from skfem_cable.frames import dcm_321, orbit_frame
+from skfem_cable.constraints.deploy import smooth_profile
 from skfem_cable.scenes import esail
+from skfem_cable.space.frames import dcm_321, orbit_frame
 
 CONFIG = esail.BaselineConfig()                  # the paper's Table 1
 HUB_RADIUS, REMOTE_MASS = CONFIG.hub_radius, CONFIG.remote_mass
@@ -323,7 +323,7 @@ def animation(out, path, degrees=30.0, window_size=(640, 480)):
     the start are not aliased by the four-fold symmetry of the sail, and the slow ones
     at the end are not drawn many times.  Returns the number of frames."""
     from skfem_cable import plot
-    from skfem_cable.records import FIELDS
+    from skfem_cable.core.records import FIELDS
 
     r = out["result"]
     turned = out["fan_angle"] - out["fan_angle"][0]

@@ -28,9 +28,9 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 import skfem_cable as sc
-from skfem_cable.orbit import differential_gravity
-from skfem_cable.orbit_gravity import system_mass_points
+from skfem_cable.loads.orbit_gravity import system_mass_points
 from skfem_cable.scenes import esail
+from skfem_cable.space.tidal import differential_gravity
 
 DAY = 86400.0
 

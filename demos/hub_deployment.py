@@ -18,7 +18,7 @@ rotation rate of the fan (of the end masses), and the run.
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.deploy import smooth_profile
+from skfem_cable.constraints.deploy import smooth_profile
 
 SECTION = sc.Section.circular(5e-4, 1e11, 1000.0)     # 0.8 g/m, EA = 79 kN
 

@@ -27,7 +27,8 @@ from scipy.integrate import solve_bvp
 from skfem import MeshLine
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastic_catenary, green_stretch
+from skfem_cable.analysis.analytic import elastic_catenary
+from skfem_cable.bodies.catenary import green_stretch
 
 #: The line, the water and the current (SI units); ``x`` along the span, ``z`` up.
 LINE = {"length": 100.0, "span": 80.0, "diameter": 0.05, "mass_per_length": 10.0,

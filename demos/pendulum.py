@@ -21,9 +21,9 @@ Run ``python demos/pendulum.py``.
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.analytic import compound_pendulum_period
+from skfem_cable.analysis.analytic import compound_pendulum_period
+from skfem_cable.results.timeseries import zero_crossings
 from skfem_cable.scenes import classics
-from skfem_cable.timeseries import zero_crossings
 
 G = 9.81
 

@@ -28,8 +28,9 @@ import numpy as np
 from scipy.optimize import root_scalar
 
 import skfem_cable as sc
-from skfem_cable.analytic import green_stretch, rotating_string
-from skfem_cable.deploy import smooth_profile
+from skfem_cable.analysis.analytic import rotating_string
+from skfem_cable.bodies.catenary import green_stretch
+from skfem_cable.constraints.deploy import smooth_profile
 
 SECTION = sc.Section.circular(5e-4, 1e11, 1000.0)    # 0.8 g/m, EA = 79 kN
 HUB_RADIUS, TIP_MASS, OMEGA0, CAPACITY = 5.0, 0.1, 0.5, 1010.0

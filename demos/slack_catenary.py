@@ -7,7 +7,7 @@ straight along ``x`` and pinned at its start and, with its far end, at a point 1
 the first: the initial state violates that pin by 2 m.  Under gravity it hangs as the
 elastic catenary (Irvine, *Cable Structures*, 1981), here with the stretch of the
 element's Green-strain law, ``T = EA lambda (lambda^2 - 1) / 2``
-(``skfem_cable.analytic.elastic_catenary``): horizontal force 4.51 N, sag 3.0 m, strain
+(``skfem_cable.analysis.analytic.elastic_catenary``): horizontal force 4.51 N, sag 3.0 m, strain
 up to 7e-3.
 
 ``sc.solve_static`` gets there by one continuation in two stages: the loads are applied
@@ -29,7 +29,7 @@ import argparse
 import numpy as np
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastic_catenary
+from skfem_cable.analysis.analytic import elastic_catenary
 
 LENGTH, SPAN, G = 12.0, 10.0, 9.81
 SECTION = sc.Section(E=1e7, A=1e-4, I=1e-20, rho=1e3)

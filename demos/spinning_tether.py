@@ -20,8 +20,8 @@ Run ``python demos/spinning_tether.py``.
 import numpy as np
 
 import skfem_cable as sc
+from skfem_cable.results.timeseries import period
 from skfem_cable.scenes import classics
-from skfem_cable.timeseries import period
 
 
 def main(n_elements=10, t_end=2.0, dt=1e-3, spin=2.0, tip_mass=0.5):

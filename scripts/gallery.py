@@ -500,7 +500,7 @@ def draw_spinning_tether_steady():
     import numpy as np
 
     from skfem_cable import scene_file
-    from skfem_cable.analytic import rotating_string
+    from skfem_cable.analysis.analytic import rotating_string
     from skfem_cable.solvers.steady import solve_steady
 
     spec = scene_file.load(DEMOS / "spinning_tether_steady.toml")

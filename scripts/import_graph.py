@@ -33,14 +33,14 @@ from scipy.sparse.csgraph import connected_components
 PACKAGE = Path(__file__).resolve().parents[1] / "skfem_cable"
 LIMIT = 500
 
-MODEL = ("skfem_cable.system", "skfem_cable.layout", "skfem_cable.cable",
-         "skfem_cable.constraints", "skfem_cable.loads", "skfem_cable.motion",
-         "skfem_cable.node", "skfem_cable.rigid")
+MODEL = ("skfem_cable.model.system", "skfem_cable.model.layout", "skfem_cable.bodies.cable",
+         "skfem_cable.constraints", "skfem_cable.loads", "skfem_cable.model.motion",
+         "skfem_cable.core.node", "skfem_cable.bodies.rigid")
 #: (name, importers, what they may not import): module-name prefixes.
 LAYERS = [
     ("model", MODEL, ("skfem_cable.io", "skfem_cable.runner", "skfem_cable.plot",
-                      "skfem_cable.export", "skfem_cable.analytic")),
-    ("solvers", ("skfem_cable.solvers",), ("skfem_cable.export", "skfem_cable.io",
+                      "skfem_cable.io.export", "skfem_cable.analysis.analytic")),
+    ("solvers", ("skfem_cable.solvers",), ("skfem_cable.io.export", "skfem_cable.io",
                                           "skfem_cable.runner", "skfem_cable.plot")),
 ]
 #: Not floors of the house: the public API imports every floor, the old paths none.

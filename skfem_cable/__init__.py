@@ -1,22 +1,24 @@
 """skfem_cable: tethers, cables and E-sails on scikit-fem.
 
-Public API (``__all__``, documented on the API page of the docs):
+Public API (``__all__``, documented on the API page of the docs; the packages by role
+and what may import what: ``docs/architecture.md``):
 
 * model: ``Section``, ``Cable`` (and its ``Node``; its element types ``ELEMENTS``,
   ``CableElement``, ``ElementLineCableHermite``, ``ElementLineCableHermite5``,
   ``ElementLineCableLinear``),
   ``RigidBody``, ``System``;
-* loads: ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``, ``Centrifugal``,
-  ``PointMass`` (module ``loads``), the solar wind ``SolarWind``, ``SolarWindForce``, drag
-  in water and in a rarefied atmosphere ``MorisonDrag``, ``Buoyancy``, ``CurrentProfile``,
-  ``FreeMolecularDrag`` (module ``drag``), electrodynamic tethers ``ElectrodynamicForce``,
-  ``MagneticDipole`` (module ``electrodynamic``); constraints: ``System.clamp``, ``System.pin``
-  (module ``constraints``); deploying and retrieving cables: ``System.deploy`` (module
-  ``deploy``), from a ``Reel`` with a torque law ``Brake``, ``Motor``, ``Servo`` (module
-  ``reel``);
+* loads (package ``loads``): ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``,
+  ``Centrifugal``, ``PointMass``, the solar wind ``SolarWind``, ``SolarWindForce``
+  (``loads.coulomb``), drag in water and in a rarefied atmosphere ``MorisonDrag``,
+  ``Buoyancy``, ``CurrentProfile``, ``FreeMolecularDrag`` (``loads.drag``),
+  electrodynamic tethers ``ElectrodynamicForce``, ``MagneticDipole``
+  (``loads.electrodynamic``); constraints: ``System.clamp``, ``System.pin`` (package
+  ``constraints``); deploying and retrieving cables: ``System.deploy``
+  (``constraints.deploy``), from a ``Reel`` with a torque law ``Brake``, ``Motor``,
+  ``Servo`` (``bodies.reel``);
 * orbits: ``Orbit`` (Keplerian reference orbits, the orbiting frame), ``Reference`` (a
   run's reference: the orbit and the rebases of its rectification), the constants
-  ``MU_EARTH``, ``MU_SUN``, ``R_EARTH``, ``AU`` (module ``orbit``);
+  ``MU_EARTH``, ``MU_SUN``, ``R_EARTH``, ``AU`` (package ``space``);
 * element laws: ``cable_law``, ``CableLaw`` and the module ``laws``; their scikit-fem
   forms ``forms``;
 * solvers: ``solve_static`` (``StaticConvergenceError``), ``solve_steady``, ``settle``,
@@ -50,22 +52,29 @@ Examples
 import importlib
 import importlib.util
 
+from . import _moved as _moved  # old module paths, one release (docs/architecture.md)
+
+# isort: split
 from . import kernels as kernels  # first: numba caches and reports the kernels defined after
 
 # isort: split
 from . import environment as environment  # IGRF, IRI, NRLMSIS, epochs, OML current
-from . import export as export  # VTU files for ParaView
-from . import forms as forms  # scikit-fem forms of the element laws
 from . import io as io  # observers: run store, ParaView series, progress bar
 from . import laws as laws  # element laws: energy densities -> compiled kernels
 from . import plot as plot  # renders and figures
-from . import sensors as sensors  # what a controller measures
-from .cable import Cable
-from .contract import Evaluation, Term
-from .control import ControlError, Controller
-from .coulomb import SolarWind, SolarWindForce
-from .drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
-from .electrodynamic import ElectrodynamicForce, MagneticDipole
+from .analysis.tangent_check import check_tangent
+from .bodies import forms as forms  # scikit-fem forms of the element laws
+from .bodies.cable import Cable
+from .bodies.formulation import FORMULATIONS
+from .bodies.reel import Brake, Motor, Reel, Servo
+from .bodies.rigid import RigidBody
+from .bodies.section import Section
+from .control import sensors as sensors  # what a controller measures
+from .control.controller import ControlError, Controller
+from .core.contract import Evaluation, Term
+from .core.inputs import Input
+from .core.node import Node
+from .core.protocols import Observer
 from .elements import (
     ELEMENTS,
     CableElement,
@@ -74,29 +83,29 @@ from .elements import (
     ElementLineCableLinear,
 )
 from .environment import Epoch
-from .formulation import FORMULATIONS
-from .inputs import Input
+from .io import export as export  # VTU files for ParaView
 from .laws import CableLaw, cable_law
-from .loads import Centrifugal, Gravity, LineLoad, PointLoad, PointMass, PointMoment
-from .node import Node
-from .orbit import AU, MU_EARTH, MU_SUN, R_EARTH, Orbit, Reference
-from .protocols import Observer
-from .reel import Brake, Motor, Reel, Servo
-from .result import Result
-from .rigid import RigidBody
+from .loads.coulomb import SolarWind, SolarWindForce
+from .loads.drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
+from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
+from .loads.gravity import Centrifugal, Gravity
+from .loads.line import LineLoad
+from .loads.point import PointLoad, PointMass, PointMoment
+from .model.state import State
+from .model.system import System, SystemChanged
+from .results.result import Result
 from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anchor
 from .scenes import esail as esail
-from .section import Section
 from .solvers.modal import modes
 from .solvers.settle import settle
 from .solvers.simulate import simulate
 from .solvers.static import StaticConvergenceError, solve_static
 from .solvers.steady import solve_steady
 from .solvers.step_control import SimulationError
-from .state import State
+from .space.constants import AU, MU_EARTH, MU_SUN, R_EARTH
+from .space.orbit import Orbit
+from .space.reference import Reference
 from .study import sweep  # parameter studies on Dask distributed
-from .system import System, SystemChanged
-from .tangent_check import check_tangent
 
 __all__ = [
     "check_tangent",
@@ -170,6 +179,9 @@ def __getattr__(name):
     """The package's submodules not imported above (``scene_file``, ``validation``,
     ``runner``, ...), imported when first named: ``sc.scene_file.load(path)`` works
     without ``import skfem_cable.scene_file``."""
+    found = _moved.attribute(name)
+    if found is not None:
+        return found
     if importlib.util.find_spec(f"{__name__}.{name}") is None:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     return importlib.import_module(f"{__name__}.{name}")

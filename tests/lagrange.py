@@ -3,7 +3,7 @@ energy evaluated independently (``test_deploy``, ``test_reel``)."""
 
 import numpy as np
 
-from skfem_cable.contract import Evaluation
+from skfem_cable.core.contract import Evaluation
 
 
 def cubic_path(c):

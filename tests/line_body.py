@@ -1,7 +1,7 @@
 """A line body that is not a ``Cable``: a string of Lagrange-quadratic elements (three nodes
 each, positions only, no slopes) with Green-strain axial elasticity, written as a user
 would (``docs/extending.md``, "A line body").  It declares its points through the
-line-body hook ``line_points(system)`` (``skfem_cable.lines``) and its internal forces as
+line-body hook ``line_points(system)`` (``skfem_cable.core.lines``) and its internal forces as
 a compiled kernel that uses the one gather and interpolation of ``kernels.line``: every
 built-in line load reaches it, and it runs on the compiled step."""
 
@@ -10,8 +10,8 @@ import scipy.sparse as sps
 from numba import njit
 
 import skfem_cable as sc
+from skfem_cable.core.lines import LinePoints
 from skfem_cable.kernels.line import gather, interpolate
-from skfem_cable.lines import LinePoints
 
 #: Gauss points per element: exact for the products of the quadratic functions.
 POINTS = 4
@@ -132,7 +132,7 @@ class QuadraticString:
         d = system.dofs(self)
         points, velocity = q[d].reshape(-1, 3), v[d].reshape(-1, 3)
         cells = np.stack([np.arange(len(points) - 1), np.arange(1, len(points))], 1)
-        return sc.contract.Shape(points, velocity, "line", cells, part=4)
+        return sc.core.contract.Shape(points, velocity, "line", cells, part=4)
 
     def outputs(self, system, q, t):
         return {"length": float(np.linalg.norm(np.diff(q[system.dofs(self)].reshape(-1, 3),

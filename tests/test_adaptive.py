@@ -7,7 +7,7 @@ import pytest
 from interrupting import Interrupt, InterruptingLoad
 
 import skfem_cable as sc
-from skfem_cable.bench import largest_position_error
+from skfem_cable.cli.bench import largest_position_error
 from skfem_cable.io import RunStore
 from skfem_cable.scenes import classics
 

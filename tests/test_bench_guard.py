@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from skfem_cable import cli
+from skfem_cable.cli import command as cli
 
 ROOT = Path(__file__).parents[1]
 

@@ -12,7 +12,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from skfem_cable import bench, cli
+from skfem_cable.cli import bench
+from skfem_cable.cli import command as cli
 
 ROOT = Path(__file__).parents[1]
 BENCH = ROOT / "benchmarks"
@@ -209,7 +210,7 @@ def test_tasks_bench_passes_arguments_after_a_double_dash(monkeypatch):
 def test_largest_differences_are_relative_to_the_largest_value():
     """A run off by 0.01 at one time, on a reference that crosses zero and peaks at 2:
     0.005, interpolated to the reference's times; the same run, zero."""
-    from skfem_cable.bench import largest_differences
+    from skfem_cable.cli.bench import largest_differences
 
     t = np.linspace(0.0, 1.0, 11)
     y = np.stack([2 * np.sin(np.pi * t), np.ones_like(t)], axis=1)

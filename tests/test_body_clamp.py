@@ -10,7 +10,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import skfem_cable as sc
-from skfem_cable.constraints import BodySlope
+from skfem_cable.constraints.joints import BodySlope
 
 #: Body to inertial rotation of the hub: its axis (body x) along the global z axis, body y
 #: along global x.

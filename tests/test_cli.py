@@ -7,8 +7,10 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import cli, export, scene_file
-from skfem_cable.analytic import elastica_tip_load
+from skfem_cable import scene_file
+from skfem_cable.analysis.analytic import elastica_tip_load
+from skfem_cable.cli import command as cli
+from skfem_cable.io import export
 from skfem_cable.runner import RunOptions
 from skfem_cable.scenes import catalog
 

@@ -13,7 +13,8 @@ import numpy as np
 from numba import njit
 
 import skfem_cable as sc
-from skfem_cable import cli, runner
+from skfem_cable import runner
+from skfem_cable.cli import command as cli
 from skfem_cable.kernels import cache, lapack
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -9,10 +9,10 @@ import scipy.sparse as sp
 from scipy.linalg import lapack
 
 import skfem_cable as sc
+from skfem_cable.core.linalg import PatternSolver, SingularMatrixError
 from skfem_cable.kernels.bordered import band_substitute
 from skfem_cable.kernels.generated import source_id
 from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
-from skfem_cable.linalg import PatternSolver, SingularMatrixError
 from skfem_cable.scenes import classics, esail
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 

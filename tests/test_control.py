@@ -269,14 +269,15 @@ def test_a_scene_file_names_its_inputs_and_controllers(tmp_path):
     """``{input = ..., value = ...}`` makes an input, ``[[controllers]]`` names the code
     that controls it (a file beside the scene); the run holds the tip as the API run
     does, and a bad name is refused naming the key."""
-    from skfem_cable import cli, scene_file
+    from skfem_cable import scene_file
+    from skfem_cable.cli import command as cli
 
     (tmp_path / "hold.py").write_text(CONTROLLER)
     path = tmp_path / "held.toml"
     path.write_text(SCENE)
     spec = scene_file.load(path)
     assert [type(c).__name__ for c in spec.controllers] == ["Hold"]
-    assert sc.inputs.system_inputs(spec.system)["push"].initial.tolist() == [0, 0, 0]
+    assert sc.core.inputs.system_inputs(spec.system)["push"].initial.tolist() == [0, 0, 0]
     out = tmp_path / "run"
     assert cli.main(["run", str(path), "--out", str(out), "--no-progress", "--no-plots"]) == 0
     result = sc.Result.load(out, scene_file.load(path).system)

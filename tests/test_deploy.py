@@ -1,4 +1,4 @@
-"""Deploying and retrieving tethers (``System.deploy``, ``skfem_cable.deploy``)."""
+"""Deploying and retrieving tethers (``System.deploy``, ``skfem_cable.constraints.deploy``)."""
 
 import numpy as np
 import pytest
@@ -242,7 +242,7 @@ def test_summary_of_a_deploying_scene_reports_the_free_length(tmp_path):
     import json
     from pathlib import Path
 
-    from skfem_cable.cli import main
+    from skfem_cable.cli.command import main
 
     scene = Path(__file__).resolve().parents[1] / "demos" / "tether_lowering.toml"
     out = tmp_path / "run"

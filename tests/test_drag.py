@@ -1,4 +1,4 @@
-"""Fluid drag on cables (``skfem_cable.drag``): exact tangents against finite differences,
+"""Fluid drag on cables (``skfem_cable.loads.drag``): exact tangents against finite differences,
 the point forces against their closed forms, free-molecular drag on straight tethers
 against the integrated closed form, the settled mooring line in a current against the
 cable equilibrium equations (``solve_bvp``), the demo's transient, MoorDyn (skipped
@@ -13,7 +13,7 @@ from demo_modules import load, load_demo
 
 import skfem_cable as sc
 from skfem_cable import scene_file
-from skfem_cable.drag import Flow, QuadraticDrag
+from skfem_cable.loads.drag import Flow, QuadraticDrag
 
 ROOT = Path(__file__).resolve().parents[1]
 SECTION = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0)
@@ -261,7 +261,7 @@ def test_moordyn_agrees_within_one_percent(demo):
 
 
 def test_docstring_examples_run():
-    from skfem_cable import drag
+    from skfem_cable.loads import drag
 
     result = doctest.testmod(drag, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
     assert result.attempted > 0 and result.failed == 0

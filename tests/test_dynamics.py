@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.analytic import compound_pendulum_period
+from skfem_cable.analysis.analytic import compound_pendulum_period
+from skfem_cable.results.timeseries import zero_crossings
 from skfem_cable.scenes import classics
 from skfem_cable.solvers.galpha import GeneralizedAlpha, galpha_parameters
-from skfem_cable.timeseries import zero_crossings
 
 
 def test_public_api_script():

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.analytic import string_frequency
+from skfem_cable.analysis.analytic import string_frequency
+from skfem_cable.results.timeseries import decay_rate, period
 from skfem_cable.scenes import classics
-from skfem_cable.timeseries import decay_rate, period
 
 YOUNG, RHO, L = 2e11, 7800.0, 1.0
 C_BAR = np.sqrt(YOUNG / RHO)

@@ -6,9 +6,9 @@ import pytest
 from demo_modules import load_demo
 
 import skfem_cable as sc
-from skfem_cable.contract import Evaluation
-from skfem_cable.electrodynamic import MU0_OVER_4PI, OMEGA_EARTH
-from skfem_cable.orbit_gravity import system_mass_points
+from skfem_cable.core.contract import Evaluation
+from skfem_cable.loads.electrodynamic import MU0_OVER_4PI, OMEGA_EARTH
+from skfem_cable.loads.orbit_gravity import system_mass_points
 
 ORBIT = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 400e3)
 TETHER = sc.Section.circular(1e-3, 7e10, 2700.0)

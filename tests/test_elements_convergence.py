@@ -11,7 +11,8 @@ from scipy.optimize import brentq
 from skfem import MeshLine
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastic_catenary, green_stretch, rotating_string
+from skfem_cable.analysis.analytic import elastic_catenary, rotating_string
+from skfem_cable.bodies.catenary import green_stretch
 from skfem_cable.scenes import classics
 
 G = 9.81

@@ -147,7 +147,7 @@ def test_plasmas_co_rotate_and_check_their_arguments():
     v = iri.velocity(X, T)
     omega = iri.epoch.earth_rotation(T)
     assert np.allclose(v, np.cross(omega, X), rtol=1e-15)
-    assert np.linalg.norm(omega) == pytest.approx(sc.orbit.OMEGA_EARTH)
+    assert np.linalg.norm(omega) == pytest.approx(sc.space.constants.OMEGA_EARTH)
     plasma = sc.environment.UniformPlasma(1e11, temperature=2000.0, velocity=(1.0, 2.0, 3.0))
     assert plasma.velocity(X).shape == X.shape and plasma.temperature(X).shape == (2,)
     with pytest.raises(ValueError, match="density"):

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.coulomb import AU, SolarWind, SolarWindForce
-from skfem_cable.frames import dcm_321, dcm_323, euler_321, euler_323, orbit_frame
+from skfem_cable.loads.coulomb import AU, SolarWind, SolarWindForce
 from skfem_cable.scenes import esail
+from skfem_cable.space.frames import dcm_321, dcm_323, euler_321, euler_323, orbit_frame
 
 TETHER = esail.BaselineConfig().section
 

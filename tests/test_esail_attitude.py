@@ -6,8 +6,8 @@ phase-synchronous modulation holds it."""
 import numpy as np
 import pytest
 
-from skfem_cable.orbit import AU, MU_SUN
 from skfem_cable.scenes.esail_attitude import hold_sail_angle
+from skfem_cable.space.constants import AU, MU_SUN
 
 DAYS = 0.3
 

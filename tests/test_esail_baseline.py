@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.coulomb import SolarWind
+from skfem_cable.loads.coulomb import SolarWind
 from skfem_cable.scenes import esail
 
 pytestmark = pytest.mark.slow

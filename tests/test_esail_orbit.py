@@ -8,8 +8,8 @@ from scipy.integrate import solve_ivp
 from scipy.interpolate import CubicSpline
 
 import skfem_cable as sc
-from skfem_cable.coulomb import AU, THRUST_EXPONENT, SolarWindForce, SunAtFocus
-from skfem_cable.orbit_gravity import system_mass_points
+from skfem_cable.loads.coulomb import AU, THRUST_EXPONENT, SolarWindForce, SunAtFocus
+from skfem_cable.loads.orbit_gravity import system_mass_points
 from skfem_cable.scenes import esail
 
 CONFIG = esail.BaselineConfig()

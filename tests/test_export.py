@@ -7,8 +7,8 @@ import pyvista as pv
 from interrupting import Interrupt, InterruptingLoad
 
 import skfem_cable as sc
-from skfem_cable import export
-from skfem_cable.rigid import RigidBody
+from skfem_cable.bodies.rigid import RigidBody
+from skfem_cable.io import export
 from skfem_cable.scenes import classics
 
 
@@ -67,7 +67,8 @@ def test_hub_is_a_closed_cylinder_following_the_motion(tmp_path):
     path = export.write_vtu(tmp_path / "hub.vtu", system, sc.State(system, q, v=v))
     grid = pv.read(path)
     part = grid.cell_data["part"]
-    surface = grid.extract_cells(part == sc.contract.PART_RIGID).extract_surface(algorithm=None)
+    rigid = part == sc.core.contract.PART_RIGID
+    surface = grid.extract_cells(rigid).extract_surface(algorithm=None)
     assert surface.n_open_edges == 0
     n = 32
     assert surface.volume == pytest.approx(0.5 * n * np.sin(2 * np.pi / n) * 0.25 * 1.0,
@@ -79,10 +80,10 @@ def test_hub_is_a_closed_cylinder_following_the_motion(tmp_path):
     assert np.allclose(grid.point_data["velocity"][hub_pts],
                        np.cross(omega, grid.points[hub_pts]), atol=1e-12)
     assert np.all(np.isnan(grid.point_data["tension"][hub_pts]))
-    mass = grid.extract_cells(part == sc.contract.PART_POINT_MASS)
+    mass = grid.extract_cells(part == sc.core.contract.PART_POINT_MASS)
     assert mass.n_points == 1
     assert np.allclose(mass.points[0], R @ [0, 4.5, 0])
-    assert np.all(grid.cell_data["body_id"][part == sc.contract.PART_CABLE] == 1)
+    assert np.all(grid.cell_data["body_id"][part == sc.core.contract.PART_CABLE] == 1)
 
 
 def test_series_writer_appends_after_a_restart(tmp_path):
@@ -103,7 +104,7 @@ def test_bad_sampling_is_named():
     with pytest.raises(ValueError, match="points_per_element"):
         tether.sample(tether.q0, points_per_element=0)
     with pytest.raises(ValueError, match="resolution"):
-        sc.rigid.cylinder_surface(1.0, 1.0, resolution=2)
+        sc.bodies.rigid.cylinder_surface(1.0, 1.0, resolution=2)
 
 
 def _sine(t):

@@ -9,7 +9,9 @@ from demo_modules import load_demo
 from numba import njit
 
 import skfem_cable as sc
-from skfem_cable.constraints import SlopeDirection, pin, time_derivatives
+from skfem_cable.constraints.joints import pin
+from skfem_cable.constraints.linear import SlopeDirection
+from skfem_cable.constraints.prescribed import time_derivatives
 
 SECTION = sc.Section(E=2e9, A=1e-4, I=1e-9, rho=1000.0, gamma_axial=0.01,
                      gamma_bending=0.02)
@@ -205,7 +207,7 @@ class Bead:
 
     def show(self, system, q, v, t, **detail):
         d = system.dofs(self)
-        return sc.contract.Shape(q[d][None], v[d][None], "vertex", [[0]], part=3,
+        return sc.core.contract.Shape(q[d][None], v[d][None], "vertex", [[0]], part=3,
                                  data={"stretch": [np.linalg.norm(q[d] - self.anchor)]})
 
     def outputs(self, system, q, t):
@@ -244,7 +246,8 @@ def test_user_body_appears_in_paraview_and_the_summary(tmp_path):
     it says (a vertex with its own point data, NaN on the cable's points, the cable's
     fields NaN on it) and reports its numbers in a run's summary; one without them is
     refused, the missing hooks named."""
-    from skfem_cable import export, runner
+    from skfem_cable import runner
+    from skfem_cable.io import export
 
     bead = Bead(m=2.0, k=50.0, anchor=[0, 0, -1])
     cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 2, sc.Section(E=1e9, A=1e-6, I=1e-12,

@@ -22,21 +22,23 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import atomic, cli, export
-from skfem_cable.coulomb import SolarWindForce
+from skfem_cable.cli import command as cli
+from skfem_cable.core.records import ENERGIES, FIELDS, SETTINGS
 from skfem_cable.io import (
     RunExists,
     RunStore,
     StoreCorrupt,
     StoreError,
     StoreMismatch,
+    export,
     resume,
     run_observers,
 )
 from skfem_cable.io.legacy import LEGACY_CHECKPOINT, chunk_name
 from skfem_cable.io.schema import DEFAULT_FIELDS, STORE
-from skfem_cable.records import ENERGIES, FIELDS, SETTINGS
+from skfem_cable.loads.coulomb import SolarWindForce
 from skfem_cable.scenes import classics
+from skfem_cable.util import atomic
 
 # ===========================================================================================
 # Store faults (issue 12): the run store never loses or mixes data

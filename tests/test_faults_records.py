@@ -22,12 +22,13 @@ import pytest
 import xarray as xr
 
 import skfem_cable as sc
-from skfem_cable import atomic, cli, export
-from skfem_cable.io import RunLocked, RunStore, StoreCorrupt, lock
+from skfem_cable.cli import command as cli
+from skfem_cable.io import RunLocked, RunStore, StoreCorrupt, export, lock
 from skfem_cable.io.progress import Progress
 from skfem_cable.scenes import catalog, classics
 from skfem_cable.scenes.catalog import pendulum_scene
 from skfem_cable.study import run_point
+from skfem_cable.util import atomic
 
 #: Options of every small command-line run.
 QUIET = ["--no-progress", "--no-plots"]

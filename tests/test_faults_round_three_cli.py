@@ -10,7 +10,8 @@ from pathlib import Path
 
 import pytest
 
-from skfem_cable import bench, cli
+from skfem_cable.cli import bench
+from skfem_cable.cli import command as cli
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -208,7 +209,7 @@ def test_the_memory_guard_counts_every_cable_of_a_system(monkeypatch):
     import os
 
     import skfem_cable as sc
-    from skfem_cable import cable as cable_module
+    from skfem_cable.bodies import cable as cable_module
 
     memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
     monkeypatch.setattr(cable_module, "MEMORY_PER_ELEMENT", memory / 15)

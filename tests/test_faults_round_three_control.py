@@ -22,10 +22,11 @@ import pytest
 from test_control import SCENE  # the held pendulum's scene file
 
 import skfem_cable as sc
-from skfem_cable import cli, io
+from skfem_cable import io
+from skfem_cable.cli import command as cli
 from skfem_cable.io import StoreMismatch
-from skfem_cable.io.fingerprint import system_fingerprint
 from skfem_cable.io.manifest import read_manifest, write_manifest
+from skfem_cable.model.fingerprint import system_fingerprint
 
 SECTION = sc.Section.circular(1e-3, 2e11, 7850.0)
 DT, SAMPLE = 1e-3, 1e-2
@@ -220,7 +221,7 @@ def test_numbers_a_callable_closes_over_are_in_the_fingerprint(tmp_path, monkeyp
     assert system_fingerprint(lawmod.build(1.0)) != first
     monkeypatch.setattr(lawmod, "EA0", 1e5)
     other = subprocess.run(
-        [sys.executable, "-c", "import lawmod; from skfem_cable.io.fingerprint import "
+        [sys.executable, "-c", "import lawmod; from skfem_cable.model.fingerprint import "
          "system_fingerprint as f; print(f(lawmod.build(1.0)))"],
         capture_output=True, text=True, check=True,
         env={**os.environ,

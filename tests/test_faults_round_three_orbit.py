@@ -16,9 +16,9 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable import plot, scene_file
-from skfem_cable.contract import Evaluation
-from skfem_cable.drag import Flow, QuadraticDrag
-from skfem_cable.electrodynamic import OMEGA_EARTH
+from skfem_cable.core.contract import Evaluation
+from skfem_cable.loads.drag import Flow, QuadraticDrag
+from skfem_cable.loads.electrodynamic import OMEGA_EARTH
 from skfem_cable.runner.summary import run_outputs
 from skfem_cable.scenes import tss
 

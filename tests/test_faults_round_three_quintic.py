@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.analysis.analytic import elastica_tip_load
 
 
 def elastica_tip_error(n, slenderness, formulation=None, k=5.0):

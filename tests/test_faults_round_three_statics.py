@@ -133,7 +133,7 @@ def test_wire_pinned_closer_than_its_length_hangs_as_the_catenary(build):
     boundary-value problem (``analytic.elastica_catenary``, bending and stretch: 2.9275 m,
     4.352 N, 7.245 N) within 1e-3.  Measured: 2.9275 m, 4.3520 N, 7.2459 N.  Before,
     built straight: a loop in the middle elements, sag 2.632 m, 1.30 N and 7.73 N."""
-    from skfem_cable.analytic import elastica_catenary
+    from skfem_cable.analysis.analytic import elastica_catenary
     from skfem_cable.solvers.static_states import folds
 
     cable, system = hanging_wire(build)

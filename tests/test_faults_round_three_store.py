@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import cli
+from skfem_cable.cli import command as cli
 from skfem_cable.io import StoreCorrupt, open_dataset
 from skfem_cable.io.schema import STORE
 from skfem_cable.scenes import classics

@@ -19,10 +19,10 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable import constraints, scene_file
-from skfem_cable.coulomb import SolarWindForce
 from skfem_cable.io import RunStore, StoreMismatch, run_observers
+from skfem_cable.loads.coulomb import SolarWindForce
+from skfem_cable.model.system import SystemChanged
 from skfem_cable.scenes import classics
-from skfem_cable.system import SystemChanged
 
 #: The pendulum of the issue: 0.2 s in steps of 1 ms.
 RUN = dict(t_end=0.2, dt=1e-3)
@@ -353,7 +353,7 @@ def test_interrupt_right_after_the_temporary_is_created_leaves_nothing(tmp_path,
     """A signal turned into an exception between the creation of the temporary file and
     the block that writes it (the window of the SIGTERM test's leftover
     ``series.pvd.tmp-*``) leaves no temporary file and the old content."""
-    from skfem_cable import atomic
+    from skfem_cable.util import atomic
 
     target = tmp_path / "series.pvd"
     target.write_text("old")

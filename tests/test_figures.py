@@ -8,7 +8,7 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable import plot, runner
-from skfem_cable.rigid import RigidBody
+from skfem_cable.bodies.rigid import RigidBody
 from skfem_cable.scenes import classics, esail
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -145,7 +145,7 @@ def test_planar_scene_is_viewed_face_on():
 
 def test_scene_file_title_is_shown_on_the_snapshot_of_a_dynamic_run(tmp_path, monkeypatch):
     """The TOML ``title`` of a dynamic scene heads its snapshot, above the time."""
-    from skfem_cable import cli
+    from skfem_cable.cli import command as cli
 
     titles = []
     monkeypatch.setattr(plot, "rendering_available", lambda: (True, "stub"))

@@ -15,7 +15,9 @@ from pathlib import Path
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import bench, cli, study
+from skfem_cable import study
+from skfem_cable.cli import bench
+from skfem_cable.cli import command as cli
 from skfem_cable.io.progress import Progress
 from skfem_cable.runner import values
 from skfem_cable.scenes import catalog

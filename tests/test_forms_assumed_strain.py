@@ -75,7 +75,7 @@ def test_assumed_strain_is_the_kernels():
     probe = skfem.Basis(cable.mesh, forms.strain.elem,
                         quadrature=(np.array([[0.0, 0.5, 1.0]]), np.ones(3) / 3))
     mixed = np.asarray(probe.interpolate(coefficients)).T
-    kernel = np.array(sc.formulation.FORMULATIONS["assumed-strain"].assumed(cable, q))
+    kernel = np.array(sc.bodies.formulation.FORMULATIONS["assumed-strain"].assumed(cable, q))
     assert np.abs(mixed - kernel).max() < 1e-13 * np.abs(kernel).max()
     raw = cable.green(q, *cable.locate(cable.mesh.p[0][:-1] + 0.5 * cable.h))
     assert np.abs(mixed[1] - raw).max() > 1e-6

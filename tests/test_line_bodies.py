@@ -2,7 +2,7 @@
 the quadratic string of ``tests/line_body.py`` receives ``Gravity``, ``LineLoad``,
 ``UniformLineLoad`` (``add_line_load``), ``Buoyancy``, ``MorisonDrag`` with added mass,
 ``FreeMolecularDrag`` and the differential gravity of an orbit through its line-body hook
-``line_points`` (``skfem_cable.lines``) and ``mass_points`` only.  For each: the force
+``line_points`` (``skfem_cable.core.lines``) and ``mass_points`` only.  For each: the force
 against a closed form or a numpy quadrature over ``LinePoints.at``, the tangent against
 central differences (``sc.check_tangent``) and a short run on the compiled step.  On a
 cable, the ported loads equal the values of the hand-written loops they replace (commit
@@ -13,9 +13,9 @@ import pytest
 from line_body import QuadraticString
 
 import skfem_cable as sc
-from skfem_cable.contract import Evaluation
-from skfem_cable.loads import UniformLineLoad
-from skfem_cable.orbit import differential_gravity
+from skfem_cable.core.contract import Evaluation
+from skfem_cable.loads.line import UniformLineLoad
+from skfem_cable.space.tidal import differential_gravity
 
 RHO_A, EA, LENGTH = 0.8, 5e3, 3.0
 START, END = np.array([0.0, 0.0, -2.0]), np.array([3.0, 0.0, -2.0])

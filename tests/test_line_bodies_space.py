@@ -9,10 +9,10 @@ import pytest
 from line_body import QuadraticString
 
 import skfem_cable as sc
-from skfem_cable.contract import Evaluation
-from skfem_cable.coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce
-from skfem_cable.electrodynamic import MU0_OVER_4PI, OMEGA_EARTH
-from skfem_cable.lines import line_points
+from skfem_cable.core.contract import Evaluation
+from skfem_cable.core.lines import line_points
+from skfem_cable.loads.coulomb import AU, THRUST_EXPONENT, SolarWind, SolarWindForce
+from skfem_cable.loads.electrodynamic import MU0_OVER_4PI, OMEGA_EARTH
 from skfem_cable.scenes import esail
 
 EA, RHO_A = 1.0e3, 1.0e-4

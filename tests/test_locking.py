@@ -8,7 +8,11 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastica_catenary, elastica_tip_load, elastica_tip_load_angle
+from skfem_cable.analysis.analytic import (
+    elastica_catenary,
+    elastica_tip_load,
+    elastica_tip_load_angle,
+)
 from skfem_cable.scenes.classics import ELASTICA_SECTION as SEC
 
 
@@ -231,7 +235,7 @@ def test_cli_scene_and_scene_file_take_the_option(tmp_path):
     with --formulation paper: 6.4 N, 64 P), and a scene file selects the formulation per
     cable (then --formulation is refused for it)."""
     from skfem_cable import scene_file
-    from skfem_cable.cli import main
+    from skfem_cable.cli.command import main
     from skfem_cable.runner import RunOptions
     from skfem_cable.scenes.catalog import run_scene
 

@@ -11,11 +11,13 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import spsolve
 
 import skfem_cable as sc
-from skfem_cable import cli, durations, simulate
+from skfem_cable import simulate
+from skfem_cable.cli import command as cli
+from skfem_cable.core.linalg import THREADS, PatternSolver, thread_count
 from skfem_cable.io.progress import Progress
-from skfem_cable.linalg import THREADS, PatternSolver, thread_count
 from skfem_cable.scene_file import loads_text
 from skfem_cable.scenes import catalog, esail
+from skfem_cable.util import durations
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
+from skfem_cable.core.records import FIELDS
 from skfem_cable.io import RunStore, resume
-from skfem_cable.records import FIELDS
 from skfem_cable.scenes import classics
 
 SIMULATE = Path(sc.simulate.__code__.co_filename)
@@ -187,16 +187,17 @@ def test_simulate_module_does_no_io():
         elif isinstance(node, ast.ImportFrom):
             module = "." * node.level + (node.module or "")
             imported.setdefault(module, set()).update(a.name for a in node.names)
-    assert set(imported) <= {"contextlib", "functools", "numbers", "time", "numpy", "..contract",
-                             "..protocols", "..result", "..records", "..observing",
-                             ".galpha", ".rectify", "..control", "..section", "..inputs",
+    assert set(imported) <= {"contextlib", "functools", "numbers", "time", "numpy",
+                             "..core.contract", "..core.protocols", "..results.result",
+                             "..core.records", ".observing", ".galpha", ".rectify",
+                             "..control.controller", "..bodies.section", "..core.inputs",
                              "..kernels"}, imported
     assert imported.get("..kernels", set()) <= {"compile_log"}  # its clock, no output
     assert imported[".galpha"] <= {"GeneralizedAlpha", "galpha_parameters"}
-    assert imported["..result"] <= {"Result"}
-    assert imported["..records"] <= {"FIELDS", "SETTINGS", "settings_array", "step_record"}
+    assert imported["..results.result"] <= {"Result"}
+    assert imported["..core.records"] <= {"FIELDS", "SETTINGS", "settings_array", "step_record"}
     # and result.py itself writes nothing (its load goes through io lazily)
-    result_src = (SIMULATE.parents[1] / "result.py").read_text()
+    result_src = (SIMULATE.parents[1] / "results" / "result.py").read_text()
     for word in ("savez", "open(", "meshio", "SeriesWriter", "Progress"):
         assert word not in result_src, word
 

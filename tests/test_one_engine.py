@@ -11,9 +11,9 @@ from interrupting import Interrupt, InterruptingLoad
 from numba import njit
 
 import skfem_cable as sc
-from skfem_cable.contract import OutOfDomain
+from skfem_cable.core.contract import OutOfDomain
+from skfem_cable.core.records import FIELDS
 from skfem_cable.io import RunStore
-from skfem_cable.records import FIELDS
 from skfem_cable.scenes import classics
 from skfem_cable.solvers import galpha
 from skfem_cable.solvers.compiled import PYTHON, source

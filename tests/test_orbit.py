@@ -6,7 +6,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import skfem_cable as sc
-from skfem_cable.orbit import battin_f, differential_gravity, eccentric_anomaly, gravity_gradient
+from skfem_cable.space.kepler import eccentric_anomaly
+from skfem_cable.space.tidal import battin_f, differential_gravity, gravity_gradient
 
 LEO = sc.R_EARTH + 400e3
 ELEMENTS = [  # e, inclination, raan, argp, anomaly

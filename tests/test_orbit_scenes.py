@@ -9,11 +9,12 @@ import pytest
 from demo_modules import load_demo
 
 import skfem_cable as sc
-from skfem_cable import cli, export, scene_file
-from skfem_cable.io import StoreMismatch, run_observers
-from skfem_cable.orbit import J2_EARTH
+from skfem_cable import scene_file
+from skfem_cable.cli import command as cli
+from skfem_cable.io import StoreMismatch, export, run_observers
 from skfem_cable.runner import RunOptions
 from skfem_cable.scenes import catalog, tss
+from skfem_cable.space.constants import J2_EARTH
 
 L = 20e3
 ORBIT = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 400e3, e=0.01, inclination=0.5, raan=0.2,

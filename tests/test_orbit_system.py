@@ -8,7 +8,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 import skfem_cable as sc
-from skfem_cable.orbit_gravity import system_mass_points
+from skfem_cable.loads.orbit_gravity import system_mass_points
 
 ORBIT = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 400e3)
 N = ORBIT.mean_motion
@@ -230,7 +230,7 @@ def test_orbital_energy_is_conserved_to_the_integrators_order():
     and 100 steps per pitch period (the error of the trapezoidal rule on the dumbbell's
     rotation at ``n``, whose kinetic energy is 33 times the libration's), falls as
     ``h^2``."""
-    from skfem_cable.orbit_gravity import orbital_energy
+    from skfem_cable.loads.orbit_gravity import orbital_energy
 
     drifts = []
     for steps in (50, 100):

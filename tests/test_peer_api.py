@@ -7,7 +7,7 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable import constraints, laws
-from skfem_cable.analytic import elastic_catenary
+from skfem_cable.analysis.analytic import elastic_catenary
 from skfem_cable.scene_file import loads_text
 from skfem_cable.scenes import peer_suites as ps
 from skfem_cable.solvers.galpha import GeneralizedAlpha

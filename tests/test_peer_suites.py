@@ -19,7 +19,7 @@ Reference numbers are the peers', cited by repository and path:
 import numpy as np
 import pytest
 
-from skfem_cable.formulation import gauss
+from skfem_cable.bodies.formulation import gauss
 from skfem_cable.scenes import peer_suites as ps
 
 #: ``runTestSuiteRefSol.py``: 'ObjectANCFCable2D.py' (the tip's x-displacement, m).

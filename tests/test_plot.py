@@ -6,7 +6,7 @@ from PIL import Image
 
 import skfem_cable as sc
 from skfem_cable import plot
-from skfem_cable.rigid import RigidBody
+from skfem_cable.bodies.rigid import RigidBody
 from skfem_cable.scenes import classics, esail
 
 
@@ -189,10 +189,10 @@ def test_psd_window_resolves_the_spin_frequency():
 
 
 def test_esail_psd_is_the_one_spectrum():
-    """``esail.psd`` is ``plot.spectrum`` (``skfem_cable.spectra``): the same numbers,
+    """``esail.psd`` is ``plot.spectrum`` (``skfem_cable.analysis.spectra``): the same numbers,
     several signals at once with time along the first axis, and a run's shortened last
     step left out; one segment is the whole run (the E-sail tests' peaks)."""
-    from skfem_cable import spectra
+    from skfem_cable.analysis import spectra
 
     assert plot.spectrum is spectra.spectrum and plot.welch_plan is spectra.welch_plan
     t = np.append(np.arange(0.0, 400.0, 1.0), 399.4)  # a shortened last step

@@ -10,8 +10,8 @@ from scipy.integrate import solve_ivp
 
 import skfem_cable as sc
 from skfem_cable import io
-from skfem_cable.io.fingerprint import system_fingerprint
-from skfem_cable.orbit_gravity import system_mass_points
+from skfem_cable.loads.orbit_gravity import system_mass_points
+from skfem_cable.model.fingerprint import system_fingerprint
 
 L, M = 1e3, 100.0
 THRUST = np.array([0.0, 1.0, 0.3])  # N on each end mass: 0.01 m/s^2 along-track and up

@@ -247,7 +247,7 @@ def test_scene_file_with_a_braked_reel(tmp_path):
     from pathlib import Path
 
     from skfem_cable import scene_file
-    from skfem_cable.cli import main
+    from skfem_cable.cli.command import main
 
     scene = Path(__file__).resolve().parents[1] / "demos" / "reel_brake.toml"
     out = tmp_path / "run"

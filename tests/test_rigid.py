@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.analytic import compound_pendulum_period
-from skfem_cable.constraints import LinearConstraint
-from skfem_cable.rigid import RigidBody
-from skfem_cable.timeseries import zero_crossings
+from skfem_cable.analysis.analytic import compound_pendulum_period
+from skfem_cable.bodies.rigid import RigidBody
+from skfem_cable.constraints.linear import LinearConstraint
+from skfem_cable.results.timeseries import zero_crossings
 
 
 def random_rotation(seed):

@@ -10,7 +10,9 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable import cli, export, plot, scene_file
+from skfem_cable import plot, scene_file
+from skfem_cable.cli import command as cli
+from skfem_cable.io import export
 from skfem_cable.rodchain import (
     RodChain,
     RodChainDivergence,

@@ -10,7 +10,8 @@ import pytest
 import xarray as xr
 
 import skfem_cable as sc
-from skfem_cable import cli, io
+from skfem_cable import io
+from skfem_cable.cli import command as cli
 from skfem_cable.io import RunStore, StoreMismatch
 from skfem_cable.io.manifest import read_manifest
 from skfem_cable.scenes import hanging_chain

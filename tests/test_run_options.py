@@ -7,7 +7,7 @@ from dataclasses import fields
 
 import pytest
 
-from skfem_cable import cli
+from skfem_cable.cli import command as cli
 from skfem_cable.runner.options import DEFAULTS, FLAGS, OPT_IN, RunOptions, flag
 from skfem_cable.scenes import catalog
 

@@ -94,11 +94,11 @@ class Thruster:
         self.direction = np.asarray(direction, dtype=float)
 
     def inputs(self):
-        return sc.inputs.declared(self.throttle)
+        return sc.core.inputs.declared(self.throttle)
 
     def bind(self, system, inputs=None):
         d = system.dofs(self.node)[:3]
-        throttle = sc.inputs.reader(self.throttle, inputs)  # the run's values
+        throttle = sc.core.inputs.reader(self.throttle, inputs)  # the run's values
 
         def add(ev, index):
             ev.f_ext[d] += throttle(ev.t) * self.direction

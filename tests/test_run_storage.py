@@ -10,9 +10,9 @@ import pytest
 from interrupting import Interrupt, InterruptingLoad
 
 import skfem_cable as sc
+from skfem_cable.core.records import ENERGIES, FIELDS
 from skfem_cable.io import Progress, ProgressBar, RunStore, open_dataset, resume, run_observers
 from skfem_cable.io.schema import DEFAULT_FIELDS, STORE
-from skfem_cable.records import ENERGIES, FIELDS
 from skfem_cable.scenes import classics
 
 

@@ -6,8 +6,8 @@ import numpy as np
 import scipy.sparse as sp
 from test_benchmarks import BENCH, load
 
+from skfem_cable.core.linalg import ADDRESSES
 from skfem_cable.kernels import bordered
-from skfem_cable.linalg import ADDRESSES
 
 
 def test_exponent_is_fitted_to_the_minima_over_rounds():

@@ -10,7 +10,8 @@ import pytest
 from demo_modules import load_demo
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastic_catenary, green_stretch
+from skfem_cable.analysis.analytic import elastic_catenary
+from skfem_cable.bodies.catenary import green_stretch
 
 demo = load_demo("slack_catenary")
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.analytic import elastica_tip_load
+from skfem_cable.analysis.analytic import elastica_tip_load
 from skfem_cable.scenes import classics
 
 #: EA L^2 / EI = 1e7: inextensible within 1e-7 of the tip load

@@ -12,7 +12,7 @@ from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable import scene_file
-from skfem_cable.analytic import rotating_string
+from skfem_cable.analysis.analytic import rotating_string
 from skfem_cable.scenes import classics, esail
 from skfem_cable.solvers import steady
 
@@ -235,7 +235,7 @@ def test_steady_analysis_scene_on_the_command_line(tmp_path):
     """``analysis = "steady"`` (``demos/spinning_tether_steady.toml``) through the command
     line: the summary's root tension matches the rotating string (1e-6), and a scene
     without ``omega`` is refused naming the key."""
-    from skfem_cable.cli import main
+    from skfem_cable.cli.command import main
 
     out = tmp_path / "run"
     assert main(["run", str(DEMOS / "spinning_tether_steady.toml"), "--out", str(out),

@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
+from skfem_cable.core.records import ENERGIES
 from skfem_cable.io import RunStore
-from skfem_cable.io.labels import Points, dof_labels
 from skfem_cable.io.schema import STORE
-from skfem_cable.records import ENERGIES
+from skfem_cable.model.labels import Points, dof_labels
 
 xr = pytest.importorskip("xarray")
 
@@ -185,7 +185,7 @@ def test_interrupted_and_resumed_store_keeps_its_positions(tmp_path):
 
 
 def test_result_repr_says_what_it_holds(stored):
-    """Before: ``<skfem_cable.result.Result object at 0x...>``."""
+    """Before: ``<skfem_cable.results.result.Result object at 0x...>``."""
     system, result, path = stored
     text = repr(result)
     assert text.startswith("<Result: 7 saved steps, t = 0 … 0.012 s")

@@ -102,7 +102,7 @@ def test_sweep_rejects_unknown_and_clashing_parameters(tmp_path):
 
 
 def test_cli_sweep_refuses_bad_parameters_before_running(tmp_path, capsys):
-    from skfem_cable.cli import main
+    from skfem_cable.cli.command import main
 
     out = str(tmp_path / "s")
     assert main(["sweep", "cantilever", "--param", "elements=2", "--out", out]) == 2

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
-from skfem_cable.contract import Term
+from skfem_cable.core.contract import Term
 
 SECTION = sc.Section.circular(1e-3, 2e11, 7850.0, gamma_axial=1e-3)
 

@@ -10,8 +10,8 @@
 
 The measured numbers and the derivations are in ``docs/validation_statics.md``.  The
 cases this suite shares with ``benchmarks/locking.py`` (beam modes, the catenaries and
-their errors) are ``skfem_cable.validation``'s; the exact catenary is
-``skfem_cable.analytic.solve_catenary``.
+their errors) are ``skfem_cable.cli.validation``'s; the exact catenary is
+``skfem_cable.bodies.catenary.solve_catenary``.
 """
 
 import numpy as np
@@ -21,12 +21,12 @@ from scipy.spatial.transform import Rotation
 from skfem import MeshLine
 
 import skfem_cable as sc
-from skfem_cable.analytic import catenary_xz, stretch_minus_one
+from skfem_cable.bodies.catenary import catenary_xz, stretch_minus_one
 
 # The cases, their reference and the helpers shared with ``benchmarks/locking.py`` live in
 # the package (``STEEL``: the steel beam of the README script, EA L^2/EI = 1e6 for L = 1 m;
 # ``EPS0``: the Green pre-strain of the taut string).
-from skfem_cable.validation import (
+from skfem_cable.cli.validation import (
     CATENARIES,
     EPS0,
     STEEL,

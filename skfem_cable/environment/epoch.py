@@ -27,7 +27,7 @@ from collections import OrderedDict
 
 import numpy as np
 
-from ..orbit import OMEGA_EARTH
+from ..space.constants import OMEGA_EARTH
 
 CACHE_SIZE = 8
 """Number of recent times whose rotation an ``Epoch`` keeps (a step and its stages)."""

@@ -23,7 +23,7 @@ References
 
 import numpy as np
 
-from ..section import check_positive
+from ..bodies.section import check_positive
 from .epoch import Epoch
 
 GRADIENT_STEP = 100.0

@@ -19,7 +19,7 @@ References
 
 import numpy as np
 
-from ..section import check_positive
+from ..bodies.section import check_positive
 from .epoch import Epoch, corotation_velocity
 from .msis import index
 from .plasma import OXYGEN_ION_MASS

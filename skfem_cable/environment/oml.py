@@ -80,7 +80,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_bvp
 
-from ..section import check_positive
+from ..bodies.section import check_positive
 from .plasma import OXYGEN_ION_MASS
 
 ELEMENTARY_CHARGE = 1.602176634e-19

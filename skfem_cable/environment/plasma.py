@@ -10,7 +10,7 @@ plasma.
 
 import numpy as np
 
-from ..section import check_positive
+from ..bodies.section import check_positive
 
 ATOMIC_MASS = 1.66053906660e-27
 """The atomic mass constant (kg, CODATA 2018)."""

@@ -14,7 +14,7 @@ progress reports (``docs/observers.md``, ``docs/output.md``).
 * ``run_observers``: the standard list for a run directory.
 """
 
-from .fingerprint import fingerprint
+from ..model.fingerprint import fingerprint
 from .lock import RunLocked
 from .manifest import RunExists, StoreCorrupt, StoreError, StoreMismatch
 from .progress import Progress, ProgressBar

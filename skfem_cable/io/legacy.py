@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..records import FIELDS
+from ..core.records import FIELDS
 from .manifest import MANIFEST, StoreCorrupt, StoreMismatch
 
 #: The files of the format before the Zarr store (read by ``Result.load``).

@@ -18,7 +18,7 @@ import json
 import time
 from pathlib import Path
 
-from ..atomic import write_atomic
+from ..util.atomic import write_atomic
 
 #: File name of the manifest in a run directory.
 MANIFEST = "manifest.json"

@@ -4,8 +4,8 @@ the observer ``ProgressBar``."""
 import sys
 import time
 
-from .. import durations
-from ..protocols import Observer
+from ..core.protocols import Observer
+from ..util import durations
 
 
 def eta(elapsed, frac):

@@ -20,13 +20,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..orbit import Reference
-from ..protocols import SystemView
-from ..records import FIELDS, INPUT
+from ..core.protocols import SystemView
+from ..core.records import FIELDS, INPUT
+from ..space.reference import Reference
 from . import lock
-from .fingerprint import check_fingerprint
 from .legacy import is_legacy, read_legacy
 from .manifest import MANIFEST, StoreCorrupt, StoreError, StoreMismatch, read_manifest
+from .matching import check_fingerprint
 from .schema import COUNTERS, FIELD, STORE, VARIABLE
 from .zarr_store import atomic_store, sync
 

@@ -11,11 +11,11 @@ import shutil
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..atomic import write_atomic
-from ..protocols import SystemView
-from .fingerprint import check_fingerprint
+from ..core.protocols import SystemView
+from ..util.atomic import write_atomic
 from .legacy import LEGACY_RESUME, is_legacy
 from .manifest import MANIFEST, StoreCorrupt, StoreError, read_manifest, write_manifest
+from .matching import check_fingerprint
 from .reader import ShapeOnly, check_chunks, checkpoint_bytes, read_checkpoint, read_records
 from .schema import STORE
 from .zarr_store import atomic_store, gather, sync

@@ -44,10 +44,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..inputs import system_inputs
-from ..protocols import SystemView
-from ..records import ENERGIES, FIELDS, INPUT
-from .labels import POSITION, Points, dof_labels, multiplier_labels
+from ..core.inputs import system_inputs
+from ..core.protocols import SystemView
+from ..core.records import ENERGIES, FIELDS, INPUT
+from ..model.labels import POSITION, Points, dof_labels, multiplier_labels
 
 #: The Zarr group of a run directory.
 STORE = "results.zarr"

@@ -2,10 +2,9 @@
 
 from pathlib import Path
 
-from .. import export
-from ..protocols import Observer
-from ..section import positive_int
-from . import signals
+from ..bodies.section import positive_int
+from ..core.protocols import Observer
+from . import export, signals
 
 
 class SeriesObserver(Observer):

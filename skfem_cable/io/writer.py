@@ -26,20 +26,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import is_temporary, remove_temporaries, write_atomic
-from ..protocols import Observer
-from ..records import FIELDS, settings_array, step_record
+from ..core.protocols import Observer
+from ..core.records import FIELDS, settings_array, step_record
+from ..model.fingerprint import VERSION, settings_fingerprint, system_fingerprint
+from ..util.atomic import is_temporary, remove_temporaries, write_atomic
+from ..util.jsonable import jsonable
 from . import lock, signals
-from .fingerprint import (
-    VERSION,
-    check_fingerprint,
-    outline,
-    settings_fingerprint,
-    system_fingerprint,
-)
-from .jsonable import jsonable
 from .legacy import LEGACY_CHECKPOINT, LEGACY_CHUNKS, LEGACY_RESUME, is_legacy
 from .manifest import MANIFEST, RunExists, StoreCorrupt, StoreError, read_manifest, write_manifest
+from .matching import check_fingerprint, outline
 from .reader import describe_run, empty_records, fill_records, read_records, run_info
 from .resume import check_last_commit, check_t_end, copy_store, resume
 from .schema import (

@@ -6,7 +6,7 @@ which run zarr's coroutines.  zarr is imported on first use.
 import asyncio
 import warnings
 
-from ..atomic import write_atomic
+from ..util.atomic import write_atomic
 
 
 def sync(coro):

@@ -14,7 +14,7 @@ import sys
 
 import numba
 
-from ..atomic import write_atomic
+from ..util.atomic import write_atomic
 from . import compile_log
 from .cache import cache_dir
 

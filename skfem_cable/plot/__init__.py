@@ -9,7 +9,7 @@
   scene) and the named views (``VIEWS``, ``view_camera``);
 * ``plot.figures``: figures (matplotlib, no display needed) of time histories, power
   spectral densities, the energy books and speed-against-error tables;
-* the spectrum itself (``spectrum``, ``welch_plan``) is ``skfem_cable.spectra``'s, which
+* the spectrum itself (``spectrum``, ``welch_plan``) is ``skfem_cable.analysis.spectra``'s, which
   needs no matplotlib.
 
 Every public name of these modules is importable from ``skfem_cable.plot`` (``from
@@ -17,7 +17,7 @@ skfem_cable import plot; plot.render(...)``).  Importing the package imports nei
 matplotlib nor pyvista: each is imported on first use.
 """
 
-from ..spectra import spectrum, welch_plan
+from ..analysis.spectra import spectrum, welch_plan
 from .cameras import (
     VIEWS,
     Camera,

@@ -10,7 +10,7 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..loads import Gravity
+from ..loads.gravity import Gravity
 
 #: Views of ``render`` and ``animate`` (see ``view_camera``).
 VIEWS = ("auto", "isometric", "xy", "xz", "yz", "orbital", "gravity", "axial", "side")

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..spectra import spectrum, welch_note
+from ..analysis.spectra import spectrum, welch_note
 from .cameras import spin_axis
 
 

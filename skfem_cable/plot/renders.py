@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import export
-from ..contract import PART_CABLE, PART_POINT_MASS, PART_RIGID
+from ..core.contract import PART_CABLE, PART_POINT_MASS, PART_RIGID
+from ..io import export
 from .cameras import _FIXED_VIEWS, _unit, scene_camera, view_camera
 
 #: Colour map of the tension along the tubes.

@@ -3,7 +3,7 @@
 
 import numpy as np
 
-from ..section import positive_int as positive_int  # the package's check
+from ..bodies.section import positive_int as positive_int  # the package's check
 
 
 def positive_array(name, value, n=None):

@@ -6,7 +6,7 @@ joint from the anchor) and ``joint_id``, and one ``line`` cell per rod with the 
 ``tension`` (N), ``strain`` (engineering strain ``(l - l0) / l0``), ``length`` (current,
 m) and ``rod_id``.  meshio, pyvista and ParaView read it; a series is one ``.vtu`` per
 saved step and a ``.pvd`` collection (``export.write_pvd``), written atomically by the
-low-level writers of ``skfem_cable.export``: ``write_series`` after a run,
+low-level writers of ``skfem_cable.io.export``: ``write_series`` after a run,
 ``io.SeriesObserver`` during one (through ``Integration.series_writer``).
 """
 
@@ -15,7 +15,7 @@ from pathlib import Path
 import meshio
 import numpy as np
 
-from ..export import VtuSeries, _write_atomic
+from ..io.export import VtuSeries, _write_atomic
 
 
 def chain_mesh(chain, q, v=None, origin=(0.0, 0.0, 0.0), origin_velocity=(0.0, 0.0, 0.0)):

@@ -30,12 +30,12 @@ import time
 import numpy as np
 from scipy.integrate import DOP853, RK45
 
-from ..contract import Run, Step
-from ..io.fingerprint import check_fingerprint
+from ..core.contract import Run, Step
+from ..core.records import ENERGIES
+from ..io.matching import check_fingerprint
 from ..kernels import rodchain as kern
-from ..observing import Observers
-from ..records import ENERGIES
-from ..result import Result
+from ..results.result import Result
+from ..solvers.observing import Observers
 from .export import ChainSeriesWriter
 from .result import RodChainResult, energies
 from .stored import ChainSystem

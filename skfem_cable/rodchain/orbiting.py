@@ -1,5 +1,5 @@
 """A rod chain with end bodies, free in orbit (``OrbitingChain``): the tethered satellite
-system of Ma & Wang in the frame of ``skfem_cable.orbit``.
+system of Ma & Wang in the frame of ``skfem_cable.space``.
 
 The paper writes its equations in an inertial frame with ``O_0`` fixed and leaves the
 external forces as general distributed loads ``f`` (Eqs. 13-16); it has no orbital frame

@@ -14,7 +14,7 @@ motion; ``RodChainResult.joints`` has them.
 import numpy as np
 import scipy.sparse as sp
 
-from ..protocols import SystemView
+from ..core.protocols import SystemView
 from .problem import Problem
 
 

@@ -3,7 +3,8 @@ bodies on a tether along the local vertical, at rest in the orbiting frame."""
 
 import numpy as np
 
-from ..orbit import MU_EARTH, R_EARTH, Orbit
+from ..space.constants import MU_EARTH, R_EARTH
+from ..space.orbit import Orbit
 from .checks import positive, positive_int
 from .model import RodChain
 from .orbiting import OrbitingChain

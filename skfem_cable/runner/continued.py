@@ -6,9 +6,10 @@ import json
 
 from ..io import StoreMismatch
 from ..io import resume as resume_run
-from ..io.fingerprint import check_fingerprint, stored_version, system_fingerprint
-from ..io.jsonable import jsonable
 from ..io.manifest import read_manifest
+from ..io.matching import check_fingerprint, stored_version
+from ..model.fingerprint import system_fingerprint
+from ..util.jsonable import jsonable
 
 #: Scene parameters a continued run may change: where the scene file is.
 MOVABLE = ("file",)

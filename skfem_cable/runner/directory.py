@@ -23,11 +23,11 @@ from contextlib import contextmanager
 from fnmatch import fnmatch
 from pathlib import Path, PurePosixPath
 
-from ..atomic import is_temporary
 from ..io import RunExists, StoreError, lock
 from ..io.manifest import read_manifest
 from ..io.reader import describe_run, run_info
 from ..io.writer import remove_store, store_files
+from ..util.atomic import is_temporary
 
 SUMMARY = "summary.json"
 

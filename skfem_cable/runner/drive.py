@@ -7,12 +7,10 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .. import export
-from ..io import run_observers
+from ..io import export, run_observers
 from ..io.reader import run_info
 from ..io.schema import STORE
 from ..solvers.simulate import simulate
-from ..tension_guard import tension_warnings
 from .continued import resume_checked
 from .directory import run_directory
 from .figures import framed_title, plot_files, run_figures, snapshot
@@ -24,6 +22,7 @@ from .summary import (
     warn,
     write_summary,
 )
+from .tension_guard import tension_warnings
 
 
 def run_dynamic(name, system, initial, options, defaults, parameters=None, outputs=None,

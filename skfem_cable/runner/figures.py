@@ -8,8 +8,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import export, plot
-from ..atomic import is_temporary
+from .. import plot
+from ..io import export
+from ..util.atomic import is_temporary
 from .directory import register_files
 from .summary import warn
 

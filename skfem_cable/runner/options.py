@@ -42,7 +42,7 @@ def _option(default, *args, **kwargs):
 
 
 def _formulations():
-    from ..formulation import FORMULATIONS
+    from ..bodies.formulation import FORMULATIONS
 
     return tuple(FORMULATIONS)
 
@@ -54,13 +54,13 @@ def _elements():
 
 
 def _frames():
-    from ..export import FRAMES
+    from ..io.export import FRAMES
 
     return tuple(FRAMES)
 
 
 def _formulation_help():
-    from ..formulation import DEFAULT, FORMULATIONS
+    from ..bodies.formulation import DEFAULT, FORMULATIONS
 
     return (f"formulation of the cables of a built-in scene: {', '.join(FORMULATIONS)} "
             f"(default {DEFAULT}: locking-free with the paper's accuracy on taut cables; "

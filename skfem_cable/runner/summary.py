@@ -9,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import write_atomic
-from ..io.jsonable import jsonable
-from ..orbit import Orbit
-from ..protocols import Line
+from ..core.protocols import Line
+from ..space.orbit import Orbit
+from ..util.atomic import write_atomic
+from ..util.jsonable import jsonable
 from .directory import DESCRIPTIONS, SUMMARY, described_files
 
 

@@ -5,7 +5,7 @@ import argparse
 import math
 from pathlib import Path
 
-from .. import durations
+from ..util import durations
 
 
 def _number(text):

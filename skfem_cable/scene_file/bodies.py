@@ -4,13 +4,13 @@ point masses and loads use.  ``Bodies`` holds what was defined so far, by name."
 
 import numpy as np
 
-from ..cable import Cable
+from ..bodies.cable import Cable
+from ..bodies.formulation import FORMULATIONS
+from ..bodies.memory import check_total_memory
+from ..bodies.rigid import RigidBody
+from ..bodies.section import Section
 from ..elements import DEFAULT_ELEMENT, ELEMENTS
-from ..formulation import FORMULATIONS
 from ..laws import BUILTIN
-from ..memory import check_total_memory
-from ..rigid import RigidBody
-from ..section import Section
 from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
 
 

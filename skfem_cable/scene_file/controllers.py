@@ -10,7 +10,7 @@ import importlib
 import importlib.util
 from pathlib import Path
 
-from ..control import check_controller
+from ..control.controller import check_controller
 from .schema import text
 
 

@@ -2,9 +2,9 @@
 (``System.deploy``), with a prescribed free length or from a reel with inertia and a torque
 law (``reel``)."""
 
-from ..cable import Cable
-from ..deploy import constant_rate, smooth_profile
-from ..reel import Brake, Motor, Reel, Servo
+from ..bodies.cable import Cable
+from ..bodies.reel import Brake, Motor, Reel, Servo
+from ..constraints.deploy import constant_rate, smooth_profile
 from .schema import input_or, number, positive, vector3
 
 

@@ -3,9 +3,9 @@
 ``[[loads.buoyancy]]``, ``[[loads.free_molecular]]``).  ``LOADS`` maps each array
 of load tables to its reader; a new kind of load is one more entry."""
 
-from ..cable import Cable
-from ..drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
-from ..loads import PointMoment
+from ..bodies.cable import Cable
+from ..loads.drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
+from ..loads.point import PointMoment
 from .schema import input_or, non_negative, number, positive, vector3
 
 

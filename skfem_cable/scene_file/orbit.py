@@ -4,7 +4,8 @@ rad (as every angle of a scene file), times in s."""
 
 from dataclasses import dataclass
 
-from ..orbit import CENTRAL_BODIES, CentralBody, Orbit
+from ..space.constants import CENTRAL_BODIES, CentralBody
+from ..space.orbit import Orbit
 from .schema import choice, non_negative, number, one_of, positive
 
 

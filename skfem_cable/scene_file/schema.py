@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 
-from .. import durations
+from ..util import durations
 
 
 class SceneFileError(ValueError):
@@ -77,7 +77,7 @@ def vector3(v):
 def input_or(check):
     """A value checked by ``check``, or ``{input = "name", value = ...}``: an ``Input`` of
     that name holding the checked value until a controller sets it (``[[controllers]]``)."""
-    from ..inputs import Input
+    from ..core.inputs import Input
 
     def read(v):
         if not isinstance(v, dict):

@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 
+from ..model.state import State
 from ..solvers.steady import solve_steady
-from ..state import State
 from .schema import boolean, choice, count, duration, interval, vector3
 
 

@@ -6,11 +6,11 @@ in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loa
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..model.state import State
+from ..model.system import System
 from ..runner.drive import run_dynamic, run_static
 from ..solvers.static import solve_static
 from ..solvers.steady import solve_steady
-from ..state import State
-from ..system import System
 from .bodies import Bodies, check_cables_memory, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
 from .controllers import read_controllers

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analytic import elastica_tip_load
+from ..analysis.analytic import elastica_tip_load
 from ..runner.drive import RunScene, run_static
 from ..runner.options import OPT_IN
 from ..solvers.static import solve_static

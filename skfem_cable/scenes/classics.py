@@ -9,11 +9,11 @@ from dataclasses import dataclass
 import numpy as np
 from skfem import MeshLine
 
-from ..cable import Cable
+from ..bodies.cable import Cable
+from ..bodies.section import Section
 from ..elements import DEFAULT_ELEMENT
-from ..section import Section
-from ..state import State
-from ..system import System
+from ..model.state import State
+from ..model.system import System
 
 
 @dataclass

@@ -21,9 +21,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from .. import sensors
-from ..control import Controller
-from ..inputs import Input
+from ..control import sensors
+from ..control.controller import Controller
+from ..core.inputs import Input
 from ..solvers.simulate import simulate
 from . import esail
 

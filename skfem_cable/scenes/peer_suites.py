@@ -24,15 +24,15 @@ stay zero): the same energy, with the curvature ``(a x b)_z / |a|^2`` a vector's
 
 import numpy as np
 
-from ..cable import Cable
-from ..drag import Buoyancy
+from ..bodies.cable import Cable
+from ..bodies.section import Section
 from ..laws import atan, cable_law, curvature_vector, dot, log, norm, rate, sqrt
-from ..section import Section
+from ..loads.drag import Buoyancy
+from ..model.system import System
+from ..results.timeseries import period
 from ..solvers.modal import modes
 from ..solvers.simulate import simulate
 from ..solvers.static import solve_static
-from ..system import System
-from ..timeseries import period
 
 #: Exudyn's Gauss rules of its cable (``useReducedOrderIntegration=0``): 5 points for the
 #: axial part (order 9), 3 for the bending part (order 5); reduced (``=1``): 4 and 2.

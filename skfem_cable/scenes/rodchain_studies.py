@@ -83,10 +83,10 @@ def ancf_free_end_trajectory(kind="truss", n_elements=11, t_end=1.0, dt=1e-4, rh
     """The same steel tether as ANCF ``kind`` elements ("truss": axial only, the like-for-like
     model of the hinged chain; "cable": with its bending stiffness), pinned at the origin and
     released horizontally, integrated by generalized-alpha.  Returns ``(t, O_n - O_0)``."""
-    from ..cable import Cable
-    from ..section import Section
+    from ..bodies.cable import Cable
+    from ..bodies.section import Section
+    from ..model.system import System
     from ..solvers.simulate import simulate
-    from ..system import System
 
     L = STEEL["length"]
     sec = Section.circular(radius=STEEL["radius"], E=STEEL["E"], rho=STEEL["density"])

@@ -21,18 +21,19 @@ import time
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from ..cable import Cable
-from ..orbit import MU_EARTH, R_EARTH, Orbit
+from ..bodies.cable import Cable
+from ..bodies.section import Section
+from ..model.state import State
+from ..model.system import System
 from ..rodchain.export import ChainSeriesWriter
 from ..rodchain.integrate import rk4_step
 from ..rodchain.tss import tss_chain
 from ..runner.directory import run_directory
 from ..runner.drive import RunScene
 from ..runner.summary import write_summary
-from ..section import Section
 from ..solvers.steady import solve_steady
-from ..state import State
-from ..system import System
+from ..space.constants import MU_EARTH, R_EARTH
+from ..space.orbit import Orbit
 
 #: Altitude (m), tether length (m), end masses (kg) and offsets (rad) of the scene.
 ALTITUDE, LENGTH, MASS, PITCH, ROLL = 400e3, 20e3, 100.0, 0.05, 0.03

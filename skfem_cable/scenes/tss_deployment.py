@@ -38,17 +38,18 @@ in between); ``deploy_subsatellite`` runs the scene with it or with the brake.
 
 import numpy as np
 
-from .. import sensors
-from ..cable import Cable
-from ..control import Controller
-from ..inputs import Input
-from ..orbit import MU_EARTH, R_EARTH, Orbit
-from ..reel import Brake, Motor, Reel
-from ..rigid import RigidBody
-from ..section import Section
+from ..bodies.cable import Cable
+from ..bodies.reel import Brake, Motor, Reel
+from ..bodies.rigid import RigidBody
+from ..bodies.section import Section
+from ..control import sensors
+from ..control.controller import Controller
+from ..core.inputs import Input
+from ..model.state import State
+from ..model.system import System
 from ..solvers.simulate import simulate
-from ..state import State
-from ..system import System
+from ..space.constants import MU_EARTH, R_EARTH
+from ..space.orbit import Orbit
 from .tss import ALTITUDE
 
 #: Mother and subsatellite masses (kg), the initial and the target free length (m).

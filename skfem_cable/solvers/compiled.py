@@ -30,11 +30,11 @@ import weakref
 import numba
 import numpy as np
 
-from ..contract import NO_INDEX, Evaluation
+from ..core.contract import NO_INDEX, Evaluation
+from ..core.linalg import SingularMatrixError
+from ..core.protocols import IntegrableSystem
 from ..kernels import books, bordered, callbacks, generated, lapack
 from ..kernels import step as template
-from ..linalg import SingularMatrixError
-from ..protocols import IntegrableSystem
 
 #: Bump when the generated code changes meaning (part of every module's digest).
 GENERATOR = "9"

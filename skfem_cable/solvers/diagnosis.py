@@ -7,8 +7,8 @@ It reads the integrator's ``system``, ``n``, ``res_weight``, ``con_weight``, ``l
 
 import numpy as np
 
-from ..constraints import dependence_message, dependent_constraints
-from ..linalg import SingularMatrixError
+from ..constraints.dependence import dependence_message, dependent_constraints
+from ..core.linalg import SingularMatrixError
 
 
 class Diagnosis:

@@ -19,11 +19,11 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 
 import numpy as np
 
-from ..contract import OutOfDomain
+from ..core.contract import OutOfDomain
+from ..core.linalg import PatternSolver
+from ..core.protocols import IntegrableSystem, StepHook
 from ..kernels import step as codes
 from ..kernels.error import error_ratio
-from ..linalg import PatternSolver
-from ..protocols import IntegrableSystem, StepHook
 from .books import Books
 from .checkpoint import Checkpoint
 from .compiled import CompiledNewton, python_parts

@@ -6,7 +6,7 @@ pseudo-acceleration fitted to the step (Arnold & Bruls 2007)."""
 import numpy as np
 import scipy.sparse as sp
 
-from ..linalg import SingularMatrixError
+from ..core.linalg import SingularMatrixError
 
 
 class InitialState:

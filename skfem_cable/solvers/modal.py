@@ -3,9 +3,9 @@
 import numpy as np
 from scipy.sparse.linalg import LinearOperator, eigs
 
-from ..linalg import PatternSolver
-from ..loads import vector3
-from ..protocols import IntegrableSystem
+from ..core.linalg import PatternSolver
+from ..core.protocols import IntegrableSystem
+from ..loads.point import vector3
 from ..solvers.static import constraint_scale
 from .steady import frame_rates, rotating_frame
 
@@ -113,7 +113,7 @@ def _gyroscopic_modes(system, kkt, k, spin):
     ``A z = lambda B z``, ``z = (x, lambda x, mu)``; frequencies are ``|Im lambda| / 2 pi``."""
     from scipy.linalg import eig
 
-    from ..loads import spin_matrix
+    from ..loads.gravity import spin_matrix
 
     n, N = system.n_dofs, kkt.shape[0]
     if 2 * n + (N - n) > 4000:

@@ -32,8 +32,8 @@ rectified run continues bit for bit.
 
 import numpy as np
 
-from ..protocols import IntegrableSystem
-from ..section import real_number
+from ..bodies.section import real_number
+from ..core.protocols import IntegrableSystem
 
 
 def check_rectify(tolerance):

@@ -15,7 +15,7 @@ conditions the same way, by a dynamic relaxation with added damping before the r
 
 import numpy as np
 
-from ..protocols import IntegrableSystem
+from ..core.protocols import IntegrableSystem
 from .simulate import simulate
 
 

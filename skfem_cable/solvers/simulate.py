@@ -22,15 +22,15 @@ import time
 
 import numpy as np
 
-from ..contract import Run, Step
-from ..control import ControlLoop, check_resumed
+from ..bodies.section import positive_int
+from ..control.controller import ControlLoop, check_resumed
+from ..core.contract import Run, Step
+from ..core.protocols import IntegrableSystem, Observer, StepHook
+from ..core.records import FIELDS, SETTINGS, settings_array, step_record
 from ..kernels import compile_log
-from ..observing import Observers
-from ..protocols import IntegrableSystem, Observer, StepHook
-from ..records import FIELDS, SETTINGS, settings_array, step_record
-from ..result import Result
-from ..section import positive_int
+from ..results.result import Result
 from .galpha import GeneralizedAlpha
+from .observing import Observers
 from .rectify import Rectification, check_rectify
 
 #: Positions in ``result.SETTINGS`` that must match when a run is resumed (all but t_end).

@@ -4,10 +4,10 @@ bisection, and a backtracking line search."""
 import numpy as np
 import scipy.sparse as sp
 
-from ..constraints import dependence_message, dependent_constraints
-from ..linalg import PatternSolver, SingularMatrixError
-from ..protocols import IntegrableSystem
-from ..state import State
+from ..constraints.dependence import dependence_message, dependent_constraints
+from ..core.linalg import PatternSolver, SingularMatrixError
+from ..core.protocols import IntegrableSystem
+from ..model.state import State
 from .static_states import admissible, hanging_start, unfolded, without_bending
 
 

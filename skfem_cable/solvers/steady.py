@@ -36,10 +36,11 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.spatial.transform import Rotation
 
-from ..constraints import LinearConstraint
-from ..loads import Centrifugal, vector3
-from ..protocols import IntegrableSystem
-from ..state import State
+from ..constraints.linear import LinearConstraint
+from ..core.protocols import IntegrableSystem
+from ..loads.gravity import Centrifugal
+from ..loads.point import vector3
+from ..model.state import State
 from .static import StaticConvergenceError, equilibrium
 from .static_states import constraint_jacobian
 

@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from ..io import signals
-from ..io.jsonable import jsonable
 from ..io.progress import Progress
+from ..util.jsonable import jsonable
 from . import grid as grids
 from .dataset import RUNS, STUDY, dataset, write_study
 from .task import run_point

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import TMP_MARK
 from ..io.reader import open_dataset
+from ..util.atomic import TMP_MARK
 
 #: The study's dataset in its directory.
 STUDY = "study.zarr"

@@ -22,13 +22,13 @@ from pathlib import Path
 import numpy as np
 
 from ..io import lock
-from ..io.fingerprint import settings_fingerprint, system_fingerprint
-from ..io.jsonable import jsonable
 from ..io.manifest import StoreMismatch, read_manifest
 from ..io.reader import run_info
+from ..model.fingerprint import settings_fingerprint, system_fingerprint
 from ..runner.directory import SUMMARY, run_files
 from ..runner.options import RunOptions
 from ..runner.summary import write_summary
+from ..util.jsonable import jsonable
 
 #: Top-level entries of a summary that become the study's numbers (besides ``outputs``).
 STATS = ("wall_time", "total_wall_time", "steps", "saved_steps", "newton")

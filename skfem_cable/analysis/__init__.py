@@ -1,0 +1,1 @@
+"""References and checks: closed-form solutions (``analytic``), spectra, the tangent check."""

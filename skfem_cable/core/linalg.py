@@ -1,0 +1,204 @@
+"""Linear solves on the fixed sparsity pattern of the KKT (iteration) matrix.
+
+The pattern is reordered once by reverse Cuthill-McKee.  A single cable (with its
+multipliers interleaved by the ordering) is a band of half-width about 13, factored by
+LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
+uses the same factor) in O(n).  A hub joined to many cables (the E-sail's) is ordered last
+as a dense border eliminated by its Schur complement (``kernels.bordered``), so the band
+stays that of one cable, and each cable is a block of its own, factored apart (on threads
+with ``SKFEM_CABLE_THREADS``); patterns no band fits fall back to SuperLU.  All index maps from
+the CSR data array into the factor's storage, and the storage itself, are made once.
+"""
+
+import os
+
+import numba
+import numpy as np
+import scipy.sparse as sp
+from numba import njit
+from scipy.sparse.csgraph import reverse_cuthill_mckee
+from scipy.sparse.linalg import splu
+
+from ..kernels import bordered as bordered_lu
+from ..kernels.lapack import ADDRESSES
+
+#: The environment variable of the number of threads of the bordered LU's blocks
+#: (``threads`` of ``PatternSolver``) and of the element loops (``kernels.chunks``).
+THREADS = "SKFEM_CABLE_THREADS"
+
+#: Banded LU is used while the band half-width stays below this.
+MAX_BANDWIDTH = 64
+
+#: Largest band storage (entries) used to locate where a sparse factorization found the
+#: matrix singular (160 MB).
+MAX_LOCATE_ENTRIES = 2e7
+
+
+def thread_count(threads=None):
+    """The threads of the bordered LU and of the element loops: ``threads``, else
+    ``SKFEM_CABLE_THREADS``, else 1,
+    at most numba's ``NUMBA_NUM_THREADS`` (numba is told, for the calling thread);
+    ``ValueError`` naming the source for anything but an integer >= 1."""
+    source = "threads" if threads is not None else THREADS
+    value = threads if threads is not None else os.environ.get(THREADS, "1")
+    try:
+        count = int(value)
+    except (TypeError, ValueError):
+        count = 0
+    if count < 1 or str(count) != str(value).strip():
+        raise ValueError(f"{source} must be an integer >= 1, got {value!r}")
+    count = min(count, numba.config.NUMBA_NUM_THREADS)
+    if count > 1:
+        numba.set_num_threads(count)
+    return count
+
+
+class SingularMatrixError(np.linalg.LinAlgError):
+    """The iteration matrix is singular; ``index`` is the unknown where it was detected."""
+
+    def __init__(self, message, index):
+        super().__init__(message)
+        self.index = index
+
+
+class PatternSolver:
+    """Factor and solve matrices that share one CSR pattern.
+
+    Parameters
+    ----------
+    indptr, indices : ndarray
+        CSR pattern of a structurally symmetric square matrix.
+    method : {"auto", "banded", "sparse"}
+        ``"banded"``: LAPACK's banded LU of the pattern reordered by reverse
+        Cuthill-McKee, with the ``border`` unknowns (if any) last, eliminated by a Schur
+        complement (``kernels.bordered``); ``"sparse"``: SuperLU; ``"auto"``: banded while
+        the half-width stays within ``MAX_BANDWIDTH``.
+    border : int array_like, optional
+        Unknowns coupled to many others (a hub's coordinates and its own constraints'
+        multipliers, ``Layout.border``): ordered last, they keep the band of the rest
+        narrow; used when they make the band narrower.
+    threads : int, optional
+        Threads on which the independent blocks of the band (an E-sail's tethers) are
+        factored and solved (``kernels.bordered``; numba's, at most
+        ``NUMBA_NUM_THREADS``); the results are the same for any number.  Default: the
+        environment variable ``SKFEM_CABLE_THREADS``, else 1.  Give a process more than
+        one only where it has the cores to itself: numba's OpenMP threads wait by
+        spinning, and beside other busy processes (test workers, a Dask cluster on the
+        same cores) each factorization can wait for a time slice.
+
+    Attributes
+    ----------
+    method : str
+    band : int
+        Half-width of the band (of the unknowns outside the border).
+    border : int
+        Number of border unknowns (0: a plain band).
+    """
+
+    def __init__(self, indptr, indices, method="auto", border=None, threads=None):
+        if method not in ("auto", "banded", "sparse"):
+            raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
+        self.threads = thread_count(threads)
+        n = len(indptr) - 1
+        self.n = n
+        self.pattern = sp.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))
+        self._rows = np.repeat(np.arange(n), np.diff(indptr))
+        perm, nb, band = self._ordering(np.zeros(0, dtype=np.int64))
+        if border is not None and len(border):
+            bordered = self._ordering(np.unique(np.asarray(border, dtype=np.int64)))
+            if bordered[2] < band:
+                perm, nb, band = bordered
+        if method == "auto":
+            method = "banded" if band <= MAX_BANDWIDTH else "sparse"
+        self.method = method
+        self.perm, self.band, self.border = perm, band, n - nb
+        if method == "banded":
+            self.lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm,
+                                          nb, band, self.threads)
+        self.factorizations = 0
+        self._lu = None
+
+    def _ordering(self, border):
+        """``(perm, nb, band)``: reverse Cuthill-McKee of the unknowns outside ``border``,
+        then the border; ``nb`` band unknowns of half-width ``band``."""
+        if border.size:
+            rest = np.setdiff1d(np.arange(self.n), border)
+            sub = self.pattern[rest][:, rest]
+        else:
+            rest, sub = np.arange(self.n), self.pattern
+        order = reverse_cuthill_mckee(sub, symmetric_mode=True) if rest.size else rest
+        perm = np.concatenate([rest[order], border]).astype(np.int64)
+        iperm = np.empty_like(perm)
+        iperm[perm] = np.arange(self.n)
+        pr, pc = iperm[self._rows], iperm[self.pattern.indices]
+        inside = (pr < rest.size) & (pc < rest.size)
+        band = int(np.max(np.abs(pr - pc)[inside], initial=0))
+        return perm, rest.size, band
+
+    def factor(self, data):
+        """LU-factor the matrix with CSR values ``data``."""
+        self.factorizations += 1
+        if self.method == "banded":
+            idx = int(bordered_lu.factor(self.lu, data))
+            if idx >= 0:
+                raise SingularMatrixError(f"singular iteration matrix at unknown {idx}", idx)
+        else:
+            A = sp.csr_matrix((data, self.pattern.indices, self.pattern.indptr),
+                              shape=(self.n, self.n))
+            try:
+                self._lu = splu(A.tocsc())
+            except RuntimeError as err:
+                idx = self._locate_singular(data)
+                at = f"at unknown {idx}" if idx >= 0 else f"({err})"
+                raise SingularMatrixError(f"singular iteration matrix {at}", idx) from None
+
+    def _locate_singular(self, data):
+        """The unknown where a singular matrix with CSR values ``data`` loses rank, found
+        by a banded LU of its bandwidth-reduced form (as the banded method does); -1 if
+        that band would exceed ``MAX_LOCATE_ENTRIES`` (too large to locate)."""
+        perm, nb, band = self._ordering(np.zeros(0, dtype=np.int64))
+        if self.n * (3 * band + 1) > MAX_LOCATE_ENTRIES:
+            return -1
+        lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm, nb, band)
+        return int(bordered_lu.factor(lu, data))
+
+    def solve(self, rhs):
+        """Solve with the last factorization; ``rhs`` of shape ``(n,)`` or ``(n, k)``."""
+        if self.method == "sparse":
+            return self._lu.solve(rhs)
+        rhs = np.asarray(rhs, dtype=float)
+        out = np.empty_like(rhs)
+        for k in np.ndindex(rhs.shape[1:]):
+            col = (slice(None), *k)
+            column = np.empty(self.n)
+            bordered_lu.solve(self.lu, np.ascontiguousarray(rhs[col]), column)
+            out[col] = column
+        return out
+
+
+@njit(cache=True)
+def _csr_matvec(indptr, indices, data, x, out):
+    for i in range(len(indptr) - 1):
+        acc = 0.0
+        for k in range(indptr[i], indptr[i + 1]):
+            acc += data[k] * x[indices[k]]
+        out[i] = acc
+    return out
+
+
+class FastCSR:
+    """A CSR matrix whose product with a vector skips scipy's per-call overhead (it
+    dominates for the small matrices multiplied at every Newton iteration)."""
+
+    def __init__(self, matrix):
+        m = sp.csr_matrix(matrix)
+        m.sort_indices()
+        self.shape = m.shape
+        self.indptr = m.indptr.astype(np.int64)
+        self.indices = m.indices.astype(np.int64)
+        self.data = m.data.astype(float)
+        self.scipy = m
+
+    def __matmul__(self, x):
+        return _csr_matvec(self.indptr, self.indices, self.data, np.ascontiguousarray(x),
+                           np.empty(self.shape[0]))

@@ -1,0 +1,349 @@
+"""Electrodynamic tethers: the Lorentz force on a cable carrying a current through a
+magnetic field, such as the geomagnetic field in low Earth orbit.
+
+A current ``I`` along a cable (positive towards increasing arc length) in a field ``B``
+feels, per unit reference length,
+
+    f = I r_x x B(r)
+
+(``r_x dx`` is the element of length as a vector), at the points of the cable's line-body
+hook (``lines``: any line body carries a current).  The load is compiled
+(``kernels.electrodynamic``, with the array passes of ``kernels.line``) for a uniform
+field and for a ``MagneticDipole``, with its exact tangent; a general field ``B(x, t)``
+takes the Python path with a central-difference gradient.  In an orbiting system
+(``System.add_orbit``) the coordinates are offsets from the orbit's reference point
+``R(t)``: the field is evaluated at the absolute position
+``R(t) + x`` and the motional EMF uses the absolute velocity ``V(t) + v``; both are
+refreshed once per time step (``Term.prepare``).
+
+The current is prescribed (a number or a function of time) or ``"short-circuit"``: the
+uniform current ``I = E / R_c`` that the motional EMF ``E = int ((v - Omega x r) x B) .
+r_x dx`` drives through the circuit's resistance ``R_c`` (``Omega``: the rotation of the
+plasma, by default in orbit the central body's: the Earth's co-rotating ionosphere).
+Such a tether is a brake: its power ``F . u = -E^2 / R_c`` is never positive.
+
+References
+----------
+1. M. L. Cosmo and E. C. Lorenzini (eds.), "Tethers in Space Handbook", 3rd ed., NASA
+   Marshall Space Flight Center, 1997 (electrodynamic tethers: the motional EMF ``(v x
+   B) . L`` and the force ``I L x B``, deorbiting by the drag of the current).
+2. J. D. Jackson, "Classical Electrodynamics", 3rd ed., Wiley 1999, Sect. 5.6 (the field of
+   a magnetic dipole, Eq. 5.56).
+3. N. Olsen et al., "The Swarm Initial Field Model for the 2014 Geomagnetic Field",
+   Geophys. Res. Lett. 42 (2015) 1092-1098 (the dipole moment, about 7.7e22 A m^2, and its
+   tilt of about 9.7 deg: the IGRF's first-degree coefficients).
+"""
+
+import numpy as np
+
+from ..bodies.section import check_positive
+from ..core import lines
+from ..core.contract import Evaluation, Term
+from ..core.inputs import declared, reader
+from ..kernels import electrodynamic as kernel
+from ..space.constants import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
+from ..space.orbit import co_rotation
+from .line import AlongCable
+from .point import vector3
+
+MU0_OVER_4PI = 1.0e-7
+"""``mu_0 / (4 pi)`` (T m / A; 1.00000000055e-7 in CODATA 2018, the difference is far
+below the dipole model's own)."""
+EARTH_DIPOLE_MOMENT = 8.0e22
+"""Magnitude of the Earth's dipole moment (A m^2), the round value of the issue (the
+2015 value is 7.7e22, Olsen et al.)."""
+FD_STEP = 6.06e-6
+"""Relative step of the central-difference field gradient, about ``eps^(1/3)``."""
+
+
+def _finite(name, value):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    if not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return value
+
+
+class MagneticDipole:
+    """The field of a magnetic dipole at the origin (the central body's centre):
+
+        B(x) = mu_0 / (4 pi) (3 (m . x_hat) x_hat - m) / |x|^3
+
+    (Jackson Eq. 5.56; ``kernels.electrodynamic`` Eq. 4).  With ``tilt = 0`` the moment
+    points to ``-z`` (the Earth's points to geographic south), so the field on the
+    equator points north (``+z``), ``mu_0 M / (4 pi r^3)``, and twice that over the poles.
+
+    Parameters
+    ----------
+    moment : float
+        Magnitude ``M`` of the moment (A m^2), > 0; default the Earth's, 8.0e22.
+    tilt : float
+        Angle (rad, in [0, pi]) between the dipole's north axis (``-m``) and ``+z``.
+    azimuth : float
+        Longitude (rad) of the north axis in the ``x, y`` plane at ``t = 0``.
+    rotation_rate : float
+        Rate (rad/s) at which a tilted axis turns about ``z`` (the central body's spin,
+        e.g. ``OMEGA_EARTH``); the north axis is at longitude ``azimuth + rotation_rate t``.
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> earth = sc.MagneticDipole()
+    >>> B, dB = earth.field([sc.R_EARTH + 400e3, 0.0, 0.0])
+    >>> f"{B[2]:.4e} T"                         # north, mu_0 M / (4 pi r^3)
+    '2.5690e-05 T'
+    """
+
+    def __init__(self, moment=EARTH_DIPOLE_MOMENT, tilt=0.0, azimuth=0.0, rotation_rate=0.0):
+        self.moment = check_positive("moment", moment)
+        self.tilt = _finite("tilt", tilt)
+        if not 0.0 <= self.tilt <= np.pi:
+            raise ValueError(f"tilt must lie in [0, pi] (rad), got {tilt!r}")
+        self.azimuth = _finite("azimuth", azimuth)
+        self.rotation_rate = _finite("rotation_rate", rotation_rate)
+
+    def axis(self, t=0.0):
+        """Unit vector of the moment ``m`` at time ``t`` (``-z`` without tilt)."""
+        phi = self.azimuth + self.rotation_rate * t
+        st = np.sin(self.tilt)
+        return -np.array([st * np.cos(phi), st * np.sin(phi), np.cos(self.tilt)])
+
+    def sources(self, t):
+        """``[B_0, mu_0 / (4 pi) m]`` (2, 3) at time ``t``: the compiled field's uniform
+        part (zero) and moment."""
+        return np.stack([np.zeros(3), MU0_OVER_4PI * self.moment * self.axis(t)])
+
+    def field(self, x, t=0.0):
+        """The field ``B`` (T) and its gradient ``dB/dx`` (T/m) at absolute positions
+        ``x`` (..., 3): shapes (..., 3) and (..., 3, 3)."""
+        return _compiled_field(self.sources(t), x)
+
+    def __repr__(self):
+        return (f"MagneticDipole(moment={self.moment:.6g}, tilt={self.tilt:.6g}, "
+                f"azimuth={self.azimuth:.6g}, rotation_rate={self.rotation_rate:.6g})")
+
+
+class UniformField:
+    """A uniform, constant field ``B`` (T): what ``ElectrodynamicForce`` makes of a
+    3-vector ``field``."""
+
+    def __init__(self, B):
+        self.B = vector3(B, "field")
+
+    def sources(self, t):
+        """``[B, 0]`` (2, 3): the compiled field's uniform part and (no) moment."""
+        return np.stack([self.B, np.zeros(3)])
+
+    def field(self, x, t=0.0):
+        """``B`` and a zero gradient at the positions ``x`` (..., 3)."""
+        return _compiled_field(self.sources(t), x)
+
+
+def _compiled_field(sources, x):
+    X = np.ascontiguousarray(np.asarray(x, dtype=float))
+    if X.shape[-1:] != (3,):
+        raise ValueError(f"positions must have shape (..., 3), got {X.shape}")
+    B, dB = np.empty(X.shape), np.empty(X.shape + (3,))
+    kernel.dipole_points(np.ascontiguousarray(sources), X, B, dB)
+    return B, dB
+
+
+def _drive(current, resistance):
+    """``drive(t) -> [I_0, G]`` of the kernel (``I = I_0 + G E``) for the ``current`` and
+    ``resistance`` arguments of ``ElectrodynamicForce``."""
+    if isinstance(current, str):
+        if current != "short-circuit":
+            raise ValueError(f"current must be a number (A), a callable current(t) or "
+                             f"'short-circuit', got {current!r}")
+        if resistance is None:
+            raise ValueError("current='short-circuit' needs the circuit's resistance "
+                             "(ohm, > 0)")
+        conductance = 1.0 / check_positive("resistance", resistance)
+        return lambda t: np.array([0.0, conductance])
+    if resistance is not None:
+        raise ValueError(f"resistance is used only with current='short-circuit', got "
+                         f"resistance={resistance!r} with current={current!r}")
+    if callable(current):
+        return lambda t: np.array([_finite(f"current({t!r})", current(t)), 0.0])
+    value = _finite("current", current)
+    return lambda t: np.array([value, 0.0])
+
+
+class ElectrodynamicForce(AlongCable):
+    """The Lorentz force ``f = I r_x x B`` per unit reference length on a cable carrying
+    the current ``I`` through the magnetic field ``B``, with its tangent.
+
+    Parameters
+    ----------
+    cable : Cable or line body
+        The conductor: a ``Cable`` or any body with the line-body hook ``line_points``
+        (``lines``).
+    current : float, callable or ``"short-circuit"``
+        The current (A), positive towards increasing arc length; ``current(t)``; or
+        ``"short-circuit"``: ``I = E / resistance`` with ``E`` the cable's motional EMF
+        (uniform along the cable, as in a tether whose ends are in contact with the plasma).
+    field : MagneticDipole, array_like (3,) or callable
+        A dipole at the origin; a uniform field (T); or ``field(x, t) -> (n, 3)``, the field
+        (T) at ``n`` absolute positions ``x`` (n, 3) (Python path, gradient by central
+        differences with the step ``fd_step (1 + |x|)``, accurate to about ``fd_step^2``
+        relative: Newton converges as with the exact gradient).
+    resistance : float, optional
+        Resistance (ohm, > 0) of the circuit, with ``current="short-circuit"`` only.
+    plasma_rotation : array_like (3,) or None
+        Angular velocity ``Omega`` (rad/s) of the plasma about the origin, e.g.
+        ``[0, 0, OMEGA_EARTH]`` for a co-rotating ionosphere: the EMF uses the velocity
+        relative to it, ``v - Omega x r``.  None (default): in a system in orbit the
+        central body's rotation (``Orbit.body_rotation``: the Earth's for ``MU_EARTH``,
+        as ``FreeMolecularDrag``'s atmosphere), else a plasma at rest.
+    fd_step : float
+        Relative step of the gradient of a callable field, in (0, 1).
+
+    Notes
+    -----
+    The short-circuit current depends on the state of the whole cable; an exact tangent
+    would couple every coordinate of the cable to every other (a dense block breaking the
+    banded solver).  The kernel evaluates the current from each Newton iterate and the
+    tangent holds it fixed (``kernels.electrodynamic``): the converged force is exactly
+    ``E / R_c r_x x B``; Newton converges slightly slower, by the ratio of the omitted
+    magnetic damping ``(L B)^2 / R_c`` to the inertia.  In statics the offsets' velocity is
+    zero, but the EMF still counts the reference point's velocity.
+
+    Examples
+    --------
+    A 5 km tether along the local vertical in a 400 km equatorial orbit, carrying 1 A
+    upwards: the force ``I L x B`` points against the motion (along-track is ``+y``).
+
+    >>> import skfem_cable as sc
+    >>> orbit = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 400e3)
+    >>> tether = sc.Cable.straight([-2.5e3, 0, 0], [2.5e3, 0, 0], 4,
+    ...                            sc.Section.circular(1e-3, 7e10, 2700.0))
+    >>> system = sc.System([tether]).add_orbit(orbit)
+    >>> force = sc.ElectrodynamicForce(tether, 1.0, sc.MagneticDipole())
+    >>> system.add_load(force) is system
+    True
+    >>> f"{force.evaluate(system, tether.q0)['force'][1]:.4f} N"
+    '-0.1284 N'
+    """
+
+    def __init__(self, cable, current, field, resistance=None,
+                 plasma_rotation=None, fd_step=FD_STEP):
+        self.cable = cable
+        self.drive = _drive(current, resistance)
+        self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
+        self.circuit = (current, resistance)  # for the run's drive (``_bind``)
+        self.plasma_rotation = (None if plasma_rotation is None
+                                else vector3(plasma_rotation, "plasma_rotation"))
+        if callable(getattr(field, "sources", None)):
+            self.compiled, self.callable = field, None
+        elif callable(field):
+            self.compiled, self.callable = None, field
+        else:
+            self.compiled, self.callable = UniformField(field), None
+        if not 0.0 < fd_step < 1.0:
+            raise ValueError(f"fd_step must lie in (0, 1), got {fd_step!r}")
+        self.fd_step = float(fd_step)
+
+    def field_and_gradient(self, x, t):
+        """The field (T) and its gradient (T/m) at absolute positions ``x`` (n, 3)."""
+        if self.compiled is not None:
+            return self.compiled.field(x, t)
+        B = self._call(x, t)
+        dB = np.empty(x.shape + (3,))
+        step = self.fd_step * (1.0 + np.linalg.norm(x, axis=-1))
+        for j in range(3):
+            dx = np.zeros_like(x)
+            dx[:, j] = step
+            dB[:, :, j] = (self._call(x + dx, t) - self._call(x - dx, t)) / (2 * step[:, None])
+        return B, dB
+
+    def _call(self, x, t):
+        B = np.asarray(self.callable(x, t), dtype=float)
+        if B.shape != x.shape or not np.all(np.isfinite(B)):
+            raise ValueError(f"field(x, t) must return a finite array of shape {x.shape} "
+                             f"(one field vector per point, T), got shape {B.shape}")
+        return B
+
+    #: Bound with the run's reference in orbit (``bind(system, reference)``).
+    reads_reference = True
+
+    def inputs(self):
+        """The inputs the current reads (``inputs.declared``)."""
+        return declared(self.circuit[0])
+
+    def bind(self, system, reference=None, inputs=None):
+        """The load's term: compiled (``kernels.electrodynamic.kernel``) for a uniform or
+        dipole field, a Python ``add`` for a callable field; in orbit about the reference
+        point of ``reference`` (the run's ``Reference``; None: the orbit as given); the
+        current reads the run's values of its inputs (``inputs``: the run's
+        ``InputTable``)."""
+        return self._bind(system, reference, inputs)[0]
+
+    def _bind(self, system, reference=None, inputs=None):
+        """``(term, pack)``: the term and its pack (``kernels.electrodynamic.kernel``),
+        whose scratch holds the forces at the points and whose last array ``[I, E]``
+        the evaluations write; the points are the line-body hook's (``lines``)."""
+        current, resistance = self.circuit
+        run_drive = self.drive if inputs is None else _drive(reader(current, inputs),
+                                                             resistance)
+        orbit = system.orbit if reference is None else reference
+        points = lines.line_points(self.cable, system)
+        motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
+        scratch = tuple(np.zeros(points.shape + shape) for shape in
+                        [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3)
+        pack = ((points.edofs, points.S, points.Sx, points.w), motion, source, drive,
+                co_rotation(self.plasma_rotation, orbit), scratch, np.zeros(2))
+
+        def prepare(t):
+            if orbit is not None:
+                motion[0], motion[1] = orbit.position(t), orbit.velocity(t)
+            drive[:] = run_drive(t)
+            if self.compiled is not None:
+                source[:] = self.compiled.sources(t)
+
+        prepare(0.0 if orbit is None else orbit.t0)
+        name = f"electrodynamic force {self.cable.name}"
+        rows, cols = points.tangent_pattern()
+        if self.compiled is not None:
+            return Term(kernels=((kernel.kernel, pack),), rows=rows, cols=cols,
+                        prepare=prepare, name=name), pack
+
+        def add(ev, index):
+            prepare(ev.t)
+            packed = ev.packed()
+            kernel.gather(pack, packed)
+            X, B, dB = scratch[0], scratch[3], scratch[4]
+            B[:], dB[:] = (y.reshape(X.shape[:2] + y.shape[1:])
+                           for y in self.field_and_gradient(X.reshape(-1, 3), ev.t))
+            kernel.finish(pack, index, packed)
+
+        return Term(add=add, rows=rows, cols=cols, name=name), pack
+
+    def evaluate(self, system, q, v=None, t=0.0, reference=None):
+        """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
+        current), the electrical power ``I E`` (W) and the total force (N, (3,)) on the
+        cable at the coordinates ``q`` and velocities ``v`` (None: at rest relative to the
+        reference point) of ``system`` at time ``t``: a dict with keys ``current``,
+        ``emf``, ``power``, ``force``.  In orbit the offsets are taken from the reference
+        point of ``reference`` (a run's, ``Result.reference``, with its rebases; None:
+        the orbit as given).
+
+        ``power = I E`` is what the motional EMF gives the circuit: positive when the
+        tether generates (a short circuit: ``E^2 / R_c``, a brake), negative when a supply
+        drives the current against the EMF (a thruster); the force's power on the motion
+        relative to the plasma is ``-I E``.
+
+        The total force is ``int f dx``, the sum of the forces at the points times their
+        weights.
+        """
+        term, pack = self._bind(system, reference)
+        ev = Evaluation(system, t, np.asarray(q, dtype=float),
+                        None if v is None else np.asarray(v, dtype=float),
+                        np.zeros(system.n_constraints))
+        term.evaluate(ev, np.zeros(np.broadcast_shapes(term.rows.shape, term.cols.shape),
+                                   dtype=np.int64))
+        points, out, F = pack[0], pack[-1], pack[5][5]
+        return {"current": float(out[0]), "emf": float(out[1]),
+                "power": float(out[0] * out[1]),
+                "force": np.einsum("eg,egi->i", points[3], F)}

@@ -1,0 +1,145 @@
+"""What an E-sail run reports: spin rate, attitude angles, the Coulomb force's resultants."""
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from ...core.inputs import InputTable, system_inputs
+from ...space.frames import R1, euler_321, euler_323, orbit_frame
+
+
+def _facing(axis, wind):
+    """The least rotation that turns the unit vector ``axis`` onto the line of ``wind``
+    (onto ``wind`` or ``-wind``, whichever is nearer)."""
+    target = wind if axis @ wind >= 0 else -wind
+    return Rotation.align_vectors([target], [axis])[0].as_matrix()
+
+
+def _angles(vec_Z):
+    """Coning (out of the spin plane) and lagging angles of vectors in the tether frames Z
+    (Eqs. 59, 61)."""
+    gamma = np.arctan2(vec_Z[..., 0], np.hypot(vec_Z[..., 1], vec_Z[..., 2]))
+    beta = np.arctan2(vec_Z[..., 2], vec_Z[..., 1])
+    return gamma, beta
+
+
+def outputs(scene, result):
+    """Auxiliary variables of Sect. 3 as time series (leading axis: the saved steps).
+
+    Returns a dict with ``t`` and: ``coning``, ``lagging``, ``root_coning``,
+    ``root_lagging``, ``length_ratio`` (nt, p); ``omega_B`` (nt, 3, rad/s, the hub's);
+    ``spin_rate`` (nt, rad/s: the remote units' mean rate about the normal of their plane,
+    the sail's spin without the hub's libration); ``euler_B``
+    (psi, theta, phi) and ``euler_E`` (Psi, Theta, Phi) (nt, 3, rad); ``sailing_angle``,
+    ``precession_angle`` (nt, rad); ``thrust`` (I) and ``thrust_O`` (nt, 3, N),
+    ``thrust_angle`` (from ``Z_O``, rad), ``thrust_moment`` (about the anchors, I, N m);
+    ``coulomb_force_B``, ``coulomb_moment_B`` per tether (nt, p, 3, body frame);
+    ``reaction_force`` (force of the tethers on the hub, I) and ``reaction_force_O``,
+    ``reaction_moment`` (about the hub centre, I), ``reaction_angle`` (from ``Z_O``); and
+    the energies of ``result.energy``.
+    """
+    system, hub = scene.system, scene.hub
+    d = result.q[:, system.dofs(hub)]
+    C_I_B = hub.rotation(d)
+    origin = hub.positions(d, np.zeros(3))
+    C_I_O = orbit_frame(scene.heliocentric(result.t, result.reference) + origin)
+    out = {"t": result.t}
+    rho_Z, tau_Z, ratio = [], [], []
+    for zeta, cable in zip(scene.zeta, scene.tethers):
+        qc = result.q[:, system.dofs(cable)]
+        nodes = qc.reshape(len(result.t), -1, cable.element.nodal_dofs, 3)
+        C_Z_I = R1(zeta) @ np.swapaxes(C_I_B, -1, -2)
+        rho_Z.append(np.einsum("tij,tj->ti", C_Z_I, nodes[:, -1, 0] - nodes[:, 0, 0]))
+        tau_Z.append(np.einsum("tij,tj->ti", C_Z_I, nodes[:, 0, 1]))
+        a = np.einsum("egA,teAi->tegi", cable.Sx, cable.element_vectors(qc))
+        ratio.append(np.einsum("eg,teg->t", cable.weights, np.linalg.norm(a, axis=-1))
+                     / cable.length)
+    out["coning"], out["lagging"] = _angles(np.stack(rho_Z, axis=1))
+    out["root_coning"], out["root_lagging"] = _angles(np.stack(tau_Z, axis=1))
+    out["length_ratio"] = np.stack(ratio, axis=1)
+    out["omega_B"] = hub.angular_velocity(d, result.v[:, system.dofs(hub)])
+    C_B_O = np.swapaxes(C_I_B, -1, -2) @ C_I_O
+    out["euler_B"] = euler_321(C_B_O)
+    # E frame: normal of the least-squares plane of the remote units (Eqs. 67-70)
+    tips = np.stack([result.q[:, system.dofs(c)[-6:-3]] for c in scene.tethers], axis=1)
+    centre = tips.mean(axis=1, keepdims=True)
+    normal = np.linalg.svd(tips - centre)[2][:, -1]
+    normal *= np.sign(np.einsum("ti,ti->t", normal, C_I_B[:, :, 0]))[:, None]
+    k_E = np.cross(normal, tips[:, 0] - centre[:, 0])
+    k_E /= np.linalg.norm(k_E, axis=1, keepdims=True)
+    C_I_E = np.stack([normal, np.cross(k_E, normal), k_E], axis=-1)
+    out["spin_rate"] = _spin_rate(tips - centre, np.stack(
+        [result.v[:, system.dofs(c)[-6:-3]] for c in scene.tethers], axis=1), normal)
+    out["euler_E"] = euler_323(np.swapaxes(C_I_E, -1, -2) @ C_I_O)
+    out["sailing_angle"] = np.arccos(np.clip(np.einsum("ti,ti->t", C_I_B[:, :, 0],
+                                                       C_I_O[:, :, 2]), -1, 1))
+    i_E_O = np.einsum("tji,tj->ti", C_I_O, normal)
+    out["precession_angle"] = np.arctan2(i_E_O[:, 1], i_E_O[:, 0])
+    # Coulomb resultants (Eqs. 72-76) by the same quadrature as the force
+    force_B, moment_B = _coulomb_resultants(scene, result, C_I_B)
+    thrust = np.einsum("tij,tpj->ti", C_I_B, force_B)
+    out["coulomb_force_B"], out["coulomb_moment_B"] = force_B, moment_B
+    out["thrust"] = thrust
+    out["thrust_O"] = np.einsum("tji,tj->ti", C_I_O, thrust)
+    out["thrust_angle"] = _angle_from_z(out["thrust_O"])
+    out["thrust_moment"] = np.einsum("tij,tpj->ti", C_I_B, moment_B)
+    # reactions on the hub from the joint multipliers (Eqs. 77-78)
+    pins = [result.multipliers[c.name] for c in system.constraints if c.name.startswith("pin")]
+    lam = np.stack(pins, axis=1)
+    out["reaction_force"] = lam.sum(axis=1)
+    out["reaction_force_O"] = np.einsum("tji,tj->ti", C_I_O, out["reaction_force"])
+    anchors_I = hub.positions(d, scene.anchors)
+    out["reaction_moment"] = np.cross(anchors_I - origin[:, None], lam).sum(axis=1)
+    out["reaction_angle"] = _angle_from_z(out["reaction_force_O"])
+    out.update(result.energy)
+    return out
+
+
+def _spin_rate(arms, velocities, normal):
+    """The remote units' mean angular rate (rad/s) about ``normal`` (nt, 3), from their
+    positions relative to their centre ``arms`` and velocities (nt, p, 3): the sail's spin
+    rate, without the hub's libration against the tethers, which ``omega_B`` shows."""
+    relative = velocities - velocities.mean(axis=1, keepdims=True)
+    radial = arms - np.einsum("tpi,ti->tp", arms, normal)[..., None] * normal[:, None]
+    rate = np.einsum("tpi,ti->tp", np.cross(radial, relative), normal)
+    return (rate / np.einsum("tpi,tpi->tp", radial, radial)).mean(axis=1)
+
+
+def _angle_from_z(F_O):
+    return np.arctan2(np.hypot(F_O[..., 0], F_O[..., 1]), F_O[..., 2])
+
+
+def _coulomb_resultants(scene, result, C_I_B):
+    """Per-tether Coulomb force ``int f dx`` and moment ``int (r - r_anchor) x f dx`` about
+    the anchor, in the body frame, (nt, p, 3) each."""
+    inputs = system_inputs(scene.system)
+    missing = sorted(set(inputs) - set(result.inputs))
+    if missing:
+        raise ValueError(f"outputs: the result holds no history of the inputs "
+                         f"{', '.join(map(repr, missing))} (set by controllers): the "
+                         "Coulomb force of past saved steps cannot be recomputed")
+    return _resultants(scene, result, C_I_B, InputTable(inputs))
+
+
+def _resultants(scene, result, C_I_B, table):
+    """``_coulomb_resultants`` with the inputs of ``table`` (an ``inputs.InputTable``)
+    set, at each saved step, to the values the result recorded."""
+    wf, system = scene.wind_force, scene.system
+    sources = wf.sources(table)
+    nt, p = len(result.t), len(scene.tethers)
+    force = np.zeros((nt, p, 3))
+    moment = np.zeros((nt, p, 3))
+    for k, t in enumerate(result.t):
+        for name in table.values:
+            table.set(name, result.inputs[name][k])
+        coef = wf.coefficients(t, sources)
+        for i, cable in enumerate(scene.tethers):
+            qc = result.q[k, system.dofs(cable)]
+            qe = cable.element_vectors(qc)
+            r = np.einsum("egA,eAi->egi", cable.S, qe)
+            a = np.einsum("egA,eAi->egi", cable.Sx, qe)
+            f = wf.line_force(r, a, coef[i, None, None], t, result.reference)
+            fw = f * cable.weights[..., None]
+            force[k, i] = fw.sum(axis=(0, 1))
+            moment[k, i] = np.cross(r - qc[:3], fw).sum(axis=(0, 1))
+    RT = np.swapaxes(C_I_B, -1, -2)
+    return np.einsum("tij,tpj->tpi", RT, force), np.einsum("tij,tpj->tpi", RT, moment)

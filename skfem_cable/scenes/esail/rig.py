@@ -1,0 +1,187 @@
+"""Building the E-sail: hub, tethers, joints and the solar wind, settled to its spin."""
+
+from dataclasses import replace
+
+import numpy as np
+
+from ...bodies.cable import Cable
+from ...bodies.rigid import RigidBody
+from ...loads.coulomb import AU, THRUST_EXPONENT, SolarWindForce, SunAtFocus
+from ...model.state import State
+from ...model.system import System
+from ...runner.directory import register_files
+from ...solvers.settle import settle
+from ...solvers.steady import solve_steady
+from ...space.constants import MU_SUN
+from ...space.frames import dcm_321, orbit_frame
+from ...space.orbit import Orbit
+from .config import ESailScene
+from .report import _facing
+
+# the files of the ``esail`` scene's run directory (``run``, ``figures``), for its summary
+register_files({"esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays"},
+               after="animation.mp4")
+register_files({
+    "plots/esail_tether.png": "tether coning, lagging and stretch against time (Fig. 6)",
+    "plots/esail_hub.png": "hub rates and attitudes, sail attitude (Figs. 7-8)",
+    "plots/esail_forces.png": "thrust and root reactions in the orbit frame (Fig. 9)",
+    "plots/esail_psd.png": "spectra of tether and hub motions, Table 2 modes marked",
+    "plots/esail_coning.gif": "side view of the sail's coning, Sun direction drawn (--animate)",
+}, patterns=("plots/esail_*.png", "plots/esail_*.gif"))
+
+
+def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass, omega):
+    """Steady radial state of a cable spinning at ``omega`` about an axis, anchored at
+    ``hub_radius`` with a tip mass: ``T' = -mu omega^2 r``, ``r' = lambda(T)`` with the
+    Green-strain law ``T = EA (lambda^2 - 1) lambda / 2``, ``r(0) = hub_radius``,
+    ``T(L) = m omega^2 r(L)``.  Returns the radius ``r`` and the stretch ``lambda`` at the
+    reference arc lengths ``s`` (fixed-point iteration on a fine grid, converged to
+    round-off)."""
+    grid = np.union1d(np.linspace(0.0, length, 20001), s)
+    r = hub_radius + grid
+    for _ in range(50):
+        centrifugal = mass_per_length * omega**2 * r
+        tail = np.concatenate([[0.0], np.cumsum(0.5 * (centrifugal[1:] + centrifugal[:-1])
+                                                * np.diff(grid))])
+        T = tip_mass * omega**2 * r[-1] + tail[-1] - tail
+        lam = np.ones_like(T)
+        for _ in range(30):  # Newton on lam^3 - lam = 2 T / EA
+            lam -= (lam**3 - lam - 2 * T / EA) / (3 * lam**2 - 1)
+        r_new = hub_radius + np.concatenate([[0.0], np.cumsum(0.5 * (lam[1:] + lam[:-1])
+                                                             * np.diff(grid))])
+        done = np.max(np.abs(r_new - r)) <= 1e-15 * r[-1]
+        r = r_new
+        if done:
+            break
+    return np.interp(s, grid, r), np.interp(s, grid, lam)
+
+
+def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
+    """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
+    ``n_elements`` elements per tether of ``kind`` ("cable" or "truss") in the
+    ``formulation`` of ``Cable`` (None: the default; ``"paper"`` is the paper's own).
+
+    The hub starts at the origin of I with body Euler angles ``(0, alpha - 90 deg, 0)``
+    relative to O, all tethers radial in the hub mid-plane, stretched by the steady
+    rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
+    rigid rotation (Eqs. 79-82).  The frame I is fixed, the Sun at ``-R0``.
+    """
+    return _build(config.validate(), alpha_deg, n_elements, kind, formulation)
+
+
+def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
+                exponent=THRUST_EXPONENT):
+    """The sail of ``build`` on a heliocentric orbit (``System.add_orbit``): the system's
+    coordinates are offsets from the orbit's reference point ``R(t)``, the Sun's
+    differential gravity acts on every mass, and the solar wind is evaluated at each Gauss
+    point's heliocentric position ``R(t) + x`` (``SunAtFocus``), its force scaled by
+    ``(AU / r)^exponent``.
+
+    ``orbit`` defaults to the circular orbit of 1 AU in the ecliptic, ``Orbit(MU_SUN,
+    AU)``; its central body must be the Sun.  The sail starts at the reference point at
+    t = 0, at rest relative to it apart from its spin: ``config.R0`` is replaced by
+    ``orbit.position(0)`` (the sailing angle is set against the Sun line there).
+    """
+    orbit = Orbit(MU_SUN, AU) if orbit is None else orbit
+    cfg = replace(config, R0=tuple(orbit.position(0.0))).validate()
+    return _build(cfg, alpha_deg, n_elements, kind, formulation, orbit, exponent)
+
+
+def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
+           exponent=THRUST_EXPONENT):
+    """``build`` of a validated config; with ``orbit``, the system is put on it and the Sun
+    sits at its focus."""
+    if int(n_elements) != n_elements or n_elements < 1:
+        raise ValueError(f"n_elements must be a positive integer, got {n_elements!r}")
+    if not np.isfinite(alpha_deg) or abs(alpha_deg) > 90:
+        raise ValueError(f"alpha_deg must lie in [-90, 90], got {alpha_deg!r}")
+    alpha = np.deg2rad(alpha_deg)
+    R0 = np.asarray(cfg.R0, dtype=float)
+    C_I_O = orbit_frame(R0)
+    C_B_O = dcm_321(0.0, alpha - np.pi / 2, 0.0)
+    C_I_B = C_I_O @ C_B_O.T
+    hub = RigidBody.cylinder(cfg.hub_radius, cfg.hub_height, cfg.hub_density,
+                             rotation=C_I_B, name="hub")
+    sec = cfg.section
+    p = int(cfg.n_tethers)
+    zeta = 2 * np.pi * np.arange(p) / p
+    radial_B = np.column_stack([np.zeros(p), np.cos(zeta), np.sin(zeta)])
+    anchors = cfg.hub_radius * radial_B
+    s = np.linspace(0.0, cfg.tether_length, int(n_elements) + 1)
+    r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
+                                    sec.mass_per_length, cfg.remote_mass, cfg.spin_rate)
+    tethers = []
+    for i in range(p):
+        e = C_I_B @ radial_B[i]
+        cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
+                                     sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
+                      law=kind, name=f"tether{i + 1}", formulation=formulation)
+        tethers.append(cable)
+    system = System([hub, *tethers])
+    for cable, x in zip(tethers, anchors):
+        system.pin(cable.node(0), hub.point(x))
+        system.add_point_mass(cable.node(-1), cfg.remote_mass)
+    sun = -R0 if orbit is None else SunAtFocus(orbit)
+    wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=sun,
+                                exponent=exponent)
+    system.add_load(wind_force)
+    if orbit is not None:
+        system.add_orbit(orbit)
+    q0 = system.q0
+    omega_I = C_I_B @ np.array([cfg.spin_rate, 0.0, 0.0])
+    v0 = system.rigid_motion_velocity(q0, omega_I)
+    return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
+                      State(system, q0, v=v0), R0, orbit,
+                      {"n_elements": n_elements, "kind": kind, "formulation": formulation,
+                       "exponent": exponent})
+
+
+#: ``settled``'s relaxation: steps of this share of a spin period (4 deg of spin) ...
+SETTLE_STEP = 1.0 / 90.0
+#: ... over this many spin periods (4.4 h for ``FULL_SIZE``).  Measured on ``FULL_SIZE``
+#: (the start in modified Newton, then a day of adaptive steps with the local error held
+#: to 1e-5, two threads): 5.5 periods of 1/180 took 6.2 s, then 3933 steps; these 5.4 s,
+#: then 3466 steps (3 of 1/180: 3.9 s, then 4001 steps; 5.5 of 1/45: 9.3 s, then 3262;
+#: longer relaxation steps need more Newton iterations).  Now (full Newton, ``settle``'s
+#: default; ``MISSION_RTOL``): 4.4 s, then 3284 steps.
+SETTLE_SPINS = 3.0
+
+
+def settled(scene, spins=SETTLE_SPINS):
+    """``scene`` started from its state under the wind instead of the windless spin of
+    ``build`` (which the wind's onset sets ringing and coning for the whole run):
+
+    1. the relative equilibrium of the sail turned to face the wind (``solve_steady``
+       about its spin axis turned onto the wind line, where the wind is constant in the
+       spinning frame: the tethers coned, the sail accelerating along the axis), turned
+       back to the sailing angle;
+    2. ``spins`` spin periods of dynamic relaxation from there (``solvers.settle.settle``:
+       steps of ``SETTLE_STEP`` of a spin period at rho_inf = 0, from t = -``spins``
+       periods), which take a factor 1e3 off the modes of periods below about an eighth
+       of the spin period (``omega h > 0.59``) that the tilt against the wind sets off.
+
+    The slow coning oscillation is not reached by the relaxation (its ``omega h`` is
+    0.07); the equilibrium keeps it small.  ``FULL_SIZE`` at 10 deg and ``MISSION_RTOL``:
+    the mean coning stays within 4.65 to 4.80 deg over a day (from the windless spin, or
+    relaxed from it without the equilibrium, it swings between 0 and 9 deg with a period
+    of 1.4 h), and the adaptive steps take 3284 steps a day (``docs/benchmarks.md``,
+    "Mission-length runs").  The sail has sailed during the
+    relaxation: it starts off the origin (or the orbit's reference point), moving with
+    the velocity the thrust gave it.
+    """
+    if not (np.isfinite(spins) and spins > 0):
+        raise ValueError(f"spins must be a finite number > 0, got {spins!r}")
+    system, initial = scene.system, scene.initial
+    # on an orbit the Sun line turns and the Sun's tides act: the equilibrium is that of
+    # the sail fixed at the orbit's start, the rest is left to the relaxation
+    fixed = scene if scene.orbit is None else _build(
+        replace(scene.config, R0=tuple(scene.R0)), np.degrees(scene.alpha), **scene.options)
+    axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
+    R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
+    turned = State(fixed.system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
+    steady = solve_steady(fixed.system, scene.config.spin_rate * (R @ axis), initial=turned)
+    start = State(system, system.rotate(steady.q, R.T), v=system.rotate(steady.v, R.T))
+    period = scene.config.spin_period
+    duration = spins * period
+    state = settle(system, duration, SETTLE_STEP * period, initial=start, t_start=-duration)
+    return replace(scene, initial=State(system, state.q, state.lam, v=state.v, t=0.0))
