@@ -209,10 +209,10 @@ def test_the_memory_guard_counts_every_cable_of_a_system(monkeypatch):
     import os
 
     import skfem_cable as sc
-    from skfem_cable.bodies import cable as cable_module
+    from skfem_cable.bodies import memory as memory_module
 
     memory = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    monkeypatch.setattr(cable_module, "MEMORY_PER_ELEMENT", memory / 15)
+    monkeypatch.setattr(memory_module, "MEMORY_PER_ELEMENT", memory / 15)
     section = sc.Section.circular(1e-3, 2e11, 7850.0)
     cables = [sc.Cable.straight([0, i, 0], [1, i, 0], 10, section, name=f"c{i}")
               for i in range(2)]
