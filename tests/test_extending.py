@@ -6,7 +6,7 @@ against finite differences."""
 import numpy as np
 import pytest
 from demo_modules import load_demo
-from numba import njit
+from node_spring import CompiledNodeSpring, NodeSpring
 
 import skfem_cable as sc
 from skfem_cable.constraints.joints import pin
@@ -286,35 +286,6 @@ def test_user_body_appears_in_paraview_and_the_summary(tmp_path):
         sc.System([Lump()])
 
 
-@njit(cache=True)
-def _spring_kernel(pack, index, ev):
-    """The node spring of docs/extending.md as a compiled hook."""
-    d, k, anchor = pack
-    q, v, s, f, f_ext, f_damping, data, energy, power = ev
-    for i in range(3):
-        f_ext[d[i]] -= k * (q[d[i]] - anchor[i])
-        if data.size:
-            data[index[i, i]] += s[1] * k
-
-
-class _Spring:
-    def __init__(self, node, k, anchor, compiled):
-        self.node, self.k, self.anchor = node, k, np.asarray(anchor, dtype=float)
-        self.compiled = compiled
-
-    def bind(self, system):
-        d = system.dofs(self.node)[:3]
-        if self.compiled:
-            return sc.Term(kernels=((_spring_kernel, (d, float(self.k), self.anchor)),),
-                           rows=d[:, None], cols=d[None, :], name="spring")
-
-        def add(ev, index):
-            ev.f_ext[d] -= self.k * (ev.q[d] - self.anchor)
-            ev.add_tangent(index, -self.k * np.eye(3), sign=-1.0)
-
-        return sc.Term(add=add, rows=d[:, None], cols=d[None, :], name="spring")
-
-
 def test_user_compiled_load_runs_in_the_compiled_step():
     """A user's load with a compiled kernel takes the compiled Newton step and gives the
     same trajectory as the same load written as a Python hook."""
@@ -322,7 +293,8 @@ def test_user_compiled_load_runs_in_the_compiled_step():
     for compiled in (True, False):
         cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, SECTION)
         system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
-        system.add_load(_Spring(cable.node(-1), 50.0, [1.0, 0.2, 0.0], compiled))
+        spring = CompiledNodeSpring if compiled else NodeSpring
+        system.add_load(spring(cable.node(-1), 50.0, [1.0, 0.2, 0.0], name="spring"))
         runs.append(sc.simulate(system, t_end=0.1, dt=1e-3))
     assert runs[0].stats["path"] == "compiled"
     assert runs[1].stats["path"] == "compiled (Python: term 'spring' has a Python add hook)"

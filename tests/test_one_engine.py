@@ -8,7 +8,7 @@ restart stays bit for bit."""
 import numpy as np
 import pytest
 from interrupting import Interrupt, InterruptingLoad
-from numba import njit
+from node_spring import CompiledNodeSpring, NodeSpring
 
 import skfem_cable as sc
 from skfem_cable.core.contract import OutOfDomain
@@ -17,42 +17,6 @@ from skfem_cable.io import RunStore
 from skfem_cable.scenes import classics
 from skfem_cable.solvers import galpha
 from skfem_cable.solvers.compiled import PYTHON, source
-
-
-class NodeSpring:
-    """Force -k (r - anchor) on a cable node, a Python ``add`` hook (``docs/extending.md``)."""
-
-    def __init__(self, node, k, anchor):
-        self.node, self.k, self.anchor = node, k, np.asarray(anchor, float)
-
-    def bind(self, system):
-        d = system.dofs(self.node)[:3]
-        K = -self.k * np.eye(3)
-
-        def add(ev, index):
-            ev.f_ext[d] += -self.k * (ev.q[d] - self.anchor)
-            ev.add_tangent(index, K, sign=-1.0)
-
-        return sc.Term(add=add, rows=d[:, None], cols=d[None, :], name="node spring")
-
-
-@njit(cache=True)
-def _spring_kernel(pack, index, ev):
-    d, k, anchor = pack
-    q, v, s, f, f_ext, f_damping, data, energy, power = ev
-    for i in range(3):
-        f_ext[d[i]] -= k * (q[d[i]] - anchor[i])
-        if data.size:
-            data[index[i, i]] += s[1] * k
-
-
-class CompiledNodeSpring(NodeSpring):
-    """Its compiled twin."""
-
-    def bind(self, system):
-        d = system.dofs(self.node)[:3]
-        return sc.Term(kernels=((_spring_kernel, (d, float(self.k), self.anchor)),),
-                       rows=d[:, None], cols=d[None, :], name="node spring")
 
 
 def _pendulum(spring=NodeSpring, load=None):
