@@ -23,6 +23,7 @@ References
    Ch. 5 (the transformation between the celestial and terrestrial systems).
 """
 
+import copy
 from collections import OrderedDict
 
 import numpy as np
@@ -63,16 +64,29 @@ class Epoch:
     True
     """
 
-    def __init__(self, value):
+    #: Derived values a fingerprint does not describe (``model.fingerprint``): the
+    #: astropy ``Time`` (described by ``utc``) and the rotations evaluated so far.
+    caches = ("start", "_rotations")
+
+    def __init__(self, value, name="epoch"):
         Time = _astropy()[0]
         try:
             self.start = Time(getattr(value, "start", value), scale="utc")
         except (TypeError, ValueError) as error:
-            raise ValueError(f"epoch must be a datetime, an astropy Time, an ISO 8601 "
+            raise ValueError(f"{name} must be a datetime, an astropy Time, an ISO 8601 "
                              f"string or an Epoch, got {value!r} ({error})") from None
         if not self.start.isscalar:
-            raise ValueError(f"epoch must be a single instant, got {value!r}")
+            raise ValueError(f"{name} must be a single instant, got {value!r}")
+        utc = self.start.copy()
+        utc.precision = 9
+        self.utc = utc.isot
         self._rotations = OrderedDict()
+
+    def __eq__(self, other):
+        return isinstance(other, Epoch) and other.utc == self.utc
+
+    def __hash__(self):
+        return hash(self.utc)
 
     def time(self, t=0.0):
         """The astropy ``Time`` (UTC) ``t`` seconds after the epoch."""
@@ -117,6 +131,68 @@ class Epoch:
 
     def __repr__(self):
         return f"Epoch({self.start.isot!r})"
+
+
+def as_epoch(value, name="epoch"):
+    """``value`` as an ``Epoch``: an ``Epoch`` itself (its cache of rotations shared), or
+    a new one of a datetime, an astropy ``Time`` or an ISO 8601 string; ``ValueError``
+    naming the parameter ``name`` otherwise.
+
+    Examples
+    --------
+    >>> import datetime
+    >>> as_epoch(datetime.datetime(1996, 2, 26, 1, 0)).utc
+    '1996-02-26T01:00:00.000000000'
+    """
+    return value if isinstance(value, Epoch) else Epoch(value, name)
+
+
+def epoch_or_none(value, name="epoch"):
+    """``as_epoch(value, name)``, or None for None (a model that takes the epoch of the
+    system it is bound to: ``bound_model``)."""
+    return None if value is None else as_epoch(value, name)
+
+
+def model_epoch(model):
+    """The ``Epoch`` of the environment ``model``, or ``ValueError`` when it has none (a
+    model made without one is evaluated once bound to a system with an epoch:
+    ``bound_model``)."""
+    if model.epoch is None:
+        raise ValueError(f"{type(model).__name__}: no epoch (give epoch=..., or use the "
+                         f"model in a load of a system with one: add_orbit(orbit, "
+                         f"epoch=...))")
+    return model.epoch
+
+
+def bound_model(model, epoch, name):
+    """The environment ``model`` (an object with an attribute ``epoch``, an ``Epoch`` or
+    None) at the system's ``epoch`` (an ``Epoch`` or None: ``System.add_orbit``):
+
+    * a model without an epoch of its own takes the system's (a shallow copy: the user's
+      model is left as given);
+    * a model with one keeps it; a system epoch that differs is refused, naming ``name``
+      (the load's parameter) and both instants;
+    * neither: ``ValueError`` naming ``name`` (no ``t = 0`` for the model's time).
+
+    A model without the attribute ``epoch`` (a number, a function of ``(x, t)``) is
+    returned as it is.
+    """
+    own = getattr(model, "epoch", False)
+    if own is False:
+        return model
+    if own is None:
+        if epoch is None:
+            raise ValueError(f"{name}: {model!r} has no epoch, and the system has none "
+                             f"(give one: the model's epoch=..., or "
+                             f"System.add_orbit(orbit, epoch=...))")
+        model = copy.copy(model)
+        model.epoch = epoch
+        return model
+    if epoch is not None and own != epoch:
+        raise ValueError(f"{name}: the model's epoch {own.utc} differs from the system's "
+                         f"{epoch.utc} (add_orbit(..., epoch=...)): t = 0 must be one "
+                         f"instant")
+    return model
 
 
 def _rotation(when):
