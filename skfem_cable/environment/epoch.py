@@ -72,9 +72,10 @@ class Epoch:
         Time = _astropy()[0]
         try:
             self.start = Time(getattr(value, "start", value), scale="utc")
-        except (TypeError, ValueError) as error:
+        except (TypeError, ValueError):
             raise ValueError(f"{name} must be a datetime, an astropy Time, an ISO 8601 "
-                             f"string or an Epoch, got {value!r} ({error})") from None
+                             f"string (2026-01-01T12:00:00, UTC) or an Epoch, got "
+                             f"{value!r}") from None
         if not self.start.isscalar:
             raise ValueError(f"{name} must be a single instant, got {value!r}")
         utc = self.start.copy()
