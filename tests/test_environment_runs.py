@@ -13,6 +13,8 @@ import pytest
 import skfem_cable as sc
 from skfem_cable.io.matching import StoreMismatch, check_fingerprint
 from skfem_cable.model.fingerprint import system_fingerprint
+from skfem_cable.runner.options import RunOptions
+from skfem_cable.scenes import catalog
 from skfem_cable.space.constants import OMEGA_EARTH
 
 pytest.importorskip("pymsis")
@@ -244,12 +246,16 @@ def test_scene_file_environment_table_and_the_epoch_option(tmp_path):
             sc.scene_file.loads_text(SCENE.replace(old, new), "drag.toml")
     path = tmp_path / "drag.toml"
     path.write_text(SCENE)
-    from skfem_cable.runner.options import RunOptions
-    from skfem_cable.scenes import catalog
 
-    catalog.run_scene(str(path), RunOptions(epoch="2026-01-02", out=tmp_path / "run",
-                                            plots=False, progress=False))
+    def run(out, **options):
+        options = {"epoch": "2026-01-02", "plots": False, "progress": False, **options}
+        catalog.run_scene(str(path), RunOptions(out=tmp_path / out, **options))
+        return sc.Result.load(tmp_path / out, sc.scene_file.load(path, epoch=options["epoch"])
+                              .system)
+
+    run("run")
     with pytest.raises(StoreMismatch):  # resumed with another epoch: refused
-        catalog.run_scene(str(path), RunOptions(epoch="2026-01-03", out=tmp_path / "run",
-                                                plots=False, progress=False, resume=True,
-                                                t_end=90.0))
+        run("run", epoch="2026-01-03", resume=True, t_end=90.0)
+    resumed, fresh = run("run", resume=True, t_end=90.0), run("fresh", t_end=90.0)
+    assert np.array_equal(resumed.q, fresh.q)  # the sampler's state from the checkpoint
+
