@@ -16,8 +16,8 @@ tens of km in low orbit, is far longer than a step's motion relative to the othe
 References
 ----------
 1. D. A. Vallado, "Fundamentals of Astrodynamics and Applications", 4th ed., Microcosm
-   Press, 2013, Sec. 8.6.2 (atmospheric drag, ``a = -(1/2) rho (C_D A / m) |v_r| v_r``
-   with the velocity relative to the rotating atmosphere).
+   Press, 2013 (atmospheric drag, ``a = -(1/2) rho (C_D A / m) |v_r| v_r`` with the
+   velocity relative to the rotating atmosphere).
 2. M. L. Cosmo and E. C. Lorenzini (eds.), "Tethers in Space Handbook", 3rd ed., NASA
    Marshall Space Flight Center, 1997 (``C_D`` about 2.2 in free-molecular flow).
 """
@@ -29,7 +29,7 @@ from ..core.contract import Term
 from ..environment.epoch import bound_model
 from ..kernels import drag as kernel
 from .drag import Flow, FreeMolecularDrag
-from .sampling import DensitySampler, density_model
+from .sampling import DensitySampler, density_model, is_model
 
 
 class PointDrag:
@@ -71,7 +71,7 @@ class PointDrag:
         orbit = system.orbit if reference is None else reference
         arrays = self.flow.arrays(orbit)
         hooks, rho = (), np.array([0.0])
-        if callable(getattr(self.density, "density", None)):
+        if is_model(self.density):
             model = bound_model(self.density, system.epoch, "density")
             at = DensitySampler(model, lambda q: (G @ q[dofs])[None, None, :],
                                 np.ones((1, 1)), orbit, system.q0)
@@ -85,8 +85,9 @@ class PointDrag:
                 hook.prepare(t)
 
         pack = (dofs, G, np.array([0.5 * self.cd * self.area]), rho, *arrays)
+        still = self.flow.steady and orbit is None and not hooks
         return Term(kernels=((kernel.body_drag, pack),), rows=dofs[:, None],
-                    cols=dofs[None, :], prepare=prepare, hooks=hooks,
+                    cols=dofs[None, :], prepare=None if still else prepare, hooks=hooks,
                     name=f"atmospheric drag {self.point!r}")
 
 

@@ -46,7 +46,7 @@ from ..kernels import line
 from ..space.orbit import co_rotation
 from .line import AlongCable, UniformLineLoad
 from .point import vector3
-from .sampling import density_model, line_sampler
+from .sampling import density_model, is_model, line_sampler
 
 
 class CurrentProfile:
@@ -370,7 +370,7 @@ class FreeMolecularDrag(QuadraticDrag):
         ``System.add_orbit(orbit, epoch=...)``), evaluated once per time step at every
         point and frozen over the step (the weighted mean over each element's points:
         the tangent is exact in the velocities, without ``d rho / dx``;
-        ``loads.atmosphere``).
+        ``loads.atmosphere``); ``line_force`` is then per unit density.
     diameter : float
         Tether diameter ``d`` (m), > 0 (a tape: its width across the flow).
     cd : float
@@ -402,19 +402,16 @@ class FreeMolecularDrag(QuadraticDrag):
         self.density = density_model(density)
         self.diameter = check_positive("diameter", diameter)
         self.cd = check_positive("cd", cd, allow_zero=True)
-        rho = 1.0 if self.sampled else self.density  # a model: the elements' scale
+        rho = 1.0 if is_model(self.density) else self.density  # a model: the elements' scale
         k = 0.5 * self.cd * rho * self.diameter
         super().__init__(cable, (k, 0.0, k), Flow(velocity, omega), deformed_length)
-
-    @property
-    def sampled(self):
-        """True when the density is a model (sampled once per step), not a number."""
-        return callable(getattr(self.density, "density", None))
 
     def samplers(self, system, points, orbit):
         """A density model's ``DensitySampler`` (the per-element density, the kernel's
         ``scale``: the coefficients are per unit density), none for a number."""
-        return (line_sampler(self.density, points, system, orbit),) if self.sampled else ()
+        if not is_model(self.density):
+            return ()
+        return (line_sampler(self.density, points, system, orbit),)
 
 
 class Buoyancy(UniformLineLoad):

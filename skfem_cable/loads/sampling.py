@@ -9,12 +9,16 @@ from ..bodies.section import check_positive
 from ..environment.epoch import bound_model
 
 
+def is_model(density):
+    """True when ``density`` is a model (an object with ``density(x, t)``), not a
+    number."""
+    return callable(getattr(density, "density", None))
+
+
 def density_model(density):
-    """``density`` if it is a model (an object with ``density(x, t)``), else the number
-    checked positive (``ValueError`` naming ``density``)."""
-    if callable(getattr(density, "density", None)):
-        return density
-    return check_positive("density", density)
+    """``density`` if it is a model (``is_model``), else the number checked positive
+    (``ValueError`` naming ``density``)."""
+    return density if is_model(density) else check_positive("density", density)
 
 
 class DensitySampler:
