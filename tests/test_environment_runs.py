@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import skfem_cable as sc
+from skfem_cable.cli import command as cli
 from skfem_cable.io.matching import StoreMismatch, check_fingerprint
 from skfem_cable.model.fingerprint import system_fingerprint
 from skfem_cable.runner.options import RunOptions
@@ -151,6 +152,9 @@ def test_free_molecular_drag_samples_its_density_model_once_per_step():
     np.testing.assert_allclose(sampler.out, (rho * points.w).sum(1) / points.w.sum(1),
                                rtol=1e-5)  # the predicted positions: within 1e-5
     assert 290e3 < heights.min() < heights.max() < 303e3
+    rng = np.random.default_rng(2)  # the tangent, density frozen: exact (1.6e-8 measured)
+    v = rng.normal(scale=3.0, size=system.n_dofs)
+    assert sc.check_tangent(system, q=result.q[-1], v=v, t=5.0).error < 1e-6
 
 
 def test_drag_decay_of_a_sphere_in_a_300_km_orbit():
@@ -246,6 +250,10 @@ def test_scene_file_environment_table_and_the_epoch_option(tmp_path):
             sc.scene_file.loads_text(SCENE.replace(old, new), "drag.toml")
     path = tmp_path / "drag.toml"
     path.write_text(SCENE)
+    args = cli.build_parser().parse_args(["run", str(path), "--epoch", "2026-01-02"])
+    assert RunOptions.from_args(args).epoch == "2026-01-02"
+    with pytest.raises(SystemExit):  # argparse: must be an ISO 8601 date or date-time
+        cli.build_parser().parse_args(["run", str(path), "--epoch", "yesterday"])
 
     def run(out, **options):
         options = {"epoch": "2026-01-02", "plots": False, "progress": False, **options}
