@@ -53,6 +53,17 @@ def test_an_epoch_is_an_epoch_a_datetime_a_time_or_a_string_everywhere():
         sc.environment.MSIS(EPOCH)
 
 
+def test_rotation_between_the_knots_is_astropys():
+    """Between the knots (astropy's transform every ``KNOT`` s) the rotation at constant
+    rate equals astropy's transform within 1e-10 (2.6e-11 measured over a day)."""
+    from skfem_cable.environment.epoch import KNOT, _rotation
+
+    epoch = sc.Epoch("1996-02-26T01:30:00")
+    for t in (0.37 * KNOT, 5.5 * KNOT, 86399.0):
+        assert np.abs(epoch.gcrs_to_itrs(t) - _rotation(epoch.time(t))).max() < 1e-10
+    assert np.array_equal(epoch.gcrs_to_itrs(3 * KNOT), _rotation(epoch.time(3 * KNOT)))
+
+
 def test_models_take_the_systems_epoch_and_refuse_another():
     body, area = ball()
 
