@@ -140,6 +140,18 @@ def test_point_drag_force_and_tangent_in_orbit():
             columns.append((plus - minus) / (2 * h))
         np.testing.assert_allclose(-K, np.array(columns).T, rtol=1e-6,
                                    atol=1e-6 * np.abs(K).max())
+    tether = sc.Cable.straight([0, 0, 0], [100.0, 0, 0], 2,
+                               sc.Section.circular(5e-4, 1e11, 1500.0))
+    system = sc.System([tether]).add_orbit(orbit)  # a point mass's drag at a node
+    term = sc.AtmosphericDrag(tether.node(-1), density=2e-11, area=area).bind(system)
+    force = drag_at(term, system.q0, np.zeros(system.n_dofs), 0.0)[0]
+    R = orbit.position(0.0) + [100.0, 0, 0]
+    relative = orbit.velocity(0.0) - np.cross([0, 0, OMEGA_EARTH], R)
+    node = system.dofs(tether.node(-1))[:3]
+    np.testing.assert_allclose(force[node],
+                               -0.5 * 2e-11 * 2.2 * area * np.linalg.norm(relative) * relative,
+                               rtol=1e-12)
+    assert not np.delete(force, node).any()
 
 
 def test_free_molecular_drag_samples_its_density_model_once_per_step():
