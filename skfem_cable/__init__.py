@@ -10,7 +10,9 @@ and what may import what: ``docs/architecture.md``):
 * loads (package ``loads``): ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``,
   ``Centrifugal``, ``PointMass``, the solar wind ``SolarWind``, ``SolarWindForce``
   (``loads.coulomb``), drag in water and in a rarefied atmosphere ``MorisonDrag``,
-  ``Buoyancy``, ``CurrentProfile``, ``FreeMolecularDrag`` (``loads.drag``),
+  ``Buoyancy``, ``CurrentProfile``, ``FreeMolecularDrag`` (``loads.drag``), the
+  co-rotating atmosphere's drag with a density model ``AtmosphericDrag``
+  (``loads.atmosphere``),
   electrodynamic tethers ``ElectrodynamicForce``, ``MagneticDipole``
   (``loads.electrodynamic``); constraints: ``System.clamp``, ``System.pin`` (package
   ``constraints``); deploying and retrieving cables: ``System.deploy``
@@ -85,6 +87,7 @@ from .elements import (
 from .environment import Epoch
 from .io import export as export  # VTU files for ParaView
 from .laws import CableLaw, cable_law
+from .loads.atmosphere import AtmosphericDrag
 from .loads.coulomb import SolarWind, SolarWindForce
 from .loads.drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
@@ -115,6 +118,7 @@ __all__ = [
     "R_EARTH",
     "Orbit",
     "Reference",
+    "AtmosphericDrag",
     "Brake",
     "Buoyancy",
     "Cable",

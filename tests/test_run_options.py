@@ -38,7 +38,7 @@ def test_every_option_has_one_flag_and_reads_back():
 def test_opt_in_options_are_refused_by_the_scenes_that_do_not_name_them(scene):
     """``--alpha`` is an opt-in option of the E-sail scenes, refused elsewhere by the
     catalog (no scene writes the refusal itself)."""
-    assert set(OPT_IN) == {"alpha", "model", "element"}
+    assert set(OPT_IN) == {"alpha", "model", "element", "epoch"}
     assert all(FLAGS[n].opt_in for n in OPT_IN)
     assert "alpha" in catalog.SCENES["esail"].takes
     with pytest.raises(ValueError, match=f"scene '{scene}' does not take --alpha"):

@@ -230,6 +230,12 @@ class Term:
         ``prepare(t1)`` does at the start of the step: a law parameter that varies in
         time), the change of its stored energy at fixed coordinates, averaged over the
         step's ends; the integrator books it as external work at every step.
+    hooks : tuple
+        Step hooks (``protocols.StepHook``) the term needs between the steps of a run:
+        ``simulate`` calls them after its own (the rectification's, the controllers').
+        E.g. an environment model sampled at the bodies' positions once per step
+        (``loads.atmosphere.DensitySampler``): the hook keeps the state of the last
+        accepted step, ``prepare`` evaluates the model from it.
     """
 
     add: Callable[..., None] | None = None
@@ -244,6 +250,7 @@ class Term:
     prepare: Callable[[float], None] | None = None
     energy_rate: Callable[[Any, float], float] | None = None
     energy_change: Callable[[Any, Any, float, float], float] | None = None
+    hooks: tuple = ()
 
     def __post_init__(self):
         if self.add is not None and self.kernels:

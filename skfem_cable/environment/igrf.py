@@ -24,7 +24,7 @@ References
 import numpy as np
 
 from ..bodies.section import check_positive
-from .epoch import Epoch
+from .epoch import epoch_or_none, model_epoch
 
 GRADIENT_STEP = 100.0
 """Step (m) of the central-difference gradient in the Earth-fixed axes."""
@@ -53,8 +53,9 @@ class IGRF:
 
     Parameters
     ----------
-    epoch : Epoch, datetime, astropy Time or str
-        The instant of ``t = 0``.
+    epoch : Epoch, datetime, astropy Time, str or None
+        The instant of ``t = 0``; None: the epoch of the system whose load the model
+        serves (``System.add_orbit(orbit, epoch=...)``; ``epoch.bound_model``).
     gradient_step : float
         Step (m, > 0) of the central-difference gradient (default ``GRADIENT_STEP``).
 
@@ -76,8 +77,8 @@ class IGRF:
     True
     """
 
-    def __init__(self, epoch, gradient_step=GRADIENT_STEP):
-        self.epoch = Epoch(epoch)
+    def __init__(self, epoch=None, gradient_step=GRADIENT_STEP):
+        self.epoch = epoch_or_none(epoch)
         self.gradient_step = check_positive("gradient_step", gradient_step)
 
     def field(self, x, t=0.0):
@@ -102,10 +103,10 @@ class IGRF:
         x = np.asarray(x, dtype=float)
         if x.shape[-1:] != (3,):
             raise ValueError(f"positions must have shape (..., 3), got {x.shape}")
-        R = self.epoch.gcrs_to_itrs(t)
+        R = model_epoch(self).gcrs_to_itrs(t)
         y = x.reshape(-1, 3) @ R.T
         B = itrs_field((y[None, :, :] + shifts[:, None, :]).reshape(-1, 3),
-                       self.epoch.datetime(t))
+                       model_epoch(self).datetime(t))
         return B.reshape(len(shifts), -1, 3), R
 
     def __repr__(self):

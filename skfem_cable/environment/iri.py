@@ -20,7 +20,7 @@ References
 import numpy as np
 
 from ..bodies.section import check_positive
-from .epoch import Epoch, corotation_velocity
+from .epoch import corotation_velocity, epoch_or_none, model_epoch
 from .msis import index
 from .plasma import OXYGEN_ION_MASS
 
@@ -53,8 +53,9 @@ class IRI:
 
     Parameters
     ----------
-    epoch : Epoch, datetime, astropy Time or str
-        The instant of ``t = 0``.
+    epoch : Epoch, datetime, astropy Time, str or None
+        The instant of ``t = 0``; None: the epoch of the system whose load the model
+        serves (``System.add_orbit(orbit, epoch=...)``; ``epoch.bound_model``).
     f107 : float or callable
         The F10.7 solar radio flux (sfu, in [0, 500]) or a function of ``t`` (s).
     temperature : float
@@ -76,8 +77,8 @@ class IRI:
     True
     """
 
-    def __init__(self, epoch, f107, temperature=1500.0, ion_mass=OXYGEN_ION_MASS):
-        self.epoch = Epoch(epoch)
+    def __init__(self, epoch=None, f107=None, temperature=1500.0, ion_mass=OXYGEN_ION_MASS):
+        self.epoch = epoch_or_none(epoch)
         self.f107 = index("f107", f107, 0.0, 500.0)
         self.electron_temperature = check_positive("temperature", temperature)
         self.ion_mass = check_positive("ion_mass", ion_mass)
@@ -85,8 +86,8 @@ class IRI:
     def density(self, x, t=0.0):
         """Electron density (m^-3) at GCRS positions ``x`` (..., 3) (m): shape (...)."""
         x = np.asarray(x, dtype=float)
-        lon, lat, height = self.epoch.geodetic(x.reshape(-1, 3), t)
-        n_e = pyiri_density(self.epoch.datetime(t), np.atleast_1d(lon),
+        lon, lat, height = model_epoch(self).geodetic(x.reshape(-1, 3), t)
+        n_e = pyiri_density(model_epoch(self).datetime(t), np.atleast_1d(lon),
                             np.atleast_1d(lat), np.atleast_1d(height), float(self.f107(t)))
         return n_e.reshape(x.shape[:-1])
 
@@ -96,7 +97,7 @@ class IRI:
 
     def velocity(self, x, t=0.0):
         """The co-rotating plasma's velocity ``omega_E x r`` (m/s) at ``x`` (..., 3)."""
-        return corotation_velocity(x, self.epoch.earth_rotation(t))
+        return corotation_velocity(x, model_epoch(self).earth_rotation(t))
 
     def __repr__(self):
         return f"IRI({self.epoch!r})"

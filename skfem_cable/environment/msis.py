@@ -23,7 +23,7 @@ References
 
 import numpy as np
 
-from .epoch import Epoch
+from .epoch import epoch_or_none, model_epoch
 
 VERSION = 2.1
 """The NRLMSIS version pymsis evaluates."""
@@ -49,8 +49,9 @@ class MSIS:
 
     Parameters
     ----------
-    epoch : Epoch, datetime, astropy Time or str
-        The instant of ``t = 0``.
+    epoch : Epoch, datetime, astropy Time, str or None
+        The instant of ``t = 0``; None: the epoch of the system whose load the model
+        serves (``System.add_orbit(orbit, epoch=...)``; ``epoch.bound_model``).
     f107, f107a : float or callable
         Daily F10.7 of the previous day and its 81-day centred mean (sfu, in [0, 500]),
         or functions of ``t`` (s).
@@ -72,8 +73,8 @@ class MSIS:
     True
     """
 
-    def __init__(self, epoch, f107, f107a, ap):
-        self.epoch = Epoch(epoch)
+    def __init__(self, epoch=None, f107=None, f107a=None, ap=None):
+        self.epoch = epoch_or_none(epoch)
         self.f107 = index("f107", f107, 0.0, 500.0)
         self.f107a = index("f107a", f107a, 0.0, 500.0)
         self.ap = index("ap", ap, 0.0, 400.0)
@@ -83,9 +84,9 @@ class MSIS:
         shape (...)."""
         import pymsis
         x = np.asarray(x, dtype=float)
-        lon, lat, height = self.epoch.geodetic(x.reshape(-1, 3), t)
+        lon, lat, height = model_epoch(self).geodetic(x.reshape(-1, 3), t)
         n = lon.size
-        dates = np.full(n, np.datetime64(self.epoch.datetime(t), "ns"))
+        dates = np.full(n, np.datetime64(model_epoch(self).datetime(t), "ns"))
         out = pymsis.calculate(dates, lon, lat, height,
                                np.full(n, float(self.f107(t))),
                                np.full(n, float(self.f107a(t))),

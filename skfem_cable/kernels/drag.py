@@ -116,3 +116,51 @@ def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
         for j in range(3):
             Fx[i, j] = Hu[i, 0] * dc[0, j] + Hu[i, 1] * dc[1, j] + Hu[i, 2] * dc[2, j]
             Fv[i, j] = -Hu[i, j]
+
+
+@njit(cache=True)
+def body_drag(pack, index, ev):
+    """The quadratic drag ``f = k rho |u| u`` (``u = c(x, t) - xd``, the flow relative to
+    the point; ``c`` of ``flow``) at a point of position ``x = G q[dofs]``: the
+    generalized force ``G^T f`` and, with a tangent, minus ``G^T (cK df/dx + cC df/dxd)
+    G`` at ``index`` (nd, nd), with ``df/du = k rho (|u| I + u u^T / |u|)``,
+    ``df/dx = df/du dc/dx`` and ``df/dxd = -df/du`` (exact for a density ``rho`` frozen
+    over the step).  ``pack = (dofs (nd,), G (3, nd), coef (1,) = [k], rho (1,),
+    uniform, W, vertical, heights, velocities, sigma)``: the flow's arrays
+    (``loads.drag.Flow.arrays``)."""
+    dofs, G, coef, rho, uniform, W, vertical, heights, velocities, sigma = pack
+    q, v, s, f, f_ext, fd, data, energy, power = ev
+    nd = dofs.size
+    work = np.zeros((5, 3))
+    x, xd, c, u, slope = work[0], work[1], work[2], work[3], work[4]
+    mats = np.empty((3, 3, 3))
+    dc, H, K = mats[0], mats[1], mats[2]
+    for i in range(3):
+        for a in range(nd):
+            x[i] += G[i, a] * q[dofs[a]]
+            xd[i] += G[i, a] * v[dofs[a]]
+    flow(x, uniform, W, vertical, heights, velocities, sigma[0], c, dc, slope)
+    for i in range(3):
+        u[i] = c[i] - xd[i]
+    m = math.sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2])
+    k = coef[0] * rho[0]
+    for a in range(nd):
+        f_ext[dofs[a]] += k * m * (G[0, a] * u[0] + G[1, a] * u[1] + G[2, a] * u[2])
+    if data.size == 0:
+        return
+    inv_m = 1.0 / m if m > 0.0 else 0.0
+    for i in range(3):
+        for j in range(3):
+            H[i, j] = k * ((m if i == j else 0.0) + u[i] * u[j] * inv_m)
+    cK, cC = s[1], s[2] if s[3] != 0.0 else 0.0
+    for i in range(3):
+        for j in range(3):
+            K[i, j] = cK * (H[i, 0] * dc[0, j] + H[i, 1] * dc[1, j]
+                            + H[i, 2] * dc[2, j]) - cC * H[i, j]
+    for a in range(nd):
+        for b in range(nd):
+            acc = 0.0
+            for i in range(3):
+                for j in range(3):
+                    acc += G[i, a] * K[i, j] * G[j, b]
+            data[index[a, b]] -= acc

@@ -46,6 +46,7 @@ from ..kernels import line
 from ..space.orbit import co_rotation
 from .line import AlongCable, UniformLineLoad
 from .point import vector3
+from .sampling import density_model, is_model, line_sampler
 
 
 class CurrentProfile:
@@ -233,14 +234,25 @@ class QuadraticDrag(AlongCable):
         module = line.module(kernel.point)
         hook = module.kernel_parallel if thread_count() > 1 else module.kernel
         rows, cols = points.tangent_pattern()
+        hooks = self.samplers(system, points, orbit)
 
         def prepare(t):
             self.flow.refresh(arrays, t, orbit)
+            for sampled in hooks:
+                sampled.prepare(t)
 
-        return Term(kernels=((hook, points.pack((self.coef.copy(), *arrays))),),
+        scale = hooks[0].out if hooks else None
+        return Term(kernels=((hook, points.pack((self.coef.copy(), *arrays), scale)),),
                     rows=rows, cols=cols, mass=self.added_mass(system),
-                    prepare=None if self.flow.steady and orbit is None else prepare,
+                    prepare=None if self.flow.steady and orbit is None and not hooks
+                    else prepare, hooks=hooks,
                     name=f"{type(self).__name__} {self.cable.name}")
+
+    def samplers(self, system, points, orbit):
+        """The step hooks that refresh a per-element factor of the force once per step
+        (``sampling.DensitySampler``: its ``out`` is the elements' ``scale``), at most
+        one: none for a drag of constant coefficients."""
+        return ()
 
     def added_mass(self, system):
         """``(rows, cols, values)`` of a constant added mass in ``system``, or None (no
@@ -338,7 +350,7 @@ class FreeMolecularDrag(QuadraticDrag):
     that hit the tether is absorbed; Cosmo & Lorenzini, Tethers in Space Handbook).  The
     atmosphere moves with ``v_atm = velocity + omega x r`` (``omega``: Earth's rotation
     for a co-rotating atmosphere in an Earth-centred inertial frame), with a uniform,
-    constant density.
+    constant density or a density model.
 
     In a system in orbit (``System.add_orbit``) ``r`` is the absolute position
     ``R(t) + x`` and ``r_dot`` the absolute velocity ``V(t) + v`` (the reference point's
@@ -351,8 +363,14 @@ class FreeMolecularDrag(QuadraticDrag):
     ----------
     cable : Cable or line body
         The line (any body with the hook ``line_points``, ``lines``).
-    density : float
-        Atmospheric density ``rho`` (kg/m^3), > 0.
+    density : float or model
+        Atmospheric density ``rho`` (kg/m^3), > 0; or a density model, an object with
+        ``density(x, t)`` at absolute positions ``x`` (..., 3) ``t`` s after the epoch
+        (``environment.MSIS``; made without an epoch it takes the system's,
+        ``System.add_orbit(orbit, epoch=...)``), evaluated once per time step at every
+        point and frozen over the step (the weighted mean over each element's points:
+        the tangent is exact in the velocities, without ``d rho / dx``;
+        ``loads.atmosphere``); ``line_force`` is then per unit density.
     diameter : float
         Tether diameter ``d`` (m), > 0 (a tape: its width across the flow).
     cd : float
@@ -381,11 +399,19 @@ class FreeMolecularDrag(QuadraticDrag):
 
     def __init__(self, cable, density, diameter, cd=2.2, velocity=(0.0, 0.0, 0.0),
                  omega=None, deformed_length=False):
-        self.density = check_positive("density", density)
+        self.density = density_model(density)
         self.diameter = check_positive("diameter", diameter)
         self.cd = check_positive("cd", cd, allow_zero=True)
-        k = 0.5 * self.cd * self.density * self.diameter
+        rho = 1.0 if is_model(self.density) else self.density  # a model: the elements' scale
+        k = 0.5 * self.cd * rho * self.diameter
         super().__init__(cable, (k, 0.0, k), Flow(velocity, omega), deformed_length)
+
+    def samplers(self, system, points, orbit):
+        """A density model's ``DensitySampler`` (the per-element density, the kernel's
+        ``scale``: the coefficients are per unit density), none for a number."""
+        if not is_model(self.density):
+            return ()
+        return (line_sampler(self.density, points, system, orbit),)
 
 
 class Buoyancy(UniformLineLoad):

@@ -9,6 +9,8 @@ that a run directory is continued or read back only with the system that wrote i
 * every constraint: class, name, ``n_eq``, labels, global coordinates (``dofs``) and its
   parameters (Jacobian, offsets, prescribed motions);
 * every load: class and parameters;
+* the epoch of a system in orbit at one (``System.add_orbit(..., epoch=...)``: the UTC
+  instant of ``t = 0``), when it has one;
 * the solver settings of ``simulate`` (``run.settings``) but ``t_end`` and ``n_steps``, which
   a continued run may change.
 
@@ -259,10 +261,14 @@ def describe_system(system: SystemView, version=VERSION):
              for load in system.loads]
     masses = [{"class": _qualname(type(m)), "parameters": d(_attributes(m), 1)}
               for m in system.point_masses]
-    return {"n_dofs": int(system.n_dofs), "bodies": bodies,
-            "mass_matrix": {"data": _array(M.data), "indices": _array(M.indices),
-                            "indptr": _array(M.indptr)},
-            "constraints": constraints, "loads": loads, "point_masses": masses}
+    out = {"n_dofs": int(system.n_dofs), "bodies": bodies,
+           "mass_matrix": {"data": _array(M.data), "indices": _array(M.indices),
+                           "indptr": _array(M.indptr)},
+           "constraints": constraints, "loads": loads, "point_masses": masses}
+    epoch = getattr(system, "epoch", None)  # optional (a system in orbit at an epoch)
+    if epoch is not None:
+        out["epoch"] = epoch.utc
+    return out
 
 
 def differences(before, after):

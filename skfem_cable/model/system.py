@@ -27,6 +27,7 @@ from .. import constraints as cons
 from ..bodies.memory import check_total_memory
 from ..core.node import Node
 from ..core.protocols import Line, check_body
+from ..environment.epoch import epoch_or_none
 from ..loads.gravity import Centrifugal, Gravity
 from ..loads.line import UniformLineLoad
 from ..loads.orbit_gravity import DifferentialGravity
@@ -123,6 +124,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         self.point_masses = []
         self.deployments = {}
         self.orbit = self.orbit_gravity = None
+        self.epoch = None
         self._layout = None
 
     # --- building -------------------------------------------------------------------------
@@ -287,7 +289,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         """Uniform gravity (m/s^2) on every body and point mass (consistent nodal forces)."""
         return self.add_load(Gravity(g))
 
-    def add_orbit(self, orbit, j2=None, body_radius=None):
+    def add_orbit(self, orbit, j2=None, body_radius=None, epoch=None):
         """Put the system in orbit: its coordinates become offsets from the reference
         point of ``orbit`` (an ``Orbit``), in axes parallel to the inertial ones, and every
         body and point mass feels the central body's differential gravity (optionally with
@@ -295,7 +297,14 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         see ``orbit_gravity``.  Uniform gravity (``add_gravity``) and an orbit exclude each
         other.  An orbit whose periapsis lies inside the central body (``body_radius``,
         else the radius of ``orbit.central_body``) is refused (``Orbit.check_above``).
-        Returns the system."""
+
+        ``epoch`` (an ``Epoch``, a ``datetime``, an astropy ``Time`` or an ISO 8601
+        string; ``environment.as_epoch``) is the UTC instant of the run's ``t = 0``: the
+        orbit's axes are then the GCRS axes at that instant, and the environment models
+        of the loads (``environment.MSIS``, ``IGRF``, ``IRI``) made without an epoch of
+        their own take it when bound (``environment.bound_model``); a model whose own
+        epoch differs is refused by name.  The epoch is part of the run's fingerprint (a
+        run resumed with another epoch is refused).  Returns the system."""
         if self.orbit is not None:
             raise ValueError("add_orbit: the system is already in orbit")
         body = orbit.central_body
@@ -304,6 +313,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         if any(isinstance(load, Gravity) for load in self.loads):
             raise ValueError("add_orbit: the system has uniform gravity (add_gravity); in "
                              "orbit the central body's gravity replaces it")
+        self.epoch = epoch_or_none(epoch)
         self.orbit = orbit
         self.orbit_gravity = DifferentialGravity(orbit, j2, body_radius)
         return self.add_load(self.orbit_gravity)

@@ -106,6 +106,11 @@ class RunOptions:
     plots: bool = _option(True, "write no figures or snapshot into the run directory",
                           negated=True)
     animate: bool = _option(False, "also render animation.gif of the run (needs OpenGL)")
+    epoch: str | None = _option(
+        None, "UTC instant of the run's t = 0, ISO 8601 (2026-01-01 or "
+        "2026-01-01T12:00:00): a system in orbit at that epoch, the environment models "
+        "(IGRF, MSIS, IRI) at it; overrides a scene file's [environment] epoch "
+        "(docs/environment.md)", values.epoch, "UTC", opt_in=True)
     frame: str | None = _option(
         None, "frame of the ParaView series and the renders: inertial (default) or lvlh, "
         "the orbiting frame of a system in orbit (x radial, y along-track, z orbit "

@@ -49,6 +49,20 @@ def positive_int(text):
     return value
 
 
+def epoch(text):
+    """``text`` checked as an epoch (``environment.as_epoch``: an ISO 8601 date or
+    date-time, UTC), or the ``argparse`` error that says so; the text is the value."""
+    from ..environment.epoch import as_epoch
+
+    try:
+        as_epoch(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an ISO 8601 date or date-time (UTC), "
+                                         f"e.g. 2026-01-01 or 2026-01-01T12:00:00, got "
+                                         f"{text}") from None
+    return text
+
+
 def directory(text):
     """``text`` as a path, refusing an empty one (an unset shell variable)."""
     if not text.strip():

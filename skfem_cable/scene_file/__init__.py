@@ -11,7 +11,8 @@ allowed in its table (never with its value, which may be a whole table)::
 
 The pieces, one job each: ``schema`` (``Table`` and the value checks), ``bodies``
 (sections, cables, rigid bodies, point references), ``constraints``, ``loads`` (and point
-masses), ``deploy`` (cables leaving a reel), ``solver`` (solver, initial motion, output),
+masses), ``deploy`` (cables leaving a reel), ``environment`` (the epoch and the
+environment's models), ``solver`` (solver, initial motion, output),
 ``system_scene`` (a ``System``
 scene in schema order) and ``chain_scene`` (a rod-chain scene).  A new key goes into the
 reader of its table; a new constraint type or array of load tables is one entry of
@@ -50,10 +51,11 @@ __all__ = ["ChainSceneSpec", "SceneFileError", "SceneSpec", "Table", "boolean", 
            "number", "positive", "run", "text", "vector3"]
 
 
-def loads_text(content, source="<string>", elements=None):
+def loads_text(content, source="<string>", elements=None, epoch=None):
     """Read a scene from TOML text; ``elements`` overrides every cable's element count (the
-    number of rods of a rod chain).  Returns a ``SceneSpec``, or a ``ChainSceneSpec`` for
-    a file with a ``[rod_chain]`` table; raises ``SceneFileError``."""
+    number of rods of a rod chain), ``epoch`` (text, ISO 8601) the ``[environment]``'s
+    epoch.  Returns a ``SceneSpec``, or a ``ChainSceneSpec`` for a file with a
+    ``[rod_chain]`` table; raises ``SceneFileError``."""
     try:
         data = tomllib.loads(content)
     except tomllib.TOMLDecodeError as err:
@@ -63,11 +65,15 @@ def loads_text(content, source="<string>", elements=None):
                              "deeper than the TOML reader goes (a scene nests a few "
                              "levels)") from None
     root = Table(data, "", source)
-    kind = chain_scene if "rod_chain" in data else system_scene
-    return kind.build(root, elements)
+    if "rod_chain" not in data:
+        return system_scene.build(root, elements, epoch)
+    if epoch is not None:
+        raise SceneFileError(f"{source}: a rod-chain scene is never in orbit: --epoch has "
+                             "no meaning for it")
+    return chain_scene.build(root, elements)
 
 
-def load(path, elements=None):
+def load(path, elements=None, epoch=None):
     """Read the scene file ``path`` (see ``loads_text``)."""
     path = Path(path)
     if not path.is_file():
@@ -79,12 +85,12 @@ def load(path, elements=None):
         raise SceneFileError(f"{path}: not a UTF-8 text file (byte {data[err.start]:#04x} "
                              f"at offset {err.start}): a TOML scene file is UTF-8 text; "
                              "convert it (e.g. iconv -f latin1 -t utf-8)") from None
-    return loads_text(content, str(path), elements)
+    return loads_text(content, str(path), elements, epoch)
 
 
 def run(path, options):
     """Run a scene file into the run directory ``options.out``; returns the summary."""
     options.reject(Path(path).name, "formulation")
-    spec = load(path, options.elements)
+    spec = load(path, options.elements, options.epoch)
     kind = chain_scene if isinstance(spec, ChainSceneSpec) else system_scene
     return kind.run(path, spec, options)

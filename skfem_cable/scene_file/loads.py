@@ -1,12 +1,15 @@
 """The ``[[point_masses]]`` and the ``[loads]`` of a scene file (gravity, centrifugal,
 ``[[loads.point]]``, ``[[loads.line]]``, ``[[loads.moment]]``, ``[[loads.morison]]``,
-``[[loads.buoyancy]]``, ``[[loads.free_molecular]]``).  ``LOADS`` maps each array
-of load tables to its reader; a new kind of load is one more entry."""
+``[[loads.buoyancy]]``, ``[[loads.free_molecular]]``, ``[[loads.atmospheric_drag]]``).
+``LOADS`` maps each array of load tables to its reader; a new kind of load is one more
+entry."""
 
 from ..bodies.cable import Cable
+from ..bodies.rigid import RigidBody
+from ..loads.atmosphere import AtmosphericDrag
 from ..loads.drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
 from ..loads.point import PointMoment
-from .schema import input_or, non_negative, number, positive, vector3
+from .schema import input_or, non_negative, number, one_of, positive, vector3
 
 
 def read_point_mass(t, bodies, system):
@@ -15,19 +18,19 @@ def read_point_mass(t, bodies, system):
     t.finish()
 
 
-def point_load(p, bodies, system):
+def point_load(p, bodies, system, environment):
     """``[[loads.point]]``: a dead ``force`` at a cable node, or an input
     (``{input = "name", value = [...]}``) that a controller sets."""
     system.add_point_load(bodies.point(p, "at", body_points=False),
                           p.get("force", input_or(vector3)))
 
 
-def line_load(p, bodies, system):
+def line_load(p, bodies, system, environment):
     """``[[loads.line]]``: a uniform ``force_per_length`` on a cable."""
     system.add_line_load(bodies.body(p, "cable", Cable), p.get("force_per_length", vector3))
 
 
-def moment_load(p, bodies, system):
+def moment_load(p, bodies, system, environment):
     """``[[loads.moment]]``: a ``moment`` fixed in space at a cable node."""
     system.add_load(PointMoment(bodies.point(p, "at", body_points=False),
                                 p.get("moment", vector3)))
@@ -60,7 +63,7 @@ def profile(p, key):
         p.fail(key, str(err))
 
 
-def morison_load(p, bodies, system):
+def morison_load(p, bodies, system, environment):
     """``[[loads.morison]]``: Morison drag of a steady ``current`` (vector) or
     ``current_profile`` on a cable."""
     cable = bodies.body(p, "cable", Cable)
@@ -74,28 +77,53 @@ def morison_load(p, bodies, system):
     system.add_load(MorisonDrag(cable, *args, current=current))
 
 
-def buoyancy_load(p, bodies, system):
+def buoyancy_load(p, bodies, system, environment):
     """``[[loads.buoyancy]]``: the weight of the water a cable displaces."""
     system.add_load(Buoyancy(bodies.body(p, "cable", Cable), p.get("rho", positive),
                              p.get("diameter", positive), p.get("g", vector3)))
 
 
-def free_molecular_load(p, bodies, system):
+def density(p, environment):
+    """``density`` (kg/m^3), or when absent the ``[environment]``'s atmosphere (a model
+    sampled once per step); one of the two is required."""
+    if p.has("density") or environment.atmosphere is None:
+        return p.get("density", positive)
+    return environment.atmosphere
+
+
+def free_molecular_load(p, bodies, system, environment):
     """``[[loads.free_molecular]]``: free-molecular drag of a rarefied atmosphere."""
     system.add_load(FreeMolecularDrag(
-        bodies.body(p, "cable", Cable), p.get("density", positive),
+        bodies.body(p, "cable", Cable), density(p, environment),
         p.get("diameter", positive), p.get("cd", non_negative, 2.2),
         p.get("velocity", vector3, (0.0, 0.0, 0.0)), p.get("omega", vector3, None)))
 
 
-#: Readers of the arrays of load tables ``[[loads.KEY]]``: ``reader(p, bodies, system)``.
+def atmospheric_drag_load(p, bodies, system, environment):
+    """``[[loads.atmospheric_drag]]``: the co-rotating atmosphere's drag on a ``cable``
+    (``area``: its projected width, m), a rigid ``body`` (at its centre of mass) or a
+    point ``at`` (``area``: m^2), with the ``[environment]``'s atmosphere unless a
+    ``density`` is given."""
+    key, _ = one_of(p, ("cable", "body", "at"), lambda v: v)
+    if key is None:
+        p.missing("cable", "is required (a cable's name), or body (a rigid body's) or at "
+                  "(a point reference)", ("cable", "body", "at"))
+    target = bodies.point(p, "at") if key == "at" else \
+        bodies.body(p, key, Cable if key == "cable" else RigidBody)
+    system.add_load(AtmosphericDrag(target, density(p, environment),
+                                    p.get("cd", non_negative, 2.2), p.get("area", positive)))
+
+
+#: Readers of the arrays of load tables ``[[loads.KEY]]``: ``reader(p, bodies, system,
+#: environment)``.
 LOADS = {"point": point_load, "line": line_load, "moment": moment_load,
          "morison": morison_load, "buoyancy": buoyancy_load,
-         "free_molecular": free_molecular_load}
+         "free_molecular": free_molecular_load, "atmospheric_drag": atmospheric_drag_load}
 
 
-def read_loads(t, bodies, system, analysis):
-    """The ``[loads]`` table, added to ``system``."""
+def read_loads(t, bodies, system, analysis, environment):
+    """The ``[loads]`` table, added to ``system``; ``environment`` (``EnvironmentSpec``)
+    gives the models of the loads that read them."""
     gravity = t.get("gravity", vector3, None)
     if gravity is not None:
         system.add_gravity(gravity)
@@ -107,6 +135,6 @@ def read_loads(t, bodies, system, analysis):
         system.add_centrifugal(t.get("centrifugal", vector3))
     for key, reader in LOADS.items():
         for p in t.tables(key):
-            reader(p, bodies, system)
+            reader(p, bodies, system, environment)
             p.finish()
     t.finish()

@@ -18,9 +18,10 @@ class OrbitSpec:
     j2: float | None = None
     body_radius: float | None = None
 
-    def place(self, system):
-        """Put ``system`` in this orbit (``System.add_orbit``)."""
-        system.add_orbit(self.orbit, j2=self.j2, body_radius=self.body_radius)
+    def place(self, system, epoch=None):
+        """Put ``system`` in this orbit (``System.add_orbit``) at ``epoch`` (an ``Epoch``
+        or None: the ``[environment]``'s)."""
+        system.add_orbit(self.orbit, j2=self.j2, body_radius=self.body_radius, epoch=epoch)
 
 
 def _as_given(v):
@@ -106,8 +107,9 @@ def read_orbit(t):
     return OrbitSpec(orbit, j2, None if j2 is None else radius)
 
 
-def place_in_orbit(root, spec, system):
-    """Put ``system`` in the orbit ``spec`` read from ``root.orbit``; a scene with uniform
+def place_in_orbit(root, spec, system, epoch=None):
+    """Put ``system`` in the orbit ``spec`` read from ``root.orbit`` at ``epoch`` (the
+    ``[environment]``'s, an ``Epoch`` or None); a scene with uniform
     gravity (``loads.gravity``) or that the orbit refuses otherwise fails naming the
     tables."""
     loads = root.data.get("loads")
@@ -115,6 +117,6 @@ def place_in_orbit(root, spec, system):
         root.fail("orbit", "excludes loads.gravity: in orbit the central body's "
                   "differential gravity replaces uniform gravity (remove one of the two)")
     try:
-        spec.place(system)
+        spec.place(system, epoch)
     except ValueError as err:  # e.g. a deploying cable
         root.fail("orbit", f"is refused: {err}")

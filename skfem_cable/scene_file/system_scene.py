@@ -1,6 +1,6 @@
 """A scene of cables and rigid bodies (``System``) from a scene file: the tables are read
-in schema order by the readers of ``bodies``, ``constraints``, ``deploy``, ``loads``,
-``orbit``, ``controllers`` and ``solver``;
+in schema order by the readers of ``bodies``, ``constraints``, ``deploy``,
+``environment``, ``orbit``, ``loads``, ``controllers`` and ``solver``;
 ``run`` simulates (``runner.run_dynamic``) or solves it (``runner.run_static``)."""
 
 from dataclasses import dataclass
@@ -15,6 +15,7 @@ from .bodies import Bodies, check_cables_memory, read_cable, read_rigid_body, re
 from .constraints import read_constraint
 from .controllers import read_controllers
 from .deploy import read_deploy, read_reel
+from .environment import EnvironmentSpec, check_orbit, read_environment
 from .loads import read_loads, read_point_mass
 from .orbit import place_in_orbit, read_orbit
 from .schema import text
@@ -36,11 +37,12 @@ class SceneSpec:
     points_per_element: int
     motion: dict
     controllers: list
+    environment: EnvironmentSpec | None = None
 
 
-def build(root, elements=None):
+def build(root, elements=None, epoch=None):
     """The ``SceneSpec`` of the root table ``root``; ``elements`` overrides every cable's
-    element count."""
+    element count, ``epoch`` (text: the run's ``--epoch``) the ``[environment]``'s."""
     title = root.get("title", text, "")
     solver = root.table("solver")
     analysis = read_analysis(solver)
@@ -64,16 +66,18 @@ def build(root, elements=None):
         read_deploy(t, bodies, system, reel)
     for t in root.tables("point_masses"):
         read_point_mass(t, bodies, system)
+    environment = read_environment(root.table("environment"), epoch)
+    check_orbit(root, environment)
     if root.has("orbit"):
-        place_in_orbit(root, read_orbit(root.table("orbit")), system)
-    read_loads(root.table("loads"), bodies, system, analysis)
+        place_in_orbit(root, read_orbit(root.table("orbit")), system, environment.epoch)
+    read_loads(root.table("loads"), bodies, system, analysis, environment)
     controllers = read_controllers(root, system)
     motion = root.table("initial")
     initial = read_initial(motion, system, analysis)
     ppe = read_output(root.table("output"))
     root.finish()
     return SceneSpec(title, system, initial, analysis, settings, ppe, motion.data,
-                     controllers)
+                     controllers, environment)
 
 
 def run(path, spec, options):

@@ -78,13 +78,17 @@ def builder(scene):
     return SCENES[scene].builder()
 
 
+#: The opt-in options a scene file takes: ``--epoch`` (its ``[environment]`` epoch).
+SCENE_FILES_TAKE = ("epoch",)
+
+
 def run_scene(scene, options):
     """Run a registered scene by name, or a TOML scene file by path; returns the summary."""
     if scene in SCENES:
         entry = SCENES[scene]
         options.reject(scene, *(n for n in OPT_IN if n not in entry.takes))
         return entry.runner()(options)
-    options.reject(scene, *OPT_IN)
+    options.reject(scene, *(n for n in OPT_IN if n not in SCENE_FILES_TAKE))
     if scene.endswith(".toml") or Path(scene).is_file():
         from .. import scene_file
 

@@ -1,0 +1,108 @@
+"""A density model sampled at a body's points once per time step (``DensitySampler``):
+the step hook and ``prepare`` of the drag terms (``drag.FreeMolecularDrag``,
+``atmosphere.AtmosphericDrag``), so that a model such as ``environment.MSIS`` is never
+called in the Newton iterations."""
+
+import numpy as np
+
+from ..bodies.section import check_positive
+from ..environment.epoch import bound_model
+
+
+def is_model(density):
+    """True when ``density`` is a model (an object with ``density(x, t)``), not a
+    number."""
+    return callable(getattr(density, "density", None))
+
+
+def density_model(density):
+    """``density`` if it is a model (``is_model``), else the number checked positive
+    (``ValueError`` naming ``density``)."""
+    return density if is_model(density) else check_positive("density", density)
+
+
+class DensitySampler:
+    """The density of a model at a body's points, evaluated once per time step: a step
+    hook of the run (``protocols.StepHook``: it keeps the last accepted state) and the
+    term's ``prepare(t)`` (the density at the positions predicted for ``t``).
+
+    Parameters
+    ----------
+    model : object with ``density(x, t)``
+        The density (kg/m^3) at absolute positions ``x`` (..., 3) (m), ``t`` s after the
+        epoch (already bound to the system's epoch: ``environment.bound_model``).
+    positions : callable
+        ``positions(q)``: the offsets (ne, nq, 3) of the body's points for the
+        coordinates ``q``.
+    weights : ndarray (ne, nq)
+        The points' weights: ``out[e]`` is the weighted mean over element ``e``'s points.
+    orbit : Orbit, Reference or None
+        The reference point ``R(t)`` of a system in orbit (None: the positions are
+        absolute).
+    q0 : ndarray
+        The coordinates before a run's first step (the system's initial ones).
+
+    Attributes
+    ----------
+    out : ndarray (ne,)
+        The per-element density (kg/m^3) that the term's kernel reads, refreshed in place.
+    calls : int
+        Evaluations of the model so far (one per time step).
+    """
+
+    def __init__(self, model, positions, weights, orbit, q0):
+        self.model, self.positions, self.orbit = model, positions, orbit
+        self.weights = np.asarray(weights, dtype=float)
+        self.out = np.zeros(self.weights.shape[0])
+        self.calls = 0
+        self._state(q0, np.zeros_like(q0), 0.0 if orbit is None else orbit.t0)
+        self.prepare(self.t)
+
+    def _state(self, q, v, t):
+        self.q, self.v, self.t = np.array(q, dtype=float), np.array(v, dtype=float), float(t)
+        self.done = None  # the time the density was last evaluated for
+
+    def prepare(self, t):
+        """The density at time ``t`` at the positions predicted from the last accepted
+        state ``(q_n, v_n, t_n)``, ``q_n + (t - t_n) v_n``: evaluated once per time
+        (the Python path calls ``prepare`` at every evaluation)."""
+        t = float(t)
+        if t == self.done:
+            return
+        x = self.positions(self.q + (t - self.t) * self.v)
+        if self.orbit is not None:
+            x = x + self.orbit.position(t)
+        rho = np.asarray(self.model.density(x, t), dtype=float)
+        self.out[:] = np.sum(self.weights * rho, axis=1) / np.sum(self.weights, axis=1)
+        self.calls += 1
+        self.done = t
+
+    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
+    def start(self, integrator):
+        """A fresh run: its initial state."""
+        self._state(integrator.q, integrator.v, integrator.t)
+
+    def after_step(self, integrator):
+        """A step was accepted: its state, from which the next step's density is
+        predicted (after the rectification's rebase, which runs first)."""
+        self._state(integrator.q, integrator.v, integrator.t)
+
+    def next_event(self, t):
+        """No time a step must end on."""
+        return np.inf
+
+    def snapshot(self):
+        """Nothing of its own: the checkpoint's state is the integrator's."""
+        return {}
+
+    def restore(self, snap):
+        """A resumed run: the checkpoint's state."""
+        self._state(snap["q"], snap["v"], snap["t"])
+
+
+def line_sampler(model, points, system, orbit):
+    """The ``DensitySampler`` of ``model`` at the points ``points`` (``lines.LinePoints``)
+    of a line body of ``system`` in orbit ``orbit`` (a ``Reference`` or None), the model
+    at the system's epoch (``environment.bound_model``)."""
+    return DensitySampler(bound_model(model, system.epoch, "density"),
+                          lambda q: points.at(q)[0], points.w, orbit, system.q0)
