@@ -230,6 +230,10 @@ class Term:
         ``prepare(t1)`` does at the start of the step: a law parameter that varies in
         time), the change of its stored energy at fixed coordinates, averaged over the
         step's ends; the integrator books it as external work at every step.
+    hook : StepHook or None
+        State of the term's data that a time integration changes between steps and
+        checkpoints (``protocols.StepHook``): a rod's reference frames, re-based on the
+        current tangents after every step.  ``simulate`` calls it with its own hooks.
     """
 
     add: Callable[..., None] | None = None
@@ -244,6 +248,7 @@ class Term:
     prepare: Callable[[float], None] | None = None
     energy_rate: Callable[[Any, float], float] | None = None
     energy_change: Callable[[Any, Any, float, float], float] | None = None
+    hook: Any = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:

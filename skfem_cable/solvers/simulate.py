@@ -141,7 +141,8 @@ def _reference(integ):
 def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt) -> list[StepHook]:
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
-    loop of the ``controllers`` (``control.ControlLoop``).  Records their settings and
+    loop of the ``controllers`` (``control.ControlLoop``), the ``hook`` of a body's term (a
+    rod's reference frames, ``contract.Term``).  Records their settings and
     counters.  A run starts from the model as given: the inputs at their initial values
     (``Layout.inputs``), in orbit the reference without rebases (``Layout.reference``);
     a resumed run then takes its checkpoint's (the hooks' ``restore``)."""
@@ -162,6 +163,7 @@ def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt) -> l
         settings["controllers"] = [f"{c.name}: every {c.sample_time:g} s, delay "
                                    f"{getattr(c, 'delay', 0.0):g} s" for c in controllers]
         integ.stats["control_updates"] = 0
+    hooks += [term.hook for term, _ in integ.lay.body_terms if term.hook is not None]
     return hooks
 
 
