@@ -212,13 +212,25 @@ def swinging(G=None, stop_at=None):
     return system, rod, (q, v)
 
 
-def test_rod_without_torsional_stiffness_follows_the_cable_under_gravity():
-    """A wire swinging in 3-D under gravity: as a rod with G = 1e-12 E (no torsional
-    coupling) its centreline follows the cable's to 1e-8 of the length (measured 4e-14);
-    gravity reaches it through its mass matrix as the cable's."""
+def water(body):
+    """Morison drag of a current with added mass, and a ``LineLoad`` (Python force)."""
+    return [sc.MorisonDrag(body, 1025.0, 4e-3, 1.2, 0.1, current=[0.0, 0.5, 0.0],
+                           added_mass=1.0),
+            sc.LineLoad(body, lambda x, v, t: -0.02 * v)]
+
+
+@pytest.mark.parametrize("loads", [lambda body: [], water], ids=["gravity", "water"])
+def test_rod_without_torsional_stiffness_follows_the_cable(loads):
+    """A wire swinging in 3-D under gravity (and in a current: Morison drag with added
+    mass, a ``LineLoad``): as a rod with G = 1e-12 E (no torsional coupling) its
+    centreline follows the cable's to 1e-8 of the length (measured 8.9e-15 under
+    gravity); the loads reach it through the line-body hook as the cable's."""
     system, rod, (q, v) = swinging(G=2e-3)
     cable = sc.Cable.straight([0, 0, 0], [1, 0, 0], 6, rod.section)
     plain = sc.System([cable]).pin(cable.node(0)).add_gravity([0, 0, -9.81])
+    for body, s in ((rod, system), (cable, plain)):
+        for load in loads(body):
+            s.add_load(load)
     n = rod.n_centreline
     result = sc.simulate(system, t_end=0.3, dt=2e-3, initial=(q, v))
     reference = sc.simulate(plain, t_end=0.3, dt=2e-3, initial=(q[:n], v[:n]))
@@ -279,3 +291,14 @@ def test_tip_loaded_elastica_within_the_cables_bound():
     tip = sc.solve_static(system, load_steps=20).position(rod, 1.0)
     u, w = elastica_tip_load(10.0)
     assert max(abs(1 - tip[0] - u), abs(-tip[1] - w)) <= 2.6e-5
+
+
+def test_docstring_examples_run():
+    """The examples of the rod's and the sections' docstrings."""
+    import doctest
+
+    from skfem_cable.bodies import rod, section
+
+    for module in (rod, section):
+        result = doctest.testmod(module, optionflags=doctest.ELLIPSIS)
+        assert result.attempted > 0 and result.failed == 0

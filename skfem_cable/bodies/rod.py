@@ -187,10 +187,8 @@ class Rod(Cable):
         """The mismatch angle of element ``k`` with coordinates ``u`` (``kernels.rod``)."""
         i, j = self.mesh.t[:, k]
         _, Sx1, _ = self._shape([1.0])
-        work = (np.zeros(9), np.zeros(9), np.zeros((9, 9)), np.zeros((4, 3)),
-                np.zeros((4, 3, 3)), np.zeros(3), np.zeros((3, 3)))
         return kernel.element_mismatch(u, Sx1[k, 0], t0[i], d0[i], t0[j], d0[j],
-                                       np.zeros(12), np.zeros((12, 12)), work)
+                                       np.zeros(12), np.zeros((12, 12)), kernel.workspace())
 
     def twist(self, q, s, frames=None):
         """The twist angle (rad) of the section at arc lengths ``s``: the angle of its

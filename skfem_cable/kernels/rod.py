@@ -72,7 +72,7 @@ def point(z, p, gz, Hz, work):
     """The density at ``z = [r', r'', th, thp]`` with its gradient ``gz`` (8,) and
     Hessian ``Hz`` (8, 8) in ``z`` (``density`` in ``y = [t, s, r'', th, thp]`` and
     ``through_unit``)."""
-    y, gy, Hy, J, T2, gA, HAA = work
+    y, gy, Hy, J, T2, gA, HAA = work[:7]
     s = unit_map(z[:3], J, T2)
     y[:3] = z[:3] / s
     y[3] = s
@@ -97,14 +97,17 @@ def point(z, p, gz, Hz, work):
 def element_mismatch(u, Sx1, ai, di, aj, dj, grad, hess, work):
     """The mismatch angle of the element with coordinates ``u`` (its end slope ``sum_A
     Sx1[A] u_A``), its gradient ``grad`` (12,) and Hessian ``hess`` (12, 12) in the
-    centreline coordinates."""
-    y, gy, Hy, J, T2, gA, HAA = work
-    A = np.zeros(3)
+    centreline coordinates (``work``: the scratch arrays of ``workspace``)."""
+    y, gy, Hy, J, T2, gA, HAA, A, pm = work
+    A[:] = 0.0
     for a in range(4):
-        A += Sx1[a] * u[3 * a:3 * a + 3]
+        for c in range(3):
+            A[c] += Sx1[a] * u[3 * a + c]
     s = unit_map(A, J, T2)
-    pm = np.concatenate((ai, di, aj, dj))
-    alpha = mismatch(A / s, pm, gy, Hy)
+    pm[:3], pm[3:6], pm[6:9], pm[9:] = ai, di, aj, dj
+    for c in range(3):
+        y[c] = A[c] / s
+    alpha = mismatch(y[:3], pm, gy, Hy)
     through_unit(gy, Hy, J, T2, 3, gA, HAA)
     for a in range(4):
         for c in range(3):
@@ -116,13 +119,19 @@ def element_mismatch(u, Sx1, ai, di, aj, dj, grad, hess, work):
 
 
 @njit(cache=True)
+def workspace():
+    """The scratch arrays of ``point`` and ``element_mismatch``."""
+    return (np.zeros(9), np.zeros(9), np.zeros((9, 9)), np.zeros((4, 3)), np.zeros((4, 3, 3)),
+            np.zeros(3), np.zeros((3, 3)), np.zeros(3), np.zeros(12))
+
+
+@njit(cache=True)
 def kernel(pack, index, ev):
     """The rod term's compiled hook (``contract.Term.kernels``): forces ``f``, the bending
     and twist energy into ``energy[1]`` and ``cK`` times the tangent into ``data``."""
     edofs, S, Sx, Sxx, w, xi, h, Sx1, nodes, t0, d0, prm = pack
     q, v, s, f, f_ext, fd, data, energy, power = ev
-    work = (np.zeros(9), np.zeros(9), np.zeros((9, 9)), np.zeros((4, 3)),
-            np.zeros((4, 3, 3)), np.zeros(3), np.zeros((3, 3)))
+    work = workspace()
     want = data.size > 0
     ne, nq, nf = S.shape
     u = np.empty(16)
