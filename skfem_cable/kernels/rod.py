@@ -25,7 +25,9 @@ import numpy as np
 from numba import njit
 
 from .rod_density import density
+from .rod_density_gradient import density_gradient
 from .rod_mismatch import mismatch
+from .rod_mismatch_gradient import mismatch_gradient
 
 
 @njit(cache=True)
@@ -50,15 +52,16 @@ def unit_map(A, J, T2):
 
 
 @njit(cache=True)
-def through_unit(gy, Hy, J, T2, n, gA, HAA):
-    """The gradient ``gA`` (3,) and Hessian ``HAA`` (3, 3) in ``A`` of a function whose
-    gradient ``gy`` and Hessian ``Hy`` are given in ``(t, s)`` (the first four entries;
-    the first three only when ``n = 3``): the chain rule through ``unit_map``."""
+def through_unit(gy, Hy, J, T2, n, gA, HAA, want):
+    """The gradient ``gA`` (3,) and, if ``want``, the Hessian ``HAA`` (3, 3) in ``A`` of a
+    function whose gradient ``gy`` and Hessian ``Hy`` are given in ``(t, s)`` (the first
+    four entries; the first three only when ``n = 3``): the chain rule through
+    ``unit_map``."""
     for i in range(3):
         gA[i] = 0.0
         for k in range(n):
             gA[i] += gy[k] * J[k, i]
-        for j in range(3):
+        for j in range(3 if want else 0):
             v = 0.0
             for k in range(n):
                 v += gy[k] * T2[k, i, j]
@@ -68,19 +71,21 @@ def through_unit(gy, Hy, J, T2, n, gA, HAA):
 
 
 @njit(cache=True)
-def point(z, p, gz, Hz, work):
-    """The density at ``z = [r', r'', th, thp]`` with its gradient ``gz`` (8,) and
-    Hessian ``Hz`` (8, 8) in ``z`` (``density`` in ``y = [t, s, r'', th, thp]`` and
-    ``through_unit``)."""
+def point(z, p, gz, Hz, work, want):
+    """The density at ``z = [r', r'', th, thp]`` with its gradient ``gz`` (8,) and, if
+    ``want``, its Hessian ``Hz`` (8, 8) in ``z`` (``density`` in ``y = [t, s, r'', th,
+    thp]`` and ``through_unit``)."""
     y, gy, Hy, J, T2, gA, HAA = work[:7]
     s = unit_map(z[:3], J, T2)
     y[:3] = z[:3] / s
     y[3] = s
     y[4:] = z[3:]
-    W = density(y, p, gy, Hy)
-    through_unit(gy, Hy, J, T2, 4, gA, HAA)
+    W = density(y, p, gy, Hy) if want else density_gradient(y, p, gy)
+    through_unit(gy, Hy, J, T2, 4, gA, HAA, want)
     gz[:3] = gA
     gz[3:] = gy[4:]
+    if not want:
+        return W
     Hz[:3, :3] = HAA
     for i in range(3):
         for m in range(5):
@@ -94,10 +99,11 @@ def point(z, p, gz, Hz, work):
 
 
 @njit(cache=True)
-def element_mismatch(u, Sx1, ai, di, aj, dj, grad, hess, work):
+def element_mismatch(u, Sx1, ai, di, aj, dj, grad, hess, work, want):
     """The mismatch angle of the element with coordinates ``u`` (its end slope ``sum_A
-    Sx1[A] u_A``), its gradient ``grad`` (12,) and Hessian ``hess`` (12, 12) in the
-    centreline coordinates (``work``: the scratch arrays of ``workspace``)."""
+    Sx1[A] u_A``), its gradient ``grad`` (12,) and, if ``want``, its Hessian ``hess``
+    (12, 12) in the centreline coordinates (``work``: the scratch arrays of
+    ``workspace``)."""
     y, gy, Hy, J, T2, gA, HAA, A, pm = work
     A[:] = 0.0
     for a in range(4):
@@ -107,15 +113,46 @@ def element_mismatch(u, Sx1, ai, di, aj, dj, grad, hess, work):
     pm[:3], pm[3:6], pm[6:9], pm[9:] = ai, di, aj, dj
     for c in range(3):
         y[c] = A[c] / s
-    alpha = mismatch(y[:3], pm, gy, Hy)
-    through_unit(gy, Hy, J, T2, 3, gA, HAA)
+    alpha = mismatch(y[:3], pm, gy, Hy) if want else mismatch_gradient(y[:3], pm, gy)
+    through_unit(gy, Hy, J, T2, 3, gA, HAA, want)
     for a in range(4):
         for c in range(3):
             grad[3 * a + c] = Sx1[a] * gA[c]
-            for b in range(4):
+            for b in range(4 if want else 0):
                 for d in range(3):
                     hess[3 * a + c, 3 * b + d] = Sx1[a] * Sx1[b] * HAA[c, d]
     return alpha
+
+
+@njit(cache=True)
+def tangent_product(Jz, Hz, Sx, Sxx, weight, M, Ke):
+    """``Ke += weight Jz^T Hz Jz`` with the sparsity of ``Jz``: its rows of ``r'`` and
+    ``r''`` hold one function's value per 3-vector (``Sx``, ``Sxx``), those of the angles
+    are full (``kernel``)."""
+    nf = Sx.shape[0]
+    M[:] = 0.0
+    for m in range(8):
+        for n in range(6):
+            hmn = Hz[m, n]
+            table = Sx if n < 3 else Sxx
+            for a in range(nf):
+                M[m, 3 * a + n % 3] += hmn * table[a]
+        for n in range(6, 8):
+            for k in range(16):
+                M[m, k] += Hz[m, n] * Jz[n, k]
+    for m in range(6):
+        table = Sx if m < 3 else Sxx
+        for a in range(nf):
+            jv = weight * table[a]
+            k = 3 * a + m % 3
+            for c in range(16):
+                Ke[k, c] += jv * M[m, c]
+    for m in range(6, 8):
+        for k in range(16):
+            jv = weight * Jz[m, k]
+            if jv != 0.0:
+                for c in range(16):
+                    Ke[k, c] += jv * M[m, c]
 
 
 @njit(cache=True)
@@ -144,12 +181,12 @@ def kernel(pack, index, ev):
         for k in range(16):
             u[k] = q[edofs[e, k]]
         i, j = nodes[e, 0], nodes[e, 1]
-        alpha = element_mismatch(u, Sx1[e], t0[i], d0[i], t0[j], d0[j], ga, Ha, work)
+        alpha = element_mismatch(u, Sx1[e], t0[i], d0[i], t0[j], d0[j], ga, Ha, work, want)
         p[:3] = t0[i]
         p[3:6] = d0[i]
         fe[:] = 0.0
         Ke[:] = 0.0
-        We = 0.0
+        We = coef = 0.0
         for g in range(nq):
             Jz[:] = 0.0
             for a in range(nf):
@@ -170,26 +207,17 @@ def kernel(pack, index, ev):
             for a in range(nf):
                 z[6] += S[e, g, a] * u[12 + a]
                 z[7] += Sx[e, g, a] * u[12 + a]
-            We += w[e, g] * point(z, p, gz, Hz, work)
+            We += w[e, g] * point(z, p, gz, Hz, work, want)
             for k in range(16):
                 for m in range(8):
                     fe[k] += w[e, g] * Jz[m, k] * gz[m]
             if want:
-                M[:] = 0.0
-                for m in range(8):
-                    for n in range(8):
-                        for k in range(16):
-                            M[m, k] += Hz[m, n] * Jz[n, k]
-                for k in range(16):
-                    for c in range(16):
-                        acc = 0.0
-                        for m in range(8):
-                            acc += Jz[m, k] * M[m, c]
-                        Ke[k, c] += w[e, g] * acc
-                coef = w[e, g] * (gz[6] * xi[g] + gz[7] / h[e])
-                for k in range(12):
-                    for c in range(12):
-                        Ke[k, c] += coef * Ha[k, c]
+                tangent_product(Jz, Hz, Sx[e, g], Sxx[e, g], w[e, g], M, Ke)
+                coef += w[e, g] * (gz[6] * xi[g] + gz[7] / h[e])
+        if want:  # the mismatch's curvature, weighted by the forces on the angles
+            for k in range(12):
+                for c in range(12):
+                    Ke[k, c] += coef * Ha[k, c]
         energy[1] += We
         for k in range(16):
             f[edofs[e, k]] += fe[k]
