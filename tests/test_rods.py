@@ -339,3 +339,19 @@ def test_energy_of_a_bent_twisted_rod_is_objective():
     assert np.allclose(f_turned[:n].reshape(-1, 3), f[:n].reshape(-1, 3) @ R.T,
                        rtol=0, atol=1e-12 * np.abs(f).max())
     assert np.allclose(f_turned[n:], f[n:], rtol=0, atol=1e-12 * np.abs(f).max())
+
+
+def test_rod_between_hangs_with_directors_normal_to_its_slopes():
+    """``Rod.between`` builds the cable's catenary with directors made normal to its
+    slopes; a clamp to a rigid body refuses to hold the twist (not carried yet)."""
+    rod = sc.Rod.between([0, 0, 0], [1, 0, 0], 1.2, 6, TAPE, normal=[0, 1, 0])
+    slopes = rod.q0[:rod.n_centreline].reshape(-1, 2, 3)[:, 1]
+    assert np.abs(np.einsum("ij,ij->i", slopes, rod.directors)).max() < 1e-15
+    assert np.allclose(np.linalg.norm(rod.directors, axis=1), 1, atol=1e-15)
+    assert rod.length == pytest.approx(1.2)
+    hub = sc.RigidBody.cylinder(radius=0.1, height=0.1, density=100.0)
+    with pytest.raises(ValueError, match="twist: a clamp"):
+        sc.System([hub, rod]).clamp(rod.node(0), position=hub.point([0, 0, 0]))
+    system = sc.System([hub, rod]).clamp(rod.node(0), position=hub.point([0, 0, 0]),
+                                         twist=False)
+    assert system.n_constraints == 6 + 5

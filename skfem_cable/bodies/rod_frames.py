@@ -34,7 +34,7 @@ class ReferenceFrames:
         self.rod = rod
         self.slopes = np.ascontiguousarray(slopes, dtype=np.int64)
         self.t0, self.d0 = (np.ascontiguousarray(a) for a in rod.initial_frames())
-        self.key = f"rod_frames_{rod.name}"
+        self.key = f"rod_frames_{rod.name}_{self.slopes[0, 0]}"  # unique in a system
 
     def reset(self):
         """Back to the rod's initial frames."""
@@ -61,7 +61,8 @@ class ReferenceFrames:
         return np.inf
 
     def snapshot(self):
-        """The frames (``rod_frames_<name>_t``, ``_d``) for a checkpoint."""
+        """The frames (``rod_frames_<name>_<first slope coordinate>_t``, ``_d``) for a
+        checkpoint."""
         return {self.key + "_t": self.t0.copy(), self.key + "_d": self.d0.copy()}
 
     def restore(self, snap):

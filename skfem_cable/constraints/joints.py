@@ -83,15 +83,19 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
     if slope not in ("direction", "full"):
         raise ValueError(f"slope must be 'direction' or 'full', got {slope!r}")
-    held = _twist(node, twist)
+    held = _twist(node, twist, position)
     return _clamp(node, direction, position, velocity, acceleration, slope) + held
 
 
-def _twist(node, twist):
+def _twist(node, twist, position):
     """The twist equation of a clamp (``clamp``): none on a node without twist or with
-    ``twist=False``."""
+    ``twist=False``; refused with a body point ``position`` (not carried by the body)."""
     if not node.has_twist or twist is False:
         return []
+    if isinstance(position, BodyPoint):
+        raise ValueError(f"twist: a clamp of {node!r} to a rigid body does not carry the "
+                         "twist with the body yet; pass twist=False (free twist) "
+                         "(docs/rods.md, 'What remains')")
     if twist is not True and not callable(twist):
         raise ValueError(f"twist must be True, False or a callable twist(t) (rad), got "
                          f"{twist!r}")
