@@ -5,7 +5,8 @@ and what may import what: ``docs/architecture.md``):
 
 * model: ``Section``, ``Cable`` (and its ``Node``; its element types ``ELEMENTS``,
   ``CableElement``, ``ElementLineCableHermite``, ``ElementLineCableHermite5``,
-  ``ElementLineCableLinear``),
+  ``ElementLineCableLinear``), ``Rod`` (a cable with twist and two principal bending
+  stiffnesses, ``docs/rods.md``),
   ``RigidBody``, ``System``;
 * loads (package ``loads``): ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``,
   ``Centrifugal``, ``PointMass``, the solar wind ``SolarWind``, ``SolarWindForce``
@@ -70,6 +71,7 @@ from .bodies.cable import Cable
 from .bodies.formulation import FORMULATIONS
 from .bodies.reel import Brake, Motor, Reel, Servo
 from .bodies.rigid import RigidBody
+from .bodies.rod import Rod
 from .bodies.section import Section
 from .control import sensors as sensors  # what a controller measures
 from .control.controller import ControlError, Controller
@@ -119,6 +121,7 @@ __all__ = [
     "Orbit",
     "Reference",
     "AtmosphericDrag",
+    "Rod",
     "Brake",
     "Buoyancy",
     "Cable",

@@ -1,4 +1,5 @@
-"""Cross-section and material of a cable (paper Table 1 symbols ``E_t, A_t, I_t, rho_t``).
+"""Cross-section and material of a cable (paper Table 1 symbols ``E_t, A_t, I_t, rho_t``)
+and of a rod (``Rod``: also its torsion and its two principal bending stiffnesses).
 
 Examples
 --------
@@ -64,13 +65,32 @@ class Section:
     gamma_axial, gamma_bending : float
         Internal (Kelvin-Voigt) damping coefficients ``gamma_x, gamma_b`` of Eq. 36 in
         seconds, >= 0: ``N = EA (eps + gamma_x eps_dot)``, ``M = EI (kappa + gamma_b kappa_dot)``.
+    G : float, optional
+        Shear modulus (Pa), > 0; default ``E / (2 (1 + 0.3))``.  Read by a ``Rod`` only.
+    J : float, optional
+        Saint-Venant torsion constant (m^4), > 0; default ``2 I`` (a round section).
+    I_edge : float, optional
+        Second moment of area about the section's ``normal`` axis (m^4), > 0: the
+        edgewise bending of a tape; default ``I`` (isotropic).
+
+    The principal axes of a section (``principal_axes``) are its ``normal`` (the
+    thickness direction of a tape, the director ``d1`` of a ``Rod``), about which the
+    bending stiffness is ``EI_edge``, and its ``width`` (``d2 = t x d1``), about which it
+    is ``EI_flat = EI``.  A cable sees ``EI`` only.
 
     Attributes
     ----------
     EA, EI : float
         Axial (N) and bending (N m^2) stiffness.
+    EI_flat, EI_edge : float
+        Bending stiffnesses about the width and the normal axis (N m^2).
+    GJ : float
+        Torsional stiffness (N m^2).
     mass_per_length : float
         ``rho A`` (kg/m).
+    polar_mass_moment : float
+        ``rho I_p`` (kg m), ``I_p = I + I_edge``: the rotary inertia per length about the
+        centreline.
 
     Raises
     ------
@@ -99,17 +119,27 @@ class Section:
     rho: float
     gamma_axial: float = 0.0
     gamma_bending: float = 0.0
+    G: float | None = None
+    J: float | None = None
+    I_edge: float | None = None
+
+    #: The principal axes of the section: the rod's directors ``d1`` and ``d2``.
+    principal_axes = ("normal", "width")
 
     def __post_init__(self):
         for name in ("E", "A", "I", "rho"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        for name in ("G", "J", "I_edge"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, check_positive(name, getattr(self, name)))
         for name in ("gamma_axial", "gamma_bending"):
             value = check_positive(name, getattr(self, name), allow_zero=True)
             object.__setattr__(self, name, value)
 
     @classmethod
-    def circular(cls, radius, E, rho, **damping):
-        """Solid circular section of the given ``radius`` (m), ``A = pi r^2``, ``I = pi r^4/4``.
+    def circular(cls, radius, E, rho, G=None, nu=0.3, **damping):
+        """Solid circular section of the given ``radius`` (m), ``A = pi r^2``, ``I = pi r^4/4``,
+        ``J = pi r^4 / 2``.
 
         Parameters
         ----------
@@ -117,6 +147,10 @@ class Section:
             Radius (m), > 0.
         E, rho : float
             Young's modulus (Pa) and density (kg/m^3).
+        G : float, optional
+            Shear modulus (Pa); default ``E / (2 (1 + nu))``.
+        nu : float
+            Poisson's ratio in ``(-1, 0.5]``, for the default ``G``.
         **damping
             ``gamma_axial``, ``gamma_bending`` (s).
 
@@ -128,7 +162,36 @@ class Section:
         (21.991, 549.779)
         """
         r = check_positive("radius", radius)
-        return cls(E=E, A=math.pi * r**2, I=math.pi * r**4 / 4, rho=rho, **damping)
+        return cls(E=E, A=math.pi * r**2, I=math.pi * r**4 / 4, rho=rho,
+                   G=shear_modulus(E, G, nu), J=math.pi * r**4 / 2, **damping)
+
+    @classmethod
+    def tape(cls, width, thickness, E, rho, G=None, nu=0.3, **damping):
+        """Thin rectangular tape ``width`` x ``thickness`` (m): ``A = w t``, ``I = w t^3 / 12``
+        (flatwise, about the width), ``I_edge = t w^3 / 12`` (edgewise, about the normal)
+        and the Saint-Venant ``J = w t^3 / 3 (1 - 0.63 t / w)`` (Roark's formula for a
+        thin rectangle, ``t <= w``).
+
+        Parameters
+        ----------
+        width, thickness : float
+            Width and thickness (m), ``0 < thickness <= width``.
+        E, rho, G, nu, **damping
+            As for ``circular``.
+
+        Examples
+        --------
+        >>> from skfem_cable import Section
+        >>> s = Section.tape(0.02, 50e-6, E=7e10, rho=2700.0)
+        >>> round(s.EI_edge / s.EI_flat)
+        160000
+        """
+        w, t = check_positive("width", width), check_positive("thickness", thickness)
+        if t > w:
+            raise ValueError(f"thickness must be <= width (a tape), got thickness {t!r} "
+                             f"and width {w!r}")
+        return cls(E=E, A=w * t, I=w * t**3 / 12, rho=rho, G=shear_modulus(E, G, nu),
+                   J=w * t**3 / 3 * (1 - 0.63 * t / w), I_edge=t * w**3 / 12, **damping)
 
     @property
     def EA(self):
@@ -144,3 +207,35 @@ class Section:
     def mass_per_length(self):
         """Mass per unit length ``rho A`` (kg/m)."""
         return self.rho * self.A
+
+    @property
+    def EI_flat(self):
+        """Bending stiffness about the width axis, ``E I`` (N m^2)."""
+        return self.E * self.I
+
+    @property
+    def EI_edge(self):
+        """Bending stiffness about the normal axis, ``E I_edge`` (N m^2)."""
+        return self.E * (self.I if self.I_edge is None else self.I_edge)
+
+    @property
+    def GJ(self):
+        """Torsional stiffness ``G J`` (N m^2)."""
+        G = shear_modulus(self.E, self.G, 0.3)
+        return G * (2 * self.I if self.J is None else self.J)
+
+    @property
+    def polar_mass_moment(self):
+        """Rotary inertia per length about the centreline, ``rho (I + I_edge)`` (kg m)."""
+        return self.rho * (self.I + (self.I if self.I_edge is None else self.I_edge))
+
+
+def shear_modulus(E, G, nu):
+    """``G``, or ``E / (2 (1 + nu))`` when None; ``ValueError`` naming ``nu`` outside
+    ``(-1, 0.5]``."""
+    if G is not None:
+        return check_positive("G", G)
+    nu = float(nu)
+    if not -1.0 < nu <= 0.5:
+        raise ValueError(f"nu must be in (-1, 0.5], got {nu!r}")
+    return float(E) / (2 * (1 + nu))

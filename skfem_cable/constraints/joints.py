@@ -11,7 +11,7 @@ from .prescribed import Motion
 
 
 def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
-          slope="direction"):
+          slope="direction", twist=True):
     """Clamp ``node``: its position and the *direction* of its slope (or, with
     ``slope="full"``, the whole slope vector) are fixed, follow prescribed motions, or
     are carried by a rigid body.
@@ -41,6 +41,11 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
         ``"full"``, ``direction`` is the slope vector ``r_x`` itself (not normalized;
         default the node's initial slope) or a callable ``direction(t)`` (a driven slope,
         derivatives by ``time_derivatives``); a body point is refused.
+    twist : bool or callable
+        On a node with a twist (a rod's, ``Node.has_twist``): True (default) holds its
+        twist angle at its initial value, False leaves it free, a callable ``twist(t)``
+        (rad) drives it (one more equation, label ``T``: ``-lambda`` is the torque on
+        the twist).  Ignored on a node without twist.
 
     Returns
     -------
@@ -78,6 +83,30 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
         raise TypeError(f"clamp expects a Node (cable.node(i)), got {type(node).__name__}")
     if slope not in ("direction", "full"):
         raise ValueError(f"slope must be 'direction' or 'full', got {slope!r}")
+    held = _twist(node, twist, position)
+    return _clamp(node, direction, position, velocity, acceleration, slope) + held
+
+
+def _twist(node, twist, position):
+    """The twist equation of a clamp (``clamp``): none on a node without twist or with
+    ``twist=False``; refused with a body point ``position`` (not carried by the body)."""
+    if not node.has_twist or twist is False:
+        return []
+    if isinstance(position, BodyPoint):
+        raise ValueError(f"twist: a clamp of {node!r} to a rigid body does not carry the "
+                         "twist with the body yet; pass twist=False (free twist) "
+                         "(docs/rods.md, 'What remains')")
+    if twist is not True and not callable(twist):
+        raise ValueError(f"twist must be True, False or a callable twist(t) (rad), got "
+                         f"{twist!r}")
+    motion = Motion(lambda t: np.atleast_1d(twist(t)), name="twist", size=1) \
+        if callable(twist) else node.body.q0[node.twist_dofs]
+    return [LinearConstraint(lambda s: s.dofs(node.body)[node.twist_dofs], np.eye(1), motion,
+                             f"twist {node!r}", ["T"])]
+
+
+def _clamp(node, direction, position, velocity, acceleration, slope):
+    """The position and slope equations of ``clamp``."""
     q0 = node.body.q0[np.concatenate([node.position_dofs, node.slope_dofs])]
     if isinstance(position, BodyPoint):
         if slope == "full":

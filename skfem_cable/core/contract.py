@@ -231,11 +231,14 @@ class Term:
         time), the change of its stored energy at fixed coordinates, averaged over the
         step's ends; the integrator books it as external work at every step.
     hooks : tuple
-        Step hooks (``protocols.StepHook``) the term needs between the steps of a run:
-        ``simulate`` calls them after its own (the rectification's, the controllers').
-        E.g. an environment model sampled at the bodies' positions once per step
-        (``loads.atmosphere.DensitySampler``): the hook keeps the state of the last
-        accepted step, ``prepare`` evaluates the model from it.
+        Step hooks (``protocols.StepHook``) the term needs between the steps of a run;
+        ``simulate`` calls them after its own (the rectification's, the controllers'), and
+        ``solve_static`` calls a body term's after every converged load step.  E.g. a rod's
+        reference frames, re-based on the current tangents after every step
+        (``bodies.rod_frames``), or an environment model sampled at the bodies' positions
+        once per step (``loads.sampling.DensitySampler``: the hook keeps the state of the
+        last accepted step, ``prepare`` evaluates the model from it).  What a hook's
+        ``snapshot`` returns goes into every checkpoint.
     """
 
     add: Callable[..., None] | None = None

@@ -18,6 +18,10 @@ class Node:
         The body's local coordinates of the node's position ``r`` and slope ``r_x``; a
         node without a slope (a linear element's) refuses ``slope_dofs`` with a
         ``ValueError``.
+    has_twist : bool
+        Whether the node carries a twist angle (its body declares ``twist_dofs(index)``,
+        the local coordinate of the node's twist: a rod); then ``twist_dofs`` is it
+        (int ndarray (1,)).
 
     Examples
     --------
@@ -50,6 +54,19 @@ class Node:
                              "positions only at its nodes; a clamp or a slope constraint "
                              "needs an element with slopes (e.g. element='hermite3')")
         return self.body.node_dofs(self.index)[3:6]
+
+    @property
+    def has_twist(self):
+        """Whether the node carries a twist angle (its body declares ``twist_dofs``)."""
+        return callable(getattr(self.body, "twist_dofs", None))
+
+    @property
+    def twist_dofs(self):
+        """Local coordinate (1,) of the node's twist angle in its body."""
+        if not self.has_twist:
+            raise ValueError(f"{self!r} has no twist: its body {self.body.name!r} is not a "
+                             "rod (it declares no twist_dofs)")
+        return self.body.twist_dofs(self.index)
 
     def __repr__(self):
         return f"Node({self.body.name}, {self.index})"

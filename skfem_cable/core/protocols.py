@@ -236,6 +236,9 @@ class SystemView(Protocol):
     orbit : orbit.Orbit or None
         The reference orbit of a system in orbit, whose run's rebases a store reads back
         (``orbit.Reference``); None otherwise.
+    epoch : environment.Epoch or None
+        The UTC instant of the run's ``t = 0`` (``System.add_orbit(epoch=)``), part of the
+        fingerprint; None for a system without one.
     """
 
     n_dofs: int
@@ -247,6 +250,7 @@ class SystemView(Protocol):
     vectors: np.ndarray
     vector_is_position: np.ndarray
     orbit: object
+    epoch: object
 
     def dofs(self, item):
         """Global coordinates (int ndarray) of ``item``: a body, or a node of one."""

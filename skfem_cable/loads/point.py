@@ -85,7 +85,10 @@ class PointMoment:
 
     From the virtual work ``dW = M . (t x dt)`` with ``t = r_x / |r_x|``, the generalized
     force on the node's slope is ``f = M x r_x / |r_x|^2`` and its derivative is
-    ``df/dr_x = ([M]_x |r_x|^2 - 2 (M x r_x) r_x^T) / |r_x|^4``.
+    ``df/dr_x = ([M]_x |r_x|^2 - 2 (M x r_x) r_x^T) / |r_x|^4``.  On a node with a twist
+    (a rod's, ``Node.has_twist``) the component along the tangent, ``M . t``, acts on the
+    twist angle (``dW = (M . t) dphi``: exact while the node's reference frame is the
+    current one, as in a time step, ``docs/rods.md``).
 
     Parameters
     ----------
@@ -118,15 +121,28 @@ class PointMoment:
         Mx = np.cross(self.moment, np.eye(3)).T  # Mx @ v = M x v
         return Mx / p - 2.0 * np.outer(np.cross(self.moment, a), a) / p**2
 
+    def torque(self, a):
+        """The moment about the tangent ``M . a / |a|`` and its derivative in ``a``."""
+        n = np.sqrt(a @ a)
+        return self.moment @ a / n, self.moment / n - (self.moment @ a) * a / n**3
+
     def bind(self, system):
-        dofs = system.dofs(self.node)[3:]
+        dofs = system.dofs(self.node)[3:6]
+        twist = system.dofs(self.node.body)[self.node.twist_dofs] if self.node.has_twist \
+            else dofs[:0]
+        rows = np.concatenate([dofs, twist])
 
         def add(ev, index):
             a = ev.q[dofs]
+            K = np.zeros((rows.size, 3))
             ev.f_ext[dofs] += self.force(a)
-            ev.add_tangent(index, self.stiffness(a), sign=-1.0)
+            K[:3] = self.stiffness(a)
+            if twist.size:
+                T, K[3] = self.torque(a)
+                ev.f_ext[twist] += T
+            ev.add_tangent(index, K, sign=-1.0)
 
-        return Term(add=add, rows=dofs[:, None], cols=dofs[None, :],
+        return Term(add=add, rows=rows[:, None], cols=dofs[None, :],
                     name=f"moment {self.node!r}")
 
 

@@ -265,9 +265,8 @@ def describe_system(system: SystemView, version=VERSION):
            "mass_matrix": {"data": _array(M.data), "indices": _array(M.indices),
                            "indptr": _array(M.indptr)},
            "constraints": constraints, "loads": loads, "point_masses": masses}
-    epoch = getattr(system, "epoch", None)  # optional (a system in orbit at an epoch)
-    if epoch is not None:
-        out["epoch"] = epoch.utc
+    if system.epoch is not None:  # a system in orbit at an epoch
+        out["epoch"] = system.epoch.utc
     return out
 
 

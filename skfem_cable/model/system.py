@@ -159,7 +159,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         return self._changed()
 
     def clamp(self, node, direction=None, position=None, velocity=None, acceleration=None,
-              slope="direction"):
+              slope="direction", twist=True):
         """Clamp a node: position and slope direction fixed, driven (callables of time), or
         carried by a rigid body (see ``constraints.clamp``). Returns the system.
 
@@ -186,6 +186,9 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         slope : {"direction", "full"}
             Fix the slope's direction (default) or the whole slope vector (then
             ``direction`` is the slope vector, default the node's initial slope).
+        twist : bool or callable
+            A rod's node (``Node.has_twist``): hold its twist (True), leave it free
+            (False) or drive it, ``twist(t)`` (rad); ignored on a cable's node.
 
         Returns
         -------
@@ -214,7 +217,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         >>> float(np.abs(system.constraint_values(system.q0)).max())
         0.0
         """
-        for c in cons.clamp(node, direction, position, velocity, acceleration, slope):
+        for c in cons.clamp(node, direction, position, velocity, acceleration, slope, twist):
             self.add_constraint(c)
         return self
 

@@ -48,6 +48,8 @@ class ChainSystem(SystemView):
 
     #: No reference orbit for a store to read back (its coordinates are not offsets).
     orbit = None
+    #: No epoch (the chain's time is its own).
+    epoch = None
 
     def __init__(self, chain, problem, q0):
         self.chain = chain

@@ -142,8 +142,8 @@ def _step_hooks(system, integ, settings, rectify, controllers, t_start, dt) -> l
     """What acts between steps (``start``, ``after_step``, ``next_event``, ``snapshot``,
     ``restore``): Encke's rectification of a system in orbit (``rectify``), the control
     loop of the ``controllers`` (``control.ControlLoop``), then the terms' own
-    (``Term.hooks``: e.g. a density sampled once per step).  Records their settings and
-    counters.  A run starts from the model as given: the inputs at their initial values
+    (``Term.hooks``: a rod's frames, a density sampled once per step).  Records their
+    settings and counters.  A run starts from the model as given: the inputs at their initial values
     (``Layout.inputs``), in orbit the reference without rebases (``Layout.reference``);
     a resumed run then takes its checkpoint's (the hooks' ``restore``)."""
     hooks = []

@@ -153,6 +153,11 @@ def equilibrium(system: IntegrableSystem, load_steps=1, tol=1e-10, max_iter=30, 
     stats = {"iterations": [], "load_factor": [], "residual": [], "factorizations": 0,
              "relaxed": []}
     converged_state = State(system, q.copy(), lam.copy(), stats)
+    # the state of the terms' data along the load path (a rod's reference frames): carried
+    # to every converged load step, as a time integration carries it to every step
+    hooks = [hook for term, _ in newton.lay.body_terms for hook in term.hooks]
+    for hook in hooks:
+        hook.start(converged_state)
     max_step = 1.0 / (load_steps * (2 if newton.closing else 1))
     done, step = 0.0, max_step
     previous = None
@@ -184,6 +189,8 @@ def equilibrium(system: IntegrableSystem, load_steps=1, tol=1e-10, max_iter=30, 
             stats["load_factor"].append(factor)
             stats["residual"].append(newton.merit(*newton.residual(qk, lamk, factor)))
             converged_state = State(system, q.copy(), lam.copy(), stats)
+            for hook in hooks:
+                hook.after_step(converged_state)
             if bisections:
                 step = min(2 * step, max_step)
                 bisections -= 1
