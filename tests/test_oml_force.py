@@ -4,6 +4,8 @@ its warm start, the tangent at fixed current against central differences, the Ne
 iterations of a run in orbit against a prescribed current, and the energy books closed
 with the electrical power."""
 
+from collections import Counter
+
 import numpy as np
 import pytest
 from test_electrodynamic import ORBIT, TILTED, force_and_tangent, librated
@@ -239,3 +241,80 @@ def test_arguments_are_checked_by_name():
     state = sc.State(sc.System([cable]), cable.q0)
     with pytest.raises(ValueError, match="bias"):
         sc.ElectrodynamicForce(cable, 1.0, FIELD).bias(state, 0.0)
+
+
+CALLS, POINTS = Counter(), Counter()
+"""Calls of the counted models and the most points of a call (outside the models: a
+run refuses a system whose loads change)."""
+
+
+class Counting:
+    """A model whose calls (and points per call) are counted in ``CALLS``, ``POINTS``:
+    the plasma's ``density`` and ``velocity``, a field's ``field``."""
+
+    def __init__(self, model):
+        self.model = model
+        self.ion_mass = getattr(model, "ion_mass", None)
+
+    def _counted(self, name, x, t):
+        CALLS[name] += 1
+        POINTS[name] = max(POINTS[name], len(x))
+        return getattr(self.model, name)(x, t)
+
+    def density(self, x, t=0.0):
+        return self._counted("density", x, t)
+
+    def velocity(self, x, t=0.0):
+        return self._counted("velocity", x, t)
+
+    def field(self, x, t=0.0):
+        return self._counted("field", x, t)
+
+    def __call__(self, x, t=0.0):
+        return self.field(x, t)[0]
+
+
+def test_environment_is_evaluated_once_per_step():
+    """In orbit with IGRF (a field evaluated in Python, linearised within the step) and a
+    uniform plasma: the density, the plasma's velocity and the field are each called once
+    per attempted step (and once at binding), every call with all the cable's points."""
+    plasma, field = Counting(PLASMA), Counting(sc.environment.IGRF("2026-01-01"))
+    cable, system = dumbbell(load=lambda c: sc.ElectrodynamicForce(
+        c, "oml", field, plasma=plasma, cathode=sc.Cathode(10.0), load=100.0,
+        conductivity=SIGMA, perimeter=2 * (WIDTH + THICKNESS)))
+    start = librated(system, 0.1)
+    CALLS.clear()
+    result = sc.simulate(system, t_end=200.0, dt=20.0, initial=start)
+    attempts = result.stats["steps"] + result.stats["rejected"]
+    points = cable.line_points(system).w.size
+    print(f"calls {dict(CALLS)} for {attempts} attempted steps")
+    assert set(CALLS) == {"density", "velocity", "field"}
+    for name, calls in CALLS.items():
+        assert calls <= attempts + 1 and POINTS[name] == points
+    assert result.stats["newton"] > 2 * attempts        # far more evaluations than calls
+
+
+def test_paraview_and_run_summary_carry_the_current(tmp_path):
+    """The ParaView output's point data carry the current and bias at the cable's sampled
+    arc lengths (``io.export``), equal to ``force.current`` and ``force.bias`` there; a
+    run's summary (``runner.run_outputs``) holds the force's numbers at its end."""
+    import meshio
+
+    from skfem_cable.io.export import write_series, write_vtu
+    from skfem_cable.runner import run_outputs
+
+    force, state = moving_tape(L_star(), 6, voltage_drop=10.0, load=20.0)
+    mesh = meshio.read(write_vtu(tmp_path / "state.vtu", state.system, state))
+    s = mesh.point_data["arc_length"]
+    np.testing.assert_allclose(mesh.point_data["current"], force.current(state, s),
+                               rtol=0, atol=1e-12)
+    np.testing.assert_allclose(mesh.point_data["bias"], force.bias(state, s), rtol=0,
+                               atol=1e-9)
+    result, force = spinning_tape(10.0)
+    series = write_series(result, tmp_path / "run", every=5)
+    assert series.exists()
+    last = meshio.read(sorted((tmp_path / "run" / "vtu").glob("*.vtu"))[-1])
+    assert np.isfinite(last.point_data["bias"]).all()
+    loads = run_outputs(result)["loads"]
+    (numbers,) = loads.values()
+    assert numbers["current"] == pytest.approx(force.summaries(result)["current"][-1])

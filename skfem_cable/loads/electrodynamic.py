@@ -436,19 +436,36 @@ class ElectrodynamicForce(AlongCable):
             0.5 * np.diff(result.t) * (out["power"][1:] + out["power"][:-1]))])
         return out
 
+    def point_data(self, system, q, v=None, t=0.0, reference=None):
+        """``(cable, {"current": I(s), "bias": dV(s)})``: the profiles (A, V) as functions
+        of the arc lengths ``s`` (m) at the state ``(q, v, t)`` (the ParaView output's
+        point data, ``io.export.loads_point_data``); the current is uniform and there is
+        no bias unless ``current="oml"`` (``oml_circuit.profile``: linear between the
+        solver's nodes)."""
+        pack = self._evaluated(system, q, v, t, reference)
+        if self.oml is None:
+            return self.cable, {"current": lambda s: np.full(np.shape(s), pack[-1][0])}
+        return self.cable, {"current": lambda s: profile(pack, s, 0),
+                            "bias": lambda s: profile(pack, s, 1)}
+
+    def outputs(self, result):
+        """Key numbers of a run (``runner.summary.run_outputs``): the ``evaluate``
+        summaries (but the force) at its last saved step."""
+        out = self.evaluate(result.system, result.q[-1], result.v[-1], result.t[-1],
+                            result.reference)
+        return {key: value for key, value in out.items() if key != "force"}
+
     def current(self, state, s):
         """The current (A, positive towards ``+s``) at the reference arc lengths ``s``
         (m) of the cable in the ``State`` ``state`` (``State.v``: its velocities, None
         at rest; ``State.t``), as ``Cable.tension(q, s)``: uniform for a prescribed or
-        short-circuit current, the OML profile (``oml_circuit.profile``) for ``"oml"``."""
-        pack = self._evaluated(state.system, state.q, state.v, state.t)
-        if self.oml is None:
-            return np.full(np.shape(s), pack[-1][0])
-        return profile(pack, s, 0)
+        short-circuit current, the OML profile for ``"oml"`` (``point_data``)."""
+        fields = self.point_data(state.system, state.q, state.v, state.t)[1]
+        return fields["current"](s)
 
     def bias(self, state, s):
         """The OML bias ``V_tether - V_plasma`` (V) at the arc lengths ``s`` (m) of the
         cable in ``state`` (``current``); only with ``current="oml"``."""
         if self.oml is None:
             raise ValueError("bias: the tether's bias is computed with current='oml' only")
-        return profile(self._evaluated(state.system, state.q, state.v, state.t), s, 1)
+        return self.point_data(state.system, state.q, state.v, state.t)[1]["bias"](s)

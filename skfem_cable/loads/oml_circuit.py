@@ -10,12 +10,15 @@ motional field is per unit *reference* length (``E = ((u - u_p) x B) . r_x``, th
 integrand); the collection and the ohmic drop are per unit reference length too (the
 tether's strain, about 1e-4, is left out of its perimeter and resistance).
 
-Once per time step (``Term.prepare(t)``) the plasma's density and velocity and a Python
-field's value and gradient (``IGRF``) are evaluated, one call each for all the points, at
-the positions of the previous evaluation carried with the orbit's reference point to
-``t``; within the step the density and plasma velocity are held and such a field is
-linearised about those positions (``kernels.oml_force.linearised_field``).  A dipole or
-uniform field is evaluated at every iterate, compiled.
+Once per time step (``Term.prepare(t)``; again at the same time, by an evaluation from
+Python, it does nothing) the plasma's density and velocity and a Python field's value and
+gradient (``IGRF``) are evaluated, one call each for all the points, at the positions of
+the previous evaluation carried with the orbit's reference point to ``t``; within the
+step the density and plasma velocity are held and such a field is linearised about those
+positions (``kernels.oml_force.linearised_field``: its error is of the order of ``(dx /
+r)^2`` for a displacement ``dx`` within the step, the field varying on the scale of the
+distance ``r`` from the Earth's centre).  A dipole or uniform field is evaluated at every
+iterate, compiled.
 """
 
 from dataclasses import dataclass
@@ -124,9 +127,14 @@ def bind_oml(force, system, orbit, q=None):
             circuit.coefficients(), kernel.empty_work(nodes[0].size - 1), scratch,
             np.zeros(6))
 
+    prepared = np.array([np.nan])  # the time of the models' last evaluation
+
     def prepare(t):
         if orbit is not None:
             motion[0], motion[1] = orbit.position(t), orbit.velocity(t)
+        if t == prepared[0]:  # a Python evaluation within the step: the step's models
+            return
+        prepared[0] = t
         X = (cache[5] + motion[0]).reshape(-1, 3)
         cache[0][:] = X.reshape(cache[0].shape)
         cache[3][:] = np.asarray(circuit.plasma.velocity(X, t)).reshape(cache[3].shape)
