@@ -233,6 +233,9 @@ def test_arguments_are_checked_by_name():
         sc.ElectrodynamicForce(cable, "oml", FIELD, conductivity=SIGMA)
     with pytest.raises(ValueError, match="current='oml'"):
         sc.ElectrodynamicForce(cable, 1.0, FIELD, plasma=PLASMA)
+    with pytest.raises(ValueError, match="plasma_rotation"):
+        sc.ElectrodynamicForce(cable, "oml", FIELD, plasma_rotation=[0, 0, 1e-4],
+                               plasma=PLASMA, conductivity=SIGMA)
     with pytest.raises(ValueError, match="load"):
         sc.ElectrodynamicForce(cable, "oml", FIELD, plasma=PLASMA, conductivity=SIGMA,
                                load=-1.0)
@@ -318,3 +321,18 @@ def test_paraview_and_run_summary_carry_the_current(tmp_path):
     loads = run_outputs(result)["loads"]
     (numbers,) = loads.values()
     assert numbers["current"] == pytest.approx(force.summaries(result)["current"][-1])
+
+
+def test_a_run_in_igrf_and_iri():
+    """The 5 km tape in orbit through IGRF and IRI sharing one epoch for 60 s: the run
+    keeps its system unchanged (the epoch's cached rotations are ``caches``, left out of
+    the system's description) and collects a current from the ionosphere."""
+    epoch = sc.Epoch("2026-01-01T12:00:00")
+    _, system = dumbbell(load=lambda c: sc.ElectrodynamicForce(
+        c, "oml", sc.environment.IGRF(epoch),
+        plasma=sc.environment.IRI(epoch, f107=150.0), cathode=sc.Cathode(10.0),
+        load=100.0, conductivity=SIGMA, perimeter=2 * (WIDTH + THICKNESS)))
+    result = sc.simulate(system, t_end=60.0, dt=20.0, initial=librated(system, 0.1))
+    out = system.loads[-1].outputs(result)
+    print(f"IGRF and IRI: I(0) = {out['current']:.3f} A, EMF = {out['emf']:.1f} V")
+    assert 0.0 < out["current"] and 0.0 < out["emf"]

@@ -63,6 +63,10 @@ class Epoch:
     True
     """
 
+    #: Attributes that cache what the epoch computes (the rotations per time), left out of
+    #: a system's description (``model.fingerprint``): a run fills them.
+    caches = ("_rotations",)
+
     def __init__(self, value):
         Time = _astropy()[0]
         try:

@@ -160,8 +160,8 @@ def band_solve(AB, b):
 @njit(cache=True)
 def scaled_norm(F, I_scale, V_scale):
     """The largest entry of the residual ``F`` scaled: current rows by ``I_scale``, bias
-    rows by ``V_scale`` (rows ``0, 2, 4, ...`` are bias rows but the last, a current
-    row; the intervals' rows alternate current, bias)."""
+    rows by ``V_scale`` (the cathode's row 0 and the even rows are bias rows; the odd
+    rows and the last, ``I_K = 0``, current rows)."""
     n = F.shape[0]
     worst = abs(F[0]) / V_scale
     for row in range(1, n - 1):

@@ -189,7 +189,10 @@ def _circuit(cable, current, plasma, cathode, load, conductivity, perimeter, ins
     if plasma is None or conductivity is None:
         raise ValueError("current='oml' needs plasma (density(x, t), velocity(x, t)) and "
                          "conductivity (S/m, > 0)")
-    area = cable.section.A
+    area = getattr(getattr(cable, "section", None), "A", None)
+    if area is None:
+        raise ValueError(f"cable: current='oml' reads the conductor's area from the line "
+                         f"body's section.A, got {cable!r} without one")
     perimeter = 2.0 * np.sqrt(np.pi * area) if perimeter is None else perimeter
     return OMLCircuit(plasma, cathode, float(load), float(supply_voltage),
                       float(conductivity), float(area), float(perimeter), tuple(insulated))
@@ -282,6 +285,9 @@ class ElectrodynamicForce(AlongCable):
         self.cable = cable
         self.oml = _circuit(cable, current, plasma, cathode, load, conductivity,
                             perimeter, insulated, supply_voltage)
+        if self.oml is not None and plasma_rotation is not None:
+            raise ValueError("plasma_rotation is not used with current='oml': the plasma's "
+                             "velocity(x, t) gives the motion of the plasma")
         self.drive = _drive(current, resistance)
         self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
         self.circuit = (current, resistance)  # for the run's drive (``_bind``)
