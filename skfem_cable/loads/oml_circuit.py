@@ -71,6 +71,27 @@ class OMLCircuit:
         return c, np.array([self.cathode.voltage_drop, self.load, self.supply_voltage])
 
 
+def circuit(cable, current, plasma, cathode, load, conductivity, perimeter, insulated,
+             supply_voltage):
+    """The ``OMLCircuit`` of ``ElectrodynamicForce``'s arguments when ``current`` is
+    ``"oml"`` (None otherwise, refusing its parameters)."""
+    if not (isinstance(current, str) and current == "oml"):
+        if plasma is not None or conductivity is not None:
+            raise ValueError(f"plasma and conductivity are used only with current='oml', "
+                             f"got current={current!r}")
+        return None
+    if plasma is None or conductivity is None:
+        raise ValueError("current='oml' needs plasma (density(x, t), velocity(x, t)) and "
+                         "conductivity (S/m, > 0)")
+    area = getattr(getattr(cable, "section", None), "A", None)
+    if area is None:
+        raise ValueError(f"cable: current='oml' reads the conductor's area from the line "
+                         f"body's section.A, got {cable!r} without one")
+    perimeter = 2.0 * np.sqrt(np.pi * area) if perimeter is None else perimeter
+    return OMLCircuit(plasma, cathode, float(load), float(supply_voltage),
+                      float(conductivity), float(area), float(perimeter), tuple(insulated))
+
+
 def stations(points):
     """The arc lengths (ne nq,) of the points of ``points`` (``lines.LinePoints``) and
     the tether's length: the elements in order, each with a Gauss-Legendre rule (its
