@@ -244,6 +244,9 @@ def test_arguments_are_checked_by_name():
     state = sc.State(sc.System([cable]), cable.q0)
     with pytest.raises(ValueError, match="bias"):
         sc.ElectrodynamicForce(cable, 1.0, FIELD).bias(state, 0.0)
+    force, state = moving_tape(100.0, 2)
+    with pytest.raises(RuntimeError, match="did not converge"):  # the run: a NaN force
+        force.evaluate(state.system, state.q, np.full_like(state.q, np.nan))
 
 
 CALLS, POINTS = Counter(), Counter()

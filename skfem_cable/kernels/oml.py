@@ -185,7 +185,7 @@ def solve(nodes, E, N, c, bc, work):
     """Newton's iteration for the nodal unknowns ``work[0]`` (2 K + 2,), from their
     values (a warm start) when ``work[5][0]`` is 1, else from ``cold_start``; ``work =
     (x, F, AB, dx, trial, flag)``.  Returns the number of iterations, -1 if it did not
-    converge within ``MAX_ITER``."""
+    converge within ``MAX_ITER`` or met a non-finite value."""
     z, on = nodes[0], nodes[4]
     x, F, AB, dx, trial, flag = work
     if flag[0] == 0.0:
@@ -203,7 +203,11 @@ def solve(nodes, E, N, c, bc, work):
         band_solve(AB, dx)
         step = 0.0
         for i in range(dx.shape[0]):
-            step = max(step, abs(dx[i]) / (I_scale if i % 2 == 0 else V_scale))
+            size = abs(dx[i]) / (I_scale if i % 2 == 0 else V_scale)
+            if not size <= step:  # a NaN too
+                step = size
+        if not np.isfinite(step):
+            break
         lam = 1.0
         for _ in range(30):
             for i in range(x.shape[0]):

@@ -58,7 +58,9 @@ def motional_fields(X, A, U, B, Up, E):
 def finish(pack, index, ev):
     """The motional field (1), the OML profile, the force and its tangent at fixed
     current; ``out = [I(0), EMF, motional power int I E ds, mean current, Newton
-    iterations, dV(L)]``."""
+    iterations, dV(L)]``.  When the profile's Newton iteration fails (twice, the second
+    from a cold start) the iterations are -1 and the force NaN: the integrator refuses
+    the step (a non-finite residual) and retries a shorter one."""
     points, motion, source, cache, mesh, circuit, work, scratch, out = pack
     edofs, S, Sx, w = points
     X, A, U, B, dB, F, Fx, Fa, Fv, I, V = scratch
@@ -70,8 +72,10 @@ def finish(pack, index, ev):
     iterations = solve(nodes, E_nodes, N_nodes, circuit[0], circuit[1], work)
     if iterations < 0:  # a fresh start, once, before giving up
         iterations = solve(nodes, E_nodes, N_nodes, circuit[0], circuit[1], work)
-    if iterations < 0:
-        raise RuntimeError("OML current: Newton did not converge (kernels.oml.solve)")
+    if iterations < 0:  # a non-finite force: the step is refused and retried shorter
+        out[4] = -1.0
+        f_ext[edofs[0, 0]] = np.nan
+        return
     x, at = work[0], nodes[5]
     ne, nq = w.shape
     emf, motional, mean = 0.0, 0.0, 0.0

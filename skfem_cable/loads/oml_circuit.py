@@ -30,6 +30,7 @@ from ..core import lines
 from ..core.contract import Term
 from ..environment.oml import ELECTRON_MASS, Cathode, collection_coefficient
 from ..kernels import oml_force as kernel
+from ..kernels.oml import MAX_ITER
 
 
 @dataclass(frozen=True)
@@ -174,11 +175,20 @@ def bind_oml(force, system, orbit, q=None):
                 name=f"OML electrodynamic force {force.cable.name}"), pack
 
 
+def solved(pack):
+    """``pack`` (``bind_oml``), or ``RuntimeError`` when its last evaluation's profile did
+    not converge (``kernels.oml_force.finish``)."""
+    if pack[-1][4] < 0:
+        raise RuntimeError(f"OML current: Newton's iteration of the profile did not "
+                           f"converge within {MAX_ITER} iterations (kernels.oml)")
+    return pack
+
+
 def profile(pack, s, row):
     """The current (``row`` 0, A) or bias (1, V) of the last evaluation of the pack
     ``pack`` (``bind_oml``) at arc lengths ``s`` (m): linear between the solver's
     nodes."""
-    z, x = pack[4][0][0], pack[6][0]
+    z, x = solved(pack)[4][0][0], pack[6][0]
     return np.interp(np.asarray(s, dtype=float), z, x[row::2])
 
 
@@ -187,7 +197,7 @@ def summary(pack, circuit):
     evaluate``): ``current`` ``I(0)`` (A), ``emf`` ``int E ds`` (V), ``power`` ``int I
     E ds`` (W), ``mean_current`` (A), ``load_power`` ``R_L I(0)^2`` (W), ``ohmic``
     ``int I^2 / (sigma A) ds`` (W), ``iterations`` and ``force`` (N, (3,))."""
-    points, out, scratch = pack[0], pack[-1], pack[7]
+    points, out, scratch = solved(pack)[0], pack[-1], pack[7]
     w, I = points[3], scratch[9]
     return {"current": float(out[0]), "emf": float(out[1]), "power": float(out[2]),
             "mean_current": float(out[3]), "load_power": circuit.load * float(out[0])**2,
