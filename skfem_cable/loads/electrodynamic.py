@@ -197,7 +197,10 @@ class ElectrodynamicForce(AlongCable):
         A dipole at the origin; a uniform field (T); or ``field(x, t) -> (n, 3)``, the field
         (T) at ``n`` absolute positions ``x`` (n, 3) (Python path, gradient by central
         differences with the step ``fd_step (1 + |x|)``, accurate to about ``fd_step^2``
-        relative: Newton converges as with the exact gradient).
+        relative: Newton converges as with the exact gradient; a callable with its own
+        ``field(x, t) -> (B, dB/dx)``, such as ``environment.IGRF``, gives the gradient).
+        With ``current="oml"`` a Python field is evaluated once per step and linearised
+        within it (``loads.oml_circuit``).
     resistance : float, optional
         Resistance (ohm, > 0) of the circuit, with ``current="short-circuit"`` only.
     plasma_rotation : array_like (3,) or None
@@ -235,8 +238,8 @@ class ElectrodynamicForce(AlongCable):
     magnetic damping ``(L B)^2 / R_c`` to the inertia.  In statics the offsets' velocity is
     zero, but the EMF still counts the reference point's velocity.
 
-    The OML current is treated alike: solved from each iterate (``kernels.oml``, a few
-    microseconds per station), held fixed in the tangent (``docs/environment.md`` gives
+    The OML current is treated alike: solved from each iterate (``kernels.oml``, about 30
+    us on 50 stations, warm-started), held fixed in the tangent (``docs/environment.md`` gives
     the Newton iterations per step measured with and without it).  ``current(state, s)``
     and ``bias(state, s)`` give its profiles, ``evaluate`` its summaries.
 
