@@ -173,25 +173,26 @@ def dumbbell(load=None, m=500.0, n_elements=4, length=5e3):
 
 
 def test_newton_iterations_in_orbit_match_a_prescribed_current():
-    """The 5 km tape librating in orbit (dipole field, uniform plasma at rest): the
-    current held fixed in the tangent costs at most 15 % more Newton iterations than the
-    same run with a prescribed current of the OML run's mean (measured 14.27 against
-    13.13 per step, +9 %; the coupling left out is 40 % of the force's own derivative,
-    ``test_tangent_holds_the_current_fixed``, but small against the inertia and the
-    tether's stiffness in the iteration matrix)."""
+    """The 5 km tape librating in orbit (dipole field, uniform plasma at rest) for 600 s
+    at 5 s steps: the current held fixed in the tangent costs at most 5 % more Newton
+    iterations than the same run with a prescribed current of the OML run's mean
+    (measured 695 against 702, no step refused in either; at 20 s steps 428 against 394,
+    the OML run refusing one step more, 8 against 7).  The coupling left out is 40 % of
+    the force's own derivative (``test_tangent_holds_the_current_fixed``), but small
+    against the inertia and the tether's stiffness in the iteration matrix."""
     _, system = dumbbell(load=lambda c: oml_force(c, field=sc.MagneticDipole(),
                                                   load=100.0))
     start = librated(system, 0.1)
-    result = sc.simulate(system, t_end=600.0, dt=20.0, initial=start)
+    result = sc.simulate(system, t_end=600.0, dt=5.0, initial=start)
     assert result.stats["path"] == "compiled"
     mean = system.loads[-1].summaries(result)["mean_current"].mean()
     _, prescribed = dumbbell(load=lambda c: sc.ElectrodynamicForce(c, mean,
                                                                    sc.MagneticDipole()))
-    other = sc.simulate(prescribed, t_end=600.0, dt=20.0, initial=start)
+    other = sc.simulate(prescribed, t_end=600.0, dt=5.0, initial=start)
     steps = len(result.t) - 1
     print(f"Newton iterations per step: OML {result.stats['newton'] / steps:.2f}, "
           f"prescribed {other.stats['newton'] / steps:.2f}")
-    assert result.stats["newton"] <= 1.15 * other.stats["newton"]
+    assert result.stats["newton"] <= 1.05 * other.stats["newton"]
 
 
 def spinning_tape(dt):
