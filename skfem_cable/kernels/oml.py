@@ -18,8 +18,8 @@ the fields ``E``, ``N`` linear on the interval (as ``OMLProblem``'s ``sampled``)
 interval's own collecting flag at its three points (the right-hand side jumps at an
 insulated edge, which is a node).  With the cathode's condition ``dV_0 + V_C + R_L I_0 -
 V_s = 0`` first and ``I_K = 0`` last, the rows of the intervals between them, the Newton
-matrix is banded (two sub- and two super-diagonals), solved by Gaussian elimination with
-partial pivoting in band storage (``band_solve``).  Newton's iteration starts from the
+matrix is banded (two sub- and two super-diagonals), solved by LAPACK's banded LU with
+partial pivoting (``dgbtrf``/``dgbtrs``, ``kernels.lapack``).  Newton's iteration starts from the
 previous solution (a warm start) and halves its step while the scaled residual grows; the
 derivative ``g'`` is evaluated with ``|dV|`` at least ``FLOOR`` (``sqrt`` has an infinite
 slope at zero bias; the residual is exact).
@@ -28,6 +28,8 @@ slope at zero bias; the residual is exact).
 import numpy as np
 from numba import njit
 
+from . import lapack
+
 FLOOR = 1e-12
 """Smallest ``|dV|`` (V) in the collection's derivative."""
 TOL = 1e-11
@@ -35,8 +37,8 @@ TOL = 1e-11
 MAX_ITER = 60
 """Newton iterations before the solver reports failure (``iterations = -1``)."""
 KL = 2
-"""Sub-diagonals of the Newton matrix (``KU`` super-diagonals, ``KL + KU`` after the
-row exchanges)."""
+"""Sub-diagonals of the Newton matrix (``KU`` super-diagonals; LAPACK's band storage
+keeps ``KL`` more rows for the fill of the row exchanges)."""
 KU = 2
 
 
@@ -96,8 +98,8 @@ def node_fields(stations, nodes, E, N):
 @njit(cache=True)
 def residual(x, z, on, E, N, c, bc, F, AB, want):
     """The residual ``F`` (2 K + 2,) at the unknowns ``x = (I_0, dV_0, I_1, ...)`` and,
-    if ``want``, the Newton matrix in band storage ``AB`` (``band_solve``); ``bc = (V_C,
-    R_L, V_s)``."""
+    if ``want``, the Newton matrix in LAPACK's band storage ``AB`` (``kernels.lapack``:
+    ``A[i, j]`` at ``AB[j, KL + KU + i - j]``); ``bc = (V_C, R_L, V_s)``."""
     K = z.shape[0] - 1
     y, R, J = np.empty(4), np.empty(2), np.empty((2, 4))
     Ek, Nk = np.empty(2), np.empty(2)
@@ -105,8 +107,8 @@ def residual(x, z, on, E, N, c, bc, F, AB, want):
         AB[:] = 0.0
     F[0] = x[1] + bc[0] + bc[1] * x[0] - bc[2]
     if want:
-        AB[0, KL] = bc[1]
-        AB[0, KL + 1] = 1.0
+        AB[0, KL + KU] = bc[1]
+        AB[1, KL + KU - 1] = 1.0
     for k in range(K):
         for i in range(4):
             y[i] = x[2 * k + i]
@@ -117,44 +119,10 @@ def residual(x, z, on, E, N, c, bc, F, AB, want):
             F[row] = R[m]
             if want:
                 for i in range(4):
-                    AB[row, 2 * k + i - row + KL] = J[m, i]
+                    AB[2 * k + i, KL + KU + row - 2 * k - i] = J[m, i]
     F[2 * K + 1] = x[2 * K]
     if want:
-        AB[2 * K + 1, KL - 1] = 1.0
-
-
-@njit(cache=True)
-def band_solve(AB, b):
-    """Solve ``A x = b`` in place (``b`` becomes ``x``) for ``A`` (n, n) stored by rows
-    as ``AB[i, j - i + KL] = A[i, j]`` (``AB`` (n, 2 KL + KU + 1): room for the fill of
-    the row exchanges), by Gaussian elimination with partial pivoting."""
-    n = b.shape[0]
-    for k in range(n):
-        last = min(k + KL, n - 1)
-        p, big = k, abs(AB[k, KL])
-        for i in range(k + 1, last + 1):
-            if abs(AB[i, k - i + KL]) > big:
-                p, big = i, abs(AB[i, k - i + KL])
-        right = min(k + KL + KU, n - 1)
-        if p != k:
-            for j in range(k, right + 1):
-                tmp = AB[k, j - k + KL]
-                AB[k, j - k + KL] = AB[p, j - p + KL]
-                AB[p, j - p + KL] = tmp
-            b[k], b[p] = b[p], b[k]
-        pivot = AB[k, KL]
-        for i in range(k + 1, last + 1):
-            m = AB[i, k - i + KL] / pivot
-            if m == 0.0:
-                continue
-            for j in range(k + 1, right + 1):
-                AB[i, j - i + KL] -= m * AB[k, j - k + KL]
-            b[i] -= m * b[k]
-    for i in range(n - 1, -1, -1):
-        acc = b[i]
-        for j in range(i + 1, min(i + KL + KU, n - 1) + 1):
-            acc -= AB[i, j - i + KL] * b[j]
-        b[i] = acc / AB[i, KL]
+        AB[2 * K, KL + KU + 1] = 1.0
 
 
 @njit(cache=True)
@@ -184,10 +152,11 @@ def cold_start(x, z, E, bc):
 def solve(nodes, E, N, c, bc, work):
     """Newton's iteration for the nodal unknowns ``work[0]`` (2 K + 2,), from their
     values (a warm start) when ``work[5][0]`` is 1, else from ``cold_start``; ``work =
-    (x, F, AB, dx, trial, flag)``.  Returns the number of iterations, -1 if it did not
-    converge within ``MAX_ITER`` or met a non-finite value."""
+    (x, F, AB, dx, trial, flag, ipiv, ints, addresses)`` (the last three LAPACK's,
+    ``kernels.lapack``).  Returns the number of iterations, -1 if it did not converge
+    within ``MAX_ITER``, met a non-finite value or a singular matrix."""
     z, on = nodes[0], nodes[4]
-    x, F, AB, dx, trial, flag = work
+    x, F, AB, dx, trial, flag, ipiv, ints, addresses = work
     if flag[0] == 0.0:
         cold_start(x, z, E, bc)
     E_max = 0.0
@@ -200,7 +169,9 @@ def solve(nodes, E, N, c, bc, work):
         norm = scaled_norm(F, I_scale, V_scale)
         for i in range(F.shape[0]):
             dx[i] = -F[i]
-        band_solve(AB, dx)
+        if lapack.band_factor(addresses, AB, KL, KU, ipiv, ints) != 0:
+            break
+        lapack.band_solve(addresses, AB, KL, KU, ipiv, dx, ints)
         step = 0.0
         for i in range(dx.shape[0]):
             size = abs(dx[i]) / (I_scale if i % 2 == 0 else V_scale)

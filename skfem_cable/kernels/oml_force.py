@@ -19,6 +19,7 @@ from numba import njit
 
 from . import line
 from .electrodynamic import dipole_points, forces, offset
+from .lapack import ADDRESSES
 from .oml import KL, KU, node_fields, solve
 
 
@@ -115,8 +116,8 @@ def kernel_dipole(pack, index, ev):
     work, scratch, out (6,))`` with ``cache = (X_0, B_0, dB_0, U_p, N (ne nq,), offsets
     (ne, nq, 3))`` (``Term.prepare``), ``mesh = (nodes, E (ne nq,), E_nodes, N_nodes)``,
     ``nodes = (z, i0, i1, wt, on, at)`` (``kernels.oml``), ``circuit = (c, bc)``,
-    ``work = (x, F, AB, dx, trial, flag)`` and ``scratch = (X, A, U, B, dB, F, Fx, Fa,
-    Fv, I, V)``."""
+    ``work = (x, F, AB, dx, trial, flag, ipiv, ints, addresses)`` and ``scratch = (X,
+    A, U, B, dB, F, Fx, Fa, Fv, I, V)``."""
     gather(pack, ev)
     scratch = pack[7]
     dipole_points(pack[2], scratch[0], scratch[3], scratch[4])
@@ -134,7 +135,9 @@ def kernel_cached(pack, index, ev):
 
 
 def empty_work(K):
-    """The solver's arrays for ``K`` intervals (``kernels.oml.solve``)."""
+    """The solver's arrays for ``K`` intervals (``kernels.oml.solve``), with LAPACK's
+    pivots, integer scratch and addresses (``kernels.lapack``)."""
     n = 2 * (K + 1)
     return (np.zeros(n), np.zeros(n), np.zeros((n, 2 * KL + KU + 1)), np.zeros(n), np.zeros(n),
-            np.zeros(1))
+            np.zeros(1), np.zeros(n, dtype=np.int32), np.zeros(8, dtype=np.int32),
+            ADDRESSES)
