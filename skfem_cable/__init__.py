@@ -86,7 +86,7 @@ from .elements import (
     ElementLineCableHermite5,
     ElementLineCableLinear,
 )
-from .environment import Epoch
+from .environment import Cathode, Epoch
 from .io import export as export  # VTU files for ParaView
 from .laws import CableLaw, cable_law
 from .loads.atmosphere import AtmosphericDrag
@@ -126,6 +126,7 @@ __all__ = [
     "Buoyancy",
     "Cable",
     "CableLaw",
+    "Cathode",
     "ControlError",
     "Controller",
     "Centrifugal",

@@ -40,9 +40,20 @@ from ..core.contract import PART_CABLE, PART_POINT_MASS, Shape
 from ..util.atomic import replacing
 
 
-def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
+def loads_point_data(system, q, v=None, t=0.0, reference=None):
+    """The point data the loads give at the state ``(q, v, t)`` (in the computed frame;
+    ``reference``: the run's, ``output_frame``): a list of ``(body, {name: values(s)})``
+    from every load with ``point_data(system, q, v, t, reference)``, ``values`` a
+    function of the body's arc lengths (``ElectrodynamicForce``: its current and bias)."""
+    return [load.point_data(system, q, v, t, reference) for load in system.loads
+            if callable(getattr(load, "point_data", None))]
+
+
+def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0, loads=()):
     """The deformed system as one ``meshio.Mesh`` (see the module docstring): what every
-    body shows (``Body.show``) and the point masses.
+    body shows (``Body.show``), with the loads' point data ``loads``
+    (``loads_point_data``) on the bodies that carry an ``arc_length``, and the point
+    masses.
 
     Parameters
     ----------
@@ -62,8 +73,13 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0):
     for body_id, body in enumerate(system.bodies):
         shape = body.show(system, q, v, t, points_per_element=points_per_element,
                           resolution=resolution)
-        if shape is not None:
-            shapes.append((shape, body_id))
+        if shape is None:
+            continue
+        for owner, fields in loads:
+            if owner is body and "arc_length" in shape.data:
+                s = shape.data["arc_length"]
+                shape.data.update({name: fn(s) for name, fn in fields.items()})
+        shapes.append((shape, body_id))
     for point_mass in system.point_masses:
         dofs, G = system.position_map(point_mass.point)
         owner = max(i for i, b in enumerate(system.bodies) if system.dofs(b)[0] <= dofs[0])
@@ -195,8 +211,10 @@ def write_vtu(path, system, state, points_per_element=8, resolution=32, frame="i
     """Write one configuration (a ``State``, with or without velocities) to ``path``
     (``.vtu``) in the output ``frame`` (one of ``FRAMES``); returns the path."""
     path = Path(path)
+    loads = loads_point_data(system, state.q, state.v, state.t)
     q, v = output_frame(system, frame).configuration(state.t, state.q, state.v)
-    _write_atomic(path, system_mesh(system, q, v, points_per_element, resolution, state.t))
+    _write_atomic(path, system_mesh(system, q, v, points_per_element, resolution, state.t,
+                                    loads))
     return path
 
 
@@ -292,6 +310,7 @@ class SeriesWriter(VtuSeries):
     def __init__(self, run_dir, system, points_per_element=8, resolution=32, append=False,
                  name="series", frame="inertial", reference=None):
         self.frame = output_frame(system, frame, reference)  # refused before any file
+        self.reference = reference
         super().__init__(run_dir, append, name)
         self.system = system
         self.points_per_element = positive_int("points_per_element", points_per_element)
@@ -300,9 +319,10 @@ class SeriesWriter(VtuSeries):
     def write(self, t, q, v=None):
         """Write the step at time ``t`` (in the writer's frame); entries at or after ``t``
         are replaced.  Returns the path of the ``.vtu``."""
+        loads = loads_point_data(self.system, q, v, t, self.reference)
         q, v = self.frame.configuration(t, q, v)
         return self.add(t, system_mesh(self.system, q, v, self.points_per_element,
-                                       self.resolution, t))
+                                       self.resolution, t, loads))
 
 
 def write_series(result, run_dir, every=1, **options):

@@ -116,14 +116,15 @@ def motional_emf(w, plasma, X, A, U, B):
 
 
 @njit(cache=True)
-def forces(current, want, A, B, dB, F, Fx, Fa):
+def forces(currents, want, A, B, dB, F, Fx, Fa):
     """The force (1) ``F`` (ne, nq, 3) at the points of slopes ``A`` in the fields ``B``
-    (ne, nq, 3) of gradients ``dB`` (ne, nq, 3, 3), and if ``want`` its derivatives (2) at
-    fixed ``current``: ``Fx`` and ``Fa`` (ne, nq, 3, 3)."""
+    (ne, nq, 3) of gradients ``dB`` (ne, nq, 3, 3) carrying the ``currents`` (ne, nq),
+    and if ``want`` its derivatives (2) at fixed currents: ``Fx`` and ``Fa`` (ne, nq, 3,
+    3)."""
     ne, nq = F.shape[:2]
     for e in range(ne):
         for g in range(nq):
-            a, b, db = A[e, g], B[e, g], dB[e, g]
+            a, b, db, current = A[e, g], B[e, g], dB[e, g], currents[e, g]
             F[e, g, 0] = current * (a[1] * b[2] - a[2] * b[1])
             F[e, g, 1] = current * (a[2] * b[0] - a[0] * b[2])
             F[e, g, 2] = current * (a[0] * b[1] - a[1] * b[0])
@@ -147,7 +148,7 @@ def gather(pack, ev):
     the scratch ``X``, ``A``, ``U`` of ``pack`` (``kernel``), by ``line.points``."""
     points, motion, source, drive, plasma, scratch, out = pack
     edofs, S, Sx, w = points
-    X, A, U, B, dB, F, Fx, Fa, Fv = scratch
+    X, A, U, B, dB, F, Fx, Fa, Fv, I = scratch
     line.points(edofs, S, Sx, ev[0], ev[1], X, A, U)
     offset(motion, X, U)
 
@@ -161,13 +162,14 @@ def finish(pack, index, ev):
     forces and matrix values at ``index`` (ne, 3 nf, 3 nf)."""
     points, motion, source, drive, plasma, scratch, out = pack
     edofs, S, Sx, w = points
-    X, A, U, B, dB, F, Fx, Fa, Fv = scratch
+    X, A, U, B, dB, F, Fx, Fa, Fv, I = scratch
     q, v, s, f, f_ext, fd, data, energy, power = ev
     E = motional_emf(w, plasma, X, A, U, B)
     current = drive[0] + drive[1] * E
     out[0], out[1] = current, E
     want = data.size > 0
-    forces(current, want, A, B, dB, F, Fx, Fa)
+    I[:] = current
+    forces(I, want, A, B, dB, F, Fx, Fa)
     line.assemble(edofs, S, Sx, w, F, Fx, Fa, Fv, s[1], 0.0, f_ext, data, index)
 
 
@@ -177,9 +179,9 @@ def kernel(pack, index, ev):
     uniform field plus a dipole: ``pack = ((edofs, S, Sx, w), motion (2, 3), source
     (2, 3), drive (2,), plasma (3,), scratch, out (2,))`` with the line body's points
     (``lines.LinePoints``), ``scratch = (X, A, U, B (ne, nq, 3), dB, F (ne, nq, 3),
-    Fx, Fa, Fv (ne, nq, 3, 3))`` (``Fv`` zero: the force does not depend on the
-    velocity at fixed current) and ``out`` receiving ``[I, E]``: ``gather``, the field
-    (4) at the points, ``finish``."""
+    Fx, Fa, Fv (ne, nq, 3, 3), I (ne, nq))`` (``Fv`` zero: the force does not depend on
+    the velocity at fixed current; ``I`` the current at the points) and ``out``
+    receiving ``[I, E]``: ``gather``, the field (4) at the points, ``finish``."""
     gather(pack, ev)
     points, motion, source, drive, plasma, scratch, out = pack
     dipole_points(source, scratch[0], scratch[3], scratch[4])

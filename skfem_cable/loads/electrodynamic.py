@@ -40,10 +40,12 @@ from ..bodies.section import check_positive
 from ..core import lines
 from ..core.contract import Evaluation, Term
 from ..core.inputs import declared, reader
+from ..environment.oml import Cathode
 from ..kernels import electrodynamic as kernel
 from ..space.constants import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
 from ..space.orbit import co_rotation
 from .line import AlongCable
+from .oml_circuit import bind_oml, circuit, profile, summary
 from .point import vector3
 
 MU0_OVER_4PI = 1.0e-7
@@ -52,6 +54,8 @@ below the dipole model's own)."""
 EARTH_DIPOLE_MOMENT = 8.0e22
 """Magnitude of the Earth's dipole moment (A m^2), the round value of the issue (the
 2015 value is 7.7e22, Olsen et al.)."""
+IDEAL = Cathode()
+"""An ideal contactor (no voltage drop): ``ElectrodynamicForce``'s default cathode."""
 FD_STEP = 6.06e-6
 """Relative step of the central-difference field gradient, about ``eps^(1/3)``."""
 
@@ -154,9 +158,11 @@ def _drive(current, resistance):
     """``drive(t) -> [I_0, G]`` of the kernel (``I = I_0 + G E``) for the ``current`` and
     ``resistance`` arguments of ``ElectrodynamicForce``."""
     if isinstance(current, str):
+        if current == "oml":
+            return lambda t: np.zeros(2)  # the current is the circuit's (``oml_circuit``)
         if current != "short-circuit":
-            raise ValueError(f"current must be a number (A), a callable current(t) or "
-                             f"'short-circuit', got {current!r}")
+            raise ValueError(f"current must be a number (A), a callable current(t), "
+                             f"'oml' or 'short-circuit', got {current!r}")
         if resistance is None:
             raise ValueError("current='short-circuit' needs the circuit's resistance "
                              "(ohm, > 0)")
@@ -180,15 +186,21 @@ class ElectrodynamicForce(AlongCable):
     cable : Cable or line body
         The conductor: a ``Cable`` or any body with the line-body hook ``line_points``
         (``lines``).
-    current : float, callable or ``"short-circuit"``
-        The current (A), positive towards increasing arc length; ``current(t)``; or
+    current : float, callable, ``"short-circuit"`` or ``"oml"``
+        The current (A), positive towards increasing arc length; ``current(t)``;
         ``"short-circuit"``: ``I = E / resistance`` with ``E`` the cable's motional EMF
-        (uniform along the cable, as in a tether whose ends are in contact with the plasma).
+        (uniform along the cable, as in a tether whose ends are in contact with the
+        plasma); or ``"oml"``: the current and bias a bare tether collects from the
+        ``plasma`` (``environment.oml``, ``loads.oml_circuit``), solved at every
+        evaluation, with the hollow cathode at the cable's start ``s = 0``.
     field : MagneticDipole, array_like (3,) or callable
         A dipole at the origin; a uniform field (T); or ``field(x, t) -> (n, 3)``, the field
         (T) at ``n`` absolute positions ``x`` (n, 3) (Python path, gradient by central
         differences with the step ``fd_step (1 + |x|)``, accurate to about ``fd_step^2``
-        relative: Newton converges as with the exact gradient).
+        relative: Newton converges as with the exact gradient; a callable with its own
+        ``field(x, t) -> (B, dB/dx)``, such as ``environment.IGRF``, gives the gradient).
+        With ``current="oml"`` a Python field is evaluated once per step and linearised
+        within it (``loads.oml_circuit``).
     resistance : float, optional
         Resistance (ohm, > 0) of the circuit, with ``current="short-circuit"`` only.
     plasma_rotation : array_like (3,) or None
@@ -199,6 +211,22 @@ class ElectrodynamicForce(AlongCable):
         as ``FreeMolecularDrag``'s atmosphere), else a plasma at rest.
     fd_step : float
         Relative step of the gradient of a callable field, in (0, 1).
+    plasma : plasma, optional
+        With ``current="oml"``: ``density(x, t)``, ``velocity(x, t)`` and ``ion_mass``
+        (``environment.UniformPlasma``, ``environment.IRI``).
+    cathode : Cathode
+        The contactor at ``s = 0``: its voltage drop (V; 0, an ideal contactor).
+    load : float
+        Load resistance ``R_L`` (ohm, >= 0) between the tether and the cathode.
+    conductivity : float
+        The conductor's conductivity (S/m, > 0), over the section's area ``A``.
+    perimeter : float, optional
+        The collecting perimeter (m, > 0): ``2 (w + h)`` for a tape; default that of a
+        round wire of the section's area, ``2 sqrt(pi A)``.
+    insulated : tuple
+        ``(s0, s1)``: the interval of arc length (m) that does not collect.
+    supply_voltage : float
+        A power supply's voltage (V) in series with the load, positive in the drag sense.
 
     Notes
     -----
@@ -209,6 +237,11 @@ class ElectrodynamicForce(AlongCable):
     ``E / R_c r_x x B``; Newton converges slightly slower, by the ratio of the omitted
     magnetic damping ``(L B)^2 / R_c`` to the inertia.  In statics the offsets' velocity is
     zero, but the EMF still counts the reference point's velocity.
+
+    The OML current is treated alike: solved from each iterate (``kernels.oml``, about 30
+    us on 50 stations, warm-started), held fixed in the tangent (``docs/environment.md`` gives
+    the Newton iterations per step measured with and without it).  ``current(state, s)``
+    and ``bias(state, s)`` give its profiles, ``evaluate`` its summaries.
 
     Examples
     --------
@@ -225,11 +258,35 @@ class ElectrodynamicForce(AlongCable):
     True
     >>> f"{force.evaluate(system, tether.q0)['force'][1]:.4f} N"
     '-0.1284 N'
+
+    The current a bare aluminium tape (2 cm x 50 um) collects in a plasma of 1e11 m^-3
+    (at rest: the tape moves through it at the orbital speed), with a 10 V hollow
+    cathode at its lower end and a 100 ohm load:
+
+    >>> tape = sc.Cable.straight([-2.5e3, 0, 0], [2.5e3, 0, 0], 10,
+    ...                          sc.Section(E=7e10, A=0.02 * 5e-5, I=1e-12, rho=2700.0))
+    >>> system = sc.System([tape]).add_orbit(orbit)
+    >>> oml = sc.ElectrodynamicForce(tape, "oml", sc.MagneticDipole(),
+    ...                              plasma=sc.environment.UniformPlasma(1e11),
+    ...                              cathode=sc.Cathode(10.0), load=100.0,
+    ...                              conductivity=3.5e7, perimeter=2 * (0.02 + 5e-5))
+    >>> out = oml.evaluate(system, tape.q0)
+    >>> f"I(0) = {out['current']:.3f} A, EMF = {out['emf']:.0f} V"
+    'I(0) = 2.993 A, EMF = 985 V'
+    >>> oml.bias(sc.State(system, tape.q0), [0.0, 2.5e3, 5e3]).round(1)  # V
+    array([-309.3,  -31.2,  320.3])
     """
 
     def __init__(self, cable, current, field, resistance=None,
-                 plasma_rotation=None, fd_step=FD_STEP):
+                 plasma_rotation=None, fd_step=FD_STEP, *, plasma=None, cathode=IDEAL,
+                 load=0.0, conductivity=None, perimeter=None, insulated=(0.0, 0.0),
+                 supply_voltage=0.0):
         self.cable = cable
+        self.oml = circuit(cable, current, plasma, cathode, load, conductivity,
+                            perimeter, insulated, supply_voltage)
+        if self.oml is not None and plasma_rotation is not None:
+            raise ValueError("plasma_rotation is not used with current='oml': the plasma's "
+                             "velocity(x, t) gives the motion of the plasma")
         self.drive = _drive(current, resistance)
         self.drive(0.0)  # a bad current(t) fails now, not in the middle of a run
         self.circuit = (current, resistance)  # for the run's drive (``_bind``)
@@ -246,9 +303,13 @@ class ElectrodynamicForce(AlongCable):
         self.fd_step = float(fd_step)
 
     def field_and_gradient(self, x, t):
-        """The field (T) and its gradient (T/m) at absolute positions ``x`` (n, 3)."""
+        """The field (T) and its gradient (T/m) at absolute positions ``x`` (n, 3): the
+        field's own ``field(x, t)`` when it has one (``IGRF``), else central
+        differences."""
         if self.compiled is not None:
             return self.compiled.field(x, t)
+        if callable(getattr(self.callable, "field", None)):
+            return self.callable.field(x, t)
         B = self._call(x, t)
         dB = np.empty(x.shape + (3,))
         step = self.fd_step * (1.0 + np.linalg.norm(x, axis=-1))
@@ -284,6 +345,8 @@ class ElectrodynamicForce(AlongCable):
         """``(term, pack)``: the term and its pack (``kernels.electrodynamic.kernel``),
         whose scratch holds the forces at the points and whose last array ``[I, E]``
         the evaluations write; the points are the line-body hook's (``lines``)."""
+        if self.oml is not None:
+            return bind_oml(self, system, system.orbit if reference is None else reference)
         current, resistance = self.circuit
         run_drive = self.drive if inputs is None else _drive(reader(current, inputs),
                                                              resistance)
@@ -291,7 +354,7 @@ class ElectrodynamicForce(AlongCable):
         points = lines.line_points(self.cable, system)
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
         scratch = tuple(np.zeros(points.shape + shape) for shape in
-                        [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3)
+                        [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3 + [()])
         pack = ((points.edofs, points.S, points.Sx, points.w), motion, source, drive,
                 co_rotation(self.plasma_rotation, orbit), scratch, np.zeros(2))
 
@@ -320,6 +383,21 @@ class ElectrodynamicForce(AlongCable):
 
         return Term(add=add, rows=rows, cols=cols, name=name), pack
 
+    def _evaluated(self, system, q, v=None, t=0.0, reference=None):
+        """The pack of the load's term (``_bind``) after one evaluation at ``(q, v, t)``
+        (the OML environment taken at the positions of ``q``)."""
+        q = np.asarray(q, dtype=float)
+        if self.oml is not None:
+            term, pack = bind_oml(self, system, system.orbit if reference is None
+                                  else reference, q)
+        else:
+            term, pack = self._bind(system, reference)
+        ev = Evaluation(system, t, q, None if v is None else np.asarray(v, dtype=float),
+                        np.zeros(system.n_constraints))
+        term.evaluate(ev, np.zeros(np.broadcast_shapes(term.rows.shape, term.cols.shape),
+                                   dtype=np.int64))
+        return pack
+
     def evaluate(self, system, q, v=None, t=0.0, reference=None):
         """The current (A), the motional (open-circuit) EMF ``E`` (V, whatever the
         current), the electrical power ``I E`` (W) and the total force (N, (3,)) on the
@@ -332,18 +410,67 @@ class ElectrodynamicForce(AlongCable):
         ``power = I E`` is what the motional EMF gives the circuit: positive when the
         tether generates (a short circuit: ``E^2 / R_c``, a brake), negative when a supply
         drives the current against the EMF (a thruster); the force's power on the motion
-        relative to the plasma is ``-I E``.
+        relative to the plasma is ``-I E``.  With ``current="oml"`` (``oml_circuit.
+        summary``): ``current`` is the cathode's ``I(0)``, ``power`` the motional power
+        ``int I E ds``, with ``mean_current``, ``load_power`` ``R_L I(0)^2``, ``ohmic``
+        (W) and the solver's ``iterations``.
 
         The total force is ``int f dx``, the sum of the forces at the points times their
         weights.
         """
-        term, pack = self._bind(system, reference)
-        ev = Evaluation(system, t, np.asarray(q, dtype=float),
-                        None if v is None else np.asarray(v, dtype=float),
-                        np.zeros(system.n_constraints))
-        term.evaluate(ev, np.zeros(np.broadcast_shapes(term.rows.shape, term.cols.shape),
-                                   dtype=np.int64))
+        pack = self._evaluated(system, q, v, t, reference)
+        if self.oml is not None:
+            return summary(pack, self.oml)
         points, out, F = pack[0], pack[-1], pack[5][5]
         return {"current": float(out[0]), "emf": float(out[1]),
                 "power": float(out[0] * out[1]),
                 "force": np.einsum("eg,egi->i", points[3], F)}
+
+    def summaries(self, result):
+        """The summaries of ``evaluate`` (but the force) at every saved step of the run
+        ``result`` (a ``Result`` of a system carrying this load), arrays (nt,), and the
+        electrical ``energy`` (J): the trapezoidal time integral of ``power`` from the
+        first saved step (with ``current="oml"`` what the load, the cathode, the ohmic
+        heat and the sheath received; the books' external work of the force is minus
+        it, ``docs/environment.md``)."""
+        rows = [self.evaluate(result.system, q, v, t, result.reference)
+                for q, v, t in zip(result.q, result.v, result.t)]
+        out = {key: np.array([row[key] for row in rows]) for key in rows[0]
+               if key != "force"}
+        out["energy"] = np.concatenate([[0.0], np.cumsum(
+            0.5 * np.diff(result.t) * (out["power"][1:] + out["power"][:-1]))])
+        return out
+
+    def point_data(self, system, q, v=None, t=0.0, reference=None):
+        """``(cable, {"current": I(s), "bias": dV(s)})``: the profiles (A, V) as functions
+        of the arc lengths ``s`` (m) at the state ``(q, v, t)`` (the ParaView output's
+        point data, ``io.export.loads_point_data``); the current is uniform and there is
+        no bias unless ``current="oml"`` (``oml_circuit.profile``: linear between the
+        solver's nodes)."""
+        pack = self._evaluated(system, q, v, t, reference)
+        if self.oml is None:
+            return self.cable, {"current": lambda s: np.full(np.shape(s), pack[-1][0])}
+        return self.cable, {"current": lambda s: profile(pack, s, 0),
+                            "bias": lambda s: profile(pack, s, 1)}
+
+    def outputs(self, result):
+        """Key numbers of a run (``runner.summary.run_outputs``): the ``evaluate``
+        summaries (but the force) at its last saved step."""
+        out = self.evaluate(result.system, result.q[-1], result.v[-1], result.t[-1],
+                            result.reference)
+        return {key: value for key, value in out.items() if key != "force"}
+
+    def current(self, state, s):
+        """The current (A, positive towards ``+s``) at the reference arc lengths ``s``
+        (m) of the cable in the ``State`` ``state`` (``State.v``: its velocities, None
+        at rest; ``State.t``), as ``Cable.tension(q, s)``: uniform for a prescribed or
+        short-circuit current, the OML profile for ``"oml"`` (``point_data``)."""
+        fields = self.point_data(state.system, state.q, state.v, state.t)[1]
+        return fields["current"](s)
+
+    def bias(self, state, s):
+        """The OML bias ``V_tether - V_plasma`` (V) at the arc lengths ``s`` (m) of the
+        cable in ``state`` (``current``); only with ``current="oml"``."""
+        if self.oml is None:
+            raise ValueError("bias: the tether's bias is computed with current='oml' only")
+        return self.point_data(state.system, state.q, state.v, state.t)[1]["bias"](s)

@@ -91,7 +91,9 @@ def orbiting_cable_outputs(result, cable):
 def run_outputs(result):
     """Key numbers of a dynamic run: the cables at the end and their tension extremes over
     the run (in orbit also their librations and centre tensions,
-    ``orbiting_cable_outputs``), and the energy budget."""
+    ``orbiting_cable_outputs``), the loads' own numbers (``loads``, keyed by their place
+    and kind, from the loads with ``outputs(result)``: an electrodynamic tether's current,
+    EMF and power at the end) and the energy budget."""
     system = result.system
     out = body_outputs(system, result.q[-1], result.t[-1])
     for cable in system.cables():
@@ -99,6 +101,11 @@ def run_outputs(result):
         out["cables"][cable.name].update(max_tension_run=T.max(), min_tension_run=T.min())
         if system.orbit is not None:
             out["cables"][cable.name].update(orbiting_cable_outputs(result, cable))
+    loads = {f"{k} {type(load).__name__}": load.outputs(result)
+             for k, load in enumerate(system.loads) if callable(getattr(load, "outputs",
+                                                                        None))}
+    if loads:
+        out["loads"] = loads
     E = result.energy
     scale = max(np.abs(E["total"]).max(), np.abs(E["kinetic"]).max(), 1e-300)
     out["energy"] = {"total_initial": E["total"][0], "total_final": E["total"][-1],
