@@ -6,7 +6,8 @@ and what may import what: ``docs/architecture.md``):
 * model: ``Section``, ``Cable`` (and its ``Node``; its element types ``ELEMENTS``,
   ``CableElement``, ``ElementLineCableHermite``, ``ElementLineCableHermite5``,
   ``ElementLineCableLinear``),
-  ``RigidBody``, ``System``;
+  ``RigidBody``, ``System``; the surfaces a system's lines touch (``System.contact``)
+  ``Plane``, ``Sphere``, ``Cylinder`` (``loads.surfaces``);
 * loads (package ``loads``): ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``,
   ``Centrifugal``, ``PointMass``, the solar wind ``SolarWind``, ``SolarWindForce``
   (``loads.coulomb``), drag in water and in a rarefied atmosphere ``MorisonDrag``,
@@ -91,6 +92,7 @@ from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
 from .loads.gravity import Centrifugal, Gravity
 from .loads.line import LineLoad
 from .loads.point import PointLoad, PointMass, PointMoment
+from .loads.surfaces import Cylinder, Plane, Sphere
 from .model.state import State
 from .model.system import System, SystemChanged
 from .results.result import Result
@@ -123,6 +125,7 @@ __all__ = [
     "Controller",
     "Centrifugal",
     "CurrentProfile",
+    "Cylinder",
     "ElectrodynamicForce",
     "Epoch",
     "Evaluation",
@@ -134,6 +137,7 @@ __all__ = [
     "MorisonDrag",
     "Motor",
     "Observer",
+    "Plane",
     "PointLoad",
     "PointMass",
     "PointMoment",
@@ -154,6 +158,7 @@ __all__ = [
     "Servo",
     "SimulationError",
     "Section",
+    "Sphere",
     "SolarWind",
     "SolarWindForce",
     "State",

@@ -1,0 +1,169 @@
+"""Contact of cables with surfaces, with friction (issue 49; ``docs/contact.md``): the
+compiled point function's tangents, the capstan, the Atwood machine with a massive rope,
+and what is not built yet.
+
+The capstan (items of issue 49, "Must show" 1): a rope (axial law only, EA = 1e5 N, 0.1
+kg/m, d = 1 cm) over the top of a fixed cylinder (R = 0.5 m, wrap angle pi), its left
+end pulled down by T1 = 100 N (ramped in over 0.05 s), its right end held by a pin that
+then pulls it down at V = 0.1 m/s (ramped in over 0.05 s).  With regularised friction
+(``eps`` = 1 mm/s) a rope at rest carries no friction, so the test makes the rope slide
+(``V / eps = 100``: the friction is ``1 - 5e-5`` of Coulomb's) and reads the tensions
+in steady sliding: the legs' tensions averaged over the last 0.1 s (the element passing
+the surface ripples them by about 1 %).
+"""
+
+import numpy as np
+import pytest
+from skfem import MeshLine
+
+import skfem_cable as sc
+
+R, LEG, T1, V, RAMP = 0.5, 0.3, 100.0, 0.1, 0.05
+ROPE = sc.Section.circular(5e-3, 1.27e9, 1273.0, gamma_axial=1e-4)  # EA 1e5 N, 0.1 kg/m
+DRUM = sc.Cylinder([0, 0, 0], [0, 0, 1], R)
+
+
+def smooth(t):
+    """0 before 0, 1 after 1, ``3 t^2 - 2 t^3`` between."""
+    t = min(max(t, 0.0), 1.0)
+    return t * t * (3.0 - 2.0 * t)
+
+
+def wrapped(radius, leg, n_arc, n_leg, section=ROPE, law="truss"):
+    """A cable over the top of a cylinder of axis z (through the origin): left leg up,
+    a half circle of ``radius``, right leg down; nodes at the tangent points."""
+    arc = np.pi * radius
+    s = np.concatenate([np.linspace(0, leg, n_leg + 1)[:-1],
+                        leg + np.linspace(0, arc, n_arc + 1)[:-1],
+                        leg + arc + np.linspace(0, leg, n_leg + 1)])
+    phi = np.clip((s - leg) / radius, 0, np.pi)
+    left, right = s < leg, s > leg + arc
+    x = np.where(left, -radius, np.where(right, radius, -radius * np.cos(phi)))
+    y = np.where(left, s - leg, np.where(right, leg + arc - s, radius * np.sin(phi)))
+    tx = np.where(left | right, 0.0, np.sin(phi))
+    ty = np.where(left, 1.0, np.where(right, -1.0, np.cos(phi)))
+    return sc.Cable(MeshLine(s), section, np.stack([x, y, 0 * x], 1),
+                    np.stack([tx, ty, 0 * x], 1), law=law)
+
+
+def capstan(mu, speed=V, cable=None):
+    """The capstan rig (module notes) on ``cable`` (default a new one): ``(system,
+    cable, contact)``; ``speed = 0``: the pin holds, and T1 is constant."""
+    radius = R + 5e-3 + 1e-5          # the rope's axis, 10 um off the drum at the start
+    cable = wrapped(radius, LEG, 24, 4) if cable is None else cable
+
+    def pull(t):
+        u = t - RAMP                  # the pull starts when T1 is in
+        d = 0.0 if u <= 0 else speed * (u - RAMP / 2) if u > RAMP else \
+            speed * u**3 / RAMP**2 * (1 - u / (2 * RAMP))
+        return np.array([radius, -LEG - d, 0.0])
+
+    system = (sc.System([cable]).pin(cable.node(-1), pull)
+              .add_point_load(cable.node(0), lambda t: [0.0, -T1 * smooth(t / RAMP), 0.0]
+                              if speed else [0.0, -T1, 0.0])
+              .contact(cable, DRUM, friction=mu, slip_velocity=1e-3))
+    return system, cable, system.loads[-1]
+
+
+def leg_tensions(result, cable, since):
+    """The tensions (N) in the middle of the left and right legs, averaged over the saved
+    steps from ``since``."""
+    states = [result.state(i) for i in range(len(result)) if result.t[i] >= since - 1e-12]
+    left = np.mean([s.tension(cable, LEG / 2) for s in states])
+    right = np.mean([s.tension(cable, cable.length - LEG / 2) for s in states])
+    return left, right
+
+
+def test_tangents_against_central_differences():
+    """The contact's tangent in q and v (penalty, damping, friction) on a cylinder, a
+    sphere and a plane, at a perturbed state in contact: relative error below 1e-6."""
+    cable = wrapped(R + 5e-3, LEG, 6, 2)
+    rng = np.random.default_rng(1)
+    inward = np.tile([0.003, 0.003, 0.0, 0.0, 0.0, 0.0], cable.n_dofs // 6)
+    q = cable.q0 + 2e-3 * rng.standard_normal(cable.n_dofs) - inward
+    v = 0.02 * rng.standard_normal(cable.n_dofs)
+    for surface in (DRUM, sc.Sphere([0, 0.1, 0], R), sc.Plane([0, 0.45, 0], [0.1, 1, 0.05])):
+        system = sc.System([cable]).contact(surface, cable, friction=0.3, damping=50.0,
+                                            stiffness=1e6, slip_velocity=0.01)
+        assert sc.check_tangent(system, q, v).error < 1e-6, surface
+
+
+def test_capstan_slides_at_exp_mu_theta():
+    """mu = 0.3, wrap pi: T2 / T1 = exp(mu pi) within 1 % in steady sliding, and the
+    tension along the arc follows T1 exp(mu phi) within 1 % (phi from where the rope
+    meets the drum on the T1 side, read from the points' positions); the run is on the
+    compiled step, and the friction's work is booked as dissipation."""
+    mu = 0.3
+    system, cable, contact = capstan(mu)
+    result = sc.simulate(system, t_end=0.35, dt=1e-3, every=10)
+    assert result.stats["path"] == "compiled"
+    left, right = leg_tensions(result, cable, since=0.25)
+    assert right / left == pytest.approx(np.exp(mu * np.pi), rel=1e-2)
+    state = result.state(-1)
+    s = np.linspace(LEG + 0.2, cable.length - LEG - 0.2, 9)
+    x = cable.interpolate(state.q[system.dofs(cable)], s)[0]
+    phi = np.arctan2(x[:, 1], -x[:, 0])
+    assert state.tension(cable, s) == pytest.approx(left * np.exp(mu * phi), rel=1e-2)
+    forces = contact.forces(state)
+    assert forces["friction_power"] < 0.0
+    assert result.energy["dissipated"][-1] > 0.0
+
+
+def test_capstan_without_friction_has_one_tension():
+    """mu = 0: the tension is the same on both legs within 1e-4 at rest (the rope held
+    by T1 and the pin, settled), and within 1e-3 while it slides."""
+    system, cable, contact = capstan(0.0)
+    sliding = sc.simulate(system, t_end=0.3, dt=1e-3, every=10)
+    left, right = leg_tensions(sliding, cable, since=0.2)
+    assert right == pytest.approx(left, rel=1e-3)
+    held, _, contact = capstan(0.0, speed=0.0, cable=cable)
+    settled = sc.solve_static(held, initial=sliding.state(-1))
+    left, right = (settled.tension(cable, s) for s in (LEG / 2, cable.length - LEG / 2))
+    assert right == pytest.approx(left, rel=1e-4)
+    assert left == pytest.approx(T1, rel=1e-4)
+    assert contact.forces(settled)["max_penetration"] < 1e-2 * 2 * 5e-3   # tolerance d
+
+
+def test_atwood_machine_with_a_massive_rope():
+    """Masses m1 = 1.1 kg and m2 = 1 kg on a rope of 0.1 kg/m over a frictionless drum
+    (legs of 1 m, g = 9.81): the descent ``x`` of m1 follows ``M x'' = g (m1 - m2) +
+    rho A g (l1 - l2)``, ``l1 - l2 = 2 x`` (the overhang moves to m1's side; the
+    rope on the half circle weighs on the drum, not on the motion), ``M = m1 + m2 +
+    rho A L``: ``x = a0 / w^2 (cosh w t - 1)``, ``a0 = g (m1 - m2) / M``, ``w^2 = 2 rho A
+    g / M``; within 1 % over 0.2 .. 1 s (and the speed at 1 s), counted from 0.1 s: the
+    elastic rope (EA = 1e5 N) first stretches under the weights by about 2e-4 m, which
+    the inextensible equation does not know (its bounce on the rope's stretch, at 50 Hz,
+    damped by the rope's ``gamma_axial = 5e-3`` s)."""
+    m1, m2, g, leg = 1.1, 1.0, 9.81, 1.0
+    rope = sc.Section.circular(5e-3, 1.27e9, 1273.0, gamma_axial=5e-3)   # damps the bounce
+    cable = wrapped(R + 5e-3 + 1e-5, leg, 24, 8, section=rope)
+    system = (sc.System([cable]).add_gravity([0, -g, 0])
+              .add_point_mass(cable.node(0), m1).add_point_mass(cable.node(-1), m2)
+              .contact(cable, DRUM))
+    result = sc.simulate(system, t_end=1.0, dt=2e-3, every=10)
+    rho_a = ROPE.mass_per_length
+    M = m1 + m2 + rho_a * cable.length
+    a0, w = g * (m1 - m2) / M, np.sqrt(2 * rho_a * g / M)
+    t = result.t
+    y = result.q[:, system.dofs(cable.node(0))[1]]
+    exact = a0 / w**2 * (np.cosh(w * t) - 1)
+    start, late = np.searchsorted(t, 0.1 - 1e-9), t >= 0.2 - 1e-9
+    assert (y[start] - y[late]) == pytest.approx(exact[late] - exact[start], rel=1e-2)
+    speed = -result.v[-1, system.dofs(cable.node(0))[1]]
+    assert speed == pytest.approx(a0 / w * np.sinh(w * t[-1]), rel=1e-2)
+
+
+def test_what_is_not_built_yet_says_so():
+    """Line-to-line and self-contact name what is missing; two surfaces and a thing
+    that is neither a line nor a surface are refused, naming the parameter."""
+    a, b = (sc.Cable.straight([0, 0, z], [1, 0, z], 2, ROPE) for z in (0.0, 0.1))
+    system = sc.System([a, b])
+    for first, second in ((a, b), (a, a)):
+        with pytest.raises(NotImplementedError, match="line-to-line contact"):
+            system.contact(first, second)
+    with pytest.raises(ValueError, match="two surfaces"):
+        system.contact(DRUM, sc.Plane([0, 0, 0], [0, 1, 0]))
+    with pytest.raises(TypeError, match="second must be a line body"):
+        system.contact(a, "ground")
+    with pytest.raises(ValueError, match="friction must be finite and >= 0"):
+        system.contact(a, DRUM, friction=-0.1)
