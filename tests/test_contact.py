@@ -172,3 +172,22 @@ def test_what_is_not_built_yet_says_so():
         system.contact(a, "ground")
     with pytest.raises(ValueError, match="friction must be finite and >= 0"):
         system.contact(a, DRUM, friction=-0.1)
+
+
+def test_a_cable_dropped_on_the_ground_comes_to_rest_without_tension():
+    """A cable (with bending) dropped tilted (2 .. 10 cm) onto a plane with mu = 0.3, at
+    rho_inf = 0 (an impact on the penalty: module docstring of ``loads.contact``): after
+    1 s it is at rest, carries no tension (below 1e-6 of its weight), the ground carries
+    its weight within 1 %, and it penetrates less than the stated tolerance d."""
+    w, length = 9.81 * ROPE.mass_per_length, 2.0
+    cable = sc.Cable.straight([0, 0.025, 0], [length, 0.105, 0], 10, ROPE)
+    ground = sc.Plane([0, 0, 0], [0, 1, 0])
+    system = sc.System([cable]).add_gravity([0, -9.81, 0]).contact(cable, ground, 0.3)
+    result = sc.simulate(system, t_end=1.0, dt=1e-3, every=100, rho_inf=0.0)
+    state = result.state(-1)
+    assert np.abs(state.v).max() < 1e-6
+    s = np.linspace(0, length, 21)
+    assert np.abs(state.tension(cable, s)).max() < 1e-6 * w * length
+    forces = system.loads[-1].forces(state)
+    assert forces["normal"].sum() == pytest.approx(w * length, rel=1e-2)
+    assert forces["max_penetration"] < 1e-2 * 2 * 5e-3

@@ -20,9 +20,11 @@ length on the line is
 with the penalty ``N_e = k (p - p_0 / 2)`` beyond the onset ``p_0`` and
 ``N_e = k p^2 / (2 p_0)`` within it (force and tangent continuous at first touch: Newton
 does not cycle on the points where a line leaves a surface tangentially), the damping
-ramped in by ``r = min(1, p / p_0)`` (continuous at first touch), and Coulomb's friction
-on ``N = max(0, N_e + N_d)``, regularised in the slip velocity ``v_t = xd - v_n n`` (the
-surface is fixed):
+ramped in by ``r = 1 - (1 - p / p_0)^2`` within the onset and 1 beyond (its force
+continuous at first touch, its tangent continuous at ``p_0``), and Coulomb's friction on
+the penalty's normal force ``N = N_e`` (the damping acts in impacts only, and its
+velocity would make the friction's tangent jump where ``N_e + N_d`` changes sign),
+regularised in the slip velocity ``v_t = xd - v_n n`` (the surface is fixed):
 
     f_t = -mu N v_t / sqrt(|v_t|^2 + eps^2).
 
@@ -32,7 +34,7 @@ Derivatives (``h = H xd``, ``k' = dN_e/dp``, ``D = I / sigma - v_t v_t^T / sigma
     d(N_e n)/dx = -k' n n^T + N_e H,
     dN_d/dx = -c r h^T + c v_n r' n^T,  dN_d/dxd = -c r n^T,
     dv_t/dx = -(n h^T + v_n H),  dv_t/dxd = P_n,
-    df_t/dx = -mu (phi dN/dx + N D dv_t/dx),  df_t/dxd = -mu (phi dN/dxd + N D P_n),
+    df_t/dx = -mu (-k' phi n^T + N D dv_t/dx),  df_t/dxd = -mu N D P_n,
 
 ``phi = v_t / sigma``.  The force splits in two parts (``coef[PART]``): ``ELASTIC``, the
 penalty ``N_e n`` (conservative: its work is booked as external work), and
@@ -104,8 +106,9 @@ def contact_point(surface, coef, x, xd, want, f, Fx, Fv, work):
     if p <= 0.0:
         return
     k, onset = coef[STIFFNESS], coef[ONSET]
-    if p < onset:   # N_e = k p^2 / (2 p_0), its slope kp = dN_e/dp and the ramp s = p / p_0
-        Ne, kp, s, ds = 0.5 * k * p * p / onset, k * p / onset, p / onset, 1.0 / onset
+    if p < onset:   # N_e = k p^2 / (2 p_0), its slope kp = dN_e/dp, the ramp s and ds/dp
+        u = 1.0 - p / onset
+        Ne, kp, s, ds = 0.5 * k * p * p / onset, k * p / onset, 1.0 - u * u, 2.0 * u / onset
     else:
         Ne, kp, s, ds = k * (p - 0.5 * onset), k, 1.0, 0.0
     if coef[PART] == ELASTIC:
@@ -128,8 +131,8 @@ def contact_point(surface, coef, x, xd, want, f, Fx, Fv, work):
         for j in range(3):
             Fx[i, j] = n[i] * dNx[j] + Nd * H[i, j]
             Fv[i, j] = n[i] * dNv[j]
-    N = Ne + Nd
-    if mu == 0.0 or N <= 0.0:
+    N = Ne
+    if mu == 0.0:
         return
     sigma = math.sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]
                       + coef[SLIP] * coef[SLIP])
@@ -139,7 +142,8 @@ def contact_point(surface, coef, x, xd, want, f, Fx, Fv, work):
     if not want:
         return
     for i in range(3):
-        dNx[i] -= kp * n[i]                                  # dN/dx
+        dNx[i] = -kp * n[i]                                  # dN/dx
+        dNv[i] = 0.0                                         # dN/dxd
         for j in range(3):
             D[i, j] = ((1.0 if i == j else 0.0) - phi[i] * phi[j]) / sigma
             T[i, j] = -(n[i] * h[j] + vn * H[i, j])           # dv_t/dx

@@ -5,16 +5,20 @@ loop of the line loads (``kernels.line.module``; the force and its exact tangent
 ``kernels.contact``); ``docs/contact.md`` states the method and its tolerances.
 
 * Normal force: a penalty ``k p`` on the penetration ``p`` of the line's cross-section
-  (its radius ``r_c`` counted in the gap), per unit reference length, with an optional
-  normal damping ``-c v_n``; the total is held ``>= 0`` (no adhesion).  The default
-  stiffness ``k = EA / (tolerance d^2)`` (``d = 2 r_c``) keeps the penetration of a line
-  wrapped under tension ``T`` over a radius ``R`` (load ``T / R`` per length) at
-  ``p = tolerance d (T / EA) (d / R) <= tolerance d`` for any strain below ``R / d``;
-  ``forces`` warns (``ContactToleranceWarning``) where a state exceeds ``tolerance d``.
-* Friction: Coulomb's, regularised in the slip velocity, ``-mu N v_t / sqrt(|v_t|^2 +
-  eps^2)`` (``eps = slip_velocity``): full Coulomb friction where the line slides at
-  ``|v_t| >> eps`` (``1 - eps^2 / (2 v_t^2)`` of it), a viscous creep of speed
-  ``eps |f_t| / (mu N)`` where it should stick.
+  (its radius ``r_c`` counted in the gap), per unit reference length, set in smoothly over
+  the onset ``p_0 = 0.1 tolerance d`` (``ONSET``), with a normal damping ``-c v_n``
+  (default: critical on the penalty; ``kernels.contact``).  The default stiffness
+  ``k = REFERENCE_LOAD EA / (tolerance d^2)`` (``d = 2 r_c``) puts the penetration at
+  ``tolerance d`` under the load per length ``T / R = 1e-3 EA / d`` of the line at 1 %
+  strain wrapped over a small pulley, ``R = 10 d``; the penetration is proportional to
+  the load, and ``forces`` warns (``ContactToleranceWarning``) where a state exceeds
+  ``tolerance d``.  Use ``rho_inf = 0`` where a line hits a surface: the penalty is
+  stiffer than the step resolves, and with ``rho_inf = 0.8`` an impact gains energy
+  (``docs/contact.md``).
+* Friction: Coulomb's on the penalty's force ``N``, regularised in the slip velocity,
+  ``-mu N v_t / sqrt(|v_t|^2 + eps^2)`` (``eps = slip_velocity``): full Coulomb friction
+  where the line slides at ``|v_t| >> eps`` (``1 - eps^2 / (2 v_t^2)`` of it), a
+  viscous creep of speed ``eps |f_t| / (mu N)`` where it should stick.
 * Energy books: the penalty's work is external work (it is conservative: it closes over
   a cycle); the normal damping and the friction are booked as dissipation
   (``kernels.line.module(dissipative=True)``).
