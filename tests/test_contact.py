@@ -17,6 +17,7 @@ import pytest
 from skfem import MeshLine
 
 import skfem_cable as sc
+from skfem_cable.loads.contact import ContactToleranceWarning
 
 R, LEG, T1, V, RAMP = 0.5, 0.3, 100.0, 0.1, 0.05
 ROPE = sc.Section.circular(5e-3, 1.27e9, 1273.0, gamma_axial=1e-4)  # EA 1e5 N, 0.1 kg/m
@@ -178,12 +179,16 @@ def test_a_cable_dropped_on_the_ground_comes_to_rest_without_tension():
     """A cable (with bending) dropped tilted (2 .. 10 cm) onto a plane with mu = 0.3, at
     rho_inf = 0 (an impact on the penalty: module docstring of ``loads.contact``): after
     1 s it is at rest, carries no tension (below 1e-6 of its weight), the ground carries
-    its weight within 1 %, and it penetrates less than the stated tolerance d."""
+    its weight within 1 %, and it penetrates less than the stated tolerance d, also in
+    the impact (``contact.watch()``, every 10 steps)."""
     w, length = 9.81 * ROPE.mass_per_length, 2.0
     cable = sc.Cable.straight([0, 0.025, 0], [length, 0.105, 0], 10, ROPE)
     ground = sc.Plane([0, 0, 0], [0, 1, 0])
     system = sc.System([cable]).add_gravity([0, -9.81, 0]).contact(cable, ground, 0.3)
-    result = sc.simulate(system, t_end=1.0, dt=1e-3, every=100, rho_inf=0.0)
+    watch = system.loads[-1].watch()
+    result = sc.simulate(system, t_end=1.0, dt=1e-3, every=10, rho_inf=0.0,
+                         observers=[watch])
+    assert max(row[1] for row in watch.history) < 1e-2 * 2 * 5e-3    # impact included
     state = result.state(-1)
     assert np.abs(state.v).max() < 1e-6
     s = np.linspace(0, length, 21)
@@ -191,3 +196,13 @@ def test_a_cable_dropped_on_the_ground_comes_to_rest_without_tension():
     forces = system.loads[-1].forces(state)
     assert forces["normal"].sum() == pytest.approx(w * length, rel=1e-2)
     assert forces["max_penetration"] < 1e-2 * 2 * 5e-3
+
+
+def test_a_penetration_beyond_the_tolerance_is_reported():
+    """A soft penalty (1e3 N/m^2) under a rope's weight (1 N/m) penetrates 1e-3 m, ten
+    times the stated tolerance d: ``forces`` warns, naming the numbers."""
+    cable = sc.Cable.straight([0, 4e-3, 0], [1, 4e-3, 0], 2, ROPE)
+    system = sc.System([cable]).contact(cable, sc.Plane([0, 0, 0], [0, 1, 0]),
+                                        stiffness=1e3)
+    with pytest.warns(ContactToleranceWarning, match="penetration 0.001 m exceeds"):
+        system.loads[-1].forces(sc.State(system, cable.q0))

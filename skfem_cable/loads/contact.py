@@ -158,15 +158,20 @@ class LineSurfaceContact(AlongCable):
                     name=f"contact {self.cable.name}")
 
     def forces(self, state):
-        """The contact forces of the ``State`` ``state`` (its ``system``, ``q`` and ``v``,
-        zero if None), per element of the line: a dict of ``normal`` (ne,) and
+        """The contact forces of the ``State`` ``state`` (``resolve`` of its ``system``,
+        ``q`` and ``v``)."""
+        return self.resolve(state.system, state.q, state.v)
+
+    def resolve(self, system, q, v=None):
+        """The contact forces at the coordinates ``q`` and velocities ``v`` (zero if None)
+        of ``system``, per element of the line: a dict of ``normal`` (ne,) and
         ``tangential`` (ne, 3), the forces (N) of the surface on the element,
         ``friction_power`` (W, the power of the friction and the normal damping, <= 0),
         ``gap`` (ne,) the smallest gap (m; negative: penetration) and
         ``max_penetration`` (m).  Warns (``ContactToleranceWarning``) where the
         penetration exceeds ``tolerance d``."""
-        points = line_points(self.cable, state.system)
-        X, _, V = points.at(state.q, state.v)
+        points = line_points(self.cable, system)
+        X, _, V = points.at(q, v)
         ne, nq = points.shape
         normal, gap = np.empty(ne * nq), np.empty(ne * nq)
         tangential, resistance = np.empty((ne * nq, 3)), np.empty((ne * nq, 3))
@@ -180,9 +185,34 @@ class LineSurfaceContact(AlongCable):
             warnings.warn(f"contact {self.cable.name}: penetration {depth:.3g} m exceeds "
                           f"the stated tolerance {self.tolerance:g} d = "
                           f"{self.tolerance * 2 * self.radius:.3g} m: raise the stiffness",
-                          ContactToleranceWarning, stacklevel=2)
+                          ContactToleranceWarning, stacklevel=3)
         return {"normal": (w * normal).reshape(ne, nq).sum(axis=1),
                 "tangential": (w[:, None] * tangential).reshape(ne, nq, 3).sum(axis=1),
                 "friction_power": power,
                 "gap": gap.reshape(ne, nq).min(axis=1), "max_penetration": depth}
 
+    def watch(self):
+        """An observer of a run (``simulate(..., observers=[contact.watch()])``) that
+        checks the stated tolerance at every saved step (a ``ContactToleranceWarning``
+        where it is exceeded) and keeps the contact's history: ``ContactWatch``."""
+        return ContactWatch(self)
+
+
+class ContactWatch:
+    """The observer of ``LineSurfaceContact.watch``: at every saved step, ``resolve``
+    (which warns beyond the tolerance), and the row ``(t, max_penetration, normal force,
+    friction power)`` appended to ``history`` (a list)."""
+
+    def __init__(self, contact):
+        self.contact, self.history = contact, []
+
+    def start(self, run):
+        self.history = []
+
+    def saved(self, run, step):
+        out = self.contact.resolve(run.system, step.q, step.v)
+        self.history.append((step.t, out["max_penetration"], float(out["normal"].sum()),
+                             out["friction_power"]))
+
+    def finish(self, run, error):
+        pass
