@@ -2,77 +2,21 @@
 compiled point function's tangents, the capstan, the Atwood machine with a massive rope,
 and what is not built yet.
 
-The capstan (items of issue 49, "Must show" 1): a rope (axial law only, EA = 1e5 N, 0.1
-kg/m, d = 1 cm) over the top of a fixed cylinder (R = 0.5 m, wrap angle pi), its left
-end pulled down by T1 = 100 N (ramped in over 0.05 s), its right end held by a pin that
-then pulls it down at V = 0.1 m/s (ramped in over 0.05 s).  With regularised friction
-(``eps`` = 1 mm/s) a rope at rest carries no friction, so the test makes the rope slide
-(``V / eps = 100``: the friction is ``1 - 5e-5`` of Coulomb's) and reads the tensions
-in steady sliding: the legs' tensions averaged over the last 0.1 s (the element passing
-the surface ripples them by about 1 %).
+The capstan rig (issue 49, "Must show" 1) is ``demos/capstan.py``'s (its docstring:
+why the rope slides, and how the tensions are read).
 """
 
 import numpy as np
 import pytest
-from skfem import MeshLine
+from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable.loads.contact import ContactToleranceWarning
 
-R, LEG, T1, V, RAMP = 0.5, 0.3, 100.0, 0.1, 0.05
-ROPE = sc.Section.circular(5e-3, 1.27e9, 1273.0, gamma_axial=1e-4)  # EA 1e5 N, 0.1 kg/m
-DRUM = sc.Cylinder([0, 0, 0], [0, 0, 1], R)
-
-
-def smooth(t):
-    """0 before 0, 1 after 1, ``3 t^2 - 2 t^3`` between."""
-    t = min(max(t, 0.0), 1.0)
-    return t * t * (3.0 - 2.0 * t)
-
-
-def wrapped(radius, leg, n_arc, n_leg, section=ROPE, law="truss"):
-    """A cable over the top of a cylinder of axis z (through the origin): left leg up,
-    a half circle of ``radius``, right leg down; nodes at the tangent points."""
-    arc = np.pi * radius
-    s = np.concatenate([np.linspace(0, leg, n_leg + 1)[:-1],
-                        leg + np.linspace(0, arc, n_arc + 1)[:-1],
-                        leg + arc + np.linspace(0, leg, n_leg + 1)])
-    phi = np.clip((s - leg) / radius, 0, np.pi)
-    left, right = s < leg, s > leg + arc
-    x = np.where(left, -radius, np.where(right, radius, -radius * np.cos(phi)))
-    y = np.where(left, s - leg, np.where(right, leg + arc - s, radius * np.sin(phi)))
-    tx = np.where(left | right, 0.0, np.sin(phi))
-    ty = np.where(left, 1.0, np.where(right, -1.0, np.cos(phi)))
-    return sc.Cable(MeshLine(s), section, np.stack([x, y, 0 * x], 1),
-                    np.stack([tx, ty, 0 * x], 1), law=law)
-
-
-def capstan(mu, speed=V, cable=None):
-    """The capstan rig (module notes) on ``cable`` (default a new one): ``(system,
-    cable, contact)``; ``speed = 0``: the pin holds, and T1 is constant."""
-    radius = R + 5e-3 + 1e-5          # the rope's axis, 10 um off the drum at the start
-    cable = wrapped(radius, LEG, 24, 4) if cable is None else cable
-
-    def pull(t):
-        u = t - RAMP                  # the pull starts when T1 is in
-        d = 0.0 if u <= 0 else speed * (u - RAMP / 2) if u > RAMP else \
-            speed * u**3 / RAMP**2 * (1 - u / (2 * RAMP))
-        return np.array([radius, -LEG - d, 0.0])
-
-    system = (sc.System([cable]).pin(cable.node(-1), pull)
-              .add_point_load(cable.node(0), lambda t: [0.0, -T1 * smooth(t / RAMP), 0.0]
-                              if speed else [0.0, -T1, 0.0])
-              .contact(cable, DRUM, friction=mu, slip_velocity=1e-3))
-    return system, cable, system.loads[-1]
-
-
-def leg_tensions(result, cable, since):
-    """The tensions (N) in the middle of the left and right legs, averaged over the saved
-    steps from ``since``."""
-    states = [result.state(i) for i in range(len(result)) if result.t[i] >= since - 1e-12]
-    left = np.mean([s.tension(cable, LEG / 2) for s in states])
-    right = np.mean([s.tension(cable, cable.length - LEG / 2) for s in states])
-    return left, right
+RIG = load_demo("capstan")          # the capstan rig of demos/capstan.py
+R, LEG, T1, V = RIG.R, RIG.LEG, RIG.T1, RIG.V
+ROPE, DRUM, wrapped, capstan, leg_tensions = (RIG.ROPE, RIG.DRUM, RIG.wrapped, RIG.capstan,
+                                              RIG.leg_tensions)
 
 
 def test_tangents_against_central_differences():
