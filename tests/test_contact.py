@@ -2,21 +2,27 @@
 compiled point function's tangents, the capstan, the Atwood machine with a massive rope,
 and what is not built yet.
 
-The capstan rig (issue 49, "Must show" 1) is ``demos/capstan.py``'s (its docstring:
-why the rope slides, and how the tensions are read).
+The capstan rig (issue 49, "Must show" 1) is the ``capstan`` scene's
+(``skfem_cable.scenes.capstan``; its docstring: why the rope slides, and how the tensions
+are read), which ``demos/capstan.py`` draws.
 """
 
 import numpy as np
 import pytest
-from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable.loads.contact import ContactToleranceWarning
-
-RIG = load_demo("capstan")          # the capstan rig of demos/capstan.py
-R, LEG, T1, V = RIG.R, RIG.LEG, RIG.T1, RIG.V
-ROPE, DRUM, wrapped, capstan, leg_tensions = (RIG.ROPE, RIG.DRUM, RIG.wrapped, RIG.capstan,
-                                              RIG.leg_tensions)
+from skfem_cable.scenes.capstan import (
+    DRUM,
+    LEG,
+    ROPE,
+    T1,
+    R,
+    V,
+    capstan,
+    leg_tensions,
+    wrapped,
+)
 
 
 def test_tangents_against_central_differences():
