@@ -156,3 +156,42 @@ def test_a_penetration_beyond_the_tolerance_is_reported():
                                         stiffness=1e3)
     with pytest.warns(ContactToleranceWarning, match="penetration 0.001 m exceeds"):
         system.loads[-1].forces(sc.State(system, cable.q0))
+
+
+SCENE = """
+[solver]
+t_end = 1.0
+dt = 1e-3
+rho_inf = 0.0
+[sections.rope]
+radius = 5e-3
+E = 1.27e9
+rho = 1273.0
+[[cables]]
+name = "rope"
+section = "rope"
+start = [0, 0.025, 0]
+end = [2, 0.105, 0]
+elements = 10
+[loads]
+gravity = [0, -9.81, 0]
+[[contacts]]
+cable = "rope"
+plane = { point = [0, 0, 0], normal = [0, 1, 0] }
+friction = 0.3
+"""
+
+
+def test_a_scene_file_reads_its_contacts():
+    """``[[contacts]]``: the rope of a scene file lands on the plane it names (the ground
+    carries its weight within 1 % after 1 s); a table with two surfaces, or none, is
+    refused, naming the keys."""
+    spec = sc.scene_file.loads_text(SCENE)
+    contact = spec.system.loads[-1]
+    assert (contact.friction, contact.surface.direction.tolist()) == (0.3, [0, 1, 0])
+    result = sc.simulate(spec.system, **spec.solver)
+    weight = 9.81 * spec.system.bodies[0].section.mass_per_length * 2.0
+    assert contact.forces(result.state(-1))["normal"].sum() == pytest.approx(weight, rel=1e-2)
+    two = SCENE + "sphere = { centre = [0, 0, 0], radius = 1.0 }\n"
+    with pytest.raises(sc.scene_file.SceneFileError, match="exactly one surface"):
+        sc.scene_file.loads_text(two)
