@@ -67,7 +67,8 @@ def test_capstan_slides_at_exp_mu_theta():
 
 def test_capstan_without_friction_has_one_tension():
     """mu = 0: the tension is the same on both legs within 1e-4 at rest (the rope held
-    by T1 and the pin, settled), and within 1e-3 while it slides."""
+    by T1 and the pin, settled), and within 1e-3 while it slides; the drum's normal
+    forces on the elements, as ParaView shows them, add up to ``pi T1`` within 1e-3."""
     system, cable, contact = capstan(0.0)
     sliding = sc.simulate(system, t_end=0.3, dt=1e-3, every=10)
     left, right = leg_tensions(sliding, cable, since=0.2)
@@ -78,6 +79,10 @@ def test_capstan_without_friction_has_one_tension():
     assert right == pytest.approx(left, rel=1e-4)
     assert left == pytest.approx(T1, rel=1e-4)
     assert contact.forces(settled)["max_penetration"] < 1e-2 * 2 * 5e-3   # tolerance d
+    mesh = sc.export.system_mesh(held, settled.q)       # what ParaView shows
+    normal = mesh.point_data["contact_normal"]
+    assert np.nansum(normal) == pytest.approx(np.pi * T1, rel=1e-3)   # int T / R ds
+    assert np.isfinite(mesh.point_data["contact_force"][np.isfinite(normal)]).all()
 
 
 def test_atwood_machine_with_a_massive_rope():

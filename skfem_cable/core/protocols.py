@@ -151,7 +151,9 @@ class Surface(Protocol):
 @runtime_checkable
 class Load(Protocol):
     """A load: ``bind(system)`` returns its ``Term`` (forces through ``add`` or
-    ``kernels``, constant ``force`` and ``mass``; see the module docstring).  A load of a
+    ``kernels``, constant ``force`` and ``mass``; see the module docstring); optionally
+    ``show(system, q, v, t)``, a ``Shape`` that ParaView draws (``io.export``: the contact
+    forces of ``loads.contact``).  A load of a
     system in orbit that reads the reference point's motion ``R(t)``, ``V(t)`` declares
     ``reads_reference = True`` and is bound with ``bind(system, reference)``: the run's
     ``orbit.Reference`` (the orbit and the rectification's rebases), not

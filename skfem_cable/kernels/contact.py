@@ -203,3 +203,11 @@ def distances(surface, X, out):
     H = np.empty((3, 3))
     for m in range(X.shape[0]):
         out[m] = distance(surface, X[m], n, H)
+
+
+@njit(cache=True)
+def normals(surface, X, out):
+    """The unit normals ``out`` (m, 3) of ``surface`` at the points ``X`` (m, 3)."""
+    H = np.empty((3, 3))
+    for m in range(X.shape[0]):
+        distance(surface, X[m], out[m], H)

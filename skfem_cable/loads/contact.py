@@ -28,7 +28,7 @@ import warnings
 
 import numpy as np
 
-from ..core.contract import Term
+from ..core.contract import PART_LOAD, Shape, Term
 from ..core.linalg import thread_count
 from ..core.lines import check_line_body, line_points
 from ..kernels import contact as kernel
@@ -190,6 +190,26 @@ class LineSurfaceContact(AlongCable):
                 "tangential": (w[:, None] * tangential).reshape(ne, nq, 3).sum(axis=1),
                 "friction_power": power,
                 "gap": gap.reshape(ne, nq).min(axis=1), "max_penetration": depth}
+
+    def show(self, system, q, v, t, **detail):
+        """What ParaView draws of the contact (``io.export``): a vertex at the mean of each
+        element's points, with the point data ``contact_normal`` (N), ``contact_force``
+        (the normal and tangential force, N, a vector) and ``contact_gap`` (m) of the
+        element (``resolve``)."""
+        out = self.resolve(system, q, v)
+        X, _, V = line_points(self.cable, system).at(q, v)
+        centre = X.mean(axis=1)
+        normals = self.surface_normals(centre)
+        force = out["normal"][:, None] * normals + out["tangential"]
+        return Shape(centre, V.mean(axis=1), "vertex", np.arange(len(centre))[:, None],
+                     PART_LOAD, data={"contact_normal": out["normal"],
+                                      "contact_force": force, "contact_gap": out["gap"]})
+
+    def surface_normals(self, x):
+        """Unit normals (n, 3) of the surface at the points ``x`` (n, 3)."""
+        normals = np.empty_like(x)
+        kernel.normals(self.surface.surface_array(), np.ascontiguousarray(x), normals)
+        return normals
 
     def watch(self):
         """An observer of a run (``simulate(..., observers=[contact.watch()])``) that
