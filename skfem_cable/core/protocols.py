@@ -142,7 +142,8 @@ class Surface(Protocol):
     signed distance of points ``x`` (n, 3) from it (negative inside)."""
 
     def surface_array(self):
-        """The surface as ``kernels.contact`` reads it (``SURFACE_SIZE`` floats)."""
+        """The surface as ``kernels.contact`` reads it: ``[kind, point (3), direction
+        (3), radius]``."""
 
     def distance(self, x):
         """Signed distance (m) of the points ``x`` (n, 3) from the surface."""

@@ -1,7 +1,7 @@
 """The point function of line-to-surface contact (``loads.contact``) for the one loop of
 the line loads (``kernels.line.module``), and the surfaces it knows.
 
-A surface is the array ``surface = [kind, o (3), d (3), R]`` (``SURFACE_SIZE``): a plane
+A surface is the array ``surface = [kind, o (3), d (3), R]`` (8 floats): a plane
 through ``o`` of unit normal ``d`` (``PLANE``), a sphere of centre ``o`` and radius ``R``
 (``SPHERE``), the outside of a cylinder of axis ``o + s d`` (``d`` unit) and radius ``R``
 (``CYLINDER``).  ``distance`` gives the signed distance ``s(x)`` of a point from it, the
@@ -49,8 +49,6 @@ from numba import njit
 
 #: Kinds of surface (``surface[0]``).
 PLANE, SPHERE, CYLINDER = 0.0, 1.0, 2.0
-#: Length of a surface's array.
-SURFACE_SIZE = 8
 #: Positions in ``coef = [k, c, mu, eps, r_c, part, p_0]``.
 STIFFNESS, DAMPING, FRICTION, SLIP, RADIUS, PART, ONSET = range(7)
 #: The two parts of the force (``coef[PART]``).
