@@ -27,7 +27,8 @@ from skfem_cable.scenes.capstan import (
 
 def test_tangents_against_central_differences():
     """The contact's tangent in q and v (penalty, damping, friction) on a cylinder, a
-    sphere and a plane, at a perturbed state in contact: relative error below 1e-6."""
+    sphere and a plane, at a perturbed state in contact (6 to 9 of 10 elements
+    touching): relative error below 1e-6 (measured: 7e-11 in q, 2e-9 in v)."""
     cable = wrapped(R + 5e-3, LEG, 6, 2)
     rng = np.random.default_rng(1)
     inward = np.tile([0.003, 0.003, 0.0, 0.0, 0.0, 0.0], cable.n_dofs // 6)
@@ -36,7 +37,9 @@ def test_tangents_against_central_differences():
     for surface in (DRUM, sc.Sphere([0, 0.1, 0], R), sc.Plane([0, 0.45, 0], [0.1, 1, 0.05])):
         system = sc.System([cable]).contact(surface, cable, friction=0.3, damping=50.0,
                                             stiffness=1e6, slip_velocity=0.01)
-        assert sc.check_tangent(system, q, v).error < 1e-6, surface
+        parts = [p for p in sc.check_tangent(system, q, v).parts if p.name.startswith("contact")]
+        assert {p.wrt for p in parts} == {"q", "v"}
+        assert max(p.error for p in parts) < 1e-6, surface
 
 
 def test_capstan_slides_at_exp_mu_theta():
