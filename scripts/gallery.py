@@ -117,6 +117,12 @@ ENTRIES = (
           "the exact and with the finite-difference Jacobian",
           "relative 1e-8", "tests/test_extending.py::test_drag_demo_reaches_terminal_speed",
           "Fall speed against the exact `v_T (1 - exp(-t / tau))`."),
+    Entry("capstan.py",
+          "tension ratio of a rope sliding over a fixed drum (wrap pi, `mu = 0.3`) against "
+          "`exp(mu pi)`, and the tension along the arc against `T1 exp(mu phi)`",
+          "1 %", "tests/test_contact.py::test_capstan_slides_at_exp_mu_theta",
+          "The rope on the drum with the drum's force on each element (arrows: normal and "
+          "friction), and the tension along the arc."),
     Entry("kapitza.py",
           "largest tilt of the rod with the pivot amplitude 5 % above the Floquet threshold "
           "(and 5 % below it: > 1 rad; the threshold against Kapitza's estimate: relative "

@@ -7,7 +7,8 @@ and what may import what: ``docs/architecture.md``):
   ``CableElement``, ``ElementLineCableHermite``, ``ElementLineCableHermite5``,
   ``ElementLineCableLinear``), ``Rod`` (a cable with twist and two principal bending
   stiffnesses, ``docs/rods.md``),
-  ``RigidBody``, ``System``;
+  ``RigidBody``, ``System``; the surfaces a system's lines touch (``System.contact``)
+  ``Plane``, ``Sphere``, ``Cylinder`` (``loads.surfaces``);
 * loads (package ``loads``): ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``,
   ``Centrifugal``, ``PointMass``, the solar wind ``SolarWind``, ``SolarWindForce``
   (``loads.coulomb``), drag in water and in a rarefied atmosphere ``MorisonDrag``,
@@ -96,6 +97,7 @@ from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
 from .loads.gravity import Centrifugal, Gravity
 from .loads.line import LineLoad
 from .loads.point import PointLoad, PointMass, PointMoment
+from .loads.surfaces import Cylinder, Plane, Sphere
 from .model.state import State
 from .model.system import System, SystemChanged
 from .results.result import Result
@@ -131,6 +133,7 @@ __all__ = [
     "Controller",
     "Centrifugal",
     "CurrentProfile",
+    "Cylinder",
     "ElectrodynamicForce",
     "Epoch",
     "Evaluation",
@@ -142,6 +145,7 @@ __all__ = [
     "MorisonDrag",
     "Motor",
     "Observer",
+    "Plane",
     "PointLoad",
     "PointMass",
     "PointMoment",
@@ -162,6 +166,7 @@ __all__ = [
     "Servo",
     "SimulationError",
     "Section",
+    "Sphere",
     "SolarWind",
     "SolarWindForce",
     "State",

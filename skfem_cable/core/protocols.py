@@ -8,8 +8,8 @@ They are structural: a class need not inherit from them, only provide the member
 declare (``tests/test_protocols.py``).
 
 * What plugs in: ``Body`` (and ``Line``, a body with fields along an arc length),
-  ``Load``, ``Constraint``, ``Observer``.  A ``System`` refuses a body that lacks a hook
-  of ``Body``, naming it (``check_body``).
+  ``Load``, ``Constraint``, ``Observer``, and the ``Surface``s that line bodies touch.
+  A ``System`` refuses a body that lacks a hook of ``Body``, naming it (``check_body``).
 * What is read of a system: ``SystemView``, what a run store labels, fingerprints and
   reads back (``io``); ``IntegrableSystem``, what the solvers, the ``Result`` they return
   and the runner's summaries read.  ``System`` is both; the rod chain's
@@ -135,9 +135,26 @@ class LineBody(Body, Protocol):
 
 
 @runtime_checkable
+class Surface(Protocol):
+    """A rigid surface that line bodies touch (``system.contact``, ``loads.contact``):
+    ``surface_array()``, its description for the compiled contact
+    (``kernels.contact``: kind, point, direction, radius), and ``distance(x)``, the
+    signed distance of points ``x`` (n, 3) from it (negative inside)."""
+
+    def surface_array(self):
+        """The surface as ``kernels.contact`` reads it: ``[kind, point (3), direction
+        (3), radius]``."""
+
+    def distance(self, x):
+        """Signed distance (m) of the points ``x`` (n, 3) from the surface."""
+
+
+@runtime_checkable
 class Load(Protocol):
     """A load: ``bind(system)`` returns its ``Term`` (forces through ``add`` or
-    ``kernels``, constant ``force`` and ``mass``; see the module docstring).  A load of a
+    ``kernels``, constant ``force`` and ``mass``; see the module docstring); optionally
+    ``show(system, q, v, t)``, a ``Shape`` that ParaView draws (``io.export``: the contact
+    forces of ``loads.contact``).  A load of a
     system in orbit that reads the reference point's motion ``R(t)``, ``V(t)`` declares
     ``reads_reference = True`` and is bound with ``bind(system, reference)``: the run's
     ``orbit.Reference`` (the orbit and the rectification's rebases), not

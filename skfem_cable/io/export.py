@@ -52,8 +52,9 @@ def loads_point_data(system, q, v=None, t=0.0, reference=None):
 def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0, loads=()):
     """The deformed system as one ``meshio.Mesh`` (see the module docstring): what every
     body shows (``Body.show``), with the loads' point data ``loads``
-    (``loads_point_data``) on the bodies that carry an ``arc_length``, and the point
-    masses.
+    (``loads_point_data``) on the bodies that carry an ``arc_length``, the point masses,
+    and what a load with a ``show`` hook shows (the contact forces, ``loads.contact``;
+    its cells of ``body_id`` -1).
 
     Parameters
     ----------
@@ -85,6 +86,11 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0, l
         owner = max(i for i, b in enumerate(system.bodies) if system.dofs(b)[0] <= dofs[0])
         shapes.append((Shape((G @ q[dofs])[None], (G @ v[dofs])[None], "vertex", [[0]],
                              PART_POINT_MASS), owner))
+    for load in system.loads:  # a load may show what it does (the contact forces): -1
+        show = getattr(load, "show", None)
+        shape = show(system, q, v, t) if callable(show) else None
+        if shape is not None:
+            shapes.append((shape, -1))
     return _mesh(shapes)
 
 

@@ -32,6 +32,7 @@ from ..loads.gravity import Centrifugal, Gravity
 from ..loads.line import UniformLineLoad
 from ..loads.orbit_gravity import DifferentialGravity
 from ..loads.point import PointLoad, PointMass, PointMoment
+from .contact import contact
 from .fingerprint import describe_system, differences
 from .layout import Layout
 from .motion import SystemMotion, vector_blocks
@@ -272,6 +273,15 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
                              "central body's differential gravity replaces uniform gravity")
         self.loads.append(load)
         return self._changed()
+
+    def contact(self, first, second, friction=0.0, **options):
+        """Contact of a line body with a surface (``sc.Plane``, ``sc.Sphere``,
+        ``sc.Cylinder``), in either order, with Coulomb's ``friction`` (``mu >= 0``):
+        ``loads.contact.LineSurfaceContact`` and its ``options`` (``radius``,
+        ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``; ``docs/contact.md``).
+        Line-to-line and self-contact raise ``NotImplementedError`` (``model.contact``).
+        Returns the system; the contact is ``system.loads[-1]``."""
+        return self.add_load(contact(first, second, friction, **options))
 
     def add_point_load(self, node, force):
         """Force (N) at a cable node or a rigid-body point (``RigidBody.point``): a 3-vector,

@@ -1,6 +1,6 @@
 """A scene of cables and rigid bodies (``System``) from a scene file: the tables are read
 in schema order by the readers of ``bodies``, ``constraints``, ``deploy``,
-``environment``, ``orbit``, ``loads``, ``controllers`` and ``solver``;
+``environment``, ``orbit``, ``loads``, ``contacts``, ``controllers`` and ``solver``;
 ``run`` simulates (``runner.run_dynamic``) or solves it (``runner.run_static``)."""
 
 from dataclasses import dataclass
@@ -13,6 +13,7 @@ from ..solvers.static import solve_static
 from ..solvers.steady import solve_steady
 from .bodies import Bodies, check_cables_memory, read_cable, read_rigid_body, read_sections
 from .constraints import read_constraint
+from .contacts import read_contact
 from .controllers import read_controllers
 from .deploy import read_deploy, read_reel
 from .environment import EnvironmentSpec, check_orbit, read_environment
@@ -71,6 +72,8 @@ def build(root, elements=None, epoch=None):
     if root.has("orbit"):
         place_in_orbit(root, read_orbit(root.table("orbit")), system, environment.epoch)
     read_loads(root.table("loads"), bodies, system, analysis, environment)
+    for t in root.tables("contacts"):
+        read_contact(t, bodies, system)
     controllers = read_controllers(root, system)
     motion = root.table("initial")
     initial = read_initial(motion, system, analysis)

@@ -315,6 +315,9 @@ register("esail-orbit", esail_orbit,
 register("esail-full", esail_full,
          "full-size E-sail (100 tethers of 20 km) at 1 AU, adaptive steps; --alpha, "
          "--t-end 30d", build=esail_full_scene, takes=("alpha",))
+register("capstan", "skfem_cable.scenes.capstan:run",
+         "rope sliding over a fixed drum (wrap pi, mu = 0.3): T2 / T1 against exp(mu pi)",
+         build="skfem_cable.scenes.capstan:scene")
 register("tss", "skfem_cable.scenes.tss:run",
          "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations; "
          "--model ancf (default) or rodchain",

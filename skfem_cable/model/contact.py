@@ -1,0 +1,40 @@
+"""``System.contact``: the contact load between two things a system's lines touch,
+chosen by what they declare (``protocols.Surface``: ``surface_array``; a line body:
+``line_points``), not by their classes."""
+
+from ..loads.contact import LineSurfaceContact
+
+#: What is missing for the pairs not yet built (issue 49).
+LINE_TO_LINE = ("line-to-line contact ({}) is not implemented yet: it needs the closest "
+                "points of two lines' elements, their equal and opposite forces and a broad "
+                "phase over element bounding boxes (issue 49, items 4-6); line-to-surface "
+                "contact works: system.contact(cable, sc.Cylinder(...))")
+
+
+def role(item, name):
+    """``"surface"`` or ``"line"``: what ``item`` (the parameter ``name``) declares, or
+    ``TypeError`` naming the parameter."""
+    if callable(getattr(item, "surface_array", None)):
+        return "surface"
+    if callable(getattr(item, "line_points", None)):
+        return "line"
+    raise TypeError(f"{name} must be a line body (with line_points, e.g. a Cable) or a "
+                    f"surface (with surface_array, e.g. sc.Cylinder), got {item!r}")
+
+
+def contact(first, second, friction=0.0, **options):
+    """The contact load of ``first`` and ``second`` (a line body and a surface, in either
+    order) with Coulomb's ``friction``; ``options`` of ``LineSurfaceContact`` (``radius``,
+    ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``).  Two lines (or one line
+    twice: self-contact) raise ``NotImplementedError`` naming what is missing; two
+    surfaces ``ValueError``."""
+    roles = (role(first, "first"), role(second, "second"))
+    if roles == ("line", "surface"):
+        return LineSurfaceContact(first, second, friction, **options)
+    if roles == ("surface", "line"):
+        return LineSurfaceContact(second, first, friction, **options)
+    if roles == ("line", "line"):
+        raise NotImplementedError(LINE_TO_LINE.format(
+            "self-contact of one line" if first is second else "two lines"))
+    raise ValueError(f"contact between two surfaces ({first!r}, {second!r}): fixed surfaces "
+                     "do not move; give a line body as first or second")

@@ -1,0 +1,47 @@
+"""The ``[[contacts]]`` of a scene file: a cable touching a fixed surface
+(``System.contact``, ``docs/contact.md``).  ``SURFACES`` maps each surface key to its
+class and the keys of its inline table; a new kind of surface is one more entry."""
+
+from ..bodies.cable import Cable
+from ..loads.surfaces import Cylinder, Plane, Sphere
+from .schema import non_negative, positive, vector3
+
+#: The surfaces of a contact table: ``key = { ... }`` with the parameters of the class, in
+#: the order of its constructor, and their checks.
+SURFACES = {"plane": (Plane, (("point", vector3), ("normal", vector3))),
+            "sphere": (Sphere, (("centre", vector3), ("radius", positive))),
+            "cylinder": (Cylinder, (("axis_point", vector3), ("axis", vector3),
+                                    ("radius", positive)))}
+
+#: The optional numbers of a contact table (``LineSurfaceContact``'s keywords).
+OPTIONS = (("radius", positive), ("stiffness", positive), ("tolerance", positive),
+           ("damping", non_negative), ("slip_velocity", positive))
+
+
+def read_surface(t):
+    """The one surface of the contact table ``t``."""
+    given = [key for key in SURFACES if t.has(key)]
+    if len(given) != 1:
+        t.fail("plane", f"or sphere or cylinder: exactly one surface must be given, got "
+               f"{given or 'none'}")
+    key = given[0]
+    cls, keys = SURFACES[key]
+    s = t.inline(key)
+    args = [s.get(name, check) for name, check in keys]
+    s.finish()
+    try:
+        return cls(*args)
+    except ValueError as err:
+        t.fail(key, str(err))
+
+
+def read_contact(t, bodies, system):
+    """A ``[[contacts]]`` table: ``cable`` (name) on one surface (``plane``, ``sphere`` or
+    ``cylinder``) with ``friction`` (default 0) and the optional numbers ``OPTIONS``."""
+    cable = bodies.body(t, "cable", Cable)
+    surface = read_surface(t)
+    friction = t.get("friction", non_negative, 0.0)
+    options = {name: t.get(name, check, None) for name, check in OPTIONS}
+    t.finish()
+    system.contact(cable, surface, friction,
+                   **{name: value for name, value in options.items() if value is not None})
