@@ -1,4 +1,4 @@
-"""Rods (``docs/rods.md``): PyElastica's Timoshenko cantilever rebuilt here, and the cost of
+"""Rods (``docs/rods.md``): two of PyElastica's example cases rebuilt here, and the cost of
 the rod's compiled step against the cable's.
 
 * **PyElastica's Timoshenko cantilever** (its ``examples/TimoshenkoBeamCase``, Gazzola et
@@ -16,14 +16,23 @@ the rod's compiled step against the cable's.
   rod in PyElastica 1.0 (its shear waves: ``sqrt(G / rho) dt / dl = 1.8``); the older
   example's ``0.01 dl`` is used.  PyElastica runs only when importable (``pip install
   pyelastica``, the ``peers`` extra).
+* **PyElastica's axial stretching** (its ``examples/AxialStretchingCase``): a rod of 1 m,
+  radius 0.025 m, ``E = 1e4`` Pa, density 1000 kg/m^3, 19 elements, clamped, pulled by 1
+  N at its tip (a strain of 5 %), relaxed by PyElastica over its example's 200 s (``dt =
+  0.1 dl``, ``AnalyticalLinearDamper`` 0.1).  Its closed form is the example's "improved"
+  ``F L / (EA - F)``, the static answer of its axial law ``n = EA (1 - 1 / |r'|)``; the
+  same law written as a ``cable_law`` (``W = EA (|r'| - 1 - ln |r'|) + EI kappa^2 / 2``,
+  ``COSSERAT_AXIAL``) gives our rod's static state, beside our default Green-strain law
+  (``lambda (lambda^2 - 1) / 2 = F / EA``).
 * **The compiled step, rod against cable**: a 10 m aluminium tape (2 cm x 50 um) of 64
   elements pinned at one end, released horizontally under gravity, ``dt = 1 ms``, 500
   steps, as a ``sc.Rod`` and as a ``sc.Cable`` of the same section: CPU time of each run
   (minimum of 5 repeats), their ratio and the rod kernel's own cost per evaluation with
   and without its tangent.
 
-Run ``python benchmarks/rods.py [--quick]`` (``--quick``: PyElastica relaxes over 50 s
-instead of the example's 500 s, far from static; fewer repeats).
+Run ``python benchmarks/rods.py [--quick]`` (``--quick``: PyElastica relaxes over a tenth
+of the examples' times, far from static; fewer repeats).  About two minutes of CPU, most
+of it PyElastica's cantilever.
 """
 
 import time
@@ -34,6 +43,8 @@ import skfem_cable as sc
 from skfem_cable.analysis.analytic import elastica_tip_load
 from skfem_cable.cli.bench import arguments
 from skfem_cable.kernels import rod as rod_kernel
+from skfem_cable.laws.law import cable_law
+from skfem_cable.laws.symbolic import kappa2, log, norm
 
 #: PyElastica's Timoshenko cantilever: length, radius, E, density, tip load, G (shear-stiff).
 LENGTH, RADIUS, E, DENSITY, LOAD = 3.0, 0.25, 1e6, 5000.0, 15.0
@@ -70,7 +81,8 @@ def cantilever_ours(n_elements):
 
 def cantilever_elastica(ea, final_time, n_elements=100):
     """PyElastica's run of the case (module ``ea``): its tip deflection (m), the linear
-    Timoshenko tip deflection of its rod and its CPU time (s) of the time loop."""
+    Timoshenko tip deflection of its rod, the shear part of it and the CPU time (s) of
+    its time loop."""
 
     class Simulator(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping):
         pass
@@ -95,9 +107,9 @@ def cantilever_elastica(ea, final_time, n_elements=100):
     for _ in range(int(final_time / dt)):
         t = stepper.step(simulator, t, dt)
     cpu = time.process_time() - start
-    linear = (LOAD * LENGTH**3 / (3 * rod.bend_matrix[0, 0, 0])
-              + LOAD * LENGTH / rod.shear_matrix[0, 0, 0])
-    return -rod.position_collection[0, -1], linear, cpu
+    shear = LOAD * LENGTH / rod.shear_matrix[0, 0, 0]
+    linear = LOAD * LENGTH**3 / (3 * rod.bend_matrix[0, 0, 0]) + shear
+    return -rod.position_collection[0, -1], linear, shear, cpu
 
 
 def cantilever_table(final_time, repeats):
@@ -118,8 +130,8 @@ def cantilever_table(final_time, repeats):
         print("elastica not importable: skipped")
     ratio = None
     if elastica is not None:
-        tip, linear, cpu = cantilever_elastica(elastica, final_time)
-        peer = {"code": "pyelastica", "elements": 100, "tip": tip,
+        tip, linear, shear, cpu = cantilever_elastica(elastica, final_time)
+        peer = {"code": "pyelastica", "elements": 100, "tip": tip, "shear": shear,
                 "error": abs(tip / linear - 1), "cpu_s": cpu, "final_time": final_time}
         rows.append(peer)
         match = next((r for r in rows[:-1] if r["error"] <= peer["error"]), rows[-2])
@@ -128,9 +140,95 @@ def cantilever_table(final_time, repeats):
         print(f"{r['code']:>12s}{r['elements']:10d}{r['tip']:14.9f}{r['error']:12.2e}"
               f"{r['cpu_s']:10.3f}")
     if ratio is not None:
-        print(f"PyElastica's CPU time / ours at equal accuracy ({match['elements']} "
-              f"elements): {ratio:.0f}x")
+        print(f"PyElastica's tip less its shear deflection {shear:.3g} m against ours "
+              f"(16 elements): {(tip - shear) / rows[-2]['tip'] - 1:.2e}; its CPU time / "
+              f"ours at equal accuracy ({match['elements']} elements): {ratio:.0f}x")
     return {"rows": rows, "time_ratio": ratio}
+
+
+# --- the axial stretching --------------------------------------------------------------------
+#: PyElastica's axial stretching: length, radius, E, density, tip load, elements.
+BAR = {"L": 1.0, "r": 0.025, "E": 1e4, "rho": 1000.0, "F": 1.0, "n": 19}
+
+
+@cable_law(name="cosserat-axial")
+def COSSERAT_AXIAL(a, b, EA, EI):
+    """PyElastica's axial law ``n = EA (1 - 1 / |a|)`` (static: ``F L / (EA - F)``) and
+    the cable's bending, ``W = EA (|a| - 1 - ln |a|) + EI kappa^2 / 2``."""
+    stretch = norm(a)
+    return EA * (stretch - 1 - log(stretch)) + EI * kappa2(a, b) / 2
+
+
+def stretching_ours(law):
+    """Tip displacement (m) of the static state of the bar as a ``sc.Rod`` of ``law``."""
+    section = sc.Section.circular(BAR["r"], BAR["E"], BAR["rho"], G=BAR["E"] / 1.5)
+    rod = sc.Rod.straight([0, 0, 0], [BAR["L"], 0, 0], BAR["n"], section, normal=[0, 1, 0],
+                          law=law)
+    system = sc.System([rod]).clamp(rod.node(0)).add_point_load(rod.node(-1),
+                                                                [BAR["F"], 0.0, 0.0])
+    return sc.solve_static(system).q[system.dofs(rod)][rod.n_centreline - 6] - BAR["L"]
+
+
+def stretching_elastica(ea, final_time):
+    """PyElastica's run of the bar (module ``ea``): tip displacement (m), CPU time (s)."""
+
+    class Simulator(ea.BaseSystemCollection, ea.Constraints, ea.Forcing, ea.Damping):
+        pass
+
+    simulator = Simulator()
+    rod = ea.CosseratRod.straight_rod(BAR["n"], np.zeros(3), np.array([1.0, 0.0, 0.0]),
+                                      np.array([0.0, 1.0, 0.0]), BAR["L"], BAR["r"],
+                                      BAR["rho"], youngs_modulus=BAR["E"],
+                                      shear_modulus=BAR["E"] / 1.5)
+    simulator.append(rod)
+    steps = int(final_time / (0.1 * BAR["L"] / BAR["n"]))
+    dt = final_time / steps
+    simulator.dampen(rod).using(ea.AnalyticalLinearDamper, damping_constant=0.1,
+                                time_step=dt)
+    simulator.constrain(rod).using(ea.OneEndFixedBC, constrained_position_idx=(0,),
+                                   constrained_director_idx=(0,))
+    force = np.array([BAR["F"], 0.0, 0.0])
+    simulator.add_forcing_to(rod).using(ea.EndpointForces, 0.0 * force, force,
+                                        ramp_up_time=1e-2)
+    simulator.finalize()
+    stepper, t = ea.PositionVerlet(), 0.0
+    start = time.process_time()
+    for _ in range(steps):
+        t = stepper.step(simulator, t, dt)
+    return rod.position_collection[0, -1] - BAR["L"], time.process_time() - start
+
+
+def stretching_table(final_time, repeats):
+    """Print each answer against its law's closed form; returns the rows."""
+    EA = BAR["E"] * np.pi * BAR["r"] ** 2
+    ratio = BAR["F"] / EA
+    cosserat = BAR["F"] * BAR["L"] / (EA - BAR["F"])
+    stretch = np.roots([1.0, 0.0, -1.0, -2 * ratio])
+    green = BAR["L"] * (stretch[np.argmin(abs(stretch - 1))].real - 1)
+    print(f"axial stretching (PyElastica's case, F / EA = {ratio:.4f}): F L / (EA - F) = "
+          f"{cosserat:.9f} m, Green strain {green:.9f} m")
+    print(f"{'code (law)':>24s}{'tip (m)':>14s}{'rel. error':>12s}{'CPU s':>10s}")
+    rows = []
+    for name, law, exact in (("skfem_cable (cosserat)", COSSERAT_AXIAL, cosserat),
+                             ("skfem_cable (cable)", "cable", green)):
+        stretching_ours(law)  # compile the law outside the timing
+        cpu, tip = cpu_time(lambda law=law: stretching_ours(law), repeats)
+        rows.append({"code": name, "tip": tip, "error": abs(tip / exact - 1), "cpu_s": cpu})
+    try:
+        import elastica
+    except ImportError:
+        elastica = None
+        print("elastica not importable: skipped")
+    if elastica is not None:
+        tip, cpu = stretching_elastica(elastica, final_time)
+        rows.append({"code": "pyelastica", "tip": tip, "error": abs(tip / cosserat - 1),
+                     "cpu_s": cpu})
+    for r in rows:
+        print(f"{r['code']:>24s}{r['tip']:14.9f}{r['error']:12.2e}{r['cpu_s']:10.3f}")
+    if elastica is not None:
+        ratio = rows[-1]["cpu_s"] / rows[0]["cpu_s"]
+        print(f"PyElastica's CPU time / ours (same law, more accurate): {ratio:.0f}x")
+    return rows
 
 
 # --- the compiled step, rod against cable --------------------------------------------------------
@@ -184,9 +282,10 @@ def step_table(steps, repeats):
 
 def main(argv=None):
     """Parse the arguments (``--quick``), print both tables and return their figures."""
-    args = arguments(__doc__, "PyElastica over 50 s (far from static), 2 repeats", argv)
+    args = arguments(__doc__, "PyElastica over a tenth of the time, 2 repeats", argv)
     repeats = 2 if args.quick else 5
     return {"step": step_table(500, repeats),
+            "stretching": stretching_table(20.0 if args.quick else 200.0, repeats),
             "cantilever": cantilever_table(50.0 if args.quick else 500.0, repeats)}
 
 

@@ -33,3 +33,17 @@ def test_timoshenko_cantilever_in_its_shear_stiff_limit(axial_scale, tol):
     exact = L * elastica_tip_load(F * L**2 / (E * I))[1]
     assert exact == pytest.approx(F * L**3 / (3 * E * I), rel=3e-4)
     assert tip_deflection(section, 8) == pytest.approx(exact, rel=tol)
+
+
+def test_axial_stretching_against_the_green_strain_closed_form():
+    """PyElastica's axial stretching (L = 1 m, r = 0.025 m, E = 1e4 Pa, 1 N at the tip, a
+    strain of 5 %, 19 elements) with our default law (Green strain): the tip moves by
+    ``L (lambda - 1)``, ``lambda (lambda^2 - 1) / 2 = F / EA``, to 1e-12 (measured 9e-15;
+    PyElastica's own law gives ``F L / (EA - F)``, ``benchmarks/rods.py``)."""
+    section = sc.Section.circular(0.025, 1e4, 1000.0, G=1e4 / 1.5)
+    rod = sc.Rod.straight([0, 0, 0], [1, 0, 0], 19, section, normal=[0, 1, 0])
+    system = sc.System([rod]).clamp(rod.node(0)).add_point_load(rod.node(-1), [1.0, 0, 0])
+    tip = sc.solve_static(system).q[system.dofs(rod)][rod.n_centreline - 6] - 1.0
+    roots = np.roots([1.0, 0.0, -1.0, -2.0 / section.EA])
+    stretch = roots[np.argmin(abs(roots - 1))].real
+    assert tip == pytest.approx(stretch - 1, rel=1e-12)
