@@ -171,22 +171,30 @@ def tangent_product(Hz, Sx, Sxx, St, Spt, weight, M, Ke):
 
 
 @njit(cache=True)
-def fold_mismatch(fe, Ke, ga, Ha, Kf, want):
+def fold_mismatch(fe, Ke, ga, Ha, Sx1, Kf, want):
     """Carry the extended coordinates' last one, the mismatch angle ``alpha``, to the
     centreline by ``d alpha = ga . du`` (its gradient ``ga``, Hessian ``Ha``): the forces
     ``fe`` (17,) in place and, if ``want``, the tangent ``Kf`` (16, 16) from the upper
-    triangle of ``Ke`` (17, 17)."""
+    triangle of ``Ke`` (17, 17).  ``alpha`` reads the end slope ``sum_A Sx1[A] u_A``
+    only: the rows of the 3-vectors ``A`` with ``Sx1[A] = 0`` (all but the end slope's,
+    for the cubic Hermite element) take no share."""
     fa = fe[16]
     for k in range(12):
         fe[k] += fa * ga[k]
-    for k in range(16 if want else 0):
-        gk = ga[k] if k < 12 else 0.0
+    if not want:
+        return
+    for k in range(16):
         for c in range(k, 16):
-            gc = ga[c] if c < 12 else 0.0
-            v = Ke[k, c] + gk * Ke[c, 16] + Ke[k, 16] * gc + gk * gc * Ke[16, 16]
-            if c < 12:
-                v += fa * Ha[k, c]
-            Kf[k, c] = Kf[c, k] = v
+            Kf[k, c] = Kf[c, k] = Ke[k, c]
+    for a in range(4):
+        for k in range(3 * a, 3 * a + 3 if Sx1[a] != 0.0 else 3 * a):
+            gk = ga[k]
+            for c in range(16):
+                Kf[k, c] += gk * Ke[c, 16]
+                Kf[c, k] += gk * Ke[c, 16]
+            for b in range(4):
+                for c in range(3 * b, 3 * b + 3 if Sx1[b] != 0.0 else 3 * b):
+                    Kf[k, c] += gk * ga[c] * Ke[16, 16] + fa * Ha[k, c]
 
 
 @njit(cache=True)
@@ -246,7 +254,7 @@ def kernel(pack, index, ev):
             point_forces(gz, Sxg, Sxxg, St, Spt, w[e, g], fe)
             if want:
                 tangent_product(Hz, Sxg, Sxxg, St, Spt, w[e, g], M, Ke)
-        fold_mismatch(fe, Ke, ga, Ha, Kf, want)
+        fold_mismatch(fe, Ke, ga, Ha, Sx1[e], Kf, want)
         energy[1] += We
         for k in range(16):
             f[edofs[e, k]] += fe[k]
