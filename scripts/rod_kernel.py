@@ -1,6 +1,7 @@
-"""Generate ``skfem_cable/kernels/rod_generated.py``: the rod's energy density beyond the
-cable's and the mismatch angle of two nodal reference directors, with their exact
-gradients and Hessians (sympy 1.14, common subexpressions eliminated), as numba kernels.
+"""Generate ``skfem_cable/kernels/rod_density.py`` and ``rod_mismatch.py`` (and their
+gradient-only twins ``*_gradient.py``): the rod's energy density beyond the cable's and
+the mismatch angle of two nodal reference directors, with their exact gradients and
+Hessians (sympy 1.14, common subexpressions eliminated), as numba kernels.
 
 Run from the repository root: ``python scripts/rod_kernel.py``.  The formulation is
 ``docs/rods.md``'s:
