@@ -8,7 +8,7 @@ two settings, each beside the round aluminium tether of equal mass (radius 0.564
   between two 20 kg end masses along the local vertical of a 400 km orbit, librating
   under the gravity gradient, released with one turn of twist.  Its libration is the
   round tether's (the tension, 0.2 N, makes the bending of either negligible); its twist
-  swings as a torsional wave of period `2 L / c`, `c = sqrt(GJ / rho I_p)` = 15.6 m/s:
+  swings as a torsional wave of period `2 L / c`, `c = sqrt(GJ / rho I_p)` = 15.8 m/s:
   634 s, where the round tether's would last 3 s.  The check: that period, measured
   over one orbit, against `2 L / c`.
 * **On a spinning hub**: 5 m tethers clamped radially to a hub of radius 0.2 m spun up

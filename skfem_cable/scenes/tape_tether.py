@@ -7,7 +7,7 @@ twist spread uniformly along it.
 
 The ends are free to turn (point masses carry no rotary inertia), so the twist is a
 torsional wave of the free-free tape: the twist of one end relative to the other swings
-as a triangle wave of period ``2 L / c``, ``c = sqrt(GJ / rho I_p)`` (15.6 m/s for this
+as a triangle wave of period ``2 L / c``, ``c = sqrt(GJ / rho I_p)`` (15.8 m/s for this
 tape: 640 s, about a ninth of the orbit).  The round tether of equal mass (``ROUND``)
 twists two hundred times faster (its ``c`` is 3.2 km/s).  Its libration is the round
 tether's: under the gravity-gradient tension (0.2 N) the bending stiffness of either,
