@@ -14,10 +14,12 @@ two settings, each beside the round aluminium tether of equal mass (radius 0.564
 * **On a spinning hub**: 5 m tethers clamped radially to a hub of radius 0.2 m spun up
   from rest to 2 rad/s in 3 s (the hub's motion prescribed: its clamp holds the tape's
   twist, so it passes the torque on).  The round tether lags behind the hub as a
-  string; the tape laid flat in the spin plane lags far less (it bends edgewise); the
-  tape pitched by 45 degrees bends about both principal axes at once: its lag drives it
-  out of the spin plane (coning) and twists it, bending coupled to twist through
-  `(EI_edge - EI_flat) kappa1 kappa2`.
+  string (3.1 rad at 3 s); the tape laid flat in the spin plane lags far less (0.12
+  rad: it bends edgewise); the tape pitched by 45 degrees bends about both principal
+  axes at once: bending coupled to twist through `(EI_edge - EI_flat) kappa1 kappa2`
+  twists it (up to 0.97 rad) until its soft axis takes the lag, which drives it out of
+  the spin plane (0.14 m) and lets it lag as the round tether does.  The run stops at
+  the end of the spin-up, before the slack tethers fold at the hub (`docs/rods.md`).
 
 Run `python demos/tape_tether.py [picture.png]`.
 """
@@ -90,7 +92,9 @@ def spun_up(section, rod=True, pitch=0.0, elements=8, t_end=RAMP, dt=5e-3):
 
 def hub_histories(result, line, system):
     """The tip's lag angle behind the hub (rad, positive behind), its height above the
-    spin plane (m) and, for a rod, its twist (rad; else zeros), over the saved steps."""
+    spin plane (m) and, for a rod, its twist (rad; else zeros), over the saved steps
+    (``Rod.twist`` from the initial frames carried to each step: right while the tangents
+    turn by less than half a turn, as they do during the spin-up)."""
     tip = result.position(line, line.length)
     psi = np.array([hub_angle(t) for t in result.t])
     lag = np.unwrap(psi - np.arctan2(tip[:, 1], tip[:, 0]))
