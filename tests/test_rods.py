@@ -1,6 +1,8 @@
 """The rod (issue 48, docs/rods.md): torsion alone, anisotropy, exact tangents, rigid
 tumbling, the loads reaching it as a cable, and the reference frames in checkpoints."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -38,7 +40,11 @@ def test_section_tape_and_circular():
     wire = sc.Section.circular(1e-3, 2e11, 7850.0, G=8e10)
     assert wire.GJ == pytest.approx(8e10 * np.pi * 1e-12 / 2, rel=1e-15)
     assert wire.EI_edge == wire.EI_flat == wire.EI
-    assert sc.Section.circular(1e-3, 2e11, 7850.0, nu=0.25).G == pytest.approx(8e10)
+    soft = sc.Section.circular(1e-3, 2e11, 7850.0, nu=0.25)
+    assert soft.GJ == pytest.approx(8e10 * np.pi * 1e-12 / 2, rel=1e-15)
+    # the default G follows E when a section is replaced (no stale shear modulus)
+    assert dataclasses.replace(soft, E=1e11).GJ == pytest.approx(4e10 * np.pi * 1e-12 / 2,
+                                                                  rel=1e-15)
     assert sc.Section.principal_axes == ("normal", "width")
     with pytest.raises(ValueError, match="thickness must be <= width"):
         sc.Section.tape(1e-3, 2e-3, 7e10, 2700.0)

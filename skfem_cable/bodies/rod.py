@@ -214,6 +214,26 @@ class Rod(Cable):
         return np.reshape([x[3] for x in self._section_state(q, s, frames)],
                           np.shape(s) + (3, 3))
 
+    # --- output ---------------------------------------------------------------------------
+    @property
+    def width(self):
+        """The width (m) of the rectangle with the section's area and principal moments,
+        ``sqrt(A sqrt(I_edge / I))``: a tape's own width (``sqrt(A)`` for a round wire);
+        the ribbon's width in ParaView (``io.export.ribbon``)."""
+        section = self.section
+        return float(np.sqrt(section.A * np.sqrt(section.EI_edge / section.EI_flat)))
+
+    def show(self, system, q, v, t, points_per_element=8, **detail):
+        """``Body.show``: the cable's line (``CableFields.show``) with the material frame
+        (``frame``, the reference of ``frames_at``) as point data ``director`` (``d1``,
+        the section's normal axis), ``width_direction`` (``d2``) and ``width``, from
+        which ``io.export`` draws the ribbon."""
+        shape = super().show(system, q, v, t, points_per_element, **detail)
+        frame = self.frame(q[system.dofs(self)], shape.data["arc_length"])
+        shape.data.update(director=frame[:, 0], width_direction=frame[:, 1],
+                          width=np.full(len(frame), self.width))
+        return shape
+
 
 def _shaped(s, values):
     """``values`` (one per arc length) in the shape of ``s``."""

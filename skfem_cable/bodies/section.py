@@ -66,7 +66,10 @@ class Section:
         Internal (Kelvin-Voigt) damping coefficients ``gamma_x, gamma_b`` of Eq. 36 in
         seconds, >= 0: ``N = EA (eps + gamma_x eps_dot)``, ``M = EI (kappa + gamma_b kappa_dot)``.
     G : float, optional
-        Shear modulus (Pa), > 0; default ``E / (2 (1 + 0.3))``.  Read by a ``Rod`` only.
+        Shear modulus (Pa), > 0; default ``E / (2 (1 + nu))``, which follows ``E`` when a
+        section is replaced with another ``E``.  Read by a ``Rod`` only.
+    nu : float
+        Poisson's ratio in ``(-1, 0.5]`` for the default ``G``; 0.3.
     J : float, optional
         Saint-Venant torsion constant (m^4), > 0; default ``2 I`` (a round section).
     I_edge : float, optional
@@ -122,6 +125,7 @@ class Section:
     G: float | None = None
     J: float | None = None
     I_edge: float | None = None
+    nu: float = 0.3
 
     #: The principal axes of the section: the rod's directors ``d1`` and ``d2``.
     principal_axes = ("normal", "width")
@@ -129,6 +133,7 @@ class Section:
     def __post_init__(self):
         for name in ("E", "A", "I", "rho"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        shear_modulus(self.E, self.G, self.nu)  # checks G or nu
         for name in ("G", "J", "I_edge"):
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, check_positive(name, getattr(self, name)))
@@ -163,7 +168,7 @@ class Section:
         """
         r = check_positive("radius", radius)
         return cls(E=E, A=math.pi * r**2, I=math.pi * r**4 / 4, rho=rho,
-                   G=shear_modulus(E, G, nu), J=math.pi * r**4 / 2, **damping)
+                   G=G, nu=nu, J=math.pi * r**4 / 2, **damping)
 
     @classmethod
     def tape(cls, width, thickness, E, rho, G=None, nu=0.3, **damping):
@@ -190,7 +195,7 @@ class Section:
         if t > w:
             raise ValueError(f"thickness must be <= width (a tape), got thickness {t!r} "
                              f"and width {w!r}")
-        return cls(E=E, A=w * t, I=w * t**3 / 12, rho=rho, G=shear_modulus(E, G, nu),
+        return cls(E=E, A=w * t, I=w * t**3 / 12, rho=rho, G=G, nu=nu,
                    J=w * t**3 / 3 * (1 - 0.63 * t / w), I_edge=t * w**3 / 12, **damping)
 
     @property
@@ -221,7 +226,7 @@ class Section:
     @property
     def GJ(self):
         """Torsional stiffness ``G J`` (N m^2)."""
-        G = shear_modulus(self.E, self.G, 0.3)
+        G = shear_modulus(self.E, self.G, self.nu)
         return G * (2 * self.I if self.J is None else self.J)
 
     @property

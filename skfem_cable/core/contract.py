@@ -350,6 +350,8 @@ class Step:
 
 #: Values of a ``Shape``'s ``part`` (the cell data ``part`` of the ParaView output).
 PART_CABLE, PART_RIGID, PART_POINT_MASS = 0, 1, 2
+#: The ``part`` of a ribbon (``io.export.ribbon``): a rod's section drawn along its line.
+PART_RIBBON = 3
 #: The part of what a load shows (``show``, e.g. the contact forces of ``loads.contact``).
 PART_LOAD = 4
 

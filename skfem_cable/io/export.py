@@ -13,7 +13,12 @@ appears as it says:
 * a rigid body is a closed triangulated surface following its motion: a cylinder for
   ``RigidBody.cylinder`` (axis along the body ``x`` axis), the tetrahedron of its base
   points otherwise (``RigidBody.surface``);
-* point masses are ``vertex`` cells; a reel shows nothing.
+* point masses are ``vertex`` cells; a reel shows nothing;
+* a line that carries the point data ``width_direction`` and ``width`` (a rod,
+  ``Rod.show``: its material frame's ``d2`` and its section's width; also ``director``,
+  ``d1``) is drawn as a ribbon too (``ribbon``): ``quad`` cells, part ``PART_RIBBON``,
+  between its two edges ``r +- width / 2 width_direction``, with the line's point data on
+  both edges (so ParaView colours the ribbon as the line; ``cable_id`` -1).
 
 Fields that only some shapes carry (the cables' ``tension``, ``axial_strain``,
 ``curvature``, ``arc_length``) are NaN on the other points, and their ids are -1;
@@ -36,7 +41,7 @@ import meshio
 import numpy as np
 
 from ..bodies.section import positive_int
-from ..core.contract import PART_CABLE, PART_POINT_MASS, Shape
+from ..core.contract import PART_CABLE, PART_POINT_MASS, PART_RIBBON, Shape
 from ..util.atomic import replacing
 
 
@@ -81,6 +86,8 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0, l
                 s = shape.data["arc_length"]
                 shape.data.update({name: fn(s) for name, fn in fields.items()})
         shapes.append((shape, body_id))
+        if RIBBON_DATA <= set(shape.data):
+            shapes.append((ribbon(shape), body_id))
     for point_mass in system.point_masses:
         dofs, G = system.position_map(point_mass.point)
         owner = max(i for i, b in enumerate(system.bodies) if system.dofs(b)[0] <= dofs[0])
@@ -92,6 +99,25 @@ def system_mesh(system, q, v=None, points_per_element=8, resolution=32, t=0.0, l
         if shape is not None:
             shapes.append((shape, -1))
     return _mesh(shapes)
+
+
+#: The point data of a line that make it drawn as a ribbon (``ribbon``).
+RIBBON_DATA = {"width_direction", "width"}
+
+
+def ribbon(line):
+    """The ribbon of a ``line`` shape carrying the point data ``width_direction`` (unit)
+    and ``width``: its points ``r - w/2 d2`` and ``r + w/2 d2`` interleaved (edge ``-``
+    at even, ``+`` at odd indices), one ``quad`` between consecutive points of the line
+    (the line's ``line`` cells in order), the line's velocity and point data on both
+    edges; part ``PART_RIBBON``."""
+    half = 0.5 * np.asarray(line.data["width"])[:, None] * line.data["width_direction"]
+    points = np.stack([line.points - half, line.points + half], axis=1).reshape(-1, 3)
+    a, b = np.asarray(line.cells).T
+    quads = np.column_stack([2 * a, 2 * b, 2 * b + 1, 2 * a + 1])
+    data = {k: np.repeat(np.asarray(x), 2, axis=0) for k, x in line.data.items()}
+    return Shape(points, np.repeat(line.velocity, 2, axis=0), "quad", quads, PART_RIBBON,
+                 data)
 
 
 def _mesh(shapes):

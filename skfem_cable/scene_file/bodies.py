@@ -1,6 +1,7 @@
-"""The bodies of a scene file: ``[sections.NAME]``, ``[[cables]]``, ``[[rigid_bodies]]``,
-and the references to their points (cable nodes, rigid-body points) that constraints,
-point masses and loads use.  ``Bodies`` holds what was defined so far, by name."""
+"""The bodies of a scene file: ``[sections.NAME]``, ``[[cables]]``, ``[[rods]]``,
+``[[rigid_bodies]]``, and the references to their points (cable and rod nodes,
+rigid-body points) that constraints, point masses and loads use.  ``Bodies`` holds what
+was defined so far, by name."""
 
 import numpy as np
 
@@ -8,10 +9,25 @@ from ..bodies.cable import Cable
 from ..bodies.formulation import FORMULATIONS
 from ..bodies.memory import check_total_memory
 from ..bodies.rigid import RigidBody
+from ..bodies.rod import Rod
 from ..bodies.section import Section
 from ..elements import DEFAULT_ELEMENT, ELEMENTS
 from ..laws import BUILTIN
-from .schema import choice, count, integer, non_negative, positive, rotation, text, vector3
+from .schema import (
+    choice,
+    count,
+    direction3,
+    integer,
+    interval,
+    non_negative,
+    positive,
+    rotation,
+    text,
+    vector3,
+)
+
+#: What ``Bodies.body`` calls a body of each kind in its errors.
+KIND_NAMES = {Cable: "cable", Rod: "rod", RigidBody: "rigid body"}
 
 
 class Bodies:
@@ -34,13 +50,14 @@ class Bodies:
         body = self.bodies.get(name)
         if not isinstance(body, kind):
             names = [n for n, b in self.bodies.items() if isinstance(b, kind)]
-            t.fail(key, f"names no {'cable' if kind is Cable else 'rigid body'} "
-                        f"(defined: {', '.join(names) or 'none'})", name)
+            t.fail(key, f"names no {KIND_NAMES[kind]} (defined: {', '.join(names) or 'none'})",
+                   name)
         return body
 
     def point(self, parent, key, ground=False, body_points=True):
-        """A point reference ``parent[key]``: ``{cable, index}`` (a cable node), ``{body,
-        point}`` (a rigid-body point) or, with ``ground``, a list of 3 numbers."""
+        """A point reference ``parent[key]``: ``{cable, index}`` (a cable node), ``{rod,
+        index}`` (a rod node), ``{body, point}`` (a rigid-body point) or, with ``ground``,
+        a list of 3 numbers."""
         value = parent.data.get(key)
         if ground and isinstance(value, list):
             return parent.get(key, vector3)
@@ -50,8 +67,9 @@ class Bodies:
             forms += ", or [x, y, z]" if ground else ""
             parent.fail(key, f"must be {forms}", value)
         t = parent.inline(key)
-        if "cable" in value or not body_points:
-            cable = self.body(t, "cable", Cable)
+        if "rod" in value or "cable" in value or not body_points:
+            line = "rod" if "rod" in value else "cable"
+            cable = self.body(t, line, Cable if line == "cable" else Rod)
             index = t.get("index", integer)
             if not -cable.n_nodes <= index < cable.n_nodes:
                 t.fail("index", f"is out of range for {cable.n_nodes} nodes", index)
@@ -64,24 +82,29 @@ class Bodies:
 
 
 def read_section(t):
-    """A ``[sections.NAME]`` table: ``E``, ``rho``, ``radius`` or ``A`` and ``I``, damping."""
-    if "A" in t.data or "I" in t.data:
-        radius = None
-        A, I = t.get("A", positive), t.get("I", positive)
-    else:
-        A = I = None
-        radius = t.get("radius", positive)
+    """A ``[sections.NAME]`` table: ``E``, ``rho``, ``radius``, or ``A`` and ``I`` (with a
+    rod's ``G``, ``J``, ``I_edge``), or a tape's ``width`` and ``thickness``; ``G`` or
+    ``nu`` for the round wire and the tape; damping."""
     common = {"E": t.get("E", positive), "rho": t.get("rho", positive),
               "gamma_axial": t.get("gamma_axial", non_negative, 0.0),
-              "gamma_bending": t.get("gamma_bending", non_negative, 0.0)}
-    t.finish()
-    if radius is None:
-        return Section(A=A, I=I, **common)
+              "gamma_bending": t.get("gamma_bending", non_negative, 0.0),
+              "G": t.get("G", positive, None)}
+    if "A" in t.data or "I" in t.data:
+        section = Section(A=t.get("A", positive), I=t.get("I", positive),
+                          J=t.get("J", positive, None), I_edge=t.get("I_edge", positive, None),
+                          **common)
+        t.finish()
+        return section
+    nu = t.get("nu", interval(-1.0, 0.5), 0.3)
+    tape = "width" in t.data or "thickness" in t.data
+    key = "width" if tape else "radius"
+    sizes = [t.get(k, positive) for k in (("width", "thickness") if tape else ("radius",))]
     try:
-        return Section.circular(radius=radius, **common)
-    except ValueError as err:  # pi r^2 or pi r^4 / 4 out of floating-point range
-        t.fail("radius", f"is out of range ({err}: A = pi r^2, I = pi r^4 / 4 in floating "
-               "point)", radius)
+        section = (Section.tape if tape else Section.circular)(*sizes, nu=nu, **common)
+    except ValueError as err:  # a tape thicker than wide; pi r^2 or pi r^4 / 4 out of range
+        t.fail(key, f"is out of range ({err})", sizes[0])
+    t.finish()
+    return section
 
 
 def read_sections(t, bodies):
@@ -110,9 +133,9 @@ def check_cables_memory(root, tables, bodies):
         root.fail("cables", f"are too large: {err}")
 
 
-def read_cable(t, bodies):
-    """A ``[[cables]]`` table: a straight, stress-free cable, or, with ``length``, a cable of
-    that unstretched length between ``start`` and ``end`` (``Cable.between``)."""
+def read_line(t, bodies):
+    """The keys a cable and a rod share: ``name``, ``section``, ``start``, ``end``,
+    ``elements``, ``length`` and ``sag``; returns them as a dict."""
     name = t.get("name", text)
     section = t.get("section", text)
     if section not in bodies.sections:
@@ -126,27 +149,62 @@ def read_cable(t, bodies):
     n = t.get("elements", count, bodies.elements)
     if n is None:
         t.fail("elements", "is required")
-    element = t.get("element", choice(*ELEMENTS), DEFAULT_ELEMENT)
-    kind = t.get("kind", choice(*BUILTIN), None)
-    formulation = t.get("formulation", choice(*FORMULATIONS), None)
     length = t.get("length", positive, None)
     sag = t.get("sag", vector3, None)
     if sag is not None and length is None:
         t.fail("sag", "needs length (the unstretched length of a cable that may sag)")
-    quadrature = read_quadrature(t) if "quadrature" in t.data else None
-    t.finish()
-    options = dict(law=kind, name=name, formulation=formulation, element=element,
-                   quadrature=quadrature)
-    n = bodies.elements or n
+    return {"name": name, "section": bodies.sections[section], "start": start, "end": end,
+            "n": bodies.elements or n, "length": length, "sag": sag}
+
+
+def build_line(t, kind, line, **options):
+    """``kind.straight`` or, with a ``length``, ``kind.between`` (``Cable``, ``Rod``) of
+    the keys ``line`` (``read_line``) and ``options``; a ``ValueError`` of the body names
+    the key its message starts with (``quadrature``, ``sag``, ``normal``), else
+    ``element``."""
+    args = (line["start"], line["end"], line["n"], line["section"])
     try:
-        cable = Cable.straight(start, end, n, bodies.sections[section], **options) \
-            if length is None else \
-            Cable.between(start, end, length, n, bodies.sections[section], sag, **options)
+        if line["length"] is None:
+            return kind.straight(*args, name=line["name"], **options)
+        return kind.between(*args[:2], line["length"], *args[2:], line["sag"],
+                            name=line["name"], **options)
     except ValueError as err:  # a rule or sag refused, a law or formulation the element
         # does not have: the key the message starts with, else the element
-        key = next((k for k in ("quadrature", "sag") if str(err).startswith(k)), "element")
-        t.fail(key, f"does not take this cable: {err}")
-    bodies.add(t, cable)
+        key = next((k for k in ("quadrature", "sag", "normal") if str(err).startswith(k)),
+                   "element")
+        t.fail(key, f"does not take this {kind.__name__.lower()}: {err}")
+
+
+def read_cable(t, bodies):
+    """A ``[[cables]]`` table: a straight, stress-free cable, or, with ``length``, a cable of
+    that unstretched length between ``start`` and ``end`` (``Cable.between``); ``element =
+    "rod"`` makes it a rod (``rods.read_rod``)."""
+    if t.data.get("element") == ROD_ELEMENT:
+        return read_rod(t, bodies)
+    line = read_line(t, bodies)
+    element = t.get("element", choice(*ELEMENTS, ROD_ELEMENT), DEFAULT_ELEMENT)
+    kind = t.get("kind", choice(*BUILTIN), None)
+    formulation = t.get("formulation", choice(*FORMULATIONS), None)
+    quadrature = read_quadrature(t) if "quadrature" in t.data else None
+    t.finish()
+    bodies.add(t, build_line(t, Cable, line, law=kind, formulation=formulation,
+                             element=element, quadrature=quadrature))
+
+
+#: ``element = "rod"`` in a ``[[cables]]`` table: the table is read as a ``[[rods]]`` one.
+ROD_ELEMENT = "rod"
+
+
+def read_rod(t, bodies):
+    """A ``[[rods]]`` table (or a ``[[cables]]`` one with ``element = "rod"``): the keys
+    of a cable (``read_line``) and ``normal``, the direction of the section's normal axis
+    (a tape's thickness direction; default one normal to the rod), ``sc.Rod``."""
+    line = read_line(t, bodies)
+    t.get("element", choice(ROD_ELEMENT), ROD_ELEMENT)
+    normal = t.get("normal", direction3, None)
+    formulation = t.get("formulation", choice(*FORMULATIONS), None)
+    t.finish()
+    bodies.add(t, build_line(t, Rod, line, normal=normal, formulation=formulation))
 
 
 def read_rigid_body(t, bodies):

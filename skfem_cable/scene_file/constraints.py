@@ -5,7 +5,7 @@ entry."""
 import numpy as np
 
 from .. import constraints
-from .schema import choice, direction3
+from .schema import boolean, choice, direction3
 
 
 def directions(value):
@@ -30,9 +30,11 @@ def pin(t, bodies, node):
 
 def clamp(t, bodies, node):
     """``type = "clamp"``: position and slope direction fixed (``direction``, default the
-    node's initial slope), or the whole slope vector (``slope = "full"``)."""
+    node's initial slope), or the whole slope vector (``slope = "full"``); on a rod's
+    node its twist held (``twist = true``, the default) or free (``twist = false``)."""
     return constraints.clamp(node, t.get("direction", direction3, None),
-                             slope=t.get("slope", choice("direction", "full"), "direction"))
+                             slope=t.get("slope", choice("direction", "full"), "direction"),
+                             twist=t.get("twist", boolean, True))
 
 
 #: Readers of the constraint types: ``reader(t, bodies, node)`` returns the constraints.

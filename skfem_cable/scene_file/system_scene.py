@@ -11,7 +11,14 @@ from ..model.system import System
 from ..runner.drive import run_dynamic, run_static
 from ..solvers.static import solve_static
 from ..solvers.steady import solve_steady
-from .bodies import Bodies, check_cables_memory, read_cable, read_rigid_body, read_sections
+from .bodies import (
+    Bodies,
+    check_cables_memory,
+    read_cable,
+    read_rigid_body,
+    read_rod,
+    read_sections,
+)
 from .constraints import read_constraint
 from .contacts import read_contact
 from .controllers import read_controllers
@@ -51,13 +58,16 @@ def build(root, elements=None, epoch=None):
     bodies = Bodies(elements)
     read_sections(root.table("sections"), bodies)
     cables = root.tables("cables")
-    check_cables_memory(root, cables, bodies)
+    rods = root.tables("rods")
+    check_cables_memory(root, cables + rods, bodies)
     for t in cables:
         read_cable(t, bodies)
+    for t in rods:
+        read_rod(t, bodies)
     for t in root.tables("rigid_bodies"):
         read_rigid_body(t, bodies)
     if not bodies.bodies:
-        root.fail("cables", "or rigid_bodies must define at least one body")
+        root.fail("cables", "or rods or rigid_bodies must define at least one body")
     deploys = root.tables("deploy")
     reels = [read_reel(t, bodies) for t in deploys]     # bodies too
     system = System(list(bodies.bodies.values()))

@@ -322,3 +322,6 @@ register("tss", "skfem_cable.scenes.tss:run",
          "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations; "
          "--model ancf (default) or rodchain",
          build="skfem_cable.scenes.tss:scene", takes=("model",))
+register("tape-tether", "skfem_cable.scenes.tape_tether:run",
+         "5 km aluminium tape (sc.Rod) in a 400 km orbit, librating, one turn of twist: "
+         "torsional period against 2L/c", build="skfem_cable.scenes.tape_tether:scene")
