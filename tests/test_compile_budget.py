@@ -7,6 +7,7 @@ asserted: these count what is compiled."""
 import numba
 import numpy as np
 import scipy.sparse as sp
+from node_spring import NodeSpring
 
 import skfem_cable as sc
 from skfem_cable.core.linalg import PatternSolver
@@ -49,3 +50,33 @@ def test_one_thread_leaves_the_threaded_lu_out_of_the_compiled_code():
     assert np.allclose(one.solve(rhs), np.linalg.solve(matrix.toarray(), rhs), rtol=1e-14)
     assert any(signature[0][-1] == numba.types.none for signature in
                bordered.factor.signatures)
+
+
+class _Push:
+    """A constant force on a node, a Python ``add`` hook without tangent (its index
+    ``None``)."""
+
+    def __init__(self, node):
+        self.node, self.name = node, "push"
+
+    def bind(self, system):
+        d = system.dofs(self.node)[:3]
+
+        def add(ev, index):
+            ev.f_ext[d] += 1.0
+
+        return sc.Term(add=add, name=self.name)
+
+
+def test_python_terms_of_any_index_shape_share_one_step_signature():
+    """Before: a Python term's index (never read by the compiled step) went into the
+    step's arguments, so a node spring (a 2-d index) and a push (none) gave the same module
+    two signatures, two compilations (7 of the 252 step modules of this machine's cache had
+    two, all so)."""
+    steps = []
+    for load in (lambda cable: NodeSpring(cable.node(-1), 50.0, [1.0, 0, 0]), _Push):
+        system = _pinned_cable(2, 1.0, 7e10, 7800.0, 9.81)
+        system.add_load(load(system.bodies[0]))
+        steps.append(GeneralizedAlpha(system).compiled)
+    assert steps[0].newton is steps[1].newton
+    assert numba.typeof(steps[0].terms) == numba.typeof(steps[1].terms)

@@ -218,12 +218,14 @@ class PythonParts:
 def _term_slots(lay, key):
     """``(functions, packs, indices)`` of the slots of the terms of ``lay`` in order (a
     term's kernels, or one ``PYTHON`` slot for an ``add`` hook, its pack the ``key`` of
-    the ``PythonParts``), and the Python terms ``{slot: (term, index)}``."""
+    the ``PythonParts``, its index ``NO_INDEX``: the compiled code does not read it, and
+    a term's own index, an array of any shape, would give the step a signature, and a
+    compilation, per shape), and the Python terms ``{slot: (term, index)}``."""
     slots, python = [], {}
     for term, index in lay.body_terms + lay.load_terms:
         if term.add is not None:
             python[len(slots)] = (term, index)
-        index = NO_INDEX if index is None else index
+        index = NO_INDEX if index is None or term.add is not None else index
         kernels = ((PYTHON, np.int64(key)),) if term.add is not None else term.kernels
         slots += [(function, pack, index) for function, pack in kernels]
     return tuple(zip(*slots)) if slots else ((), (), ()), python
