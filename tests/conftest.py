@@ -20,6 +20,9 @@ a file's tests on one worker).  Two things here keep that fast from a cold kerne
 import os
 from pathlib import Path
 
+#: ``SKFEM_CABLE_COMPILE_LOG=DIR``: what numba compiles, test by test (``compile_recorder``).
+pytest_plugins = ["compile_recorder"]
+
 ROOT = Path(__file__).resolve().parents[1]
 
 #: The test files that took longest on a cold kernel cache, longest first (seconds of one

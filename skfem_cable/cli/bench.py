@@ -42,6 +42,8 @@ NOT_QUICK = {
                       "worktree of the reference commit (bench --against)",
     "adaptive_fronts": "about 40 s quick: a fixed 0.025 s reference and eight runs of the "
                        "12-tether sail",
+    "compile_cost": "about 40 s: a fresh process compiles a system and a second Newton "
+                    "step from an empty kernel cache",
     "esail_full": "about 15 s quick: the full-size sail (100 tethers) built and run five "
                   "times over 300 s",
     "esail_floor": "about 20 s quick: the machine's peaks in a fresh process, the E-sail "

@@ -25,7 +25,7 @@ solve per block, the border's dense solve, and ``x_B' = y - W x_D'``:
 With ``k = 0`` it is the banded LU of the blocks alone.  All storage is made once
 (``storage``, for ``linalg``): ``lu = (addresses, ab, ipiv, E, F, W, S, ipiv_s, target,
 position, perm, band, ints, work, starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr,
-parts, infos)``: LAPACK addresses; the band (``kernels.lapack`` layout) and its pivots
+parts, infos, parallel)``: LAPACK addresses; the band (``kernels.lapack`` layout) and its pivots
 (1-based within each block); ``E`` and ``F`` as ``(k, nb)`` and ``(nb, k)`` arrays whose
 rows are the blocks' columns; ``W`` like ``E``; ``S`` column-major ``(k, k)`` and its
 pivots; for every CSR value of the matrix its block (int8; 0: band, 1: E, 2: F, 3: D) and
@@ -33,7 +33,10 @@ flat position there; the ordering; the half-width; int32 scratch, a row per bloc
 one for ``S``; float scratch (n); the blocks' first band unknowns (``nblocks + 1``); the
 coupling rows and columns of each block (CSR-like, band indices); the ``X_j``, each
 ``(|R_j|, n_j)``, flat at ``x_ptr``; each block's part of ``F W`` ``(nblocks, k, k)``;
-each block's LAPACK ``info``; whether the blocks run on threads.
+each block's LAPACK ``info``; ``True`` if the blocks run on threads, else ``None``:
+numba prunes a branch on ``None`` when it compiles, so that on one thread the threaded
+loops (``prange``, seconds to compile) are neither compiled nor linked into the Newton
+step.
 """
 
 import numpy as np
@@ -53,8 +56,8 @@ def factor(lu, data):
      starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
     k = S.shape[0]
     nblocks = starts.size - 1
-    _scatter(data, target, position, ab, E, F, S, parallel[0])
-    _blocks(lu, FACTOR, parallel[0])
+    _scatter(data, target, position, ab, E, F, S, parallel)
+    _blocks(lu, FACTOR, parallel)
     for j in range(nblocks):
         if infos[j] > 0:
             return perm[starts[j] + infos[j] - 1]
@@ -73,10 +76,10 @@ def factor(lu, data):
 @njit(cache=True)
 def _scatter(data, target, position, ab, E, F, S, parallel):
     """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``), every
-    other entry zero; on numba's threads if ``parallel`` (assignments to distinct
+    other entry zero; on numba's threads unless ``parallel`` is None (assignments to distinct
     places: the same on any thread count)."""
     flat = (ab.ravel(), E.ravel(), F.ravel(), S.ravel())
-    if parallel:
+    if parallel is not None:
         _scatter_parallel(data, target, position, flat)
         return
     for k in range(4):
@@ -161,7 +164,7 @@ def solve(lu, rhs, out):
     nb, k = ab.shape[0], S.shape[0]
     for i in range(perm.size):
         work[i] = rhs[perm[i]]
-    _blocks(lu, SUBSTITUTE, parallel[0])
+    _blocks(lu, SUBSTITUTE, parallel)
     if k:
         y, g = work[:nb], work[nb:]
         for i in range(cols.size):  # g = x_D - F y, over the coupling columns
@@ -170,15 +173,16 @@ def solve(lu, rhs, out):
             for r in range(k):
                 g[r] -= F[p, r] * yp
         dense_solve(addresses, S, ipiv_s, g, ints[starts.size - 1])
-        _blocks(lu, CORRECT, parallel[0])
+        _blocks(lu, CORRECT, parallel)
     for i in range(perm.size):
         out[perm[i]] = work[i]
 
 
 @njit(cache=True)
 def _blocks(lu, stage, parallel):
-    """``_block`` of every block at ``stage``, on numba's threads if ``parallel``."""
-    if parallel:
+    """``_block`` of every block at ``stage``, on numba's threads unless ``parallel`` is
+    None (the threaded loop is then not compiled)."""
+    if parallel is not None:
         _blocks_parallel(lu, stage)
     else:
         for j in range(lu[14].size - 1):
@@ -296,4 +300,4 @@ def storage(addresses, rows, cols, perm, nb, band, threads=1):
             np.zeros(n), starts, rows_ptr, coupling_rows, cols_ptr, coupling_cols,
             np.zeros(x_ptr[-1]), x_ptr, np.zeros((nblocks, k, k)),
             np.zeros(nblocks, dtype=np.int64),
-            np.array([threads > 1 and nblocks > 1], dtype=np.bool_))
+            True if threads > 1 and nblocks > 1 else None)

@@ -8,7 +8,8 @@ numba's events: the time spent under the lock (compiling or loading) adds up in
 function (less the functions it compiled in turn).  When the outermost section under the
 lock ends, one line per generated module that compiled there (``DESCRIPTIONS``) and one
 for the package's own kernels go to stderr; a run that only loads compiled code from the
-cache says nothing.  Threads are counted apart.
+cache says nothing.  Threads are counted apart.  ``Recorder``, for profiling, lists every
+compilation with its CPU seconds and its LLVM part (not installed by default).
 """
 
 import sys
@@ -100,3 +101,64 @@ def install():
     """Listen to numba's compiler events (called once: on importing the package)."""
     for kind, listener in _LISTENERS.items():
         event.register(kind, listener)
+
+
+class Recorder(event.Listener):
+    """Every compilation of a dispatcher with its CPU seconds, for profiling what is
+    compiled (``tests/compile_recorder.py``, ``benchmarks/compile_cost.py``).
+
+    ``compiles`` lists ``[function, seconds, llvm seconds]`` per compilation: the CPU
+    seconds of the compiling thread less those of the compilations nested in it, and of
+    those the seconds under numba's LLVM lock (optimisation and machine code); ``take``
+    returns them and starts a new list.  ``install`` registers it (and its LLVM clock)."""
+
+    def __init__(self):
+        # of each compilation under way: [start, nested seconds, LLVM seconds at its
+        # start, nested LLVM seconds]
+        self.compiling = []
+        self.llvm = 0.0  # seconds under the LLVM lock so far (_LlvmClock)
+        self.compiles = []
+
+    def install(self):
+        """Listen to numba's compile and LLVM-lock events."""
+        event.register("numba:compile", self)
+        event.register("numba:llvm_lock", _LlvmClock(self))
+        return self
+
+    def take(self):
+        """The compilations recorded since the last ``take``."""
+        compiles, self.compiles = self.compiles, []
+        return compiles
+
+    def on_start(self, ev):
+        self.compiling.append([time.thread_time(), 0.0, self.llvm, 0.0])
+
+    def on_end(self, ev):
+        if not self.compiling:  # installed during a compilation
+            return
+        start, nested, llvm_start, nested_llvm = self.compiling.pop()
+        spent, llvm = time.thread_time() - start, self.llvm - llvm_start
+        if self.compiling:
+            self.compiling[-1][1] += spent
+            self.compiling[-1][3] += llvm
+        py = getattr(ev.data.get("dispatcher"), "py_func", None)
+        name = f"{getattr(py, '__module__', '?')}.{getattr(py, '__qualname__', '?')}"
+        self.compiles.append([name, spent - nested, llvm - nested_llvm])
+
+
+class _LlvmClock(event.Listener):
+    """The CPU seconds of the thread under numba's LLVM lock (outermost sections), added
+    to its ``Recorder``'s ``llvm``."""
+
+    def __init__(self, recorder):
+        self.recorder, self.depth, self.start = recorder, 0, 0.0
+
+    def on_start(self, ev):
+        if self.depth == 0:
+            self.start = time.thread_time()
+        self.depth += 1
+
+    def on_end(self, ev):
+        self.depth -= 1
+        if self.depth == 0:
+            self.recorder.llvm += time.thread_time() - self.start

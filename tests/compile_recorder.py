@@ -1,0 +1,41 @@
+"""What numba compiles during the test suite, test by test (a pytest plugin of
+``conftest.py``, on only with ``SKFEM_CABLE_COMPILE_LOG=DIR``).
+
+Every compilation of a dispatcher is charged to the test running it
+(``kernels.compile_log.Recorder``: CPU seconds of the compiling thread, less nested
+compilations, and of those the seconds under numba's LLVM lock).  Each worker appends one
+JSON line per test to ``DIR/compile-<worker>.jsonl``: ``{"test", "cpu", "compiles":
+[[function, seconds, llvm seconds], ...]}`` (``cpu``: the worker's process CPU seconds at
+the test's end).  ``python benchmarks/compile_cost.py --suite DIR`` sums them up.
+"""
+
+import json
+import os
+import time
+from pathlib import Path
+
+from skfem_cable.kernels.compile_log import Recorder
+
+#: The environment variable naming the folder of the records.
+LOG = "SKFEM_CABLE_COMPILE_LOG"
+
+_recorder = Recorder()
+
+
+def pytest_configure(config):
+    """Listen to numba's compilations (only with ``SKFEM_CABLE_COMPILE_LOG``)."""
+    if os.environ.get(LOG):
+        _recorder.install()
+
+
+def pytest_runtest_teardown(item, nextitem):
+    """Append the test's compilations to this worker's records (in the process that ran
+    it: xdist's controller does not run this hook)."""
+    folder = os.environ.get(LOG)
+    if not folder:
+        return
+    worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
+    line = {"test": item.nodeid, "cpu": time.process_time(), "compiles": _recorder.take()}
+    Path(folder).mkdir(parents=True, exist_ok=True)
+    with open(Path(folder) / f"compile-{worker}.jsonl", "a") as out:
+        out.write(json.dumps(line) + "\n")
