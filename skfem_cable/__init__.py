@@ -96,6 +96,7 @@ from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
 from .loads.gravity import Centrifugal, Gravity
 from .loads.line import LineLoad
 from .loads.point import PointLoad, PointMass, PointMoment
+from .loads.twist import TwistTorque
 from .model.state import State
 from .model.system import System, SystemChanged
 from .results.result import Result
@@ -144,6 +145,7 @@ __all__ = [
     "PointLoad",
     "PointMass",
     "PointMoment",
+    "TwistTorque",
     "Term",
     "ELEMENTS",
     "CableElement",

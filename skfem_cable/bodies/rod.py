@@ -132,6 +132,21 @@ class Rod(Cable):
         kernel.rebase(np.ascontiguousarray(q, dtype=float), slopes, t0, d0)
         return t0, d0
 
+    def rigid_velocity(self, omega, center, q=None):
+        """The velocities (this rod's coordinates) of the rod at ``q`` (default ``q0``)
+        turning rigidly at ``omega`` (rad/s) about ``center``: ``omega x (r - center)`` on
+        the positions, ``omega x r'`` on the slopes and the spin ``omega . t`` on the nodes'
+        twist angles (their rates zero: exact for a straight rod, whose reference frames
+        turn with it)."""
+        q = self.q0 if q is None else np.asarray(q, float)
+        omega, center = np.asarray(omega, float), np.asarray(center, float)
+        vectors = q[:self.n_centreline].reshape(-1, 2, 3)
+        v = np.zeros(self.n_dofs)
+        v[:self.n_centreline] = np.cross(omega, vectors - [center, np.zeros(3)]).ravel()
+        slopes = vectors[:, 1]
+        v[self.n_centreline::2] = slopes @ omega / np.linalg.norm(slopes, axis=1)
+        return v
+
     # --- internal forces -----------------------------------------------------------------
     def bind(self, system):
         """The cable's term (``Cable.bind``: axial and isotropic bending ``EI_flat``) with

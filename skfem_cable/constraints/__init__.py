@@ -39,7 +39,7 @@ from .dependence import (
     dependence_message,
     dependent_constraints,
 )
-from .joints import BodySlope, clamp, pin
+from .joints import BodySlope, clamp, hold_twist, pin
 from .linear import LinearConstraint, SlopeDirection, orthonormal_complement
 from .prescribed import TIME_STEP, Motion, time_derivatives
 
@@ -54,6 +54,7 @@ __all__ = [
     "clamp",
     "dependence_message",
     "dependent_constraints",
+    "hold_twist",
     "orthonormal_complement",
     "pin",
     "time_derivatives",

@@ -96,13 +96,40 @@ def _twist(node, twist, position):
         raise ValueError(f"twist: a clamp of {node!r} to a rigid body does not carry the "
                          "twist with the body yet; pass twist=False (free twist) "
                          "(docs/rods.md, 'What remains')")
+    return [hold_twist(node, twist)]
+
+
+def hold_twist(node, twist=True):
+    """The twist angle of a rod's node held at its initial value (``twist=True``) or
+    driven, ``twist(t)`` (rad): one equation, label ``T`` (``-lambda`` is the torque on
+    the twist, whose moment is semi-tangential, ``loads.TwistTorque``).  With ``pin``, a
+    hinge that holds the twist (Greenhill's shaft, ``docs/rods.md``); ``clamp`` adds it.
+
+    Parameters
+    ----------
+    node : Node
+        A rod's node (``Node.has_twist``).
+    twist : True or callable
+
+    Returns
+    -------
+    LinearConstraint
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> from skfem_cable import constraints
+    >>> rod = sc.Rod.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> constraints.hold_twist(rod.node(0)).labels
+    ['T']
+    """
     if twist is not True and not callable(twist):
         raise ValueError(f"twist must be True, False or a callable twist(t) (rad), got "
                          f"{twist!r}")
     motion = Motion(lambda t: np.atleast_1d(twist(t)), name="twist", size=1) \
         if callable(twist) else node.body.q0[node.twist_dofs]
-    return [LinearConstraint(lambda s: s.dofs(node.body)[node.twist_dofs], np.eye(1), motion,
-                             f"twist {node!r}", ["T"])]
+    return LinearConstraint(lambda s: s.dofs(node.body)[node.twist_dofs], np.eye(1), motion,
+                            f"twist {node!r}", ["T"])
 
 
 def _clamp(node, direction, position, velocity, acceleration, slope):
