@@ -60,6 +60,8 @@ class Rod(Cable):
 
     #: ``Body.energy_parts``: the cable's stretching; bending and twist together.
     energy_parts = ("axial", "bending and twist")
+    #: Not part of a system's description (``fingerprint``): the frames of its bindings.
+    caches = ("_frames",)
 
     def __init__(self, mesh, section, positions, slopes=None, normal=None, twist=None,
                  name="rod", **options):
@@ -78,6 +80,7 @@ class Rod(Cable):
         node, order = first // 6, first % 6 // 3
         self.twist_element_dofs = self.n_centreline + 2 * node + order
         self._twist_mass = None
+        self._frames = {}
 
     # --- layout -------------------------------------------------------------------------
     def twist_dofs(self, index):
@@ -160,10 +163,19 @@ class Rod(Cable):
         edofs = np.concatenate([self.global_element_dofs(system),
                                 self.twist_element_dofs + offset], axis=1)
         frames = ReferenceFrames(self, offset + np.arange(self.n_centreline).reshape(-1, 6)[:, 3:])
+        self._frames[id(system)] = frames
         pack = self.kernel_pack(edofs, frames.t0, frames.d0)
         return Term(kernels=(*cable.kernels, (kernel.kernel, pack)), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], name=self.name, prepare=cable.prepare,
                     energy_change=cable.energy_change, hooks=(frames,))
+
+    def reference_frames(self, system):
+        """The nodal reference frames of this rod's term in ``system`` (its last binding
+        there, ``bind``): what a constraint on its twist reads (``TwistTie``)."""
+        if id(system) not in self._frames:
+            raise ValueError(f"rod {self.name!r} is not bound in this system (bind it "
+                             "first: a constraint on its twist reads its frames)")
+        return self._frames[id(system)]
 
     def kernel_pack(self, edofs, t0, d0):
         """The pack of ``kernels.rod.kernel`` for the element coordinates ``edofs`` and

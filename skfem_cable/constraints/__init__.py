@@ -42,6 +42,7 @@ from .dependence import (
 from .joints import BodySlope, clamp, hold_twist, pin
 from .linear import LinearConstraint, SlopeDirection, orthonormal_complement
 from .prescribed import TIME_STEP, Motion, time_derivatives
+from .twist_tie import TwistTie
 
 __all__ = [
     "BodySlope",
@@ -50,6 +51,7 @@ __all__ = [
     "Motion",
     "SlopeDirection",
     "TIME_STEP",
+    "TwistTie",
     "check_independent",
     "clamp",
     "dependence_message",
