@@ -98,6 +98,7 @@ from .loads.gravity import Centrifugal, Gravity
 from .loads.line import LineLoad
 from .loads.point import PointLoad, PointMass, PointMoment
 from .loads.surfaces import Cylinder, Plane, Sphere
+from .loads.twist import TwistTorque
 from .model.state import State
 from .model.system import System, SystemChanged
 from .results.result import Result
@@ -149,6 +150,7 @@ __all__ = [
     "PointLoad",
     "PointMass",
     "PointMoment",
+    "TwistTorque",
     "Term",
     "ELEMENTS",
     "CableElement",

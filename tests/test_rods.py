@@ -349,7 +349,8 @@ def test_energy_of_a_bent_twisted_rod_is_objective():
 
 def test_rod_between_hangs_with_directors_normal_to_its_slopes():
     """``Rod.between`` builds the cable's catenary with directors made normal to its
-    slopes; a clamp to a rigid body refuses to hold the twist (not carried yet)."""
+    slopes; a clamp to a rigid body ties the twist to the body (``TwistTie``, one more
+    equation) or leaves it free, and refuses to drive it."""
     rod = sc.Rod.between([0, 0, 0], [1, 0, 0], 1.2, 6, TAPE, normal=[0, 1, 0])
     slopes = rod.q0[:rod.n_centreline].reshape(-1, 2, 3)[:, 1]
     assert np.abs(np.einsum("ij,ij->i", slopes, rod.directors)).max() < 1e-15
@@ -357,7 +358,10 @@ def test_rod_between_hangs_with_directors_normal_to_its_slopes():
     assert rod.length == pytest.approx(1.2)
     hub = sc.RigidBody.cylinder(radius=0.1, height=0.1, density=100.0)
     with pytest.raises(ValueError, match="twist: a clamp"):
-        sc.System([hub, rod]).clamp(rod.node(0), position=hub.point([0, 0, 0]))
+        sc.System([hub, rod]).clamp(rod.node(0), position=hub.point([0, 0, 0]),
+                                    twist=lambda t: t)
+    tied = sc.System([hub, rod]).clamp(rod.node(0), position=hub.point([0, 0, 0]))
+    assert tied.n_constraints == 6 + 6
     system = sc.System([hub, rod]).clamp(rod.node(0), position=hub.point([0, 0, 0]),
                                          twist=False)
     assert system.n_constraints == 6 + 5

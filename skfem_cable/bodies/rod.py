@@ -60,6 +60,8 @@ class Rod(Cable):
 
     #: ``Body.energy_parts``: the cable's stretching; bending and twist together.
     energy_parts = ("axial", "bending and twist")
+    #: Not part of a system's description (``fingerprint``): the frames of its bindings.
+    caches = ("_frames",)
 
     def __init__(self, mesh, section, positions, slopes=None, normal=None, twist=None,
                  name="rod", **options):
@@ -78,6 +80,7 @@ class Rod(Cable):
         node, order = first // 6, first % 6 // 3
         self.twist_element_dofs = self.n_centreline + 2 * node + order
         self._twist_mass = None
+        self._frames = {}
 
     # --- layout -------------------------------------------------------------------------
     def twist_dofs(self, index):
@@ -132,6 +135,21 @@ class Rod(Cable):
         kernel.rebase(np.ascontiguousarray(q, dtype=float), slopes, t0, d0)
         return t0, d0
 
+    def rigid_velocity(self, omega, center, q=None):
+        """The velocities (this rod's coordinates) of the rod at ``q`` (default ``q0``)
+        turning rigidly at ``omega`` (rad/s) about ``center``: ``omega x (r - center)`` on
+        the positions, ``omega x r'`` on the slopes and the spin ``omega . t`` on the nodes'
+        twist angles (their rates zero: exact for a straight rod, whose reference frames
+        turn with it)."""
+        q = self.q0 if q is None else np.asarray(q, float)
+        omega, center = np.asarray(omega, float), np.asarray(center, float)
+        vectors = q[:self.n_centreline].reshape(-1, 2, 3)
+        v = np.zeros(self.n_dofs)
+        v[:self.n_centreline] = np.cross(omega, vectors - [center, np.zeros(3)]).ravel()
+        slopes = vectors[:, 1]
+        v[self.n_centreline::2] = slopes @ omega / np.linalg.norm(slopes, axis=1)
+        return v
+
     # --- internal forces -----------------------------------------------------------------
     def bind(self, system):
         """The cable's term (``Cable.bind``: axial and isotropic bending ``EI_flat``) with
@@ -145,10 +163,19 @@ class Rod(Cable):
         edofs = np.concatenate([self.global_element_dofs(system),
                                 self.twist_element_dofs + offset], axis=1)
         frames = ReferenceFrames(self, offset + np.arange(self.n_centreline).reshape(-1, 6)[:, 3:])
+        self._frames[id(system)] = frames
         pack = self.kernel_pack(edofs, frames.t0, frames.d0)
         return Term(kernels=(*cable.kernels, (kernel.kernel, pack)), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], name=self.name, prepare=cable.prepare,
                     energy_change=cable.energy_change, hooks=(frames,))
+
+    def reference_frames(self, system):
+        """The nodal reference frames of this rod's term in ``system`` (its last binding
+        there, ``bind``): what a constraint on its twist reads (``TwistTie``)."""
+        if id(system) not in self._frames:
+            raise ValueError(f"rod {self.name!r} is not bound in this system (bind it "
+                             "first: a constraint on its twist reads its frames)")
+        return self._frames[id(system)]
 
     def kernel_pack(self, edofs, t0, d0):
         """The pack of ``kernels.rod.kernel`` for the element coordinates ``edofs`` and

@@ -39,9 +39,10 @@ from .dependence import (
     dependence_message,
     dependent_constraints,
 )
-from .joints import BodySlope, clamp, pin
+from .joints import BodySlope, clamp, hold_twist, pin
 from .linear import LinearConstraint, SlopeDirection, orthonormal_complement
 from .prescribed import TIME_STEP, Motion, time_derivatives
+from .twist_tie import TwistTie
 
 __all__ = [
     "BodySlope",
@@ -50,10 +51,12 @@ __all__ = [
     "Motion",
     "SlopeDirection",
     "TIME_STEP",
+    "TwistTie",
     "check_independent",
     "clamp",
     "dependence_message",
     "dependent_constraints",
+    "hold_twist",
     "orthonormal_complement",
     "pin",
     "time_derivatives",

@@ -8,6 +8,7 @@ from ..core.node import Node
 from ..core.quadratic import QuadraticConstraints
 from .linear import LinearConstraint, SlopeDirection, _unit, orthonormal_complement
 from .prescribed import Motion
+from .twist_tie import TwistTie
 
 
 def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
@@ -45,7 +46,9 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
         On a node with a twist (a rod's, ``Node.has_twist``): True (default) holds its
         twist angle at its initial value, False leaves it free, a callable ``twist(t)``
         (rad) drives it (one more equation, label ``T``: ``-lambda`` is the torque on
-        the twist).  Ignored on a node without twist.
+        the twist).  With a body point ``position``, True ties the twist to the body's
+        rotation about the tangent (``TwistTie``: the clamp transmits torque), False
+        leaves it free; a callable is refused.  Ignored on a node without twist.
 
     Returns
     -------
@@ -89,20 +92,48 @@ def clamp(node, direction=None, position=None, velocity=None, acceleration=None,
 
 def _twist(node, twist, position):
     """The twist equation of a clamp (``clamp``): none on a node without twist or with
-    ``twist=False``; refused with a body point ``position`` (not carried by the body)."""
+    ``twist=False``; with a body point ``position``, the tie to the body (``TwistTie``)."""
     if not node.has_twist or twist is False:
         return []
     if isinstance(position, BodyPoint):
-        raise ValueError(f"twist: a clamp of {node!r} to a rigid body does not carry the "
-                         "twist with the body yet; pass twist=False (free twist) "
-                         "(docs/rods.md, 'What remains')")
+        if twist is not True:
+            raise ValueError(f"twist: a clamp of {node!r} to a rigid body ties the twist "
+                             f"to the body (True) or leaves it free (False), got {twist!r}")
+        return [TwistTie(node, position.body)]
+    return [hold_twist(node, twist)]
+
+
+def hold_twist(node, twist=True):
+    """The twist angle of a rod's node held at its initial value (``twist=True``) or
+    driven, ``twist(t)`` (rad): one equation, label ``T`` (``-lambda`` is the torque on
+    the twist, whose moment is semi-tangential, ``loads.TwistTorque``).  With ``pin``, a
+    hinge that holds the twist (Greenhill's shaft, ``docs/rods.md``); ``clamp`` adds it.
+
+    Parameters
+    ----------
+    node : Node
+        A rod's node (``Node.has_twist``).
+    twist : True or callable
+
+    Returns
+    -------
+    LinearConstraint
+
+    Examples
+    --------
+    >>> import skfem_cable as sc
+    >>> from skfem_cable import constraints
+    >>> rod = sc.Rod.straight([0, 0, 0], [1, 0, 0], 2, sc.Section.circular(1e-3, 2e11, 7850.0))
+    >>> constraints.hold_twist(rod.node(0)).labels
+    ['T']
+    """
     if twist is not True and not callable(twist):
         raise ValueError(f"twist must be True, False or a callable twist(t) (rad), got "
                          f"{twist!r}")
     motion = Motion(lambda t: np.atleast_1d(twist(t)), name="twist", size=1) \
         if callable(twist) else node.body.q0[node.twist_dofs]
-    return [LinearConstraint(lambda s: s.dofs(node.body)[node.twist_dofs], np.eye(1), motion,
-                             f"twist {node!r}", ["T"])]
+    return LinearConstraint(lambda s: s.dofs(node.body)[node.twist_dofs], np.eye(1), motion,
+                            f"twist {node!r}", ["T"])
 
 
 def _clamp(node, direction, position, velocity, acceleration, slope):

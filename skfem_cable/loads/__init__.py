@@ -10,7 +10,7 @@ Examples
 --------
 ``System.add_gravity``, ``add_point_load``, ``add_point_moment``, ``add_line_load``,
 ``add_centrifugal`` and ``add_point_mass`` build them; ``System.add_load`` takes any of
-them (or a user's contributor):
+them (or a user's contributor), and ``TwistTorque``, a torque on a rod's twist:
 
 >>> import numpy as np, skfem_cable as sc
 >>> cable = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sc.Section.circular(1e-3, 2e11, 7850.0))
@@ -23,6 +23,7 @@ them (or a user's contributor):
 from .gravity import Centrifugal, Gravity, spin_matrix
 from .line import AlongCable, LineLoad, UniformLineLoad
 from .point import PointLoad, PointMass, PointMoment, vector3
+from .twist import TwistTorque
 
 __all__ = [
     "AlongCable",
@@ -32,6 +33,7 @@ __all__ = [
     "PointLoad",
     "PointMass",
     "PointMoment",
+    "TwistTorque",
     "UniformLineLoad",
     "spin_matrix",
     "vector3",

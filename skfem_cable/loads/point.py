@@ -88,7 +88,11 @@ class PointMoment:
     ``df/dr_x = ([M]_x |r_x|^2 - 2 (M x r_x) r_x^T) / |r_x|^4``.  On a node with a twist
     (a rod's, ``Node.has_twist``) the component along the tangent, ``M . t``, acts on the
     twist angle (``dW = (M . t) dphi``: exact while the node's reference frame is the
-    current one, as in a time step, ``docs/rods.md``).
+    current one, as in a time step, ``docs/rods.md``); its tangent there leaves out the
+    derivative of the slope force ``-(M . t) (a x t) / ((1 + a . t) |r_x|)`` (``a`` the
+    reference tangent), so about a twisted state it is not the space-fixed moment's: for a
+    torque about a rod's tangent use ``TwistTorque`` (semi-tangential, conservative;
+    ``docs/rods.md``, "End torques").
 
     Parameters
     ----------
