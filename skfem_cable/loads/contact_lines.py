@@ -72,7 +72,7 @@ class BroadPhase:
     run (``protocols.StepHook``: it keeps the last accepted state) and the term's
     ``prepare(t)``.  Each segment's bounding sphere (centre its midpoint, radius half its
     length) is inflated by ``r_a + r_b``, the stated tolerance and twice the distance its
-    points travel to ``t`` at the last state's largest speed; a k-d tree on the midpoints
+    ends travel to ``t`` at the last state's speed (the faster end's); a k-d tree on the midpoints
     gives the pairs whose spheres overlap.  Pairs of one line closer than ``exclusion``
     along it are dropped; with two lines, pairs within one line too."""
 
@@ -100,7 +100,8 @@ class BroadPhase:
         second = self._point(self.rows[:, 2:4])
         a, b = X[first], X[second]
         mid, half = 0.5 * (a + b), 0.5 * np.linalg.norm(b - a, axis=1)
-        travel = 2.0 * abs(t - self.t) * float(np.sqrt((V * V).sum(axis=1).max(initial=0.0)))
+        speed = np.sqrt((V * V).sum(axis=1))
+        travel = 2.0 * abs(t - self.t) * np.maximum(speed[first], speed[second])
         reach = half + 0.5 * self.margin + travel
         found = cKDTree(mid).query_pairs(2.0 * reach.max(), output_type="ndarray")
         i, j = found[:, 0], found[:, 1]
