@@ -336,3 +336,51 @@ def resolve(edofs, S, segments, pairs, count, coef, q, v, out):
             row[12 + i] = work[16, 3 + i] if coef[FRICTION] > 0.0 else 0.0
         active += 1
     return active
+
+
+@njit(cache=True)
+def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
+    """Sweep and prune: the pairs of segments whose boxes overlap, into ``pairs``; returns
+    how many there are (more than ``len(pairs)``: only the first were written).
+
+    Segment ``k`` joins the points ``ends[k]`` of ``X`` (moving at ``V``); its box is the
+    two points' box inflated by ``margin / 2`` and twice the distance its faster end
+    travels in ``dt``.  Pairs of one line (``line``) closer than ``exclusion`` along it
+    (``arc``, (nseg, 2)) are dropped; ``exclusion < 0``: every pair of one line is.
+    ``box`` (nseg, 6) is scratch."""
+    nseg = ends.shape[0]
+    for k in range(nseg):
+        a, b = ends[k, 0], ends[k, 1]
+        speed = 0.0
+        for m in (a, b):
+            speed = max(speed, math.sqrt(V[m, 0] ** 2 + V[m, 1] ** 2 + V[m, 2] ** 2))
+        grow = 0.5 * margin + 2.0 * dt * speed
+        for i in range(3):
+            box[k, i] = min(X[a, i], X[b, i]) - grow
+            box[k, 3 + i] = max(X[a, i], X[b, i]) + grow
+    spread = np.empty(3)
+    for i in range(3):
+        spread[i] = box[:, i].max() - box[:, i].min()
+    axis = int(np.argmax(spread))          # sweep along the widest spread
+    order = np.argsort(box[:, axis])
+    count = 0
+    for u in range(nseg):
+        i = order[u]
+        for w in range(u + 1, nseg):
+            j = order[w]
+            if box[j, axis] > box[i, 3 + axis]:
+                break
+            apart = False
+            for m in range(3):
+                apart = apart or box[j, m] > box[i, 3 + m] or box[i, m] > box[j, 3 + m]
+            if apart:
+                continue
+            if line[i] == line[j]:
+                if exclusion < 0.0:
+                    continue
+                if max(arc[i, 0] - arc[j, 1], arc[j, 0] - arc[i, 1]) < exclusion:
+                    continue
+            if count < pairs.shape[0]:
+                pairs[count, 0], pairs[count, 1] = min(i, j), max(i, j)
+            count += 1
+    return count

@@ -1,8 +1,8 @@
 """Contact between two line bodies (two cables, rods) or of one with itself, with Coulomb
 friction: a penalty on the gap between the closest points of segments of their sampled
 centrelines (``kernels.contact_lines``: the narrow phase, with exact tangents), over the
-candidate pairs of a broad phase refreshed once per time step (``BroadPhase``: a k-d tree,
-``scipy.spatial.cKDTree``, on the segments' bounding spheres); ``docs/contact.md`` states
+candidate pairs of a broad phase refreshed once per time step (``BroadPhase``: a compiled
+sweep and prune on the segments' bounding boxes); ``docs/contact.md`` states
 the method and its tolerances.
 
 * Segments: the lines' quadrature points (``lines.LinePoints``), joined in order along
@@ -29,7 +29,6 @@ the method and its tolerances.
 import warnings
 
 import numpy as np
-from scipy.spatial import cKDTree
 
 from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
@@ -70,15 +69,18 @@ def segments(points, ends):
 class BroadPhase:
     """The candidate pairs of segments, refreshed once per time step: a step hook of the
     run (``protocols.StepHook``: it keeps the last accepted state) and the term's
-    ``prepare(t)``.  Each segment's bounding sphere (centre its midpoint, radius half its
-    length) is inflated by ``r_a + r_b``, the stated tolerance and twice the distance its
-    ends travel to ``t`` at the last state's speed (the faster end's); a k-d tree on the midpoints
-    gives the pairs whose spheres overlap.  Pairs of one line closer than ``exclusion``
-    along it are dropped; with two lines, pairs within one line too."""
+    ``prepare(t)``.  Each segment's box is inflated by ``margin / 2`` (``r_a + r_b`` and
+    the stated tolerance) and twice the distance its faster end travels to ``t`` at the
+    last state's speed; a compiled sweep and prune (``kernels.contact_lines.candidates``)
+    gives the pairs whose boxes overlap.  Pairs of one line closer than ``exclusion``
+    along it are dropped; ``exclusion`` None (two lines): every pair within one line."""
 
     def __init__(self, points, rows, arc, line, exclusion, margin, pairs, count, q0):
-        self.points, self.rows, self.arc, self.line = points, rows, arc, line
-        self.exclusion, self.margin = exclusion, margin
+        self.points, self.arc, self.line = points, np.ascontiguousarray(arc), line
+        nq = points.shape[1]
+        self.ends = np.column_stack([rows[:, 0] * nq + rows[:, 1], rows[:, 2] * nq + rows[:, 3]])
+        self.exclusion = -1.0 if exclusion is None else float(exclusion)
+        self.margin, self.box = float(margin), np.empty((len(rows), 6))
         self.pairs, self.count = pairs, count
         self.refreshes = 0
         self.state(q0, np.zeros_like(q0), 0.0)
@@ -90,39 +92,20 @@ class BroadPhase:
 
     def prepare(self, t):
         """The candidate pairs for the step to ``t`` into ``pairs[:count[0]]`` (once per
-        time)."""
+        time; ``kernels.contact_lines.candidates``)."""
         t = float(t)
         if t == self.done:
             return
         X, _, V = self.points.at(self.q, self.v)
-        X, V = X.reshape(-1, 3), V.reshape(-1, 3)
-        first = self._point(self.rows[:, :2])
-        second = self._point(self.rows[:, 2:4])
-        a, b = X[first], X[second]
-        mid, half = 0.5 * (a + b), 0.5 * np.linalg.norm(b - a, axis=1)
-        speed = np.sqrt((V * V).sum(axis=1))
-        travel = 2.0 * abs(t - self.t) * np.maximum(speed[first], speed[second])
-        reach = half + 0.5 * self.margin + travel
-        found = cKDTree(mid).query_pairs(2.0 * reach.max(), output_type="ndarray")
-        i, j = found[:, 0], found[:, 1]
-        keep = np.linalg.norm(mid[i] - mid[j], axis=1) <= reach[i] + reach[j]
-        same = self.line[i] == self.line[j]
-        if self.exclusion is None:
-            keep &= ~same
-        else:
-            apart = np.maximum(self.arc[i, 0] - self.arc[j, 1], self.arc[j, 0] - self.arc[i, 1])
-            keep &= apart >= self.exclusion
-        found = found[keep]
-        if len(found) > len(self.pairs):
-            raise RuntimeError(f"line contact: {len(found)} candidate pairs exceed the "
+        found = kernel.candidates(X.reshape(-1, 3), V.reshape(-1, 3), self.ends, self.line,
+                                  self.arc, self.exclusion, self.margin, abs(t - self.t),
+                                  self.box, self.pairs)
+        if found > len(self.pairs):
+            raise RuntimeError(f"line contact: {found} candidate pairs exceed the "
                                f"capacity {len(self.pairs)}: give capacity= larger")
-        self.pairs[:len(found)] = found
-        self.count[0] = len(found)
+        self.count[0] = found
         self.refreshes += 1
         self.done = t
-
-    def _point(self, eg):
-        return eg[:, 0] * self.points.shape[1] + eg[:, 1]
 
     # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
     def start(self, integrator):
