@@ -44,6 +44,8 @@ PAIRS_PER_SEGMENT = 8
 
 
 def _radius(line, radius):
+    """The cross-section radius of ``line``: ``radius``, else that of the circle of the
+    area of its ``section`` (``ValueError`` naming ``radius`` if it has none)."""
     section = getattr(line, "section", None)
     if radius is None and section is None:
         raise ValueError(f"radius must be given for {line!r}, a line body without a section")
@@ -73,7 +75,23 @@ class BroadPhase:
     the stated tolerance) and twice the distance its faster end travels to ``t`` at the
     last state's speed; a compiled sweep and prune (``kernels.contact_lines.candidates``)
     gives the pairs whose boxes overlap.  Pairs of one line closer than ``exclusion``
-    along it are dropped; ``exclusion`` None (two lines): every pair within one line."""
+    along it are dropped; ``exclusion`` None (two lines): every pair within one line.
+
+    Parameters
+    ----------
+    points : LinePoints
+        The joined points of the lines.
+    rows, arc, line : ndarray
+        The segments' rows and arc positions (``segments``) and their line's number.
+    exclusion : float or None
+        Self-contact's exclusion along the line (m), or None.
+    margin : float
+        The distance (m) below which two segments are candidates at rest.
+    pairs, count : int64 ndarray (capacity, 2), (1,)
+        Where the pairs go (the term's pack holds the same arrays).
+    q0 : ndarray
+        The coordinates before a run's first step.
+    """
 
     def __init__(self, points, rows, arc, line, exclusion, margin, pairs, count, q0):
         self.points, self.arc, self.line = points, np.ascontiguousarray(arc), line
@@ -82,7 +100,6 @@ class BroadPhase:
         self.exclusion = -1.0 if exclusion is None else float(exclusion)
         self.margin, self.box = float(margin), np.empty((len(rows), 6))
         self.pairs, self.count = pairs, count
-        self.refreshes = 0
         self.state(q0, np.zeros_like(q0), 0.0)
 
     def state(self, q, v, t):
@@ -104,7 +121,6 @@ class BroadPhase:
             raise RuntimeError(f"line contact: {found} candidate pairs exceed the "
                                f"capacity {len(self.pairs)}: give capacity= larger")
         self.count[0] = found
-        self.refreshes += 1
         self.done = t
 
     # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
