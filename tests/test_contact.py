@@ -118,13 +118,10 @@ def test_atwood_machine_with_a_massive_rope():
 
 
 def test_what_is_not_built_yet_says_so():
-    """Line-to-line and self-contact name what is missing; two surfaces and a thing
-    that is neither a line nor a surface are refused, naming the parameter."""
+    """Two surfaces and a thing that is neither a line nor a surface are refused, naming
+    the parameter (line-to-line and self-contact: ``tests/test_contact_lines.py``)."""
     a, b = (sc.Cable.straight([0, 0, z], [1, 0, z], 2, ROPE) for z in (0.0, 0.1))
     system = sc.System([a, b])
-    for first, second in ((a, b), (a, a)):
-        with pytest.raises(NotImplementedError, match="line-to-line contact"):
-            system.contact(first, second)
     with pytest.raises(ValueError, match="two surfaces"):
         system.contact(DRUM, sc.Plane([0, 0, 0], [0, 1, 0]))
     with pytest.raises(TypeError, match="second must be a line body"):

@@ -3,12 +3,7 @@ chosen by what they declare (``protocols.Surface``: ``surface_array``; a line bo
 ``line_points``), not by their classes."""
 
 from ..loads.contact import LineSurfaceContact
-
-#: What is missing for the pairs not yet built (issue 49).
-LINE_TO_LINE = ("line-to-line contact ({}) is not implemented yet: it needs the closest "
-                "points of two lines' elements, their equal and opposite forces and a broad "
-                "phase over element bounding boxes (issue 49, items 4-6); line-to-surface "
-                "contact works: system.contact(cable, sc.Cylinder(...))")
+from ..loads.contact_lines import LineLineContact
 
 
 def role(item, name):
@@ -25,16 +20,15 @@ def role(item, name):
 def contact(first, second, friction=0.0, **options):
     """The contact load of ``first`` and ``second`` (a line body and a surface, in either
     order) with Coulomb's ``friction``; ``options`` of ``LineSurfaceContact`` (``radius``,
-    ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``).  Two lines (or one line
-    twice: self-contact) raise ``NotImplementedError`` naming what is missing; two
-    surfaces ``ValueError``."""
+    ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``).  Two line bodies (or
+    one twice: self-contact) give a ``LineLineContact`` (its ``options``); two surfaces
+    raise ``ValueError``."""
     roles = (role(first, "first"), role(second, "second"))
     if roles == ("line", "surface"):
         return LineSurfaceContact(first, second, friction, **options)
     if roles == ("surface", "line"):
         return LineSurfaceContact(second, first, friction, **options)
     if roles == ("line", "line"):
-        raise NotImplementedError(LINE_TO_LINE.format(
-            "self-contact of one line" if first is second else "two lines"))
+        return LineLineContact(first, second, friction, **options)
     raise ValueError(f"contact between two surfaces ({first!r}, {second!r}): fixed surfaces "
                      "do not move; give a line body as first or second")

@@ -279,8 +279,8 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         ``sc.Cylinder``), in either order, with Coulomb's ``friction`` (``mu >= 0``):
         ``loads.contact.LineSurfaceContact`` and its ``options`` (``radius``,
         ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``; ``docs/contact.md``).
-        Line-to-line and self-contact raise ``NotImplementedError`` (``model.contact``).
-        Returns the system; the contact is ``system.loads[-1]``."""
+        Two line bodies, or one twice (self-contact): ``loads.contact_lines.LineLineContact``
+        (``model.contact``).  Returns the system; the contact is ``system.loads[-1]``."""
         return self.add_load(contact(first, second, friction, **options))
 
     def add_point_load(self, node, force):

@@ -1,0 +1,267 @@
+"""Contact between two line bodies (two cables, rods) or of one with itself, with Coulomb
+friction: a penalty on the gap between the closest points of segments of their sampled
+centrelines (``kernels.contact_lines``: the narrow phase, with exact tangents), over the
+candidate pairs of a broad phase refreshed once per time step (``BroadPhase``: a compiled
+sweep and prune on the segments' bounding boxes); ``docs/contact.md`` states
+the method and its tolerances.
+
+* Segments: the lines' quadrature points (``lines.LinePoints``), joined in order along
+  each line; a contact at a line's stubs before its first and after its last point is not
+  seen.
+* Gap: ``d - (r_a + r_b)``, ``d`` the distance of the closest points, ``r`` the
+  cross-section radii (default: the radius of the circle of the area of ``section``).
+* Normal force: the penalty of ``loads.contact`` (a force here: N per m of penetration),
+  default ``k = REFERENCE_FORCE EA / (tolerance d)`` with ``d = r_a + r_b`` and the
+  smaller ``EA``: the penetration is ``tolerance d`` under the crossing force of a line at
+  1 % strain deflected by 0.1 rad, ``1e-3 EA``; an internal force of the lines, its
+  potential booked as stored energy.
+* Friction: regularised Coulomb, ``-mu N v_t / sqrt(|v_t|^2 + eps^2)`` on the slip of the
+  closest points, booked as dissipation.
+* Self-contact (``system.contact(cable, cable)``): segments of one line closer along its
+  reference arc length than ``exclusion`` (default ``pi (r_a + r_b)``: the half turn of a
+  line folded onto itself) are never a pair; neighbours are therefore excluded.
+* Tangent pattern: the dense block over the lines' coordinates (contact may couple any
+  element of one with any of the other).  It fits systems of a few lines; a system such as
+  the E-sail, whose solver factors each cable apart, needs a pattern refreshed with the
+  pairs (``docs/contact.md``, What remains).
+"""
+
+import warnings
+
+import numpy as np
+
+from ..core.contract import Term
+from ..core.lines import check_line_body, joined, line_points
+from ..kernels import contact_lines as kernel
+from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
+
+#: The crossing force (in units of ``EA``) that penetrates ``tolerance d`` with the
+#: default stiffness: a line at 1 % strain deflected by 0.1 rad.
+REFERENCE_FORCE = 1e-3
+
+#: Candidate pairs held per segment (``capacity`` default).
+PAIRS_PER_SEGMENT = 8
+
+
+def _radius(line, radius):
+    """The cross-section radius of ``line``: ``radius``, else that of the circle of the
+    area of its ``section`` (``ValueError`` naming ``radius`` if it has none)."""
+    section = getattr(line, "section", None)
+    if radius is None and section is None:
+        raise ValueError(f"radius must be given for {line!r}, a line body without a section")
+    return positive("radius", np.sqrt(section.A / np.pi) if radius is None else radius)
+
+
+def segments(points, ends):
+    """The segments of one line's points ``points`` (``LinePoints``) in order: rows
+    ``[e0, g0, e1, g1, end0, end1]`` (``kernels.contact_lines``) and the reference arc
+    positions (nseg, 2) of their ends (the weights' running sums); the rows' element
+    indices are shifted by ``ends`` (the lines' points are joined)."""
+    ne, nq = points.shape
+    e, g = np.divmod(np.arange(ne * nq), nq)
+    e = e + ends
+    rows = np.column_stack([e[:-1], g[:-1], e[1:], g[1:], np.zeros(ne * nq - 1, int),
+                            np.zeros(ne * nq - 1, int)])
+    rows[0, 4] = rows[-1, 5] = 1
+    w = points.w.ravel()
+    arc = np.cumsum(w) - 0.5 * w
+    return rows, np.column_stack([arc[:-1], arc[1:]])
+
+
+class BroadPhase:
+    """The candidate pairs of segments, refreshed once per time step: a step hook of the
+    run (``protocols.StepHook``: it keeps the last accepted state) and the term's
+    ``prepare(t)``.  Each segment's box is inflated by ``margin / 2`` (``r_a + r_b`` and
+    the stated tolerance) and twice the distance its faster end travels to ``t`` at the
+    last state's speed; a compiled sweep and prune (``kernels.contact_lines.candidates``)
+    gives the pairs whose boxes overlap.  Pairs of one line closer than ``exclusion``
+    along it are dropped; ``exclusion`` None (two lines): every pair within one line.
+
+    Parameters
+    ----------
+    points : LinePoints
+        The joined points of the lines.
+    rows, arc, line : ndarray
+        The segments' rows and arc positions (``segments``) and their line's number.
+    exclusion : float or None
+        Self-contact's exclusion along the line (m), or None.
+    margin : float
+        The distance (m) below which two segments are candidates at rest.
+    pairs, count : int64 ndarray (capacity, 2), (1,)
+        Where the pairs go (the term's pack holds the same arrays).
+    q0 : ndarray
+        The coordinates before a run's first step.
+    """
+
+    def __init__(self, points, rows, arc, line, exclusion, margin, pairs, count, q0):
+        self.points, self.arc, self.line = points, np.ascontiguousarray(arc), line
+        nq = points.shape[1]
+        self.ends = np.column_stack([rows[:, 0] * nq + rows[:, 1], rows[:, 2] * nq + rows[:, 3]])
+        self.exclusion = -1.0 if exclusion is None else float(exclusion)
+        self.margin, self.box = float(margin), np.empty((len(rows), 6))
+        self.pairs, self.count = pairs, count
+        self.state(q0, np.zeros_like(q0), 0.0)
+
+    def state(self, q, v, t):
+        """Candidates from the state ``q``, ``v`` at time ``t`` (for ``t`` onwards)."""
+        self.q, self.v, self.t = np.array(q, dtype=float), np.array(v, dtype=float), float(t)
+        self.done = None
+
+    def prepare(self, t):
+        """The candidate pairs for the step to ``t`` into ``pairs[:count[0]]`` (once per
+        time; ``kernels.contact_lines.candidates``)."""
+        t = float(t)
+        if t == self.done:
+            return
+        X, _, V = self.points.at(self.q, self.v)
+        found = kernel.candidates(X.reshape(-1, 3), V.reshape(-1, 3), self.ends, self.line,
+                                  self.arc, self.exclusion, self.margin, abs(t - self.t),
+                                  self.box, self.pairs)
+        if found > len(self.pairs):
+            raise RuntimeError(f"line contact: {found} candidate pairs exceed the "
+                               f"capacity {len(self.pairs)}: give capacity= larger")
+        self.count[0] = found
+        self.done = t
+
+    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
+    def start(self, integrator):
+        """A fresh run: its initial state."""
+        self.state(integrator.q, integrator.v, integrator.t)
+
+    def after_step(self, integrator):
+        """A step was accepted: the state the next step's candidates come from."""
+        self.state(integrator.q, integrator.v, integrator.t)
+
+    def next_event(self, t):
+        """No time a step must end on."""
+        return np.inf
+
+    def snapshot(self):
+        """Nothing of its own: the checkpoint's state is the integrator's."""
+        return {}
+
+    def restore(self, snap):
+        """A resumed run: the checkpoint's state."""
+        self.state(snap["q"], snap["v"], snap["t"])
+
+
+class LineLineContact:
+    """Contact of the line bodies ``first`` and ``second`` (or of one with itself: the same
+    body twice), with Coulomb friction (module notes).
+
+    Parameters
+    ----------
+    first, second : Cable or line body
+        The lines (bodies with the hook ``line_points``); the same body for self-contact.
+    friction : float
+        Coulomb's coefficient ``mu`` >= 0 (default 0).
+    radius : float or (float, float), optional
+        The cross-section radii ``r_a``, ``r_b`` (m, > 0); default from each ``section``.
+    stiffness : float, optional
+        Penalty ``k`` (N/m, > 0); default ``REFERENCE_FORCE EA / (tolerance d)``.
+    tolerance : float
+        The stated penetration relative to ``d = r_a + r_b`` (default 1e-2, > 0).
+    slip_velocity : float
+        The friction's regularisation ``eps`` (m/s, > 0; default 1e-3).
+    exclusion : float, optional
+        Self-contact: the reference arc length (m, >= 0) within which segments of the line
+        are no pair (default ``pi d``).
+    capacity : int, optional
+        Candidate pairs held (default ``PAIRS_PER_SEGMENT`` per segment).
+    """
+
+    def __init__(self, first, second, friction=0.0, radius=None, stiffness=None,
+                 tolerance=1e-2, slip_velocity=1e-3, exclusion=None, capacity=None):
+        self.lines = (check_line_body(first, "first"), check_line_body(second, "second"))
+        self.self_contact = first is second
+        radii = radius if np.ndim(radius) else (radius, radius)
+        self.radii = tuple(_radius(body, r) for body, r in zip(self.lines, radii))
+        d = sum(self.radii)
+        self.tolerance = positive("tolerance", tolerance)
+        if stiffness is None:
+            sections = [getattr(body, "section", None) for body in self.lines]
+            if None in sections:
+                raise ValueError("stiffness must be given for line bodies without a section")
+            stiffness = REFERENCE_FORCE * min(s.EA for s in sections) / (self.tolerance * d)
+        self.stiffness = positive("stiffness", stiffness)
+        self.friction = nonnegative("friction", friction)
+        self.slip_velocity = positive("slip_velocity", slip_velocity)
+        self.exclusion = nonnegative("exclusion", np.pi * d if exclusion is None
+                                     else exclusion)
+        self.capacity = capacity if capacity is None else int(positive("capacity", capacity))
+        self.name = "contact " + " ".join(dict.fromkeys(body.name for body in self.lines))
+
+    def __repr__(self):
+        names = ", ".join(repr(body.name) for body in self.lines)
+        return f"{type(self).__name__}({names}, friction={self.friction})"
+
+    @property
+    def coefficients(self):
+        """``coef`` of ``kernels.contact_lines``."""
+        d = sum(self.radii)
+        return np.array([self.stiffness, self.friction, self.slip_velocity, d,
+                         ONSET * self.tolerance * d])
+
+    def tables(self, system):
+        """``(points, rows, arc, line)``: the joined points of the line(s), the segments'
+        rows, their arc positions and their line's number."""
+        bodies = self.lines[:1] if self.self_contact else self.lines
+        points = [line_points(body, system) for body in bodies]
+        offsets = np.cumsum([0] + [p.shape[0] for p in points])
+        parts = [segments(p, o) for p, o in zip(points, offsets)]
+        line = np.concatenate([np.full(len(r), k) for k, (r, _) in enumerate(parts)])
+        return (joined(points), np.ascontiguousarray(np.vstack([r for r, _ in parts])),
+                np.vstack([a for _, a in parts]), line)
+
+    def broad_phase(self, system, tables, q0):
+        """The ``BroadPhase`` of the lines' ``tables`` (``tables``) from the state ``q0``."""
+        points, rows, arc, line = tables
+        capacity = self.capacity or PAIRS_PER_SEGMENT * len(rows)
+        return BroadPhase(points, rows, arc, line,
+                          self.exclusion if self.self_contact else None,
+                          sum(self.radii) * (1.0 + self.tolerance),
+                          np.zeros((capacity, 2), dtype=np.int64),
+                          np.zeros(1, dtype=np.int64), q0)
+
+    def bind(self, system):
+        """The compiled term (``kernels.contact_lines.kernel``) over the pairs of its
+        ``BroadPhase`` (its ``prepare`` and step hook), on the dense tangent block over the
+        lines' coordinates."""
+        tables = self.tables(system)
+        points, rows = tables[:2]
+        broad = self.broad_phase(system, tables, system.q0)
+        dofs = np.unique(points.edofs)
+        local = np.full(system.n_dofs, -1, dtype=np.int64)
+        local[dofs] = np.arange(len(dofs))
+        pack = (points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
+                local)
+        return Term(kernels=((kernel.kernel, pack),), rows=dofs[:, None], cols=dofs[None, :],
+                    prepare=broad.prepare, hooks=(broad,), name=self.name)
+
+    def contacts(self, system, q, v=None):
+        """The active contacts at ``q``, ``v`` (zero if None) of ``system`` (a broad phase
+        of their own at ``q``): a dict of ``normal`` (n,) the normal forces (N), ``penetration``
+        (n,) (m), ``first``, ``second`` (n, 3) the closest points on each line,
+        ``tangential`` (n, 3) the friction on the first line (the second gets the
+        opposite), ``friction_power`` (W, <= 0) and ``max_penetration`` (m).  Warns
+        (``ContactToleranceWarning``) where the penetration exceeds ``tolerance d``."""
+        tables = self.tables(system)
+        points, rows = tables[:2]
+        v = np.zeros_like(q) if v is None else v
+        broad = self.broad_phase(system, tables, q)
+        broad.prepare(0.0)
+        out = np.empty((broad.count[0], 15))
+        n = kernel.resolve(points.edofs, points.S, rows, broad.pairs, broad.count,
+                           self.coefficients, np.ascontiguousarray(q, float),
+                           np.ascontiguousarray(v, float), out)
+        out = out[:n]
+        depth = float(out[:, 2].max(initial=0.0))
+        limit = self.tolerance * sum(self.radii)
+        if depth > limit:
+            warnings.warn(f"{self.name}: penetration {depth:.3g} m exceeds the stated "
+                          f"tolerance {limit:.3g} m: raise the stiffness",
+                          ContactToleranceWarning, stacklevel=2)
+        power = float(np.einsum("mi,mi->", out[:, 9:12], out[:, 12:15]))
+        return {"normal": out[:, 1], "penetration": out[:, 2], "first": out[:, 3:6],
+                "second": out[:, 6:9], "tangential": out[:, 9:12], "friction_power": power,
+                "max_penetration": depth}
