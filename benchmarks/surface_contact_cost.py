@@ -11,7 +11,7 @@ at dt = 1e-3, side by side:
 CPU time (``time.process_time``) per Newton iteration, the minimum over the repeats after
 a short run that compiles.
 
-    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/contact_cost.py [--quick]
+    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/surface_contact_cost.py [--quick]
 """
 
 import sys
