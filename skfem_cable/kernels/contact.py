@@ -21,7 +21,10 @@ with the penalty ``N_e = k (p - p_0 / 2)`` beyond the onset ``p_0`` and
 ``N_e = k p^2 / (2 p_0)`` within it (force and tangent continuous at first touch: Newton
 does not cycle on the points where a line leaves a surface tangentially), the damping
 ramped in by ``r = 1 - (1 - p / p_0)^2`` within the onset and 1 beyond (its force
-continuous at first touch, its tangent continuous at ``p_0``), and Coulomb's friction on
+continuous at first touch, its tangent continuous at ``p_0``; the damping ratio of the
+default ``c = 2 sqrt(k m)`` is ``2 sqrt(p / p_0) - (p / p_0)^1.5`` there, below 1: a
+contact that works deep in its onset is under-damped, ``loads.surface_broad_phase``),
+and Coulomb's friction on
 the penalty's normal force ``N = N_e`` (the damping acts in impacts only, and its
 velocity would make the friction's tangent jump where ``N_e + N_d`` changes sign),
 regularised in the slip velocity ``v_t = xd - v_n n`` (the surface is fixed):
@@ -209,3 +212,30 @@ def normals(surface, X, out):
     H = np.empty((3, 3))
     for m in range(X.shape[0]):
         distance(surface, X[m], out[m], H)
+
+
+@njit(cache=True)
+def near(surface, X, V, radius, h, margin, scale):
+    """The broad phase (``loads.surface_broad_phase``): ``scale[e] = 1`` for the elements
+    of the points ``X`` moving at ``V`` (ne, nq, 3) that a step of ``h`` may bring into
+    touch, 0 for the others (the line loop skips them); returns the smallest gap.  A point
+    may touch if its gap ``s(x) - radius`` is at most ``margin + 3 h v_max``, with
+    ``v_max`` the largest speed of the line's points: the signed distance of a plane, a
+    sphere or a cylinder changes by at most the distance a point moves (it is
+    1-Lipschitz), and 3 covers a speed that grows threefold within the step."""
+    n = np.empty(3)
+    H = np.empty((3, 3))
+    vmax = 0.0
+    for e in range(X.shape[0]):
+        for g in range(X.shape[1]):
+            vmax = max(vmax, math.sqrt(V[e, g, 0] ** 2 + V[e, g, 1] ** 2 + V[e, g, 2] ** 2))
+    reach = margin + 3.0 * h * vmax
+    smallest = np.inf
+    for e in range(X.shape[0]):
+        scale[e] = 0.0
+        for g in range(X.shape[1]):
+            gap = distance(surface, X[e, g], n, H) - radius
+            smallest = min(smallest, gap)
+            if gap <= reach:
+                scale[e] = 1.0
+    return smallest

@@ -34,6 +34,7 @@ from ..core.lines import check_line_body, line_points
 from ..kernels import contact as kernel
 from ..kernels import line
 from .line import AlongCable
+from .surface_broad_phase import BroadPhase, ContactDampingWarning
 
 #: The load per length ``T / R`` (in units of ``EA / d``) that penetrates ``tolerance d``
 #: with the default stiffness: 1 % strain over a radius of ``10 d``.
@@ -46,6 +47,8 @@ ONSET = 0.1
 
 class ContactToleranceWarning(UserWarning):
     """A state penetrates a surface deeper than the contact's stated tolerance."""
+
+
 
 
 def nonnegative(name, value):
@@ -91,10 +94,19 @@ class LineSurfaceContact(AlongCable):
         bounces of a penalty stiffer than the time step resolves.
     slip_velocity : float
         The regularisation ``eps`` of the friction (m/s, > 0; default 1e-3).
+    broad_phase : bool
+        Skip, once per time step, the elements that the step cannot bring within the
+        stated tolerance of the surface (``loads.surface_broad_phase``; default True).
+        The last bound one is ``broad``; it also checks, once per step, that the contact
+        does not work where its damping is below critical (``ContactDampingWarning``).
     """
 
+    #: Attributes a run refreshes, not part of the system's fingerprint
+    #: (``model.fingerprint``): the broad phase of the last ``bind``.
+    caches = ("broad",)
+
     def __init__(self, line, surface, friction=0.0, radius=None, stiffness=None,
-                 tolerance=1e-2, damping=None, slip_velocity=1e-3):
+                 tolerance=1e-2, damping=None, slip_velocity=1e-3, broad_phase=True):
         self.cable = check_line_body(line, "line")
         if not callable(getattr(surface, "surface_array", None)):
             raise TypeError("surface must have the hooks of skfem_cable.core.protocols."
@@ -119,10 +131,25 @@ class LineSurfaceContact(AlongCable):
                                                             * section.mass_per_length)
                                    if damping is None else damping)
         self.slip_velocity = positive("slip_velocity", slip_velocity)
+        self.check_damping(section)
+        self.broad_phase, self.broad = bool(broad_phase), None
 
     def __repr__(self):
         return (f"{type(self).__name__}({self.cable.name!r}, {self.surface!r}, "
                 f"friction={self.friction})")
+
+    def check_damping(self, section):
+        """``ContactDampingWarning`` where the damping is below critical on the penalty
+        for the line's mass per length (``section``; none: no check)."""
+        critical = None if section is None else \
+            2.0 * np.sqrt(self.stiffness * section.mass_per_length)
+        if critical is not None and self.damping < critical * (1 - 1e-12):
+            warnings.warn(f"contact {self.cable.name}: damping {self.damping:.3g} N s/m^2 is "
+                          f"below the critical {critical:.3g} of the penalty: its "
+                          "oscillation, faster than the step, can gain energy (with none, "
+                          "a stiff rope's mass rose on the Atwood machine instead of "
+                          "falling); run at rho_inf = 0 or keep the default damping",
+                          ContactDampingWarning, stacklevel=3)
 
     @property
     def onset(self):
@@ -150,12 +177,16 @@ class LineSurfaceContact(AlongCable):
         if self.dissipative:
             parts.append((line.module(kernel.point, dissipative=True), kernel.DISSIPATIVE))
         threads = thread_count() > 1
+        broad = BroadPhase(points, surface, self.radius, self.tolerance * 2.0 * self.radius,
+                           self.onset, self.cable.name)
+        scale = broad.scale if self.broad_phase else None
         kernels = tuple((module.kernel_parallel if threads else module.kernel,
-                         points.pack((surface, self.coefficients(part))))
+                         points.pack((surface, self.coefficients(part)), scale))
                         for module, part in parts)
         rows, cols = points.tangent_pattern()
-        return Term(kernels=kernels, rows=rows, cols=cols,
-                    name=f"contact {self.cable.name}")
+        self.broad = broad
+        return Term(kernels=kernels, rows=rows, cols=cols, name=f"contact {self.cable.name}",
+                    prepare=broad.prepare, hooks=(broad,))
 
     def forces(self, state):
         """The contact forces of the ``State`` ``state`` (``resolve`` of its ``system``,
