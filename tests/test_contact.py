@@ -12,6 +12,7 @@ import pytest
 
 import skfem_cable as sc
 from skfem_cable.loads.contact import ContactToleranceWarning
+from skfem_cable.loads.surface_broad_phase import ContactDampingWarning
 from skfem_cable.scenes.capstan import (
     DRUM,
     LEG,
@@ -35,8 +36,9 @@ def test_tangents_against_central_differences():
     q = cable.q0 + 2e-3 * rng.standard_normal(cable.n_dofs) - inward
     v = 0.02 * rng.standard_normal(cable.n_dofs)
     for surface in (DRUM, sc.Sphere([0, 0.1, 0], R), sc.Plane([0, 0.45, 0], [0.1, 1, 0.05])):
-        system = sc.System([cable]).contact(surface, cable, friction=0.3, damping=50.0,
-                                            stiffness=1e6, slip_velocity=0.01)
+        with pytest.warns(ContactDampingWarning, match="critical"):  # a small damping, named
+            system = sc.System([cable]).contact(surface, cable, friction=0.3, damping=50.0,
+                                                stiffness=1e6, slip_velocity=0.01)
         parts = [p for p in sc.check_tangent(system, q, v).parts if p.name.startswith("contact")]
         assert {p.wrt for p in parts} == {"q", "v"}
         assert max(p.error for p in parts) < 1e-6, surface
