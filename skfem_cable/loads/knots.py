@@ -1,0 +1,106 @@
+"""Slowly varying environment models sampled at time knots along a reference point and
+interpolated in time (``ElectrodynamicForce(..., sample_every=h)``).
+
+The geomagnetic field and the ionosphere seen by a tether in orbit change on the scale of
+the orbit (minutes), while a step lasts tens of seconds and a model call costs tens of
+milliseconds (``environment.IGRF`` about 21 ms, ``environment.IRI`` about 67 ms).
+``OrbitKnots`` evaluates each model once per **knot** ``t_k = t_0 + k h`` at one point
+``P_k`` (the reference point ``R(t_k)`` plus the tether's mean offset when the knot is
+made), with its gradient there, and gives at any ``t`` the values carried to the
+tether's points ``X``:
+
+    f(X, t) ~ f(t) + grad f(t) . (X - P(t)),
+
+where ``f(t)``, ``grad f(t)`` and ``P(t)`` are the cubic Lagrange interpolants through the
+four knots around ``t`` (error ``(3 / 128) h^4 |f''''|`` at mid-interval), and the
+linearisation's error is of the order of ``(|X - P| / l)^2`` for the model's length scale
+``l`` (the field's ``r / 3 ~ 2300 km``; the plasma's scale height, 50 to 100 km in the
+topside ionosphere, against a tether's few km).  A density's gradient is its central
+difference with the step ``DENSITY_STEP`` at the knot (the seven positions in one call).
+Each knot is evaluated once (the last ``KEEP`` are kept), so a day at one-minute knots
+costs 1440 calls of each model, whatever the step.
+"""
+
+import numpy as np
+
+DENSITY_STEP = 1000.0
+"""Step (m) of the central-difference gradient of a density at a knot."""
+KEEP = 8
+"""Knots kept (a run steps forward; a refused step goes back at most one interval)."""
+STENCIL = np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
+
+
+def lagrange_weights(u):
+    """The weights of the cubic Lagrange interpolant through uniform knots ``-1, 0, 1,
+    2`` at ``u`` (in [0, 1] between knots 0 and 1): (4,)."""
+    return np.array([-u * (u - 1) * (u - 2) / 6, (u + 1) * (u - 1) * (u - 2) / 2,
+                     -(u + 1) * u * (u - 2) / 2, (u + 1) * u * (u - 1) / 6])
+
+
+def density_and_gradient(model, P, t, step=DENSITY_STEP):
+    """``(n, grad n)``: a density model's value at the point ``P`` (3,) and its central
+    difference with ``step`` (m), the seven positions in one call of
+    ``model.density(x, t)``."""
+    n = np.asarray(model.density(P[None, :] + step * STENCIL, t), dtype=float)
+    return n[0], (n[1:4] - n[4:7]) / (2.0 * step)
+
+
+class OrbitKnots:
+    """A field and a density sampled at knots every ``spacing`` seconds along a reference
+    point, interpolated in time and carried to a tether's points by their gradients.
+
+    Parameters
+    ----------
+    spacing : float
+        The knots' spacing ``h`` (s, > 0).
+    origin : float
+        The time of knot 0 (s).
+    centre : callable
+        ``centre(t)``: the knot's point ``P`` (3,) (m, absolute) when the knot at ``t``
+        is made.
+    field : callable or None
+        ``field(x, t) -> (B, dB)`` at positions (1, 3) (``environment.IGRF.field``); None:
+        no field is sampled.
+    plasma : object with ``density(x, t)``
+        The density model (m^-3).
+
+    Attributes
+    ----------
+    calls : int
+        Knots evaluated so far (one call of each model per knot).
+    """
+
+    def __init__(self, spacing, origin, centre, field, plasma):
+        if not (np.isfinite(spacing) and spacing > 0):
+            raise ValueError(f"sample_every must be a time step (s, > 0) or None, got "
+                             f"{spacing!r}")
+        self.spacing, self.origin = float(spacing), float(origin)
+        self.centre, self.field, self.plasma = centre, field, plasma
+        self.knots, self.calls = {}, 0
+
+    def _knot(self, k):
+        """The knot ``k``: ``(P, B, dB, n, grad n)`` (zeros for the field when there is
+        none), evaluated once."""
+        if k not in self.knots:
+            t = self.origin + k * self.spacing
+            P = np.asarray(self.centre(t), dtype=float)
+            B, dB = (np.zeros(3), np.zeros((3, 3))) if self.field is None else \
+                (np.reshape(y, s) for y, s in zip(self.field(P[None, :], t),
+                                                  [(3,), (3, 3)]))
+            self.knots[k] = (P, B, dB) + density_and_gradient(self.plasma, P, t)
+            self.calls += 1
+            for old in sorted(self.knots)[:-KEEP]:
+                del self.knots[old]
+        return self.knots[k]
+
+    def at(self, X, t):
+        """``(B, dB, n)`` at the points ``X`` (..., 3) at ``t``: the interpolated knot
+        values carried by their gradients (module docstring); shapes (..., 3), (..., 3,
+        3) and (...)."""
+        u = (t - self.origin) / self.spacing
+        k = int(np.floor(u))
+        w = lagrange_weights(u - k)
+        P, B, dB, n, dn = (sum(wi * part for wi, part in zip(w, parts)) for parts in
+                           zip(*(self._knot(k + j) for j in (-1, 0, 1, 2))))
+        dX = X - P
+        return (B + dX @ dB.T, np.broadcast_to(dB, X.shape + (3,)), n + dX @ dn)
