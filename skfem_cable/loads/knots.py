@@ -17,16 +17,19 @@ linearisation's error is of the order of ``(|X - P| / l)^2`` for the model's len
 ``l`` (the field's ``r / 3 ~ 2300 km``; the plasma's scale height, 50 to 100 km in the
 topside ionosphere, against a tether's few km).  A density's gradient is its central
 difference with the step ``DENSITY_STEP`` at the knot (the seven positions in one call).
-Each knot is evaluated once (the last ``KEEP`` are kept), so a day at one-minute knots
-costs 1440 calls of each model, whatever the step.
+Each knot is evaluated once, in blocks of ``BLOCK`` knots ahead (one call of each model
+per block when the model evaluates several times at once, ``IGRF.field_series``,
+``IRI.density_series``), whatever the step.
 """
 
 import numpy as np
 
 DENSITY_STEP = 1000.0
 """Step (m) of the central-difference gradient of a density at a knot."""
-KEEP = 8
-"""Knots kept (a run steps forward; a refused step goes back at most one interval)."""
+BLOCK = 32
+"""Knots evaluated together, in one call of a model that has ``field_series`` or
+``density_series`` (``environment.IGRF``, ``environment.IRI``): the coefficient files
+that the libraries read at every call are read once per block."""
 STENCIL = np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
 
 
@@ -37,12 +40,16 @@ def lagrange_weights(u):
                      -(u + 1) * u * (u - 2) / 2, (u + 1) * u * (u - 1) / 6])
 
 
-def density_and_gradient(model, P, t, step=DENSITY_STEP):
-    """``(n, grad n)``: a density model's value at the point ``P`` (3,) and its central
-    difference with ``step`` (m), the seven positions in one call of
-    ``model.density(x, t)``."""
-    n = np.asarray(model.density(P[None, :] + step * STENCIL, t), dtype=float)
-    return n[0], (n[1:4] - n[4:7]) / (2.0 * step)
+def in_series(model, name, x, times):
+    """``model.<name>(x_k, t_k)`` for the positions ``x`` (k, n, 3) at the times ``times``
+    (k,): the model's ``<name>_series`` in one call when it has one, else one call per
+    time, stacked."""
+    series = getattr(model, f"{name}_series", None)
+    if callable(series):
+        return series(x, times)
+    parts = [getattr(model, name)(xk, t) for xk, t in zip(x, times)]
+    return tuple(np.stack(p) for p in zip(*parts)) if isinstance(parts[0], tuple) \
+        else np.stack(parts)
 
 
 class OrbitKnots:
@@ -58,16 +65,15 @@ class OrbitKnots:
     centre : callable
         ``centre(t)``: the knot's point ``P`` (3,) (m, absolute) when the knot at ``t``
         is made.
-    field : callable or None
-        ``field(x, t) -> (B, dB)`` at positions (1, 3) (``environment.IGRF.field``); None:
-        no field is sampled.
+    field : object with ``field(x, t) -> (B, dB)`` or None
+        The field (``environment.IGRF``); None: no field is sampled.
     plasma : object with ``density(x, t)``
         The density model (m^-3).
 
     Attributes
     ----------
     calls : int
-        Knots evaluated so far (one call of each model per knot).
+        Knots evaluated so far (each model is called once per ``BLOCK`` of them).
     """
 
     def __init__(self, spacing, origin, centre, field, plasma):
@@ -78,19 +84,27 @@ class OrbitKnots:
         self.centre, self.field, self.plasma = centre, field, plasma
         self.knots, self.calls = {}, 0
 
+    def _evaluate(self, first):
+        """The knots ``first .. first + BLOCK - 1``: ``(P, B, dB, n, grad n)`` each (zeros
+        for the field when there is none), the density's gradient by central differences
+        with ``DENSITY_STEP``."""
+        ks = np.arange(first, first + BLOCK)
+        times = self.origin + ks * self.spacing
+        P = np.array([self.centre(t) for t in times], dtype=float)
+        if self.field is None:
+            B, dB = np.zeros((BLOCK, 3)), np.zeros((BLOCK, 3, 3))
+        else:
+            B, dB = (y[:, 0] for y in in_series(self.field, "field", P[:, None], times))
+        n = in_series(self.plasma, "density", P[:, None] + DENSITY_STEP * STENCIL, times)
+        dn = (n[:, 1:4] - n[:, 4:7]) / (2.0 * DENSITY_STEP)
+        self.knots = {k: v for k, v in self.knots.items() if k >= first - BLOCK}
+        self.knots.update((k, (P[i], B[i], dB[i], n[i, 0], dn[i]))
+                          for i, k in enumerate(ks))
+        self.calls += BLOCK
+
     def _knot(self, k):
-        """The knot ``k``: ``(P, B, dB, n, grad n)`` (zeros for the field when there is
-        none), evaluated once."""
         if k not in self.knots:
-            t = self.origin + k * self.spacing
-            P = np.asarray(self.centre(t), dtype=float)
-            B, dB = (np.zeros(3), np.zeros((3, 3))) if self.field is None else \
-                (np.reshape(y, s) for y, s in zip(self.field(P[None, :], t),
-                                                  [(3,), (3, 3)]))
-            self.knots[k] = (P, B, dB) + density_and_gradient(self.plasma, P, t)
-            self.calls += 1
-            for old in sorted(self.knots)[:-KEEP]:
-                del self.knots[old]
+            self._evaluate(k)
         return self.knots[k]
 
     def at(self, X, t):

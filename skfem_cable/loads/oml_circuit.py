@@ -25,6 +25,7 @@ without an epoch take the system's (``environment.bound_model``).
 """
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -165,8 +166,8 @@ def bind_oml(force, system, orbit, q=None):
         circuit.sample_every, 0.0 if orbit is None else orbit.t0,
         lambda t: cache[5].reshape(-1, 3).mean(axis=0) + (
             0.0 if orbit is None else orbit.position(t)),
-        None if field is None else lambda x, t: force.field_and_gradient(x, t, field),
-        plasma)
+        field if field is None or callable(getattr(field, "field", None)) else
+        SimpleNamespace(field=lambda x, t: force.field_and_gradient(x, t, field)), plasma)
     prepared = np.array([np.nan])  # the time of the models' last evaluation
 
     def prepare(t):

@@ -319,3 +319,7 @@ register("tss", "skfem_cable.scenes.tss:run",
          "tethered satellites, 20 km tether in a 400 km orbit, pitch and roll librations; "
          "--model ancf (default) or rodchain",
          build="skfem_cable.scenes.tss:scene", takes=("model",))
+register("ed-deorbit", "skfem_cable.scenes.ed_deorbit:run",
+         "bare 5 km tape deorbiting, OML current from IRI in IGRF, MSIS drag, one orbit; "
+         "--epoch (default 2026-01-01)", build="skfem_cable.scenes.ed_deorbit:scene",
+         takes=("epoch",))
