@@ -233,7 +233,7 @@ class ElectrodynamicForce(AlongCable):
         are evaluated once per time step at the tether's points; a time ``h`` (s, > 0):
         they are evaluated at knots every ``h`` seconds along the reference point,
         with their gradients, and interpolated in time (``loads.knots``: cubic; on a 5 km
-        tether in a 400 km orbit within 2.6e-5 of IGRF and 7.1e-3 of IRI at ``h = 60``
+        tether in a 400 km orbit within 2.6e-5 of IGRF and 5.5e-3 of IRI at ``h = 60``
         s, ``docs/environment.md``), for long runs with expensive models.
         Models made without an epoch take the system's (``System.add_orbit(...,
         epoch=...)``).

@@ -15,8 +15,11 @@ where ``f(t)``, ``grad f(t)`` and ``P(t)`` are the cubic Lagrange interpolants t
 four knots around ``t`` (error ``(3 / 128) h^4 |f''''|`` at mid-interval), and the
 linearisation's error is of the order of ``(|X - P| / l)^2`` for the model's length scale
 ``l`` (the field's ``r / 3 ~ 2300 km``; the plasma's scale height, 50 to 100 km in the
-topside ionosphere, against a tether's few km).  A density's gradient is its central
-difference with the step ``DENSITY_STEP`` at the knot (the seven positions in one call).
+topside ionosphere, against a tether's few km).  A density is sampled and interpolated
+as its logarithm (always positive, and linear in height where the profile is
+exponential, as the topside's): ``n = exp(log n(t) + grad log n(t) . (X - P(t)))``, the
+gradient the central difference with the step ``DENSITY_STEP`` at the knot (the seven
+positions in one call).
 Each knot is evaluated once, in blocks of ``BLOCK`` knots ahead (one call of each model
 per block when the model evaluates several times at once, ``IGRF.field_series``,
 ``IRI.density_series``), whatever the step.
@@ -30,6 +33,8 @@ BLOCK = 32
 """Knots evaluated together, in one call of a model that has ``field_series`` or
 ``density_series`` (``environment.IGRF``, ``environment.IRI``): the coefficient files
 that the libraries read at every call are read once per block."""
+FLOOR = 1.0
+"""The smallest density (m^-3) whose logarithm is interpolated."""
 STENCIL = np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
 
 
@@ -85,8 +90,8 @@ class OrbitKnots:
         self.knots, self.calls = {}, 0
 
     def _evaluate(self, first):
-        """The knots ``first .. first + BLOCK - 1``: ``(P, B, dB, n, grad n)`` each (zeros
-        for the field when there is none), the density's gradient by central differences
+        """The knots ``first .. first + BLOCK - 1``: ``(P, B, dB, log n, grad log n)`` each
+        (zeros for the field when there is none), the gradient by central differences
         with ``DENSITY_STEP``."""
         ks = np.arange(first, first + BLOCK)
         times = self.origin + ks * self.spacing
@@ -96,6 +101,7 @@ class OrbitKnots:
         else:
             B, dB = (y[:, 0] for y in in_series(self.field, "field", P[:, None], times))
         n = in_series(self.plasma, "density", P[:, None] + DENSITY_STEP * STENCIL, times)
+        n = np.log(np.maximum(n, FLOOR))
         dn = (n[:, 1:4] - n[:, 4:7]) / (2.0 * DENSITY_STEP)
         self.knots = {k: v for k, v in self.knots.items() if k >= first - BLOCK}
         self.knots.update((k, (P[i], B[i], dB[i], n[i, 0], dn[i]))
@@ -117,4 +123,4 @@ class OrbitKnots:
         P, B, dB, n, dn = (sum(wi * part for wi, part in zip(w, parts)) for parts in
                            zip(*(self._knot(k + j) for j in (-1, 0, 1, 2))))
         dX = X - P
-        return (B + dX @ dB.T, np.broadcast_to(dB, X.shape + (3,)), n + dX @ dn)
+        return (B + dX @ dB.T, np.broadcast_to(dB, X.shape + (3,)), np.exp(n + dX @ dn))
