@@ -22,7 +22,9 @@ The system's coordinates are offsets from a Keplerian reference point; after eve
 the reference is moved onto the centre of mass's osculating orbit (``Orbit.from_state``)
 and the offsets shifted accordingly.  The altitude is that of the osculating semi-major
 axis of the centre of mass, ``a - R_E``.  Run ``python demos/ed_tether_deorbit.py``
-(a day; its CPU time is printed).
+(a quarter of a day, 13.6 s CPU; its CPU time is printed).  A whole day does not complete
+yet: at 0.26 days the OML profile's Newton iteration fails at every step size
+(``docs/environment.md``, "Not yet wired").
 """
 
 import numpy as np
@@ -56,11 +58,12 @@ def gauss_rate(a, velocity, force, mass):
     return 2 * a**2 * np.dot(velocity, force) / (sc.MU_EARTH * mass)
 
 
-def main(days=1.0, p=TETHER, drag=True):
+def main(days=0.25, p=TETHER, drag=True):
     """Simulate ``days`` days, one orbit at a time: times (days), altitudes (km), the
-    cathode's current ``I(0)`` (A), the motional power (W) and EMF (V) at every saved
-    step, the drop (m) and Gauss's equation's drop with the Lorentz force the run
-    reports (m), and the run's CPU time (s)."""
+    cathode's current ``I(0)`` (A), the motional power (W) and EMF (V) at every 20th
+    step (the models evaluated at the points there), the drop (m) and Gauss's
+    equation's drop with the Lorentz force the run reports (m), and the run's CPU time
+    (s)."""
     import time
 
     clock = time.process_time()
@@ -72,7 +75,7 @@ def main(days=1.0, p=TETHER, drag=True):
         system, load = build(orbit, p, drag=drag)
         span = min(orbit.period, t_end - t)
         result = sc.simulate(system, t_start=t, t_end=t + span,
-                             dt=orbit.period / p["steps_per_orbit"], every=10,
+                             dt=orbit.period / p["steps_per_orbit"], every=20,
                              initial=sc.State(system, q, v=v))
         arcs = result.reference  # the run's reference: the orbit and its rebases
         for qk, vk, tk in zip(result.q[:-1], result.v[:-1], result.t[:-1]):
@@ -99,8 +102,8 @@ def main(days=1.0, p=TETHER, drag=True):
 
 
 def gallery_figure(path):
-    """The gallery's picture (``scripts/gallery.py``) into ``path``: over a day, the
-    altitude of the centre of mass's osculating orbit, the cathode's current, the
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: over a quarter of a
+    day, the altitude of the centre of mass's osculating orbit, the cathode's current, the
     motional power and the open-circuit EMF."""
     import matplotlib
 
@@ -117,7 +120,7 @@ def gallery_figure(path):
     for ax in axes[1]:
         ax.set(xlabel="t [days]")
     fig.suptitle(f"5 km bare tape, OML in IGRF/IRI, MSIS drag: drop "
-                 f"{out['drop'] / 1e3:.2f} km in a day", fontsize=10)
+                 f"{out['drop'] / 1e3:.2f} km in {out['days'][-1]:.2f} days", fontsize=10)
     fig.savefig(path, dpi=90, bbox_inches="tight", pad_inches=0.05)
     plt.close(fig)
 

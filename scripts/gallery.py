@@ -273,8 +273,8 @@ ENTRIES = (
           "the Lorentz force the run reports",
           "relative 2e-2",
           "tests/test_ed_deorbit.py::test_demo_follows_gauss_equation",
-          "Altitude of the centre of mass's osculating orbit over a day, the cathode's "
-          "current, the motional power and the EMF (IGRF, IRI, MSIS drag)."),
+          "Altitude of the centre of mass's osculating orbit over a quarter of a day, the "
+          "cathode's current, the motional power and the EMF (IGRF, IRI, MSIS drag)."),
 )
 
 

@@ -143,7 +143,8 @@ def bind_oml(force, system, orbit, q=None):
     """``(term, pack)`` of the OML force ``force`` (``ElectrodynamicForce``) on
     ``system`` about the reference point of ``orbit`` (None: no orbit): the pack of
     ``kernels.oml_force`` and the term's ``prepare`` (module docstring), whose first
-    positions are those of ``q`` (default ``system.q0``)."""
+    positions are those of ``q`` (default ``system.q0``; given, a single evaluation:
+    the models are evaluated at the points, not at knots)."""
     circuit = force.oml
     points = lines.line_points(force.cable, system)
     s, length = stations(points)
@@ -162,7 +163,7 @@ def bind_oml(force, system, orbit, q=None):
 
     plasma = bound_model(circuit.plasma, system.epoch, "plasma")
     field = force.bound_field(system)
-    knots = None if circuit.sample_every is None else OrbitKnots(
+    knots = None if circuit.sample_every is None or q is not None else OrbitKnots(
         circuit.sample_every, 0.0 if orbit is None else orbit.t0,
         lambda t: cache[5].reshape(-1, 3).mean(axis=0) + (
             0.0 if orbit is None else orbit.position(t)),
