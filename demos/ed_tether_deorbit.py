@@ -23,8 +23,8 @@ the reference is moved onto the centre of mass's osculating orbit (``Orbit.from_
 and the offsets shifted accordingly.  The altitude is that of the osculating semi-major
 axis of the centre of mass, ``a - R_E``.  Run ``python demos/ed_tether_deorbit.py``
 (a quarter of a day, 13.6 s CPU; its CPU time is printed).  A whole day does not complete
-yet: at 0.26 days the OML profile's Newton iteration fails at every step size
-(``docs/environment.md``, "Not yet wired").
+yet: at 0.26 days the OML profile's Newton iteration fails at every step size with the
+models at knots (not with them at every step; ``docs/environment.md``).
 """
 
 import numpy as np
