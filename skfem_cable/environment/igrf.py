@@ -91,6 +91,23 @@ class IGRF:
         dB_gcrs = np.einsum("ki,nkl,lj->nij", R, dB, R)
         return (B[0] @ R).reshape(np.shape(x)), dB_gcrs.reshape(np.shape(x) + (3,))
 
+    def field_series(self, x, times):
+        """``field`` at several times in one ppigrf call: positions ``x`` (k, n, 3) at the
+        times ``times`` (k,) (s), each with its own rotation ``R(t_k)``, the coefficients
+        at the middle time (IGRF's secular variation, at most about 200 nT a year, moves
+        the field by 1e-7 of itself in an hour): shapes (k, n, 3) and (k, n, 3, 3)."""
+        x, times = np.asarray(x, dtype=float), np.asarray(times, dtype=float)
+        epoch = model_epoch(self)
+        R = np.stack([epoch.gcrs_to_itrs(t) for t in times])
+        y = np.einsum("kij,knj->kni", R, x)
+        shifts = self.gradient_step * np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
+        B = itrs_field((y[:, None] + shifts[None, :, None]).reshape(-1, 3),
+                       epoch.datetime(0.5 * (times.min() + times.max())))
+        B = B.reshape(x.shape[0], len(shifts), x.shape[1], 3)
+        dB = (B[:, 1:4] - B[:, 4:7]).transpose(0, 2, 3, 1) / (2.0 * self.gradient_step)
+        return (np.einsum("kna,kaj->knj", B[:, 0], R),
+                np.einsum("kai,knab,kbj->knij", R, dB, R))
+
     def __call__(self, x, t=0.0):
         """The field ``B`` (T) alone at GCRS positions ``x`` (..., 3): the callable field
         ``ElectrodynamicForce`` accepts."""

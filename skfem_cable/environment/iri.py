@@ -32,19 +32,34 @@ which the diagonal is kept, so blocks bound the work to ``BLOCK`` times the poin
 def pyiri_density(when, lon, lat, height, f107):
     """PyIRI's electron density (m^-3) at the datetime ``when`` (UTC) at longitudes,
     latitudes (deg) and heights (km) ``(n,)`` each, for the F10.7 index ``f107``."""
+    return pyiri_series([when], lon[None], lat[None], height[None], f107)[0]
+
+
+def pyiri_series(whens, lon, lat, height, f107):
+    """PyIRI's electron density (m^-3) at the datetimes ``whens`` (k,) (UTC, one day) at
+    longitudes, latitudes (deg) and heights (km) ``(k, n)`` each (the points of time
+    ``k`` in row ``k``), for the F10.7 index ``f107``: one call (PyIRI builds the
+    parameters on the grid of the times and all the points, the rows' own are kept)."""
     import PyIRI
     from PyIRI import edp_update
-    hours = when.hour + when.minute / 60.0 + (when.second + when.microsecond * 1e-6) / 3600.0
+    day = whens[0]
+    if any(when.date() != day.date() for when in whens):
+        raise ValueError("pyiri_series: the times must lie in one UTC day")
+    hours = np.array([(when - when.replace(hour=0, minute=0, second=0, microsecond=0))
+                      .total_seconds() / 3600.0 for when in whens])
+    k, n = lon.shape
     F2, F1, E, *_ = edp_update.IRI_density_1day(
-        when.year, when.month, when.day, np.array([hours]), lon, lat, np.array([300.0]),
+        day.year, day.month, day.day, hours, lon.ravel(), lat.ravel(), np.array([300.0]),
         f107, PyIRI.coeff_dir)
-    density = np.empty(lon.size)
-    for start in range(0, lon.size, BLOCK):
-        block = slice(start, start + BLOCK)
-        layers = [{key: value[:, block] for key, value in layer.items()
-                   if np.ndim(value) == 2} for layer in (F2, F1, E)]
-        grid = edp_update.reconstruct_density_from_parameters_1level(*layers, height[block])
-        density[block] = np.diagonal(grid[0])
+    density = np.empty((k, n))
+    for row in range(k):
+        for start in range(0, n, BLOCK):
+            block = slice(row * n + start, row * n + min(start + BLOCK, n))
+            layers = [{key: value[row:row + 1, block] for key, value in layer.items()
+                       if np.ndim(value) == 2} for layer in (F2, F1, E)]
+            grid = edp_update.reconstruct_density_from_parameters_1level(
+                *layers, height.ravel()[block])
+            density[row, start:start + BLOCK] = np.diagonal(grid[0])
     return density
 
 
@@ -90,6 +105,23 @@ class IRI:
         n_e = pyiri_density(model_epoch(self).datetime(t), np.atleast_1d(lon),
                             np.atleast_1d(lat), np.atleast_1d(height), float(self.f107(t)))
         return n_e.reshape(x.shape[:-1])
+
+    def density_series(self, x, times):
+        """``density`` at several times in few PyIRI calls (one per UTC day): positions
+        ``x`` (k, n, 3) at the times ``times`` (k,) (s); F10.7 at the middle time:
+        shape (k, n)."""
+        x, times = np.asarray(x, dtype=float), np.asarray(times, dtype=float)
+        epoch = model_epoch(self)
+        whens = [epoch.datetime(t) for t in times]
+        where = np.array([np.reshape(epoch.geodetic(xk, t), (3, -1))
+                          for xk, t in zip(x, times)])
+        out = np.empty(x.shape[:2])
+        for day in sorted({when.date() for when in whens}):
+            rows = np.array([when.date() == day for when in whens])
+            out[rows] = pyiri_series([w for w, r in zip(whens, rows) if r],
+                                     *where[rows].transpose(1, 0, 2),
+                                     float(self.f107(np.median(times[rows]))))
+        return out
 
     def temperature(self, x, t=0.0):
         """Electron temperature (K) at positions ``x`` (..., 3): the uniform argument."""

@@ -40,6 +40,7 @@ from ..bodies.section import check_positive
 from ..core import lines
 from ..core.contract import Evaluation, Term
 from ..core.inputs import declared, reader
+from ..environment.epoch import bound_model
 from ..environment.oml import Cathode
 from ..kernels import electrodynamic as kernel
 from ..space.constants import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
@@ -227,6 +228,15 @@ class ElectrodynamicForce(AlongCable):
         ``(s0, s1)``: the interval of arc length (m) that does not collect.
     supply_voltage : float
         A power supply's voltage (V) in series with the load, positive in the drag sense.
+    sample_every : float or None
+        With ``current="oml"``: None (default), the plasma's density and a Python field
+        are evaluated once per time step at the tether's points; a time ``h`` (s, > 0):
+        they are evaluated at knots every ``h`` seconds along the reference point,
+        with their gradients, and interpolated in time (``loads.knots``: cubic; on a 5 km
+        tether in a 400 km orbit within 2.6e-5 of IGRF and 5.5e-3 of IRI at ``h = 60``
+        s, ``docs/environment.md``), for long runs with expensive models.
+        Models made without an epoch take the system's (``System.add_orbit(...,
+        epoch=...)``).
 
     Notes
     -----
@@ -280,10 +290,10 @@ class ElectrodynamicForce(AlongCable):
     def __init__(self, cable, current, field, resistance=None,
                  plasma_rotation=None, fd_step=FD_STEP, *, plasma=None, cathode=IDEAL,
                  load=0.0, conductivity=None, perimeter=None, insulated=(0.0, 0.0),
-                 supply_voltage=0.0):
+                 supply_voltage=0.0, sample_every=None):
         self.cable = cable
         self.oml = circuit(cable, current, plasma, cathode, load, conductivity,
-                            perimeter, insulated, supply_voltage)
+                            perimeter, insulated, supply_voltage, sample_every)
         if self.oml is not None and plasma_rotation is not None:
             raise ValueError("plasma_rotation is not used with current='oml': the plasma's "
                              "velocity(x, t) gives the motion of the plasma")
@@ -302,29 +312,39 @@ class ElectrodynamicForce(AlongCable):
             raise ValueError(f"fd_step must lie in (0, 1), got {fd_step!r}")
         self.fd_step = float(fd_step)
 
-    def field_and_gradient(self, x, t):
+    def field_and_gradient(self, x, t, field=None):
         """The field (T) and its gradient (T/m) at absolute positions ``x`` (n, 3): the
-        field's own ``field(x, t)`` when it has one (``IGRF``), else central
-        differences."""
+        field's own ``field(x, t)`` when it has one (``IGRF``), else central differences;
+        ``field``: the callable field to use (default the one given, without the
+        system's epoch: ``environment.bound_model``)."""
         if self.compiled is not None:
             return self.compiled.field(x, t)
-        if callable(getattr(self.callable, "field", None)):
-            return self.callable.field(x, t)
-        B = self._call(x, t)
+        field = self.callable if field is None else field
+        if callable(getattr(field, "field", None)):
+            return field.field(x, t)
+        B = self._call(field, x, t)
         dB = np.empty(x.shape + (3,))
         step = self.fd_step * (1.0 + np.linalg.norm(x, axis=-1))
         for j in range(3):
             dx = np.zeros_like(x)
             dx[:, j] = step
-            dB[:, :, j] = (self._call(x + dx, t) - self._call(x - dx, t)) / (2 * step[:, None])
+            dB[:, :, j] = (self._call(field, x + dx, t)
+                           - self._call(field, x - dx, t)) / (2 * step[:, None])
         return B, dB
 
-    def _call(self, x, t):
-        B = np.asarray(self.callable(x, t), dtype=float)
+    @staticmethod
+    def _call(field, x, t):
+        B = np.asarray(field(x, t), dtype=float)
         if B.shape != x.shape or not np.all(np.isfinite(B)):
             raise ValueError(f"field(x, t) must return a finite array of shape {x.shape} "
                              f"(one field vector per point, T), got shape {B.shape}")
         return B
+
+    def bound_field(self, system):
+        """The callable field at the system's epoch (``environment.bound_model``: a
+        model made without an epoch takes the system's), None for a compiled one."""
+        return None if self.callable is None else bound_model(self.callable, system.epoch,
+                                                               "field")
 
     #: Bound with the run's reference in orbit (``bind(system, reference)``).
     reads_reference = True
@@ -355,6 +375,7 @@ class ElectrodynamicForce(AlongCable):
         motion, source, drive = np.zeros((2, 3)), np.zeros((2, 3)), np.zeros(2)
         scratch = tuple(np.zeros(points.shape + shape) for shape in
                         [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3 + [()])
+        field = self.bound_field(system)
         pack = ((points.edofs, points.S, points.Sx, points.w), motion, source, drive,
                 co_rotation(self.plasma_rotation, orbit), scratch, np.zeros(2))
 
@@ -377,8 +398,8 @@ class ElectrodynamicForce(AlongCable):
             packed = ev.packed()
             kernel.gather(pack, packed)
             X, B, dB = scratch[0], scratch[3], scratch[4]
-            B[:], dB[:] = (y.reshape(X.shape[:2] + y.shape[1:])
-                           for y in self.field_and_gradient(X.reshape(-1, 3), ev.t))
+            B[:], dB[:] = (y.reshape(X.shape[:2] + y.shape[1:]) for y in
+                           self.field_and_gradient(X.reshape(-1, 3), ev.t, field))
             kernel.finish(pack, index, packed)
 
         return Term(add=add, rows=rows, cols=cols, name=name), pack

@@ -18,19 +18,25 @@ step the density and plasma velocity are held and such a field is linearised abo
 positions (``kernels.oml_force.linearised_field``: its error is of the order of ``(dx /
 r)^2`` for a displacement ``dx`` within the step, the field varying on the scale of the
 distance ``r`` from the Earth's centre).  A dipole or uniform field is evaluated at every
-iterate, compiled.
+iterate, compiled.  With ``sample_every`` the density and a Python field are instead
+sampled at knots along the reference point and interpolated (``loads.knots``); the
+plasma's velocity (the co-rotation, cheap) is still evaluated per step.  Models made
+without an epoch take the system's (``environment.bound_model``).
 """
 
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 import numpy as np
 
 from ..bodies.section import check_positive
 from ..core import lines
 from ..core.contract import Term
+from ..environment.epoch import bound_model
 from ..environment.oml import ELECTRON_MASS, Cathode, collection_coefficient
 from ..kernels import oml_force as kernel
 from ..kernels.oml import MAX_ITER
+from .knots import OrbitKnots
 
 
 @dataclass(frozen=True)
@@ -41,7 +47,8 @@ class OMLCircuit:
     ``load`` resistance (ohm, >= 0), the ``supply_voltage`` (V, in series, positive in
     the drag sense), the ``conductivity`` (S/m), the conducting ``area`` (m^2), the
     collecting ``perimeter`` (m) and the ``insulated`` interval ``(s0, s1)`` of arc
-    length."""
+    length; ``sample_every``: None, the models once per step, or the spacing (s) of
+    the knots they are sampled at (``loads.knots``)."""
 
     plasma: object
     cathode: Cathode
@@ -51,6 +58,7 @@ class OMLCircuit:
     area: float
     perimeter: float
     insulated: tuple
+    sample_every: object = None
 
     def __post_init__(self):
         for name in ("density", "velocity"):
@@ -62,6 +70,8 @@ class OMLCircuit:
             check_positive(name, getattr(self, name))
         if not np.isfinite(self.supply_voltage):
             raise ValueError(f"supply_voltage must be finite (V), got {self.supply_voltage!r}")
+        if self.sample_every is not None:
+            check_positive("sample_every", self.sample_every)
 
     def coefficients(self):
         """``(c, bc)``: ``c = (c_e, c_i, 1 / (sigma A))`` per unit density and ``bc =
@@ -73,13 +83,13 @@ class OMLCircuit:
 
 
 def circuit(cable, current, plasma, cathode, load, conductivity, perimeter, insulated,
-             supply_voltage):
+             supply_voltage, sample_every=None):
     """The ``OMLCircuit`` of ``ElectrodynamicForce``'s arguments when ``current`` is
     ``"oml"`` (None otherwise, refusing its parameters)."""
     if not (isinstance(current, str) and current == "oml"):
-        if plasma is not None or conductivity is not None:
-            raise ValueError(f"plasma and conductivity are used only with current='oml', "
-                             f"got current={current!r}")
+        if plasma is not None or conductivity is not None or sample_every is not None:
+            raise ValueError(f"plasma, conductivity and sample_every are used only with "
+                             f"current='oml', got current={current!r}")
         return None
     if plasma is None or conductivity is None:
         raise ValueError("current='oml' needs plasma (density(x, t), velocity(x, t)) and "
@@ -90,7 +100,8 @@ def circuit(cable, current, plasma, cathode, load, conductivity, perimeter, insu
                          f"body's section.A, got {cable!r} without one")
     perimeter = 2.0 * np.sqrt(np.pi * area) if perimeter is None else perimeter
     return OMLCircuit(plasma, cathode, float(load), float(supply_voltage),
-                      float(conductivity), float(area), float(perimeter), tuple(insulated))
+                      float(conductivity), float(area), float(perimeter), tuple(insulated),
+                      sample_every)
 
 
 def stations(points):
@@ -132,7 +143,8 @@ def bind_oml(force, system, orbit, q=None):
     """``(term, pack)`` of the OML force ``force`` (``ElectrodynamicForce``) on
     ``system`` about the reference point of ``orbit`` (None: no orbit): the pack of
     ``kernels.oml_force`` and the term's ``prepare`` (module docstring), whose first
-    positions are those of ``q`` (default ``system.q0``)."""
+    positions are those of ``q`` (default ``system.q0``; given, a single evaluation:
+    the models are evaluated at the points, not at knots)."""
     circuit = force.oml
     points = lines.line_points(force.cable, system)
     s, length = stations(points)
@@ -149,6 +161,14 @@ def bind_oml(force, system, orbit, q=None):
             circuit.coefficients(), kernel.empty_work(nodes[0].size - 1), scratch,
             np.zeros(6))
 
+    plasma = bound_model(circuit.plasma, system.epoch, "plasma")
+    field = force.bound_field(system)
+    knots = None if circuit.sample_every is None or q is not None else OrbitKnots(
+        circuit.sample_every, 0.0 if orbit is None else orbit.t0,
+        lambda t: cache[5].reshape(-1, 3).mean(axis=0) + (
+            0.0 if orbit is None else orbit.position(t)),
+        field if field is None or callable(getattr(field, "field", None)) else
+        SimpleNamespace(field=lambda x, t: force.field_and_gradient(x, t, field)), plasma)
     prepared = np.array([np.nan])  # the time of the models' last evaluation
 
     def prepare(t):
@@ -159,12 +179,16 @@ def bind_oml(force, system, orbit, q=None):
         prepared[0] = t
         X = (cache[5] + motion[0]).reshape(-1, 3)
         cache[0][:] = X.reshape(cache[0].shape)
-        cache[3][:] = np.asarray(circuit.plasma.velocity(X, t)).reshape(cache[3].shape)
-        cache[4][:] = circuit.plasma.density(X, t)
+        cache[3][:] = np.asarray(plasma.velocity(X, t)).reshape(cache[3].shape)
         if force.compiled is not None:
             source[:] = force.compiled.sources(t)
+        if knots is not None:
+            B, dB, cache[4][:] = knots.at(X, t)
         else:
-            B, dB = force.field_and_gradient(X, t)
+            cache[4][:] = plasma.density(X, t)
+            if field is not None:
+                B, dB = force.field_and_gradient(X, t, field)
+        if field is not None:
             cache[1][:], cache[2][:] = (np.reshape(B, cache[1].shape),
                                         np.reshape(dB, cache[2].shape))
 

@@ -1,15 +1,18 @@
 """The ``[[point_masses]]`` and the ``[loads]`` of a scene file (gravity, centrifugal,
 ``[[loads.point]]``, ``[[loads.line]]``, ``[[loads.moment]]``, ``[[loads.morison]]``,
-``[[loads.buoyancy]]``, ``[[loads.free_molecular]]``, ``[[loads.atmospheric_drag]]``).
+``[[loads.buoyancy]]``, ``[[loads.free_molecular]]``, ``[[loads.atmospheric_drag]]``,
+``[[loads.electrodynamic]]``).
 ``LOADS`` maps each array of load tables to its reader; a new kind of load is one more
 entry."""
 
 from ..bodies.cable import Cable
 from ..bodies.rigid import RigidBody
+from ..environment.oml import Cathode
 from ..loads.atmosphere import AtmosphericDrag
 from ..loads.drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
+from ..loads.electrodynamic import ElectrodynamicForce
 from ..loads.point import PointMoment
-from .schema import input_or, non_negative, number, one_of, positive, vector3
+from .schema import choice, input_or, non_negative, number, one_of, positive, vector3
 
 
 def read_point_mass(t, bodies, system):
@@ -114,11 +117,31 @@ def atmospheric_drag_load(p, bodies, system, environment):
                                     p.get("cd", non_negative, 2.2), p.get("area", positive)))
 
 
+def electrodynamic_load(p, bodies, system, environment):
+    """``[[loads.electrodynamic]]``: the OML current of a bare ``cable`` (``current =
+    "oml"``) in the ``[environment]``'s ``field`` and ``plasma``, with its hollow
+    cathode's ``cathode_drop`` (V), ``load`` (ohm), ``conductivity`` (S/m), ``perimeter``
+    (m; default a round wire's) and ``sample_every`` (s; the models at knots,
+    ``loads.knots``)."""
+    cable = bodies.body(p, "cable", Cable)
+    current = p.get("current", choice("oml"))
+    for key in ("field", "plasma"):
+        if getattr(environment, key) is None:
+            p.fail("current", f"= \"oml\" needs [environment] {key}", current)
+    system.add_load(ElectrodynamicForce(
+        cable, current, environment.field, plasma=environment.plasma,
+        cathode=Cathode(p.get("cathode_drop", non_negative, 0.0)),
+        load=p.get("load", non_negative, 0.0), conductivity=p.get("conductivity", positive),
+        perimeter=p.get("perimeter", positive, None),
+        sample_every=p.get("sample_every", positive, None)))
+
+
 #: Readers of the arrays of load tables ``[[loads.KEY]]``: ``reader(p, bodies, system,
 #: environment)``.
 LOADS = {"point": point_load, "line": line_load, "moment": moment_load,
          "morison": morison_load, "buoyancy": buoyancy_load,
-         "free_molecular": free_molecular_load, "atmospheric_drag": atmospheric_drag_load}
+         "free_molecular": free_molecular_load, "atmospheric_drag": atmospheric_drag_load,
+         "electrodynamic": electrodynamic_load}
 
 
 def read_loads(t, bodies, system, analysis, environment):

@@ -325,3 +325,7 @@ register("tss", "skfem_cable.scenes.tss:run",
 register("tape-tether", "skfem_cable.scenes.tape_tether:run",
          "5 km aluminium tape (sc.Rod) in a 400 km orbit, librating, one turn of twist: "
          "torsional period against 2L/c", build="skfem_cable.scenes.tape_tether:scene")
+register("ed-deorbit", "skfem_cable.scenes.ed_deorbit:run",
+         "bare 5 km tape deorbiting, OML current from IRI in IGRF, MSIS drag, one orbit; "
+         "--epoch (default 2026-01-01)", build="skfem_cable.scenes.ed_deorbit:scene",
+         takes=("epoch",))
