@@ -110,8 +110,9 @@ def measure(config, steps, repeats):
     return min(step), min(cost), narrow, int(broad.count[0])
 
 
-def main():
-    args = SETTINGS["quick" if arguments(__doc__, "fewer steps and repeats").quick
+def main(argv=None):
+    """Parse the arguments (``--quick``: fewer steps and repeats) and print the table."""
+    args = SETTINGS["quick" if arguments(__doc__, "fewer steps and repeats", argv).quick
                     else "full"]
     print(f"{'tethers':>8} {'step ms':>9} {'broad ms':>9} {'narrow ms':>10} {'pairs':>6} "
           f"{'ratio':>6} {'goal':>5}")

@@ -10,10 +10,11 @@ bending, so the centreline turns about ``z`` and the section spins about the tan
 constant rate).  A turn is one of the tumble, ``2 pi / 8`` s.  ``tests/test_rods_coupling.py`` runs
 a few turns of it.
 
-Usage: ``python benchmarks/rod_tumbling.py [turns] [steps_per_turn]`` (default 100, 400).
+Usage: ``python benchmarks/rod_tumbling.py [--turns N] [--steps-per-turn M] [--quick]``
+(default 100, 400; ``--quick``: 3 turns).
 """
 
-import sys
+import argparse
 import time
 
 import numpy as np
@@ -41,7 +42,15 @@ def run(turns, steps_per_turn=400, n_elements=8, checks_per_turn=4):
     return float(ratios.max()), error, result
 
 
-def main(turns=100, steps_per_turn=400):
+def main(argv=None):
+    """Parse the arguments (``--turns``, ``--steps-per-turn``, ``--quick``: 3 turns) and
+    print the figures."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--turns", type=int, default=100)
+    parser.add_argument("--steps-per-turn", type=int, default=400)
+    parser.add_argument("--quick", action="store_true", help="3 turns instead of 100")
+    args = parser.parse_args(argv)
+    turns, steps_per_turn = (3 if args.quick else args.turns), args.steps_per_turn
     start = time.process_time()
     ratio, error, result = run(turns, steps_per_turn)
     print(f"{turns} turns, {steps_per_turn} steps per turn: bending and twist energy / "
@@ -50,4 +59,4 @@ def main(turns=100, steps_per_turn=400):
 
 
 if __name__ == "__main__":
-    main(*(int(a) for a in sys.argv[1:3]))
+    main()

@@ -14,10 +14,10 @@ a short run that compiles.
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/surface_contact_cost.py [--quick]
 """
 
-import sys
 import time
 
 import skfem_cable as sc
+from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes.capstan import DRUM, LEG, RAMP, T1, R, V, smooth, wrapped
 
 FAR = sc.Cylinder([0, 100, 0], [0, 0, 1], R)
@@ -57,8 +57,10 @@ def cost(case, t_end, repeats):
     return best
 
 
-def main(quick=False):
-    """Print the cost of each case and its ratio to ``rope``."""
+def main(argv=None):
+    """Parse the arguments (``--quick``: 0.1 s, two repeats) and print the cost of each
+    case and its ratio to ``rope``."""
+    quick = arguments(__doc__, "0.1 s of the rig and two repeats", argv).quick
     t_end, repeats = (0.1, 2) if quick else (0.35, 3)
     costs = {case: cost(case, t_end, repeats) for case in CASES}
     for case, us in costs.items():
@@ -66,4 +68,4 @@ def main(quick=False):
 
 
 if __name__ == "__main__":
-    main("--quick" in sys.argv)
+    main()
