@@ -327,5 +327,4 @@ register("tape-tether", "skfem_cable.scenes.tape_tether:run",
          "torsional period against 2L/c", build="skfem_cable.scenes.tape_tether:scene")
 register("ed-deorbit", "skfem_cable.scenes.ed_deorbit:run",
          "bare 5 km tape deorbiting, OML current from IRI in IGRF, MSIS drag, one orbit; "
-         "--epoch (default 2026-01-01)", build="skfem_cable.scenes.ed_deorbit:scene",
-         takes=("epoch",))
+         "--epoch (default 2026-01-01)", takes=("epoch",))
