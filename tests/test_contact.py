@@ -9,6 +9,7 @@ are read), which ``demos/capstan.py`` draws.
 
 import numpy as np
 import pytest
+from atwood import assert_follows_the_closed_form, atwood
 
 import skfem_cable as sc
 from skfem_cable.loads.contact import ContactToleranceWarning
@@ -100,23 +101,9 @@ def test_atwood_machine_with_a_massive_rope():
     elastic rope (EA = 1e5 N) first stretches under the weights by about 2e-4 m, which
     the inextensible equation does not know (its bounce on the rope's stretch, at 50 Hz,
     damped by the rope's ``gamma_axial = 5e-3`` s)."""
-    m1, m2, g, leg = 1.1, 1.0, 9.81, 1.0
-    rope = sc.Section.circular(5e-3, 1.27e9, 1273.0, gamma_axial=5e-3)   # damps the bounce
-    cable = wrapped(R + 5e-3 + 1e-5, leg, 24, 8, section=rope)
-    system = (sc.System([cable]).add_gravity([0, -g, 0])
-              .add_point_mass(cable.node(0), m1).add_point_mass(cable.node(-1), m2)
-              .contact(cable, DRUM))
+    system, cable = atwood(E=1.27e9)   # EA = 1e5 N
     result = sc.simulate(system, t_end=1.0, dt=2e-3, every=10)
-    rho_a = ROPE.mass_per_length
-    M = m1 + m2 + rho_a * cable.length
-    a0, w = g * (m1 - m2) / M, np.sqrt(2 * rho_a * g / M)
-    t = result.t
-    y = result.q[:, system.dofs(cable.node(0))[1]]
-    exact = a0 / w**2 * (np.cosh(w * t) - 1)
-    start, late = np.searchsorted(t, 0.1 - 1e-9), t >= 0.2 - 1e-9
-    assert (y[start] - y[late]) == pytest.approx(exact[late] - exact[start], rel=1e-2)
-    speed = -result.v[-1, system.dofs(cable.node(0))[1]]
-    assert speed == pytest.approx(a0 / w * np.sinh(w * t[-1]), rel=1e-2)
+    assert_follows_the_closed_form(system, cable, result)
 
 
 def test_what_is_not_built_yet_says_so():

@@ -6,24 +6,17 @@ import warnings
 
 import numpy as np
 import pytest
+from atwood import assert_follows_the_closed_form, atwood
 
 import skfem_cable as sc
 from skfem_cable.loads.surface_broad_phase import ContactDampingWarning
-from skfem_cable.scenes.capstan import DRUM, ROPE, R, capstan, wrapped
+from skfem_cable.scenes.capstan import ROPE, R, capstan
 
 
 def stiff_atwood():
     """The Atwood machine of ``test_contact.py`` with a rope ten times stiffer (EA = 1e6
     N) and the default contact: ``(system, cable)``."""
-    rope = sc.Section.circular(5e-3, 1.27e10, 1273.0, gamma_axial=5e-3)
-    cable = wrapped(R + 5e-3 + 1e-5, 1.0, 24, 8, section=rope)
-    system = (sc.System([cable]).add_gravity([0, -G, 0])
-              .add_point_mass(cable.node(0), M1).add_point_mass(cable.node(-1), M2)
-              .contact(cable, DRUM))
-    return system, cable
-
-
-G, M1, M2 = 9.81, 1.1, 1.0
+    return atwood(E=1.27e10)
 
 
 def test_a_stiff_rope_on_a_drum_says_it_is_under_damped():
@@ -44,19 +37,10 @@ def test_atwood_machine_with_a_stiff_rope_at_rho_inf_zero():
     with warnings.catch_warnings():
         warnings.simplefilter("error", ContactDampingWarning)
         result = sc.simulate(system, t_end=1.0, dt=5e-3, every=4, rho_inf=0.0)
-    rho_a = ROPE.mass_per_length
-    M = M1 + M2 + rho_a * cable.length
-    a0, w = G * (M1 - M2) / M, np.sqrt(2 * rho_a * G / M)
-    t = result.t
-    y = result.q[:, system.dofs(cable.node(0))[1]]
-    exact = a0 / w**2 * (np.cosh(w * t) - 1)
-    start, late = np.searchsorted(t, 0.1 - 1e-9), t >= 0.2 - 1e-9
-    assert (y[start] - y[late]) == pytest.approx(exact[late] - exact[start], rel=1e-2)
-    speed = -result.v[-1, system.dofs(cable.node(0))[1]]
-    assert speed == pytest.approx(a0 / w * np.sinh(w * t[-1]), rel=1e-2)
+    assert_follows_the_closed_form(system, cable, result)
     contact = system.loads[-1]
     carried = [contact.forces(result.state(i))["normal"].sum()
-               for i in np.flatnonzero(t >= 0.1 - 1e-9)[::5]]
+               for i in np.flatnonzero(result.t >= 0.1 - 1e-9)[::5]]
     assert np.array(carried) == pytest.approx(37.3, rel=2e-2)
 
 
