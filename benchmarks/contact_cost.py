@@ -60,7 +60,7 @@ def broad_phase(scene):
     broad = BroadPhase(joined(points), rows, np.vstack([a for _, a in parts]), line, None,
                        2.02 * radius, np.zeros((PAIRS_PER_SEGMENT * len(rows), 2), int),
                        np.zeros(1, int), scene.initial.q)
-    broad.state(scene.initial.q, scene.initial.v, 0.0)
+    broad.accept(scene.initial.q, scene.initial.v, 0.0)
     return broad, rows
 
 

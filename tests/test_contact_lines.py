@@ -58,7 +58,7 @@ def resultants(system, contact, q, v, bodies):
     components of its generalized force on their position coordinates (a translation
     moves those alone)."""
     term = contact.bind(system)
-    term.hooks[0].state(q, v, 0.0)
+    term.hooks[0].accept(q, v, 0.0)
     ev = Evaluation(system, 0.0, q, v, np.zeros(0))
     term.evaluate(ev, None)
     force = ev.f_ext - ev.f

@@ -33,6 +33,7 @@ import numpy as np
 from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
 from ..kernels import contact_lines as kernel
+from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
 
 #: The crossing force (in units of ``EA``) that penetrates ``tolerance d`` with the
@@ -68,7 +69,7 @@ def segments(points, ends):
     return rows, np.column_stack([arc[:-1], arc[1:]])
 
 
-class BroadPhase:
+class BroadPhase(AcceptedState):
     """The candidate pairs of segments, refreshed once per time step: a step hook of the
     run (``protocols.StepHook``: it keeps the last accepted state) and the term's
     ``prepare(t)``.  Each segment's box is inflated by ``margin / 2`` (``r_a + r_b`` and
@@ -100,12 +101,7 @@ class BroadPhase:
         self.exclusion = -1.0 if exclusion is None else float(exclusion)
         self.margin, self.box = float(margin), np.empty((len(rows), 6))
         self.pairs, self.count = pairs, count
-        self.state(q0, np.zeros_like(q0), 0.0)
-
-    def state(self, q, v, t):
-        """Candidates from the state ``q``, ``v`` at time ``t`` (for ``t`` onwards)."""
-        self.q, self.v, self.t = np.array(q, dtype=float), np.array(v, dtype=float), float(t)
-        self.done = None
+        self.accept(q0, np.zeros_like(q0), 0.0)
 
     def prepare(self, t):
         """The candidate pairs for the step to ``t`` into ``pairs[:count[0]]`` (once per
@@ -123,26 +119,6 @@ class BroadPhase:
         self.count[0] = found
         self.done = t
 
-    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
-    def start(self, integrator):
-        """A fresh run: its initial state."""
-        self.state(integrator.q, integrator.v, integrator.t)
-
-    def after_step(self, integrator):
-        """A step was accepted: the state the next step's candidates come from."""
-        self.state(integrator.q, integrator.v, integrator.t)
-
-    def next_event(self, t):
-        """No time a step must end on."""
-        return np.inf
-
-    def snapshot(self):
-        """Nothing of its own: the checkpoint's state is the integrator's."""
-        return {}
-
-    def restore(self, snap):
-        """A resumed run: the checkpoint's state."""
-        self.state(snap["q"], snap["v"], snap["t"])
 
 
 class LineLineContact:

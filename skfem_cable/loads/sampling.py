@@ -7,6 +7,7 @@ import numpy as np
 
 from ..bodies.section import check_positive
 from ..environment.epoch import bound_model
+from .accepted import AcceptedState
 
 
 def is_model(density):
@@ -21,9 +22,9 @@ def density_model(density):
     return density if is_model(density) else check_positive("density", density)
 
 
-class DensitySampler:
+class DensitySampler(AcceptedState):
     """The density of a model at a body's points, evaluated once per time step: a step
-    hook of the run (``protocols.StepHook``: it keeps the last accepted state) and the
+    hook of the run (``AcceptedState``: it keeps the last accepted state) and the
     term's ``prepare(t)`` (the density at the positions predicted for ``t``).
 
     Parameters
@@ -55,12 +56,8 @@ class DensitySampler:
         self.weights = np.asarray(weights, dtype=float)
         self.out = np.zeros(self.weights.shape[0])
         self.calls = 0
-        self._state(q0, np.zeros_like(q0), 0.0 if orbit is None else orbit.t0)
+        self.accept(q0, np.zeros_like(q0), 0.0 if orbit is None else orbit.t0)
         self.prepare(self.t)
-
-    def _state(self, q, v, t):
-        self.q, self.v, self.t = np.array(q, dtype=float), np.array(v, dtype=float), float(t)
-        self.done = None  # the time the density was last evaluated for
 
     def prepare(self, t):
         """The density at time ``t`` at the positions predicted from the last accepted
@@ -77,27 +74,6 @@ class DensitySampler:
         self.calls += 1
         self.done = t
 
-    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
-    def start(self, integrator):
-        """A fresh run: its initial state."""
-        self._state(integrator.q, integrator.v, integrator.t)
-
-    def after_step(self, integrator):
-        """A step was accepted: its state, from which the next step's density is
-        predicted (after the rectification's rebase, which runs first)."""
-        self._state(integrator.q, integrator.v, integrator.t)
-
-    def next_event(self, t):
-        """No time a step must end on."""
-        return np.inf
-
-    def snapshot(self):
-        """Nothing of its own: the checkpoint's state is the integrator's."""
-        return {}
-
-    def restore(self, snap):
-        """A resumed run: the checkpoint's state."""
-        self._state(snap["q"], snap["v"], snap["t"])
 
 
 def line_sampler(model, points, system, orbit):

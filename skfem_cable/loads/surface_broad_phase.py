@@ -26,6 +26,7 @@ import numpy as np
 
 from ..kernels import contact as kernel
 from ..kernels import line
+from .accepted import AcceptedState
 
 #: The deepest penetration, in units of the onset ``p_0``, below which a contact is
 #: under-damped (damping ratio ``2 sqrt(u) - u^1.5`` below 0.8).
@@ -39,7 +40,7 @@ class ContactDampingWarning(UserWarning):
     oscillation, faster than a time step resolves, can gain energy (``docs/contact.md``)."""
 
 
-class BroadPhase:
+class BroadPhase(AcceptedState):
     """The per-step mask ``scale`` (ne,) of the contact of the points ``points``
     (``lines.LinePoints``) of a line of cross-section radius ``radius`` with the surface
     array ``surface``: elements whose points are all farther than ``margin + 3 h v_max``
@@ -60,7 +61,7 @@ class BroadPhase:
         self.rho_inf, self.warned, self.shallow = 0.0, False, 0
         self.scale = np.ones(points.shape[0])
         self.X, self.A, self.V = (np.empty(points.shape + (3,)) for _ in range(3))
-        self.state, self.done, self.skipped = None, None, 0
+        self.skipped = 0
 
     def prepare(self, t):
         """The mask for the step that ends at ``t`` (from the last accepted state; every
@@ -69,10 +70,10 @@ class BroadPhase:
         if t == self.done:
             return
         self.done = t
-        if self.state is None or not t > self.state[2]:
+        if self.t is None or not t > self.t:
             self.scale[:] = 1.0
             return
-        q, v, t0 = self.state
+        q, v, t0 = self.q, self.v, self.t
         p = self.points
         line.points(p.edofs, p.S, p.Sx, q, v, self.X, self.A, self.V)
         depth = -kernel.near(self.surface, self.X, self.V, self.radius, t - t0, self.margin,
@@ -95,29 +96,8 @@ class BroadPhase:
                       "rope bounced off its drum); run at rho_inf = 0, or give a softer "
                       "stiffness= (docs/contact.md)", ContactDampingWarning, stacklevel=2)
 
-    def _state(self, q, v, t):
-        self.state = (np.array(q, dtype=float), np.array(v, dtype=float), float(t))
-        self.done = None
-
-    # --- the step hook (``protocols.StepHook``, called by ``simulate``) ------------------
     def start(self, integrator):
-        """A fresh run: its initial state and ``rho_inf``."""
-        self._state(integrator.q, integrator.v, integrator.t)
+        """A fresh run: its initial state (``AcceptedState``) and ``rho_inf``."""
+        super().start(integrator)
         self.rho_inf = float(getattr(integrator, "rho_inf", 0.0))
         self.warned, self.shallow = False, 0
-
-    def after_step(self, integrator):
-        """A step was accepted: its state, from which the next step's mask is made."""
-        self._state(integrator.q, integrator.v, integrator.t)
-
-    def next_event(self, t):
-        """No time a step must end on."""
-        return np.inf
-
-    def snapshot(self):
-        """Nothing of its own: the checkpoint's state is the integrator's."""
-        return {}
-
-    def restore(self, snap):
-        """A resumed run: the checkpoint's state."""
-        self._state(snap["q"], snap["v"], snap["t"])
