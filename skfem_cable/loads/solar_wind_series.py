@@ -106,6 +106,11 @@ class SolarWindSeries:
         return self.at(self.times[0]).force_per_length(voltage)
 
     @property
+    def V1(self):
+        """``V1`` (V) of the samples (``SolarWind.V1``)."""
+        return self.constants.V1
+
+    @property
     def digest(self):
         """SHA-256 (hex) of the samples."""
         h = hashlib.sha256()
