@@ -193,3 +193,17 @@ def test_resume_with_changed_wind_data_is_refused(interrupted):
     other = sail(jump_series(factor=4.0))
     with pytest.raises(StoreMismatch, match=r"what differs: loads\[0\] \(SolarWindForce\): wind:"):
         io.resume(run, other.system)
+
+
+def test_voltages_of_inputs_one_per_tether_read_the_run_table():
+    """Before: ``voltages(t, sources)`` read the inputs' initial values for a list of
+    per-tether inputs (only one input of all the voltages read the run's values)."""
+    from skfem_cable.core.inputs import InputTable
+
+    a = sc.Cable.straight([0, 0, 0], [0, 100, 0], 2, TETHER, name="a")
+    b = sc.Cable.straight([0, 0, 0], [0, -100, 0], 2, TETHER, name="b")
+    v1, v2 = sc.Input("v1", 20e3), sc.Input("v2", 20e3)
+    load = SolarWindForce([a, b], [v1, v2])
+    table = InputTable({"v1": v1, "v2": v2})
+    table.set("v2", 5e3)
+    assert load.voltages(0.0, load.sources(table)).tolist() == [20e3, 5e3]
