@@ -207,3 +207,32 @@ def test_voltages_of_inputs_one_per_tether_read_the_run_table():
     table = InputTable({"v1": v1, "v2": v2})
     table.set("v2", 5e3)
     assert load.voltages(0.0, load.sources(table)).tolist() == [20e3, 5e3]
+
+
+def test_a_law_follows_the_series_and_the_moving_sun_once_per_step():
+    """The bound term's coefficients and ``(d, p)`` refreshed by ``prepare(t)``: the
+    Janhunen (2009) law through the 3x density and speed step (its ratio by hand, 1e-9)
+    and at the distance of a Sun receding by 1 AU a second; the paper's law keeps its
+    1 AU anchor."""
+    def recede(t):
+        return np.array([-(1.0 + t) * AU, 0.0, 0.0])
+
+    system, load = tether_across_wind("janhunen2009", wind=jump_series())
+    load.sun = recede  # a moving Sun (sun_position=recede)
+    term = load.bind(system)
+    (_, pack), = term.kernels
+    coef, (sun, scaling) = pack[4], pack[5]
+    term.prepare(0.0)
+    first = coef.copy()
+    term.prepare(JUMP + 0.5)
+    hand = janhunen2009_by_hand(20e3, n=3 * 7.3e6 / (1 + JUMP + 0.5) ** 2, u=5e5,
+                                T=thrust_laws.JANHUNEN2009_TEMPERATURE
+                                * (1 + JUMP + 0.5) ** (-1 / 3))
+    assert coef[0] == pytest.approx(hand, rel=1e-9)
+    assert first[0] == pytest.approx(janhunen2009_by_hand(20e3), rel=1e-9)
+    assert sun[0] == -(1 + JUMP + 0.5) * AU and scaling[0] == (1 + JUMP + 0.5) * AU
+    assert scaling[1] == pytest.approx(load.law.exponent(20e3, load.wind.at(JUMP + 0.5),
+                                                         scaling[0]), rel=1e-12)
+    paper = SolarWindForce(load.cables, 20e3, jump_series(), sun_position=recede)
+    (_, pack), = paper.bind(system).kernels
+    assert pack[5][1].tolist() == [AU, 7 / 6]
