@@ -9,6 +9,7 @@ of every law: ``test_esail.py::test_coulomb_jacobian_matches_finite_differences`
 short run: one compiled step) through a 3x density jump with a speed step; a resumed run
 reads the same series and is refused with other data."""
 
+import doctest
 import math
 
 import numpy as np
@@ -17,7 +18,7 @@ import pytest
 import skfem_cable as sc
 from skfem_cable import io
 from skfem_cable.io import StoreMismatch
-from skfem_cable.loads import thrust_laws
+from skfem_cable.loads import solar_wind_series, thrust_laws
 from skfem_cable.loads.coulomb import AU, SolarWind, SolarWindForce
 from skfem_cable.loads.solar_wind_series import WindStatistics
 from skfem_cable.scenes import esail
@@ -236,3 +237,9 @@ def test_a_law_follows_the_series_and_the_moving_sun_once_per_step():
     paper = SolarWindForce(load.cables, 20e3, jump_series(), sun_position=recede)
     (_, pack), = paper.bind(system).kernels
     assert pack[5][1].tolist() == [AU, 7 / 6]
+
+
+@pytest.mark.parametrize("module", [thrust_laws, solar_wind_series])
+def test_docstring_examples_run(module):
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
+    assert result.attempted > 0 and result.failed == 0
