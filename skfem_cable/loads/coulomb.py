@@ -306,10 +306,11 @@ class SolarWindForce:
     def coefficients(self, t, sources=None, reference=None):
         """Force per unit length on a tether across the wind at the reference distance
         (``distance``; 1 AU for the paper's law), per cable (N/m), of the voltages of
-        ``sources`` (``voltages``) in the wind at ``t``."""
+        ``sources`` (``voltages``) in the wind at ``t`` (the law evaluated once per
+        distinct voltage)."""
         wind, d = self.wind.at(t), self.distance(t, reference)
-        return np.array([self.law.force_per_length(V, wind, d)
-                         for V in self.voltages(t, sources)])
+        levels, which = np.unique(self.voltages(t, sources), return_inverse=True)
+        return np.array([self.law.force_per_length(V, wind, d) for V in levels])[which]
 
     #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
     #: force per unit material length acts on the stretched mesh.

@@ -157,7 +157,9 @@ class SheathLaw:
     and the force per unit length is ``K m_p n u^2 r_s`` (``K = 3.09`` from the
     deflection integral), with the sheath scale ``r0 = 2 lambda_De``,
     ``lambda_De = sqrt(eps0 T / (n e))`` the Debye length of the electrons that shield
-    the tether, of effective temperature ``T`` (eV) at 1 AU, ``T ~ r^(-1/3)``.
+    the tether, of effective temperature ``T`` (eV) at 1 AU, ``T ~ r^(-1/3)``.  ``K``,
+    ``r0 = 2 lambda_De`` and ``r_w`` as recalled from Janhunen (2009), Sect. 5, whose
+    text was not reachable here (``docs/esail.md``, "What is calibrated").
 
     Parameters
     ----------
