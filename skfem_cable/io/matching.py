@@ -2,7 +2,13 @@
 fingerprints against the system's, ``StoreMismatch`` naming what differs."""
 
 from ..core.protocols import SystemView
-from ..model.fingerprint import settings_fingerprint, system_fingerprint
+from ..model.fingerprint import (
+    changed_parts,
+    describe_system,
+    part_digests,
+    settings_fingerprint,
+    system_fingerprint,
+)
 from ..util.jsonable import jsonable
 from .manifest import StoreMismatch
 
@@ -24,9 +30,25 @@ def outline(system: SystemView):
             f"loads: {loads}; {len(system.point_masses)} point masses")
 
 
+def parts(system: SystemView):
+    """What a store's manifest keeps of the parts of ``system`` to name what changed
+    (``model.fingerprint.part_digests``)."""
+    return part_digests(describe_system(system))
+
+
+def _changed(manifest, system):
+    """The parts of ``system`` whose parameters differ from the store's (a store that
+    recorded them, of the current fingerprint version), as a clause of a message."""
+    if "parts" not in manifest or stored_version(manifest) != 2:
+        return ""
+    changed = changed_parts(manifest["parts"], describe_system(system))
+    return f"; what differs: {'; '.join(changed)}" if changed else ""
+
+
 def check_fingerprint(path, manifest, system: SystemView, settings=None):
     """Raise ``StoreMismatch`` unless the store of ``path`` (its ``manifest``) was written
-    by ``system`` (and with ``settings``, when given)."""
+    by ``system`` (and with ``settings``, when given), naming the parts and parameters
+    that differ when the store recorded them (``parts``)."""
     fp = manifest.get("fingerprint") or {}
     if fp.get("system") != system_fingerprint(system, stored_version(manifest)):
         raise StoreMismatch(
@@ -34,6 +56,7 @@ def check_fingerprint(path, manifest, system: SystemView, settings=None):
             f"given {outline(system)}"
             + ("" if manifest.get("system") != outline(system) else
                " (same bodies and sizes: sections, masses, constraints or loads differ)")
+            + _changed(manifest, system)
             + ": load or continue it with the system that wrote it (or write a new run)")
     if settings is not None and fp.get("settings") != settings_fingerprint(settings):
         stored = manifest.get("settings") or {}

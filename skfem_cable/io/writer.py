@@ -34,7 +34,7 @@ from ..util.jsonable import jsonable
 from . import lock, signals
 from .legacy import LEGACY_CHECKPOINT, LEGACY_CHUNKS, LEGACY_RESUME, is_legacy
 from .manifest import MANIFEST, RunExists, StoreCorrupt, StoreError, read_manifest, write_manifest
-from .matching import check_fingerprint, outline
+from .matching import check_fingerprint, outline, parts
 from .reader import describe_run, empty_records, fill_records, read_records, run_info
 from .resume import check_last_commit, check_t_end, copy_store, resume
 from .schema import (
@@ -323,7 +323,8 @@ class RunStore(Observer):
                                 "continue it (resume, --resume)")
             remove_store(self.path)
         # the manifest first: from now on the directory holds a run (of no steps yet)
-        manifest = {"fingerprint": fp, "system": outline(run.system), "settings": settings,
+        manifest = {"fingerprint": fp, "system": outline(run.system), "parts": parts(run.system),
+                    "settings": settings,
                     "n_dofs": run.system.n_dofs, "n_constraints": run.system.n_constraints,
                     "fields": list(self.fields), "variables": list(self.variables),
                     "store": STORE, "chunk": self.chunk, "saved": 0, "first": None,

@@ -16,6 +16,7 @@ Examples
 """
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -27,15 +28,8 @@ from ..core.linalg import thread_count
 from ..kernels import coulomb as kernel
 from ..kernels import line
 from ..space.constants import AU
-
-THRUST_EXPONENT = 7.0 / 6.0
-"""Exponent ``p`` of the E-sail thrust's fall-off with solar distance, ``(AU / r)^p``
-(Janhunen et al., "Electric solar wind sail: toward test missions", Rev. Sci. Instrum. 81,
-111301, 2010, ref. [16] of the paper: thrust at constant voltage ``~ 1/r^(7/6)``).  The
-ion-deflecting sheath of a tether is a few electron Debye lengths wide,
-``lambda_D ~ sqrt(T_e / n)``, with the density ``n ~ r^-2`` and the electron temperature
-``T_e ~ r^(-1/3)``, so ``lambda_D ~ r^(5/6)``; the force per unit length is the dynamic
-pressure ``m_p n u^2 ~ r^-2`` times the sheath width: ``r^-2 r^(5/6) = r^(-7/6)``."""
+from .solar_wind_series import SolarWindSeries, WindStatistics, read_series, synthetic_series
+from .thrust_laws import THRUST_EXPONENT, thrust_law  # noqa: F401 (the scenes import it here)
 
 
 @dataclass
@@ -69,6 +63,9 @@ class SolarWind:
     proton_mass: float = 1.67e-27
     eps0: float = 8.854e-12
 
+    #: A steady wind: ``SolarWindForce`` reads it once (``SolarWindSeries`` varies).
+    varies: ClassVar[bool] = False
+
     def __post_init__(self):
         for name in ("speed", "density", "proton_mass", "eps0"):
             setattr(self, name, check_positive(name, getattr(self, name)))
@@ -79,6 +76,36 @@ class SolarWind:
         a tether perpendicular to the wind (Eq. 29)."""
         return (0.18 * max(0.0, voltage - self.V1)
                 * np.sqrt(self.eps0 * self.proton_mass * self.density) * self.speed)
+
+    def at(self, t):
+        """The wind at time ``t``: this one (a steady wind)."""
+        return self
+
+    @classmethod
+    def series(cls, times, density, speed, direction=None, B=None, constants=None):
+        """A wind varying in time (``SolarWindSeries``): ``density`` (1/m^3) and ``speed``
+        (m/s) at 1 AU sampled at ``times`` (s), linear between them, optional field ``B``
+        (nt, 3) (T), with the ``V1``, ``proton_mass`` and ``eps0`` of ``constants`` (a
+        ``SolarWind``; None: the defaults).  ``direction`` must be None: the force's wind
+        blows radially from the Sun (Eq. 32)."""
+        if direction is not None:
+            raise ValueError("direction: the solar wind of SolarWindForce blows radially "
+                             f"from the Sun (Eq. 32); only None is accepted, got {direction!r}")
+        return SolarWindSeries(times, density, speed, B, constants or cls())
+
+    @classmethod
+    def read_series(cls, source, constants=None):
+        """``series`` of a CSV file or an xarray Dataset (``solar_wind_series.read_series``)."""
+        return read_series(source, constants or cls())
+
+    @classmethod
+    def synthetic(cls, duration, step=600.0, seed=0, stats=None, constants=None):
+        """A seeded synthetic ``series`` of ``duration`` s sampled every ``step`` s, of the
+        statistics ``stats`` (``solar_wind_series.WindStatistics``: slow and fast streams,
+        log-normal fluctuations, stream interfaces, with their sources; None: its
+        defaults)."""
+        return synthetic_series(duration, constants or cls(), step, seed,
+                                stats or WindStatistics())
 
 
 @dataclass(frozen=True)
@@ -140,25 +167,33 @@ class SolarWindForce:
         Tether voltage ``V0`` (V); a callable ``V0(t)`` modulates it in time, and one
         callable may return the voltages of all the cables at once (an array, e.g. an
         ``Input`` of one value per tether that a controller sets).
-    wind : SolarWind
+    wind : SolarWind or SolarWindSeries
+        The wind's data at 1 AU, steady or varying in time (``SolarWind.series``:
+        sampled once per time step).
     sun_position : array_like (3,) or callable
         Position of the Sun in the system's coordinates: fixed (the frame I of the paper,
         ``-R0``, Eq. 32), or ``sun_position(t) -> (3,)`` refreshed once per time step
         (``SunAtFocus(orbit)`` for a system in a heliocentric orbit; for an orbit about
         the Earth, the Sun's position relative to the orbit's reference point).
     exponent : float
-        ``p`` of the scaling ``(AU / r)^p`` of the force with the heliocentric distance
-        ``r`` of each Gauss point (default ``THRUST_EXPONENT`` = 7/6; 0: the uniform wind
-        of the paper's Eq. 29, bit for bit).
+        ``p`` of the scaling ``(AU / r)^p`` of the paper's law with the heliocentric
+        distance ``r`` of each Gauss point (default None: ``THRUST_EXPONENT`` = 7/6; 0: the
+        uniform wind of the paper's Eq. 29, bit for bit); the other laws carry their own
+        dependence on the distance.
+    law : str or thrust law
+        The force per unit length on a tether across the wind (``loads.thrust_laws``):
+        ``"paper"`` (Eq. 29, the default), ``"janhunen2009"``, ``"shielded"``, any
+        registered name (``thrust_laws.names()``), or a law object.
 
     Notes
     -----
     The force reads the cables only through their line-body hook; its kernel is the one
     loop of the line loads with the point function ``kernels.coulomb.point``.  Each tether
     element is pushed along the wind's component perpendicular to it, with
-    ``SolarWind.force_per_length`` for a tether across the wind at 1 AU (Eqs. 27-35)
-    times ``(AU / r)^p``; the wind blows radially from the Sun with the velocity
-    ``u i_R`` of Eq. 32, not relative to the tether (as in the paper's force law).
+    the law's force per unit length for a tether across the wind (Eqs. 27-35; the
+    paper's: ``SolarWind.force_per_length`` at 1 AU times ``(AU / r)^p``); the wind
+    blows radially from the Sun with the velocity ``u i_R`` of Eq. 32, not relative to
+    the tether (as in the paper's force law).
 
     Examples
     --------
@@ -175,7 +210,7 @@ class SolarWindForce:
     """
 
     def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0),
-                 exponent=THRUST_EXPONENT):
+                 exponent=None, law="paper"):
         self.cables = list(cables)
         if callable(voltage) and np.ndim(voltage(0.0)) == 1:
             voltage = [_Component(voltage, k) for k in range(len(self.cables))]
@@ -191,9 +226,9 @@ class SolarWindForce:
         self.wind = wind or SolarWind()
         self.sun = sun_position if callable(sun_position) else np.asarray(sun_position,
                                                                             dtype=float)
-        if not np.isfinite(exponent):
+        if exponent is not None and not np.isfinite(exponent):
             raise ValueError(f"exponent must be finite, got {exponent!r}")
-        self.scaling = np.array([AU, float(exponent)])
+        self.law = thrust_law(law, exponent)
         self.voltages(0.0)  # a bad voltage callable fails now, not mid-run
 
     def inputs(self):
@@ -218,7 +253,7 @@ class SolarWindForce:
                 raise ValueError(f"voltage(t) must return {len(self.cables)} voltages, one "
                                  f"per cable, got shape {out.shape}")
         else:
-            out = np.array([v(t) if callable(v) else v for v in self.voltage], dtype=float)
+            out = np.array([v(t) if callable(v) else v for v in voltage], dtype=float)
         bad = ~(np.isfinite(out) & (out >= 0))
         if bad.any():
             k = int(np.argmax(bad))
@@ -239,22 +274,43 @@ class SolarWindForce:
         sun = self.sun_source(reference)
         return np.asarray(sun(t) if callable(sun) else sun, dtype=float)
 
-    def line_force(self, r, a, coef, t, reference=None):
+    def line_force(self, r, a, coef, t, reference=None, sources=None):
         """Force per unit length (N/m) at points ``r`` (..., 3) of slopes ``a`` (..., 3)
         with the coefficients ``coef`` (...) of ``coefficients`` at time ``t`` (in the
         coordinates of the run of ``reference``, ``sun_at``):
-        ``coef (AU / rho)^p (i_R - (t . i_R) t)`` (Eqs. 29-32, as the kernel)."""
+        ``coef (d / rho)^p (i_R - (t . i_R) t)`` with ``(d, p) = scaling(t)`` (Eqs.
+        29-32, as the kernel)."""
         rel = r - self.sun_at(t, reference)
         rho = np.linalg.norm(rel, axis=-1, keepdims=True)
         i_R = rel / rho
         tangent = a / np.linalg.norm(a, axis=-1, keepdims=True)
         u_perp = i_R - np.sum(tangent * i_R, axis=-1, keepdims=True) * tangent
-        return (coef[..., None] * (self.scaling[0] / rho) ** self.scaling[1]) * u_perp
+        d, p = self.scaling(t, sources, reference)
+        return (coef[..., None] * (d / rho) ** p) * u_perp
 
-    def coefficients(self, t, sources=None):
-        """Force per unit length on a perpendicular tether at 1 AU, per cable (N/m), of
-        the voltages of ``sources`` (``voltages``)."""
-        return np.array([self.wind.force_per_length(V) for V in self.voltages(t, sources)])
+    def distance(self, t, reference=None):
+        """The reference distance ``d`` (m) of the force at ``t``: the law's ``anchor``
+        (1 AU for the paper's law), or the Sun's distance from the system's origin."""
+        anchor = self.law.anchor
+        return anchor if anchor is not None else float(np.linalg.norm(self.sun_at(t, reference)))
+
+    def scaling(self, t, sources=None, reference=None):
+        """``(d, p)`` (2,) at ``t``: the reference distance (``distance``) and the law's
+        exponent ``p = -d ln f / d ln r`` there, at the cables' mean voltage (the
+        exponents of other voltages differ by less than 0.1, over a sail that spans
+        ``1e-7`` of ``d``: ``1e-8`` of the force)."""
+        d = self.distance(t, reference)
+        V = float(np.mean(self.voltages(t, sources)))
+        return np.array([d, self.law.exponent(V, self.wind.at(t), d)])
+
+    def coefficients(self, t, sources=None, reference=None):
+        """Force per unit length on a tether across the wind at the reference distance
+        (``distance``; 1 AU for the paper's law), per cable (N/m), of the voltages of
+        ``sources`` (``voltages``) in the wind at ``t`` (the law evaluated once per
+        distinct voltage)."""
+        wind, d = self.wind.at(t), self.distance(t, reference)
+        levels, which = np.unique(self.voltages(t, sources), return_inverse=True)
+        return np.array([self.law.force_per_length(V, wind, d) for V in levels])[which]
 
     #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
     #: force per unit material length acts on the stretched mesh.
@@ -279,47 +335,63 @@ class SolarWindForce:
         parts = [lines.line_points(c, system) for c in self.cables]
         points = lines.joined(parts)
         cable_of_element = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
-        sun = self.sun_at(0.0).copy()
-        pack = points.pack((sun, self.scaling), self.coefficients(0.0)[cable_of_element])
-        refresh = self._refreshers(system, (pack[4], cable_of_element), sun,
-                                   self.sun_source(reference), self.sources(inputs))
+        sun = self.sun_at(0.0, reference).copy()
+        voltages = self.sources(inputs)
+        scaling = self.scaling(0.0, voltages, reference)
+        pack = points.pack((sun, scaling),
+                           self.coefficients(0.0, voltages, reference)[cable_of_element])
+        refresh = self._refreshers(system, (pack[4], cable_of_element), (sun, scaling),
+                                   reference, voltages)
 
         def prepare(t):
             for part in refresh:
                 part(t)
 
         prepare(0.0)
-        point = kernel.point if self.scaling[1] != 0.0 else kernel.point_uniform
+        uniform = self.law.anchor is not None and scaling[1] == 0.0
+        point = kernel.point_uniform if uniform else kernel.point
         hooks = line.module(point, velocity=False)
         hook = hooks.kernel_parallel if thread_count() > 1 else hooks.kernel
         rows, cols = points.tangent_pattern()
         return Term(kernels=((hook, pack),), rows=rows, cols=cols, name="solar wind",
                     prepare=prepare if refresh else None)
 
-    def _refreshers(self, system, elements, sun, source, voltages):
-        """The functions of ``t`` refreshing, in place, the per-element coefficients
-        ``coef`` of ``elements = (coef, cable_of_element)`` (with a voltage callable or a
-        deploying tether; of the ``voltages`` sources) and the Sun's position ``sun`` (a
-        callable ``sun_position``, evaluated as ``source``)."""
+    def _refreshers(self, system, elements, params, reference, voltages):
+        """The functions of ``t`` refreshing, in place and in this order, the Sun's
+        position ``sun`` of ``params = (sun, scaling)`` (a callable ``sun_position``, seen
+        from ``reference``), the law's ``scaling`` (a law without an anchor, in a wind
+        or at a distance or voltages that vary) and the per-element coefficients ``coef``
+        of ``elements = (coef, cable_of_element)`` (with a voltage callable, a deploying
+        tether or a varying wind; of the ``voltages`` sources)."""
         coef, cable_of_element = elements
+        sun, scale = params
+        source = self.sun_source(reference)
         deploying = [system.deployment(c) is not None for c in self.cables]
         for cable, deploys in zip(self.cables, deploying):
             if deploys and system.deployment(cable).reel is not None:
                 raise ValueError(f"SolarWindForce on {cable.name!r}, deployed from a reel: "
                                  "the solar wind supports prescribed lengths only")
 
+        def sun_position(t):
+            sun[:] = source(t)
+
+        def scaling(t):
+            scale[:] = self.scaling(t, voltages, reference)
+
         def coefficients(t):
-            per_cable = self.coefficients(t, voltages)
+            per_cable = self.coefficients(t, voltages, reference)
             if any(deploying):
                 per_cable *= np.array([system.stretch(c, t) for c in self.cables])
             coef[:] = per_cable[cable_of_element]
 
-        def sun_position(t):
-            sun[:] = source(t)
-
-        moving = any(callable(v) for v in self.voltage) or any(deploying)
-        return [part for part, needed in ((coefficients, moving),
-                                          (sun_position, callable(self.sun))) if needed]
+        modulated = any(callable(v) for v in self.voltage)
+        moves = self.law.anchor is None and callable(self.sun)
+        varies = self.wind.varies or moves
+        return [part for part, needed in (
+            (sun_position, callable(self.sun)),
+            (scaling, self.law.anchor is None and (varies or modulated)),
+            (coefficients, modulated or any(deploying) or varies))
+            if needed]
 
     def add_force(self, system, q, t, f, data=None, index=None, cK=1.0):
         """Add the generalized force on the cables of ``system`` at the coordinates ``q``

@@ -317,6 +317,36 @@ def _paths(old, new, path=()):
     return [".".join(path).replace(".[", "[") or "another class"]
 
 
+def part_digests(description):
+    """SHA-256 of each parameter of each body, constraint, load and point mass of a
+    system's ``description`` (``describe_system``), keyed by part (``loads[0]
+    (SolarWindForce)``) and parameter (``wind``): what a run store keeps to name what
+    changed (``changed_parts``) without keeping the parameters."""
+    out = {}
+    for key in _ENTRIES:
+        for k, entry in enumerate(description.get(key, [])):
+            fields = entry.get("parameters", entry)
+            fields = fields if isinstance(fields, dict) else {"": fields}
+            out[f"{key}[{k}] ({_label(entry)})"] = {name: _hash(value)
+                                                   for name, value in fields.items()}
+    return out
+
+
+def changed_parts(stored, description):
+    """The parts and parameters whose digests in ``stored`` (``part_digests`` of a
+    store's system) differ from those of ``description``, one readable line per part:
+    ``loads[0] (SolarWindForce): wind``."""
+    now = part_digests(description)
+    out = []
+    for part in sorted(set(stored) | set(now)):
+        old, new = stored.get(part, {}), now.get(part, {})
+        names = [n or "parameters" for n in sorted(set(old) | set(new))
+                 if old.get(n) != new.get(n)]
+        if names:
+            out.append(f"{part}: {', '.join(names)}")
+    return out
+
+
 def digest(obj, system: SystemView):
     """SHA-256 (hex) of the description of ``obj``, which refers to the parts of
     ``system`` (its bodies, loads, constraints, point masses and orbit) by their place:
