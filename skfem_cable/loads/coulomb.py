@@ -27,6 +27,7 @@ from ..core.linalg import thread_count
 from ..kernels import coulomb as kernel
 from ..kernels import line
 from ..space.constants import AU
+from .plasma_brake import PlasmaBrake
 
 THRUST_EXPONENT = 7.0 / 6.0
 """Exponent ``p`` of the E-sail thrust's fall-off with solar distance, ``(AU / r)^p``
@@ -150,6 +151,11 @@ class SolarWindForce:
         ``p`` of the scaling ``(AU / r)^p`` of the force with the heliocentric distance
         ``r`` of each Gauss point (default ``THRUST_EXPONENT`` = 7/6; 0: the uniform wind
         of the paper's Eq. 29, bit for bit).
+    law : None or "plasma-brake"
+        None: the solar wind's force of Eq. 29; ``"plasma-brake"``: a
+        ``plasma_brake.PlasmaBrake`` on the cables at the (negative) ``voltage``, made
+        with the keywords ``plasma``, ``brake`` (a ``BrakeLaw``) and the others of
+        ``PlasmaBrake`` (``docs/esail.md``, the plasma brake).
 
     Notes
     -----
@@ -174,8 +180,18 @@ class SolarWindForce:
     >>> system = sc.System([a, b]).add_load(wind)
     """
 
+    def __new__(cls, cables, voltage, *args, law=None, **options):
+        """``law="plasma-brake"``: the plasma brake of a negatively biased tether in the
+        ionosphere instead (``plasma_brake.PlasmaBrake(cables, voltage, **options)``,
+        with ``plasma=...``)."""
+        if law == "plasma-brake":
+            return PlasmaBrake(cables, voltage, *args, **options)
+        return super().__new__(cls)
+
     def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0),
-                 exponent=THRUST_EXPONENT):
+                 exponent=THRUST_EXPONENT, law=None):
+        if law is not None:
+            raise ValueError(f"law must be None or 'plasma-brake', got {law!r}")
         self.cables = list(cables)
         if callable(voltage) and np.ndim(voltage(0.0)) == 1:
             voltage = [_Component(voltage, k) for k in range(len(self.cables))]
