@@ -18,9 +18,10 @@ flow energy in volts (a few volts for O+ at 7.5 km/s: ``exp(-V_i / V~)`` is abou
 at 1 kV) and ``K`` the simulations' fitting factor (about 1 for a field across the
 tether and the flow; "reduced by a modest factor" when the field is along the tether,
 the 2014 abstract).  The form and the factor 3.864 are reconstructed from the two papers
-without their full text at hand (the 2014 abstract's numbers are checked in
-``tests/test_plasma_brake.py``): check them against the papers before quoting absolute
-forces.  The
+without their full text at hand; for the protons of the 1 AU solar wind on a 20 kV
+tether (``r_w`` = 1 mm) they give 0.478 uN/m, the 2009 paper's "1 N per 2000 km" within
+5 %, and the 2014 abstract's numbers are checked against Gauss's equation
+(``tests/test_plasma_brake.py``).  The
 force grows as ``sqrt(n)`` (the sheath shrinks as the density grows), as ``m_i u^2`` and
 about as ``sqrt(|V0|)``.
 
