@@ -165,6 +165,30 @@ def test_outputs_and_solar_wind_law(run):
         PlasmaBrake(tether, -1e3, 1e11)
 
 
+def test_voltage_input_is_read_from_the_run():
+    """A voltage given as an ``Input``: the load declares it, and a run's table holding
+    -250 V instead of -1 kV halves the coefficient (``k ~ sqrt(V~)``, up to the logarithm
+    and ``exp(-V_i / V~)``): measured against ``BrakeLaw`` directly."""
+    from skfem_cable.core.inputs import InputTable
+
+    bias = sc.Input("bias", -1e3)
+    orbit = sc.Orbit(sc.MU_EARTH, sc.R_EARTH + 800e3)
+    tether = sc.Cable.straight([0, 0, 0], [5e3, 0, 0], 2,
+                               sc.Section.circular(3.6e-5, 7e10, 2700.0))
+    system = sc.System([tether]).add_orbit(orbit)
+    brake = PlasmaBrake(tether, bias, sc.environment.UniformPlasma(DENSITY))
+    assert brake.inputs() == (bias,)
+    table = InputTable({"bias": bias})
+    table.set("bias", -250.0)
+    k = [brake._bind(system, inputs=t)[2].out.mean() for t in (None, table)]
+    speed = np.linalg.norm(orbit.velocity(0.0) - np.cross(orbit.body_rotation(),
+                                                          orbit.position(0.0)))
+    expected = [BrakeLaw().coefficient(V, DENSITY, speed, OXYGEN_ION_MASS)
+                for V in (-1e3, -250.0)]
+    np.testing.assert_allclose(k, expected, rtol=1e-12)
+    assert 0.4 < k[1] / k[0] < 0.6
+
+
 def test_catalog_scene_takes_the_epoch():
     """``skfem-cable run plasma-brake --epoch ...``: the catalog's scene takes ``--epoch``
     and builds its system at it, with IRI at 60 s knots."""

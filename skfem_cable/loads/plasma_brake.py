@@ -61,6 +61,7 @@ from scipy.constants import epsilon_0
 from ..bodies.section import check_positive
 from ..core import lines
 from ..core.contract import Evaluation, Term
+from ..core.inputs import declared, reader
 from ..core.linalg import thread_count
 from ..environment.epoch import bound_model
 from ..kernels import drag as kernel
@@ -171,7 +172,8 @@ class PlasmaBrake:
         per element).
     voltage : float or callable
         The tether's voltage ``V0`` (V, < 0; a few hundred volts to about 1 kV), or
-        ``voltage(t)`` (refreshed once per step).
+        ``voltage(t)`` (refreshed once per step), e.g. an ``Input`` a controller sets
+        (the run reads its values: ``inputs``).
     plasma : plasma
         ``density(x, t)`` (m^-3) at absolute positions and ``ion_mass`` (kg):
         ``environment.IRI`` (made without an epoch it takes the system's),
@@ -209,7 +211,7 @@ class PlasmaBrake:
                  velocity=(0.0, 0.0, 0.0), sample_every=None):
         self.cables = [cables] if callable(getattr(cables, "line_points", None)) \
             else [lines.check_line_body(c, "cables") for c in cables]
-        self.voltage = _voltage(voltage)
+        self.source, self.voltage = voltage, _voltage(voltage)
         if not callable(getattr(plasma, "density", None)):
             raise ValueError(f"plasma must have density(x, t) (m^-3) and ion_mass (kg), "
                              f"got {plasma!r}")
@@ -220,26 +222,32 @@ class PlasmaBrake:
         self.sample_every = None if sample_every is None else \
             check_positive("sample_every", sample_every)
 
-    def bind(self, system, reference=None):
+    def inputs(self):
+        """The inputs the voltage reads (``inputs.declared``)."""
+        return declared(self.source)
+
+    def bind(self, system, reference=None, inputs=None):
         """The compiled term: the loop of ``kernels.line`` with ``kernels.drag.point``
         (coefficients ``(1, 0, 0)``) over the tethers' points (``lines.joined``), the
         elements' ``scale`` the coefficient ``k`` refreshed once per step with the flow
         (``Term.prepare``, the step hook ``_Coefficients``; ``V_i`` of the speed of the
         refreshed flow at the reference point, ``Flow.refresh``: ``|c_0 + W R - V|``);
         about the reference point of ``reference`` (the run's ``Reference``; None: the
-        orbit as given)."""
-        return self._bind(system, reference)[0]
+        orbit as given); the voltage reads the run's values of its inputs (``inputs``:
+        the run's ``InputTable``)."""
+        return self._bind(system, reference, inputs=inputs)[0]
 
-    def _bind(self, system, reference=None, knots=True):
+    def _bind(self, system, reference=None, knots=True, inputs=None):
         """``(term, pack, sampler)``; ``knots``: False, the density evaluated at the
         points even with ``sample_every`` (a single evaluation, ``evaluate``)."""
+        voltage = self.voltage if inputs is None else _voltage(reader(self.source, inputs))
         points = lines.joined([lines.line_points(c, system) for c in self.cables])
         orbit = system.orbit if reference is None else reference
         arrays = self.flow.arrays(orbit)
         sampler = _Coefficients(self._density(system, points, orbit, knots),
                                 lambda q: points.at(q)[0], points.w, orbit, system.q0,
                                 lambda n, t: self.brake.coefficient(
-                                    self.voltage(t), n, np.linalg.norm(arrays[0]),
+                                    voltage(t), n, np.linalg.norm(arrays[0]),
                                     self.ion_mass))
         pack = points.pack((np.array([1.0, 0.0, 0.0, 0.0]), *arrays), sampler.out)
         module = line.module(kernel.point)
