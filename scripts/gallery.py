@@ -281,6 +281,13 @@ ENTRIES = (
           "tests/test_ed_deorbit.py::test_demo_follows_gauss_equation",
           "Altitude of the centre of mass's osculating orbit over a quarter of a day, the "
           "cathode's current, the motional power and the EMF (IGRF, IRI, MSIS drag)."),
+    Entry("plasma_brake.py",
+          "altitude drop of the 260 kg object under the 5 km plasma brake at -1 kV (IRI at "
+          "60 s knots) over 0.05 days against Gauss's equation `da/dt = 2 a^2 (V . F) / "
+          "(mu m)` integrated with the brake's force the run reports",
+          "relative 2e-2", "tests/test_plasma_brake.py::test_demo_follows_gauss_equation",
+          "Altitude of the centre of mass's osculating orbit over two days and the braking "
+          "force against Janhunen's 0.43 mN (IRI, F10.7 = 150, from 800 km)."),
     Entry("tape_tether.py",
           "period of the end-to-end twist of the 5 km aluminium tape in a 400 km orbit (8 "
           "elements, 1500 s) against the free-free torsional period `2 L / c`, `c = "

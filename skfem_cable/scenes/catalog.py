@@ -328,3 +328,6 @@ register("tape-tether", "skfem_cable.scenes.tape_tether:run",
 register("ed-deorbit", "skfem_cable.scenes.ed_deorbit:run",
          "bare 5 km tape deorbiting, OML current from IRI in IGRF, MSIS drag, one orbit; "
          "--epoch (default 2026-01-01)", takes=("epoch",))
+register("plasma-brake", "skfem_cable.scenes.plasma_brake:run",
+         "5 km plasma-brake tether at -1 kV lowering 260 kg from 800 km in IRI, one orbit; "
+         "--epoch (default 2026-01-01)", takes=("epoch",))
