@@ -3,9 +3,10 @@ compiling, by kind of compiled code, and their LLVM part (``kernels.compile_log.
 
 Without ``--suite``: a fresh process with an empty cache (a temporary
 ``SKFEM_CABLE_CACHE``) runs a pinned 4-element cable for 3 steps, the first system of a
-process (the package's kernels, the law's module and a Newton-step module), then the same
-system with a new Newton-step module alone (the generator's version bumped: what every
-further distinct system of a test session costs).
+process (the package's kernels, the law's module, the Newton step compiled once per
+machine and the system's terms module), then two such cables in one system: a new
+sequence of term kernels, none of them new, so its terms module alone (what every further
+distinct system of a test session costs, its new kernels apart).
 
 ``--suite DIR``: the records of a test session run with ``SKFEM_CABLE_COMPILE_LOG=DIR``
 (``tests/compile_recorder.py``): compile seconds by kind, the distinct Newton-step and law
@@ -27,31 +28,32 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: The child: compiles the first system and a second Newton-step module, prints JSON.
+#: The child: compiles the first system and a second terms module, prints JSON.
 CHILD = """
 import json, time
 from skfem_cable.kernels.compile_log import Recorder
 import skfem_cable as sc
-from skfem_cable.solvers import compiled
 
 recorder = Recorder().install()
 
-def run():
-    cable = sc.Cable.straight([0, 0, 0], [1.0, 0, 0], n_elements=4,
-                              section=sc.Section.circular(radius=0.01, E=7e10, rho=7800.0))
-    system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+def run(n_cables):
+    cables = [sc.Cable.straight([0, 0, 0], [1.0, 0, 0], n_elements=4,
+                                section=sc.Section.circular(radius=0.01, E=7e10, rho=7800.0))
+              for _ in range(n_cables)]
+    system = sc.System(cables).add_gravity([0, -9.81, 0])
+    for cable in cables:
+        system.pin(cable.node(0))
     start = time.thread_time()
     sc.simulate(system, t_end=3e-3, dt=1e-3)
     return time.thread_time() - start, recorder.take()
 
-first = run()
-compiled.GENERATOR += "-compile_cost"
-compiled.module.cache_clear()
-print(json.dumps({"first system": first, "another step module": run()}))
+first = run(1)
+print(json.dumps({"first system": first, "another system": run(2)}))
 """
 
 #: The kinds of compiled function, by the start of their module's name.
-KINDS = (("skfem_cable_step_", "Newton-step modules"), ("skfem_cable_law_", "law modules"),
+KINDS = (("skfem_cable_step_", "the Newton step"), ("skfem_cable_terms_", "terms modules"),
+         ("skfem_cable_law_", "law modules"),
          ("skfem_cable_line_", "line-load modules"), ("skfem_cable.", "package kernels"))
 
 
@@ -114,7 +116,7 @@ def suite(folder, top=20):
                 where[function].add(name)
     twice = sum(s for function, s, _ in compiles if len(where[function]) > 1) / 2
     modules = {k: len({module_of(f) for f, _, _ in compiles if kind(f) == k})
-               for k in ("Newton-step modules", "law modules")}
+               for k in ("the Newton step", "terms modules", "law modules")}
     print(f"\ndistinct modules compiled: {modules}; seconds of functions compiled in more "
           f"than one worker, per extra worker: {twice:.1f} s")
     tests = sorted(((sum(s for _, s, _ in r["compiles"]), r["test"])

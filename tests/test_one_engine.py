@@ -16,7 +16,7 @@ from skfem_cable.core.records import FIELDS
 from skfem_cable.io import RunStore
 from skfem_cable.scenes import classics
 from skfem_cable.solvers import galpha
-from skfem_cable.solvers.compiled import PYTHON, source
+from skfem_cable.solvers.compiled import PYTHON, source, system_source
 
 
 def _pendulum(spring=NodeSpring, load=None):
@@ -39,9 +39,9 @@ def test_there_is_one_newton_iteration():
     generated module of ``kernels.step``; a fully compiled system's module holds no call
     back into Python, a system with Python parts has one per part."""
     assert not hasattr(galpha.GeneralizedAlpha, "_python_step")
-    compiled = source((None, None), (None,), False)
+    compiled = source(False) + system_source((None, None), (None,))
     assert "objmode" not in compiled and "python_part" not in compiled
-    mixed = source((None, PYTHON), (PYTHON,), True)
+    mixed = source(True) + system_source((None, PYTHON), (PYTHON,))
     for call in ("python_term(packs[1], 1,", "python_constraint(packs[0], 0,",
                  "def lu_factor", "def lu_solve"):
         assert call in mixed, call

@@ -1,13 +1,16 @@
 """Template of the compiled Newton iteration of one generalized-alpha step.
 
 The one definition of the iteration.  ``newton`` is not compiled here:
-``solvers.compiled`` copies its source into a module generated for each sequence of term
-kernels, next to that module's ``evaluate`` (which calls the kernels of the system's terms
-in order, see ``contract.Term.kernels``, and calls back its Python terms,
-``kernels.callbacks``), and compiles it there with ``numba.njit(cache=True)``, or imports
-it interpreted (``GeneralizedAlpha(compiled=False)``, the debugging mode); the integrator
-keeps the energy books, the instability guard and the step control in Python, once per
-step.
+``solvers.compiled`` copies its source into a module generated for each linear solver (the
+banded LU, or the sparse LU called back in Python) and compiles it there once per machine
+with ``numba.njit(cache=True)``, or imports it interpreted
+(``GeneralizedAlpha(compiled=False)``, the debugging mode).  What differs between systems
+reaches it through its argument ``terms``: the system's ``evaluate`` and ``constrain``
+(numba first-class functions of one signature, compiled per sequence of term kernels:
+they call the kernels of the system's terms in order, see ``contract.Term.kernels``, and
+call back its Python terms, ``kernels.callbacks``) and the address of their data
+(``kernels.erased``).  The integrator keeps the energy books, the instability guard and
+the step control in Python, once per step.
 """
 
 import numpy as np
@@ -96,9 +99,13 @@ def _iterate(terms, model, lu, state, out, prm):
 
     Parameters
     ----------
-    terms : tuple ``(packs, indices, cpacks, cindices)``
-        The term kernels' packed data and tangent positions, for ``evaluate``, and those
-        of the nonlinear constraints' kernels, for ``constrain``.
+    terms : tuple ``(evaluate, constrain, blob)``
+        The system's two compiled functions (``solvers.compiled``: of one signature for
+        every system, ``EVALUATE`` and ``CONSTRAIN``, given by their addresses,
+        ``kernels.erased.address``) and the address of its terms' packed data and tangent
+        positions (``kernels.erased``): ``evaluate(blob, ev)`` adds every term's forces
+        (and tangents) into ``ev``, ``constrain(blob, cev)`` its nonlinear constraints'
+        rows.
     model : tuple
         ``(m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
         c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the
@@ -251,7 +258,9 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     power[:] = 0.0
     for j in range(data.size):
         data[j] = base[j]
-    evaluate(terms[0], terms[1], (q1, v1, s, f, f_ext, fd, data, energy, power))  # noqa: F821
+    evaluate, constrain = function(terms[0], EVALUATE), function(terms[1], CONSTRAIN)  # noqa: F821
+    blob = terms[2]
+    evaluate(blob, (q1, v1, s, f, f_ext, fd, data, energy, power))
     for k in range(lin_rows.size):
         acc = 0.0
         for j in range(c_indptr[k], c_indptr[k + 1]):
@@ -262,7 +271,7 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
         for j in range(ct_indptr[i], ct_indptr[i + 1]):
             acc += ct_data[j] * lam1[lin_rows[ct_indices[j]]]
         f_con[i] = acc
-    constrain(terms[2], terms[3], (q1, lam1, cs, r[n:], f_con, data))  # noqa: F821
+    constrain(blob, (q1, lam1, cs, r[n:], f_con, data))
     for i in range(n):
         ma = 0.0
         for j in range(m_indptr[i], m_indptr[i + 1]):

@@ -25,19 +25,22 @@ says which run is used and which parts are Python.
 import functools
 import inspect
 import itertools
+import warnings
 import weakref
 
 import numba
 import numpy as np
+from numba.core.compiler_lock import global_compiler_lock
+from numba.core.errors import NumbaExperimentalFeatureWarning
 
 from ..core.contract import NO_INDEX, Evaluation
 from ..core.linalg import SingularMatrixError
 from ..core.protocols import IntegrableSystem
-from ..kernels import books, bordered, callbacks, generated, lapack
+from ..kernels import books, bordered, callbacks, erased, generated, lapack
 from ..kernels import step as template
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "9"
+GENERATOR = "10"
 
 _TEMPLATE_FUNCTIONS = ("newton", "_finish", "_iterate", "_residual", "_factor",
                        "pseudo_acceleration", "first_error_factor", "error_factor")
@@ -73,9 +76,9 @@ def _names(prefix, slots):
     return "".join("_, " if f is PYTHON else f"{prefix}{k}, " for k, f in enumerate(slots))
 
 
-#: The decorator of the generated module's functions but ``newton``: inlined into it by
-#: numba, so that their code and the kernels' are optimised and compiled once, in
-#: ``newton`` (each compiled function would compile again all that it calls).
+#: The decorator of the generated functions that others call: inlined into them by numba,
+#: so that their code and the kernels' are optimised and compiled once, in the caller
+#: (each compiled function would compile again all that it calls).
 _INLINED = '@njit(cache=True, inline="always")'
 
 #: The decorator of ``newton``: no C wrapper (numba's first-class-function entry, which
@@ -88,48 +91,102 @@ _ENTRY = "@njit(cache=True, no_cfunc_wrapper=True)"
 _TERM_CALLS, _CONSTRAINT_CALLS, _LU_CALLS = ("python_term",), ("python_constraint",), \
     ("lu_factor", "lu_solve")
 
+_VECTOR = numba.types.float64[::1]
 
-def source(kernels, constraint_kernels, sparse):
-    """Text of the generated module for the slots ``kernels`` (term kernels ``k0 ...``,
-    taken from the injected tuple ``KERNELS``, or ``PYTHON``) and ``constraint_kernels``
-    (``c0 ...``, from ``CONSTRAINT_KERNELS``), with the sparse LU if ``sparse``."""
+#: The signatures of a system's ``evaluate(blob, ev)`` and ``constrain(blob, cev)``, the
+#: same for every system (``kernels.step._residual``: ``ev = (q1, v1, s, f, f_ext, fd,
+#: data, energy, power)``, ``cev = (q1, lam1, cs, r_c, f_con, data)``), so that the step
+#: takes them as numba first-class functions and is compiled once for all systems.
+EVALUATE = numba.types.void(numba.types.int64, numba.types.UniTuple(_VECTOR, 9))
+CONSTRAIN = numba.types.void(numba.types.int64, numba.types.UniTuple(_VECTOR, 6))
+
+#: The functions of a system's module around its slots: its two entries of one signature,
+#: reading the terms' data at the address ``blob`` (``kernels.erased``), and the two calls
+#: that put the data there and give it back.
+_SYSTEM_ENTRIES = '''@njit(EVALUATE, cache=True)  # noqa: F821 (EVALUATE, CONSTRAIN, TERMS injected)
+def evaluate(blob, ev):
+    terms = held(blob, TERMS)  # noqa: F821
+    evaluate_slots(terms[0], terms[1], ev)
+
+
+@njit(CONSTRAIN, cache=True)  # noqa: F821
+def constrain(blob, cev):
+    terms = held(blob, TERMS)  # noqa: F821
+    constrain_slots(terms[2], terms[3], cev)
+
+
+@njit(cache=True)
+def keep(blob, terms):
+    hold(blob, terms)
+
+
+@njit(cache=True)
+def drop(blob):
+    release(blob, TERMS)  # noqa: F821
+'''
+
+
+def _callbacks(names):
+    return ["@njit(cache=True)\n" + inspect.getsource(getattr(callbacks, name))
+            for name in names]
+
+
+def system_source(kernels, constraint_kernels):
+    """Text of the generated module of a system's slots ``kernels`` (term kernels ``k0
+    ...``, taken from the injected tuple ``KERNELS``, or ``PYTHON``) and
+    ``constraint_kernels`` (``c0 ...``, from ``CONSTRAINT_KERNELS``): its ``evaluate`` and
+    ``constrain`` (``EVALUATE``, ``CONSTRAIN``), which call them in order on the terms of
+    the injected type ``TERMS``."""
     calls = ((_TERM_CALLS if PYTHON in kernels else ())
-             + (_CONSTRAINT_CALLS if PYTHON in constraint_kernels else ())
-             + (_LU_CALLS if sparse else ()))
-    imports = "import numpy as np\nfrom numba import njit" + (", objmode" if calls else "")
-    imports += "\n\n" + ("from skfem_cable.solvers.compiled import python_part\n" if calls else "")
-    if not sparse:
-        imports += "from skfem_cable.kernels.bordered import factor as lu_factor, " \
-            "solve as lu_solve\n"
+             + (_CONSTRAINT_CALLS if PYTHON in constraint_kernels else ()))
+    imports = ("from numba import njit" + (", objmode" if calls else "")
+               + "\n\nfrom skfem_cable.kernels.erased import held, hold, release\n"
+               + ("from skfem_cable.solvers.compiled import python_part\n" if calls else ""))
     parts = [
-        '"""Generated by skfem_cable.solvers.compiled: the compiled Newton step for one '
-        'sequence of term kernels.  Do not edit."""',
-        imports + "from skfem_cable.kernels.books import correct_elastic, step_books",
-        f"CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = {template.CONVERGED}, "
-        f"{template.NON_FINITE}, {template.NO_CONVERGENCE}, {template.SINGULAR}\n"
-        f"ETA_FIRST = {template.ETA_FIRST!r}\n"
-        f"{', '.join(template.PRM_SLOTS)} = range({len(template.PRM_SLOTS)})",
+        '"""Generated by skfem_cable.solvers.compiled: the terms of one sequence of kernels, '
+        'for the compiled Newton step.  Do not edit."""',
+        imports,
         f"({_names('k', kernels)}) = KERNELS  # noqa: F821 (placed by the loader)"
         if kernels else "",
         f"({_names('c', constraint_kernels)}) = CONSTRAINT_KERNELS  # noqa: F821"
         if constraint_kernels else "",
-        f"{_INLINED}\ndef evaluate(packs, indices, ev):\n"
+        f"{_INLINED}\ndef evaluate_slots(packs, indices, ev):\n"
         + "\n".join(_calls("k", kernels, "packs", "indices", "ev",
                             "python_term(packs[{k}], {k}, ev[6].size > 0)")),
-        f"{_INLINED}\ndef constrain(packs, indices, cev):\n"
+        f"{_INLINED}\ndef constrain_slots(packs, indices, cev):\n"
         + "\n".join(_calls("c", constraint_kernels, "packs", "indices", "cev",
                             "python_constraint(packs[{k}], {k}, cev[3], cev[5].size > 0)")),
     ]
-    parts += ["@njit(cache=True)\n" + inspect.getsource(getattr(callbacks, name))
-              for name in calls]
+    parts += _callbacks(calls) + [_SYSTEM_ENTRIES]
+    return "\n\n\n".join(p for p in parts if p)
+
+
+def source(sparse):
+    """Text of the generated module of the Newton step (``kernels.step``), with the sparse
+    LU called back in Python if ``sparse``, else the banded one (``kernels.bordered``)."""
+    imports = "import numpy as np\nfrom numba import njit" + (", objmode" if sparse else "")
+    imports += "\n\n" + ("from skfem_cable.solvers.compiled import python_part\n" if sparse
+                          else "from skfem_cable.kernels.bordered import factor as lu_factor, "
+                          "solve as lu_solve\n")
+    parts = [
+        '"""Generated by skfem_cable.solvers.compiled: the compiled Newton step.  Do not '
+        'edit."""',
+        imports + "from skfem_cable.kernels.books import correct_elastic, step_books\n"
+        "from skfem_cable.kernels.erased import function",
+        f"CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = {template.CONVERGED}, "
+        f"{template.NON_FINITE}, {template.NO_CONVERGENCE}, {template.SINGULAR}\n"
+        f"ETA_FIRST = {template.ETA_FIRST!r}\n"
+        f"{', '.join(template.PRM_SLOTS)} = range({len(template.PRM_SLOTS)})",
+    ]
+    parts += _callbacks(_LU_CALLS if sparse else ())
     parts += [(_ENTRY if name == "newton" else _INLINED) + "\n"
               + inspect.getsource(getattr(template, name)) for name in _TEMPLATE_FUNCTIONS]
-    return "\n\n\n".join(p for p in parts if p) + "\n"
+    return "\n\n\n".join(parts) + "\n"
 
 
-#: Modules whose compiled functions the generated module calls: numba's cache of a module
+#: Modules whose compiled functions the generated modules call: numba's cache of a module
 #: does not notice changes in the functions it calls, so their text is part of the digest.
-_CALLED_MODULES = (bordered, books, lapack, callbacks)
+_CALLED_MODULES = (bordered, books, lapack, callbacks, erased)
 
 
 @functools.cache
@@ -143,19 +200,34 @@ def _slot_id(function):
 
 
 @functools.cache
-def module(kernels, constraint_kernels, sparse=False, jit=True):
+def module(sparse=False, jit=True):
+    """The generated module of the Newton step, with the sparse LU if ``sparse`` (imported,
+    generated and compiled when first needed, then remembered); ``jit=False``: the same
+    module interpreted."""
+    text = source(sparse)
+    name = "skfem_cable_step_" + generated.digest(GENERATOR, numba.__version__,
+                                                  _template_id(), text)
+    return generated.load("steps", name, lambda: text,
+                          {"EVALUATE": numba.types.FunctionType(EVALUATE),
+                           "CONSTRAIN": numba.types.FunctionType(CONSTRAIN)},
+                          "the Newton step" + (" (sparse LU)" if sparse else ""), jit=jit)
+
+
+@functools.cache
+def system_module(kernels, constraint_kernels, kind, jit=True):
     """The generated module of the term and constraint slots (tuples of kernel functions
-    or ``PYTHON``), with the sparse LU if ``sparse`` (imported, generated and compiled
+    or ``PYTHON``) on terms of the numba type ``kind`` (imported, generated and compiled
     when first needed, then remembered); ``jit=False``: the same module interpreted."""
-    text = source(kernels, constraint_kernels, sparse)
-    name = "skfem_cable_step_" + generated.digest(
-        GENERATOR, numba.__version__, _template_id(), text,
+    text = system_source(kernels, constraint_kernels)
+    name = "skfem_cable_terms_" + generated.digest(
+        GENERATOR, numba.__version__, _template_id(), text, str(kind), repr(kind),
         *(_slot_id(k) for k in kernels), "constraints",
         *(_slot_id(k) for k in constraint_kernels))
     return generated.load("steps", name, lambda: text,
-                          {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels},
-                          f"the Newton step of {len(kernels)} term and "
-                          f"{len(constraint_kernels)} constraint kernels", jit=jit)
+                          {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels,
+                           "TERMS": kind, "EVALUATE": EVALUATE, "CONSTRAIN": CONSTRAIN},
+                          f"the terms of {len(kernels)} term and {len(constraint_kernels)} "
+                          "constraint kernels", jit=jit)
 
 
 _PARTS = {}
@@ -251,16 +323,35 @@ def _constraint_slots(system, lay, key):
 
 def entry_point(function, args):
     """The machine code of the compiled ``function`` (a numba dispatcher) for the types of
-    ``args``, behind the unboxing of its arguments alone; ``function`` itself if it is
-    Python (the interpreted step).  A dispatcher types every argument at every call: for
-    the hundred arrays of the Newton step's arguments, 7 us of the E-sail rig's 130 us
-    per step, of which the entry point saves 3.  The caller keeps the types of ``args``
-    (``CompiledNewton``: the arrays are its own or the integrator's, float64 and
-    contiguous throughout a run)."""
-    overloads = getattr(function, "overloads", None)
-    if overloads is None:
+    ``args`` (compiled for them, or read from the cache, first), behind the unboxing of
+    its arguments alone; ``function`` itself if it is Python (the interpreted step).  A
+    dispatcher types every argument at every call: for the hundred arrays of the Newton
+    step's arguments, 7 us of the E-sail rig's 130 us per step, of which the entry point
+    saves 3.  The caller keeps the types of ``args`` (``CompiledNewton``: the arrays are
+    its own or the integrator's, float64 and contiguous throughout a run)."""
+    if getattr(function, "overloads", None) is None:
         return function
-    return overloads[tuple(function.typeof_pyval(a) for a in args)].entry_point
+    signature = tuple(function.typeof_pyval(a) for a in args)
+    with warnings.catch_warnings():  # first-class functions are "experimental" in numba
+        warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
+        function.compile(signature)
+    return function.overloads[signature].entry_point
+
+
+def _give_back(drop, blob, address):
+    """Give back the terms held in ``blob`` (kept alive until now by this call's
+    reference)."""
+    drop(address)
+
+
+def _hold(system, kind, terms):
+    """A buffer holding ``terms`` (of numba type ``kind``) for the compiled functions of
+    ``system`` (its module), given back when the buffer's owner is collected; returns the
+    buffer and its address."""
+    blob = np.zeros(max(erased.size_of(kind), 8), dtype=np.uint8)
+    address = blob.ctypes.data
+    system.keep(address, terms)
+    return blob, np.int64(address)
 
 
 class CompiledNewton:
@@ -276,9 +367,16 @@ class CompiledNewton:
         (cfunctions, cpacks, cindices), python_constraints = _constraint_slots(g.system, lay,
                                                                                key)
         sparse = g.solver.method != "banded"
-        self.newton = module(functions, cfunctions, sparse, jit).newton
-        self.entry = None  # entry_point, after the first call
-        self.terms = (packs, indices, cpacks, cindices)
+        self.newton = module(sparse, jit).newton
+        self.entry = None  # entry_point, at the first call
+        terms = (packs, indices, cpacks, cindices)
+        kind = numba.typeof(terms)
+        with global_compiler_lock:  # what it compiles, said on one line (compile_log)
+            system = system_module(functions, cfunctions, kind, jit)
+            self.blob, address = _hold(system, kind, terms)
+        weakref.finalize(self, _give_back, system.drop, self.blob, address).atexit = False
+        self.terms = (erased.address(system.evaluate, EVALUATE),
+                      erased.address(system.constrain, CONSTRAIN), address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
                         if term.kernels and term.prepare is not None]
         empty_csr = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
@@ -343,7 +441,5 @@ class CompiledNewton:
         state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, da_prev, g.fd, g.fnc, g.fcon)
         args = (self.terms, self.model, self.lu, state, self.out, self.prm)
         if self.entry is None:
-            result = self.newton(*args)
             self.entry = entry_point(self.newton, args)
-            return result
         return self.entry(*args)
