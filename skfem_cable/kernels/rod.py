@@ -98,7 +98,7 @@ def point(z, R, prm, gz, Hz, work, want):
     gz[6], gz[7] = gx[6], gx[7]
     if not want:
         return W
-    for m in range(8):
+    for m in range(6):  # M = Hx T in the rows of the vectors (those of the angles: Hx)
         for v in range(0, 6, 3):
             for j in range(3):
                 M[m, v + j] = Hx[m, v] * R[0, j] + Hx[m, v + 1] * R[1, j] + Hx[m, v + 2] * R[2, j]
@@ -108,8 +108,8 @@ def point(z, R, prm, gz, Hz, work, want):
             for col in range(v + i, 8):
                 Hz[v + i, col] = Hz[col, v + i] = (R[0, i] * M[v, col] + R[1, i] * M[v + 1, col]
                                                    + R[2, i] * M[v + 2, col])
-    Hz[6, 6], Hz[7, 7] = M[6, 6], M[7, 7]
-    Hz[6, 7] = Hz[7, 6] = M[6, 7]
+    Hz[6, 6], Hz[7, 7] = Hx[6, 6], Hx[7, 7]
+    Hz[6, 7] = Hz[7, 6] = Hx[6, 7]
     return W
 
 
@@ -193,9 +193,10 @@ def point_forces(gz, Sx, Sxx, St, Spt, weight, fe):
 def tangent_product(Hz, Sx, Sxx, St, Spt, weight, M, Ke):
     """The upper triangle of ``Ke += weight Jz^T Hz Jz`` in the extended coordinates
     (``kernel``, ``point_forces``): ``M = Hz Jz`` (8, 17) first, each of its entries two
-    products, then each row of ``Jz`` two entries."""
+    products (the rows of the angles only in the columns of the angles: the upper
+    triangle reads no other), then each row of ``Jz`` two entries."""
     for m in range(8):
-        for b in range(4):
+        for b in range(4 if m < 6 else 0):
             for d in range(3):
                 M[m, 3 * b + d] = Hz[m, d] * Sx[b] + Hz[m, 3 + d] * Sxx[b]
         for j in range(5):
