@@ -1,20 +1,25 @@
-"""Generate ``skfem_cable/kernels/rod_density.py`` and ``rod_mismatch.py`` (and their
-gradient-only twins ``*_gradient.py``): the rod's energy density beyond the cable's and
-the mismatch angle of two nodal reference directors, with their exact gradients and
-Hessians (sympy 1.14, common subexpressions eliminated), as numba kernels.
+"""Generate ``skfem_cable/kernels/rod_density.py`` (and its gradient-only twin
+``rod_density_gradient.py``): the rod's energy density beyond the cable's with its exact
+gradient and Hessian (sympy 1.14, common subexpressions eliminated), as numba kernels.
 
 Run from the repository root: ``python scripts/rod_kernel.py``.  The formulation is
-``docs/rods.md``'s:
+``docs/rods.md``'s, written in the frame ``(a, d, w = a x d)`` of the element's reference
+tangent ``a`` and director ``d`` (fixed during a step), where it needs no parameters but
+the stiffnesses:
 
-* at a point, ``A = r'``, ``B = r''``, the material angle ``th`` and its rate ``thp``,
-  and the element's reference tangent ``a`` and director ``d`` (fixed during a step),
-  the reference director is ``e = R(a -> t) d`` (the smallest rotation taking ``a`` to
-  ``t = A / |A|``), its twist rate ``-(a x t) . t' / (1 + a . t)`` and the material
-  director ``d1 = cos(th) e + sin(th) t x e``;
-* the density is ``GJ kappa3^2 / 2 + dEI (k . d1)^2 / 2`` with ``kappa3 = thp +`` the
-  reference twist rate and ``k = A x B / |A|^3`` the cable's curvature vector;
-* the mismatch ``alpha(A)`` at a node of tangent ``A``: the angle about ``t`` from
-  ``R(a_i -> t) d_i`` to ``R(a_j -> t) d_j``.
+* at a point, ``A = r'`` and ``B = r''`` (their components along ``a, d, w``), the
+  material angle ``th`` and its rate ``thp``; ``s = |A|``, ``t = A / s``;
+* the reference director ``e = R(a -> t) d`` (the smallest rotation taking ``a`` to
+  ``t``) and ``f = t x e = R(a -> t) w``: ``e = d - t_d (a + t) / (1 + t_a)``, ``f = w -
+  t_w (a + t) / (1 + t_a)``;
+* the reference twist rate ``-(a x t) . t' / (1 + a . t) = (A_w B_d - A_d B_w) / (s (s +
+  A_a))`` and the curvature along the material director ``d1 = cos(th) e + sin(th) f``,
+  ``kappa1 = (k . d1) = B . (sin(th) e - cos(th) f) / s^2`` (``k = r' x r'' / |r'|^3``);
+* the density ``GJ kappa3^2 / 2 + dEI kappa1^2 / 2``, ``kappa3 = thp +`` the reference
+  twist rate.
+
+The mismatch angle of the element's two nodal frames is a closed form
+(``kernels.rod.mismatch``).
 """
 
 from pathlib import Path
@@ -28,49 +33,40 @@ def vec(name):
     return sp.Matrix(sp.symbols(f"{name}0:3", real=True))
 
 
-def smallest_rotation(a, t, x):
-    """``R(a -> t) x`` (Rodrigues with axis ``a x t``; ``a``, ``t`` unit)."""
-    c = a.dot(t)
-    n = a.cross(t)
-    return x * c + n.cross(x) + n * n.dot(x) / (1 + c)
-
-
 def density():
-    """The density in ``y = [t, s, B, th, thp]`` (``t = r' / |r'|``, ``s = |r'|``, ``B =
-    r''``) and its parameters ``[a, d, GJ, dEI]``.  With ``e`` the reference director and
-    ``b = t x e``: the reference twist rate is ``-(a x t) . B / (s (1 + a . t))`` and the
-    curvature along ``d1 = cos(th) e + sin(th) b`` is ``B . (sin(th) e - cos(th) b) / s^2``
-    (``k = r' x r'' / |r'|^3``)."""
-    t, B, a, d = vec("t"), vec("B"), vec("a"), vec("d")
-    s, th, thp, GJ, dEI = sp.symbols("s th thp GJ dEI", real=True)
-    e = smallest_rotation(a, t, d)
-    twist = -a.cross(t).dot(B) / (s * (1 + a.dot(t)))
-    k1 = B.dot(sp.sin(th) * e - sp.cos(th) * t.cross(e)) / s**2
+    """The density in ``x = [A, B, th, thp]`` (components along ``a, d, w``) and its
+    parameters ``[GJ, dEI]``, written in the symbol ``s = |A|`` (see ``derivative``)."""
+    A, B = vec("A"), vec("B")
+    th, thp, GJ, dEI, s = sp.symbols("th thp GJ dEI s", real=True)
+    twist = (A[2] * B[1] - A[1] * B[2]) / (s * (s + A[0]))
+    along = B[0] + (A[1] * B[1] + A[2] * B[2]) / (s + A[0])      # B . (a + t) s / (s + A_a)
+    Be, Bf = B[1] - A[1] * along / s, B[2] - A[2] * along / s    # B . e, B . f
+    k1 = (sp.sin(th) * Be - sp.cos(th) * Bf) / s**2
     W = GJ * (thp + twist) ** 2 / 2 + dEI * k1**2 / 2
-    return W, [*t, s, *B, th, thp], [*a, *d, GJ, dEI]
+    return W, [*A, *B, th, thp], [GJ, dEI]
 
 
-def mismatch():
-    """The mismatch angle in the unit tangent ``t`` and its parameters ``[a_i, d_i, a_j,
-    d_j]``."""
-    t, ai, di, aj, dj = vec("t"), vec("ai"), vec("di"), vec("aj"), vec("dj")
-    u = smallest_rotation(ai, t, di)
-    w = smallest_rotation(aj, t, dj)
-    return sp.atan2(u.cross(w).dot(t), u.dot(w)), list(t), [*ai, *di, *aj, *dj]
+def derivative(f, v):
+    """``df / dv`` with the symbol ``s = |A|`` a function of ``A`` (``ds / dA_i = A_i /
+    s``): the derivatives stay rational in ``s``, computed once (``sqrt``)."""
+    s = sp.Symbol("s", real=True)
+    chain = sp.diff(f, s) * v / s if str(v).startswith("A") else 0
+    return sp.diff(f, v) + chain
 
 
 def kernel(name, value, x, params, doc, hessian=True):
     """Source of ``name(x, p, g, H)``: returns the value, writes its gradient ``g`` and
     Hessian ``H`` in ``x``; without ``hessian``, ``name(x, p, g)``."""
     n = len(x)
-    grad = [sp.diff(value, xi) for xi in x]
-    hess = [[sp.diff(grad[i], x[j]) for j in range(n)] for i in range(n)] if hessian else []
+    grad = [derivative(value, xi) for xi in x]
+    hess = [[derivative(grad[i], x[j]) for j in range(n)] for i in range(n)] if hessian else []
     outputs = [value, *grad, *(hess[i][j] for i in range(len(hess)) for j in range(i, n))]
     subs, reduced = sp.cse(outputs, symbols=sp.numbered_symbols("c"), optimizations="basic")
     arguments = "x, p, g, H" if hessian else "x, p, g"
     lines = [f"@njit(cache=True)\ndef {name}({arguments}):", f'    """{doc}"""']
     lines += [f"    {s} = x[{i}]" for i, s in enumerate(x)]
     lines += [f"    {s} = p[{i}]" for i, s in enumerate(params)]
+    lines.append(f"    s = sqrt({' + '.join(f'{v}**2' for v in x[:3])})")
     lines += [f"    {s} = {sp.pycode(e, fully_qualified_modules=False)}" for s, e in subs]
     code = [sp.pycode(e, fully_qualified_modules=False) for e in reduced]
     k = 1 + n
@@ -91,7 +87,7 @@ def module(name, value, x, params, doc, hessian=True):
         "the script.\n\n"
         f'{doc} (docs/rods.md), with its exact gradient and Hessian."""\n',
         "# ruff: noqa: E501",
-        "from math import atan2, cos, sin  # noqa: F401\n",
+        "from math import cos, sin, sqrt  # noqa: F401\n",
         "from numba import njit\n\n",
         kernel(name, value, x, params, doc, hessian)])
     path = KERNELS / f"rod_{name}.py"
@@ -100,16 +96,14 @@ def module(name, value, x, params, doc, hessian=True):
 
 
 DENSITY = ("The rod's energy density beyond the cable's, ``GJ kappa3^2 / 2 + dEI "
-           "kappa1^2 / 2``, at ``x = [t, s, r'', th, thp]``, ``p = [a, d, GJ, dEI]``")
-MISMATCH = ("The mismatch angle of two nodal reference directors at a node of unit "
-            "tangent ``x = t``, ``p = [a_i, d_i, a_j, d_j]``")
+           "kappa1^2 / 2``, at ``x = [r', r'', th, thp]`` (the vectors' components along "
+           "the element's reference frame ``a, d, a x d``), ``p = [GJ, dEI]``")
 
 
 def main():
-    """The four modules: with Hessians (tangents) and gradients only (residuals)."""
+    """The two modules: with Hessian (tangents) and gradient only (residuals)."""
     for hessian, suffix in ((True, ""), (False, "_gradient")):
         module("density" + suffix, *density(), DENSITY, hessian)
-        module("mismatch" + suffix, *mismatch(), MISMATCH, hessian)
 
 
 if __name__ == "__main__":

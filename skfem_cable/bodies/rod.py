@@ -222,8 +222,7 @@ class Rod(Cable):
         i, j = self.mesh.t[:, k]
         _, Sx1, _ = self._shape([1.0])
         return kernel.element_mismatch(u, Sx1[k, 0], t0[i], d0[i], t0[j], d0[j],
-                                       np.zeros(12), np.zeros((12, 12)), kernel.workspace(),
-                                       False)
+                                       np.zeros(12), kernel.workspace(), False)
 
     def twist(self, q, s, frames=None):
         """The twist angle (rad) of the section at arc lengths ``s``: the angle of its

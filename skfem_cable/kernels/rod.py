@@ -2,9 +2,13 @@
 the cable's, ``GJ kappa3^2 / 2 + (EI_edge - EI_flat) kappa1^2 / 2``, with its exact
 tangent, and the re-basing of the nodal reference frames between steps.
 
-The densities and their derivatives are generated (``rod_density``, ``rod_mismatch``,
-written by ``scripts/rod_kernel.py``) in the unit tangent ``t`` and the stretch ``s =
-|r'|``; ``unit_map`` carries them to ``r'`` by the chain rule, exactly.
+The density and its derivatives are generated (``rod_density``, written by
+``scripts/rod_kernel.py``) in the components of ``r'``, ``r''`` along the reference frame
+of the element's first node; the mismatch angle of its two nodal frames is a closed form
+(``mismatch``).  The small functions of the element loop are inlined into it (numba's
+``inline="always"``: the rod kernel without tangent 45 -> 26 us on 64 elements,
+``benchmarks/rods.py``).  ``unit_map`` and ``through_unit`` carry derivatives in the unit
+tangent to ``r'`` (``constraints.twist_tie``).
 
 The pack of ``kernel`` (``bodies.rod.Rod.bind``) is ``(edofs, S, Sx, Sxx, w, xi, h, Sx1,
 nodes, t0, d0, prm)``:
@@ -21,13 +25,13 @@ nodes, t0, d0, prm)``:
 * ``prm``: ``[GJ, EI_edge - EI_flat]``.
 """
 
+from math import atan2, sqrt
+
 import numpy as np
 from numba import njit
 
 from .rod_density import density
 from .rod_density_gradient import density_gradient
-from .rod_mismatch import mismatch
-from .rod_mismatch_gradient import mismatch_gradient
 
 
 @njit(cache=True)
@@ -76,66 +80,104 @@ def through_unit(gy, Hy, J, s, n, gA, HAA, HJ, want):
             HAA[i, j] = HAA[j, i] = v
 
 
-@njit(cache=True)
-def point(z, p, gz, Hz, work, want):
+@njit(cache=True, inline="always")
+def point(z, R, prm, gz, Hz, work, want):
     """The density at ``z = [r', r'', th, thp]`` with its gradient ``gz`` (8,) and, if
-    ``want``, its Hessian ``Hz`` (8, 8) in ``z`` (``density`` in ``y = [t, s, r'', th,
-    thp]`` and ``through_unit``)."""
-    y, gy, Hy, J, HJ, gA, HAA = work[:7]
-    s = unit_map(z[:3], J)
-    for c in range(3):
-        y[c] = J[3, c]
-    y[3] = s
-    for m in range(5):
-        y[4 + m] = z[3 + m]
-    W = density(y, p, gy, Hy) if want else density_gradient(y, p, gy)
-    through_unit(gy, Hy, J, s, 4, gA, HAA, HJ, want)
-    for c in range(3):
-        gz[c] = gA[c]
-    for m in range(5):
-        gz[3 + m] = gy[4 + m]
+    ``want``, its Hessian ``Hz`` (8, 8) in ``z``: ``density`` at the vectors' components
+    ``x = T z`` along the rows of ``R`` (the element's reference frame ``a, d, a x d``,
+    ``T = diag(R, R, 1, 1)``), ``gz = T^T gx``, ``Hz = T^T Hx T``; ``prm = [GJ, dEI]``."""
+    x, gx, Hx, M = work[0], work[1], work[2], work[3]
+    for v in range(0, 6, 3):
+        for i in range(3):
+            x[v + i] = R[i, 0] * z[v] + R[i, 1] * z[v + 1] + R[i, 2] * z[v + 2]
+    x[6], x[7] = z[6], z[7]
+    W = density(x, prm, gx, Hx) if want else density_gradient(x, prm, gx)
+    for v in range(0, 6, 3):
+        for i in range(3):
+            gz[v + i] = R[0, i] * gx[v] + R[1, i] * gx[v + 1] + R[2, i] * gx[v + 2]
+    gz[6], gz[7] = gx[6], gx[7]
     if not want:
         return W
-    for i in range(3):
-        for j in range(3):
-            Hz[i, j] = HAA[i, j]
-        for m in range(5):
-            v = 0.0
-            for k in range(4):
-                v += J[k, i] * Hy[k, 4 + m]
-            Hz[i, 3 + m] = Hz[3 + m, i] = v
-    for m in range(5):
-        for k in range(5):
-            Hz[3 + m, 3 + k] = Hy[4 + m, 4 + k]
+    for m in range(6):  # M = Hx T in the rows of the vectors (those of the angles: Hx)
+        for v in range(0, 6, 3):
+            for j in range(3):
+                M[m, v + j] = Hx[m, v] * R[0, j] + Hx[m, v + 1] * R[1, j] + Hx[m, v + 2] * R[2, j]
+        M[m, 6], M[m, 7] = Hx[m, 6], Hx[m, 7]
+    for v in range(0, 6, 3):
+        for i in range(3):
+            for col in range(v + i, 8):
+                Hz[v + i, col] = Hz[col, v + i] = (R[0, i] * M[v, col] + R[1, i] * M[v + 1, col]
+                                                   + R[2, i] * M[v + 2, col])
+    Hz[6, 6], Hz[7, 7] = Hx[6, 6], Hx[7, 7]
+    Hz[6, 7] = Hz[7, 6] = Hx[6, 7]
     return W
 
 
-@njit(cache=True)
-def element_mismatch(u, Sx1, ai, di, aj, dj, grad, hess, work, want):
-    """The mismatch angle of the element with coordinates ``u`` (its end slope ``sum_A
-    Sx1[A] u_A``), its gradient ``grad`` (12,) and, if ``want``, its Hessian ``hess``
-    (12, 12) in the centreline coordinates (``work``: the scratch arrays of
-    ``workspace``)."""
-    y, gy, Hy, J, HJ, gA, HAA, A, pm = work
+@njit(cache=True, inline="always")
+def mismatch(A, ai, di, aj, dj, gA, HA, want):
+    """The mismatch angle at the end node of an element, of slope ``A``: the angle about
+    ``t = A / |A|`` from ``R(a_i -> t) d_i`` to ``R(a_j -> t) d_j``, with its gradient
+    ``gA`` (3,) and, if ``want``, its Hessian ``HA`` (3, 3) in ``A``.
+
+    Carried back to ``a_j`` by ``R(t -> a_j)``, the first is ``R(a_i -> a_j) d_i`` turned
+    about ``a_j`` by the holonomy of the smallest rotations (parallel transport along
+    great circles) around the spherical triangle ``a_i, t, a_j``, its signed solid angle
+    ``Omega`` (Gauss-Bonnet), ``tan(Omega / 2) = a_i . (a_j x t) / (1 + a_i . a_j + a_j .
+    t + t . a_i)`` (Van Oosterom & Strackee, *IEEE Trans. Biomed. Eng.* 30 (1983) 125,
+    eq. 8).  So ``alpha = alpha_0 + 2 atan2(N, D)``, ``alpha_0`` the angle about ``a_j``
+    from ``R(a_i -> a_j) d_i`` to ``d_j`` (fixed during a step), ``N = (a_i x a_j) . A``
+    and ``D = (1 + a_i . a_j) |A| + (a_i + a_j) . A`` (the tangent formula times ``|A|``):
+    ``N`` linear, ``D`` the only curvature."""
+    c = ai[0] * aj[0] + ai[1] * aj[1] + ai[2] * aj[2]
+    n0, n1, n2 = (ai[1] * aj[2] - ai[2] * aj[1], ai[2] * aj[0] - ai[0] * aj[2],
+                  ai[0] * aj[1] - ai[1] * aj[0])
+    nd = (n0 * di[0] + n1 * di[1] + n2 * di[2]) / (1.0 + c)
+    u0 = di[0] * c + n1 * di[2] - n2 * di[1] + n0 * nd
+    u1 = di[1] * c + n2 * di[0] - n0 * di[2] + n1 * nd
+    u2 = di[2] * c + n0 * di[1] - n1 * di[0] + n2 * nd
+    sine = (u0 * (dj[1] * aj[2] - dj[2] * aj[1]) + u1 * (dj[2] * aj[0] - dj[0] * aj[2])
+            + u2 * (dj[0] * aj[1] - dj[1] * aj[0]))
+    alpha0 = atan2(sine, u0 * dj[0] + u1 * dj[1] + u2 * dj[2])
+    s = sqrt(A[0] ** 2 + A[1] ** 2 + A[2] ** 2)
+    N = n0 * A[0] + n1 * A[1] + n2 * A[2]
+    D = (1.0 + c) * s
+    for k in range(3):
+        D += (ai[k] + aj[k]) * A[k]
+    Q = N * N + D * D
+    n = (n0, n1, n2)
+    b = ((1.0 + c) * A[0] / s + ai[0] + aj[0], (1.0 + c) * A[1] / s + ai[1] + aj[1],
+         (1.0 + c) * A[2] / s + ai[2] + aj[2])                # the gradient of D
+    for k in range(3):
+        gA[k] = 2.0 * (D * n[k] - N * b[k]) / Q
+    if want:
+        f1, f2, f3 = 2.0 * (N * N - D * D) / Q**2, 4.0 * D * N / Q**2, 2.0 * N * (1.0 + c) / (Q * s)
+        for k in range(3):
+            for m in range(k, 3):
+                unit = (1.0 if k == m else 0.0) - A[k] * A[m] / s**2
+                HA[k, m] = HA[m, k] = (f1 * (n[k] * b[m] + b[k] * n[m])
+                                       - f2 * (n[k] * n[m] - b[k] * b[m]) - f3 * unit)
+    return alpha0 + 2.0 * atan2(N, D)
+
+
+@njit(cache=True, inline="always")
+def element_mismatch(u, Sx1, ai, di, aj, dj, grad, work, want):
+    """The mismatch angle of the element with coordinates ``u`` (its end slope ``A =
+    sum_A Sx1[A] u_A``, ``mismatch``) and its gradient ``grad`` (12,) in the centreline
+    coordinates; if ``want``, its Hessian in ``A`` (3, 3) is ``work[6]`` (``work``: the
+    scratch arrays of ``workspace``)."""
+    A, gA = work[4], work[5]
     for c in range(3):
         A[c] = 0.0
         for a in range(4):
             A[c] += Sx1[a] * u[3 * a + c]
-        pm[c], pm[3 + c], pm[6 + c], pm[9 + c] = ai[c], di[c], aj[c], dj[c]
-    s = unit_map(A, J)
-    t = J[3]
-    alpha = mismatch(t, pm, gy, Hy) if want else mismatch_gradient(t, pm, gy)
-    through_unit(gy, Hy, J, s, 3, gA, HAA, HJ, want)
+    alpha = mismatch(A, ai, di, aj, dj, gA, work[6], want)
     for a in range(4):
         for c in range(3):
             grad[3 * a + c] = Sx1[a] * gA[c]
-            for b in range(4 if want else 0):
-                for d in range(3):
-                    hess[3 * a + c, 3 * b + d] = Sx1[a] * Sx1[b] * HAA[c, d]
     return alpha
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def point_forces(gz, Sx, Sxx, St, Spt, weight, fe):
     """``fe += weight Jz^T gz`` in the extended coordinates (``kernel``): the rows of
     ``r'`` and ``r''`` hold one function per 3-vector (``Sx``, ``Sxx``), those of the
@@ -147,13 +189,14 @@ def point_forces(gz, Sx, Sxx, St, Spt, weight, fe):
         fe[12 + j] += weight * (St[j] * gz[6] + Spt[j] * gz[7])
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def tangent_product(Hz, Sx, Sxx, St, Spt, weight, M, Ke):
     """The upper triangle of ``Ke += weight Jz^T Hz Jz`` in the extended coordinates
     (``kernel``, ``point_forces``): ``M = Hz Jz`` (8, 17) first, each of its entries two
-    products, then each row of ``Jz`` two entries."""
+    products (the rows of the angles only in the columns of the angles: the upper
+    triangle reads no other), then each row of ``Jz`` two entries."""
     for m in range(8):
-        for b in range(4):
+        for b in range(4 if m < 6 else 0):
             for d in range(3):
                 M[m, 3 * b + d] = Hz[m, d] * Sx[b] + Hz[m, 3 + d] * Sxx[b]
         for j in range(5):
@@ -170,14 +213,15 @@ def tangent_product(Hz, Sx, Sxx, St, Spt, weight, M, Ke):
             Ke[12 + j, col] += wt * M[6, col] + wp * M[7, col]
 
 
-@njit(cache=True)
-def fold_mismatch(fe, Ke, ga, Ha, Sx1, Kf, want):
+@njit(cache=True, inline="always")
+def fold_mismatch(fe, Ke, ga, HA, Sx1, Kf, want):
     """Carry the extended coordinates' last one, the mismatch angle ``alpha``, to the
-    centreline by ``d alpha = ga . du`` (its gradient ``ga``, Hessian ``Ha``): the forces
-    ``fe`` (17,) in place and, if ``want``, the tangent ``Kf`` (16, 16) from the upper
-    triangle of ``Ke`` (17, 17).  ``alpha`` reads the end slope ``sum_A Sx1[A] u_A``
-    only: the rows of the 3-vectors ``A`` with ``Sx1[A] = 0`` (all but the end slope's,
-    for the cubic Hermite element) take no share."""
+    centreline by ``d alpha = ga . du`` (its gradient ``ga``; its Hessian ``Sx1[A] Sx1[B]
+    HA`` in the 3-vectors ``A``, ``B``): the forces ``fe`` (17,) in place and, if
+    ``want``, the tangent ``Kf`` (16, 16) from the upper triangle of ``Ke`` (17, 17).
+    ``alpha`` reads the end slope ``sum_A Sx1[A] u_A`` only: the rows of the 3-vectors
+    ``A`` with ``Sx1[A] = 0`` (all but the end slope's, for the cubic Hermite element)
+    take no share."""
     fa = fe[16]
     for k in range(12):
         fe[k] += fa * ga[k]
@@ -194,14 +238,25 @@ def fold_mismatch(fe, Ke, ga, Ha, Sx1, Kf, want):
                 Kf[c, k] += gk * Ke[c, 16]
             for b in range(4):
                 for c in range(3 * b, 3 * b + 3 if Sx1[b] != 0.0 else 3 * b):
-                    Kf[k, c] += gk * ga[c] * Ke[16, 16] + fa * Ha[k, c]
+                    Kf[k, c] += (gk * ga[c] * Ke[16, 16]
+                                 + fa * Sx1[a] * Sx1[b] * HA[k - 3 * a, c - 3 * b])
 
 
 @njit(cache=True)
 def workspace():
     """The scratch arrays of ``point`` and ``element_mismatch``."""
-    return (np.zeros(9), np.zeros(9), np.zeros((9, 9)), np.zeros((4, 3)), np.zeros((4, 3)),
-            np.zeros(3), np.zeros((3, 3)), np.zeros(3), np.zeros(12))
+    return (np.zeros(8), np.zeros(8), np.zeros((8, 8)), np.zeros((8, 8)), np.zeros(3),
+            np.zeros(3), np.zeros((3, 3)))
+
+
+@njit(cache=True)
+def reference_frame(a, d, R):
+    """The rows ``a``, ``d``, ``a x d`` of ``R`` (3, 3): a node's reference frame."""
+    for c in range(3):
+        R[0, c], R[1, c] = a[c], d[c]
+    R[2, 0] = a[1] * d[2] - a[2] * d[1]
+    R[2, 1] = a[2] * d[0] - a[0] * d[2]
+    R[2, 2] = a[0] * d[1] - a[1] * d[0]
 
 
 @njit(cache=True)
@@ -213,26 +268,24 @@ def kernel(pack, index, ev):
     angle ``alpha`` (the point's angles are ``th = S . phi + xi alpha``, ``thp = Sx . phi
     + alpha / h``): every row of the point's Jacobian then has four or five entries
     (``point_forces``, ``tangent_product``); ``alpha`` is folded into the centreline
-    once per element (``fold_mismatch``)."""
+    once per element (``fold_mismatch``).  The density is evaluated in the frame of the
+    element's first node (``point``)."""
     edofs, S, Sx, Sxx, w, xi, h, Sx1, nodes, t0, d0, prm = pack
     q, v, s, f, f_ext, fd, data, energy, power = ev
     work = workspace()
     want = data.size > 0
     ne, nq, nf = S.shape
     u = np.empty(16)
-    ga, Ha = np.zeros(12), np.zeros((12, 12))
-    z, gz, Hz = np.zeros(8), np.zeros(8), np.zeros((8, 8))
+    ga = np.zeros(12)
+    z, gz, Hz, R = np.zeros(8), np.zeros(8), np.zeros((8, 8)), np.zeros((3, 3))
     St, Spt = np.zeros(5), np.zeros(5)
     fe, Ke, Kf, M = np.zeros(17), np.zeros((17, 17)), np.zeros((16, 16)), np.zeros((8, 17))
-    p = np.zeros(8)
-    p[6], p[7] = prm[0], prm[1]
     for e in range(ne):
         for k in range(16):
             u[k] = q[edofs[e, k]]
         i, j = nodes[e, 0], nodes[e, 1]
-        alpha = element_mismatch(u, Sx1[e], t0[i], d0[i], t0[j], d0[j], ga, Ha, work, want)
-        for c in range(3):
-            p[c], p[3 + c] = t0[i, c], d0[i, c]
+        alpha = element_mismatch(u, Sx1[e], t0[i], d0[i], t0[j], d0[j], ga, work, want)
+        reference_frame(t0[i], d0[i], R)
         fe[:] = 0.0
         if want:
             Ke[:] = 0.0
@@ -250,11 +303,11 @@ def kernel(pack, index, ev):
                 for c in range(3):
                     z[c] += Sxg[a] * u[3 * a + c]
                     z[3 + c] += Sxxg[a] * u[3 * a + c]
-            We += w[e, g] * point(z, p, gz, Hz, work, want)
+            We += w[e, g] * point(z, R, prm, gz, Hz, work, want)
             point_forces(gz, Sxg, Sxxg, St, Spt, w[e, g], fe)
             if want:
                 tangent_product(Hz, Sxg, Sxxg, St, Spt, w[e, g], M, Ke)
-        fold_mismatch(fe, Ke, ga, Ha, Sx1[e], Kf, want)
+        fold_mismatch(fe, Ke, ga, work[6], Sx1[e], Kf, want)
         energy[1] += We
         for k in range(16):
             f[edofs[e, k]] += fe[k]
@@ -265,12 +318,25 @@ def kernel(pack, index, ev):
 
 
 @njit(cache=True)
-def smallest_rotation(a, t, x):
-    """``R(a -> t) x``: the smallest rotation taking the unit ``a`` to the unit ``t``
-    applied to ``x`` (Rodrigues' formula about ``a x t``)."""
+def rotate(a, t, x, out):
+    """``out = R(a -> t) x``: the smallest rotation taking the unit ``a`` to the unit
+    ``t`` applied to ``x`` (Rodrigues' formula about ``n = a x t``: ``x (a . t) + n x x +
+    n (n . x) / (1 + a . t)``); ``out`` may be ``x``."""
     c = a[0] * t[0] + a[1] * t[1] + a[2] * t[2]
-    n = np.cross(a, t)
-    return x * c + np.cross(n, x) + n * (n[0] * x[0] + n[1] * x[1] + n[2] * x[2]) / (1 + c)
+    n0, n1, n2 = a[1] * t[2] - a[2] * t[1], a[2] * t[0] - a[0] * t[2], a[0] * t[1] - a[1] * t[0]
+    k = (n0 * x[0] + n1 * x[1] + n2 * x[2]) / (1.0 + c)
+    y0 = x[0] * c + n1 * x[2] - n2 * x[1] + n0 * k
+    y1 = x[1] * c + n2 * x[0] - n0 * x[2] + n1 * k
+    y2 = x[2] * c + n0 * x[1] - n1 * x[0] + n2 * k
+    out[0], out[1], out[2] = y0, y1, y2
+
+
+@njit(cache=True)
+def smallest_rotation(a, t, x):
+    """``R(a -> t) x`` (``rotate``), a new array."""
+    out = np.empty(3)
+    rotate(a, t, x, out)
+    return out
 
 
 @njit(cache=True)
@@ -279,12 +345,17 @@ def rebase(q, slopes, t0, d0):
     (n_nodes, 3): each director is carried by the smallest rotation from its reference
     tangent to the current one (the time-parallel transport of Bergou et al. 2010),
     then made unit and normal to it against round-off."""
+    t, d = np.empty(3), np.empty(3)
     for i in range(t0.shape[0]):
-        a = np.empty(3)
         for c in range(3):
-            a[c] = q[slopes[i, c]]
-        t = a / np.sqrt(a[0] ** 2 + a[1] ** 2 + a[2] ** 2)
-        d = smallest_rotation(t0[i], t, d0[i])
-        d -= (d[0] * t[0] + d[1] * t[1] + d[2] * t[2]) * t
-        d0[i] = d / np.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2)
-        t0[i] = t
+            t[c] = q[slopes[i, c]]
+        size = np.sqrt(t[0] ** 2 + t[1] ** 2 + t[2] ** 2)
+        for c in range(3):
+            t[c] /= size
+        rotate(t0[i], t, d0[i], d)
+        dt = d[0] * t[0] + d[1] * t[1] + d[2] * t[2]
+        for c in range(3):
+            d[c] -= dt * t[c]
+        size = np.sqrt(d[0] ** 2 + d[1] ** 2 + d[2] ** 2)
+        for c in range(3):
+            d0[i, c], t0[i, c] = d[c] / size, t[c]

@@ -86,13 +86,14 @@ class PointMoment:
     From the virtual work ``dW = M . (t x dt)`` with ``t = r_x / |r_x|``, the generalized
     force on the node's slope is ``f = M x r_x / |r_x|^2`` and its derivative is
     ``df/dr_x = ([M]_x |r_x|^2 - 2 (M x r_x) r_x^T) / |r_x|^4``.  On a node with a twist
-    (a rod's, ``Node.has_twist``) the component along the tangent, ``M . t``, acts on the
-    twist angle (``dW = (M . t) dphi``: exact while the node's reference frame is the
-    current one, as in a time step, ``docs/rods.md``); its tangent there leaves out the
-    derivative of the slope force ``-(M . t) (a x t) / ((1 + a . t) |r_x|)`` (``a`` the
-    reference tangent), so about a twisted state it is not the space-fixed moment's: for a
-    torque about a rod's tangent use ``TwistTorque`` (semi-tangential, conservative;
-    ``docs/rods.md``, "End torques").
+    (a rod's, ``Node.has_twist``) the section also turns about the tangent by ``dphi -
+    (a x t) . dt / (1 + a . t)`` (``a`` the node's reference tangent: the spin of the
+    reference director ``R(a -> t) d``, ``docs/rods.md``), so the component along the
+    tangent ``M . t`` acts on the twist angle and adds the slope force ``-(M . t) (a x t)
+    / ((1 + a . t) |r_x|)`` (``reference_force``, zero where the frame is current, ``a =
+    t``, its derivative not): the space-fixed (axial) moment with its exact tangent.  A
+    torque about a rod's tangent that turns with it is ``TwistTorque`` (semi-tangential,
+    conservative; ``docs/rods.md``, "End torques").
 
     Parameters
     ----------
@@ -130,20 +131,33 @@ class PointMoment:
         n = np.sqrt(a @ a)
         return self.moment @ a / n, self.moment / n - (self.moment @ a) * a / n**3
 
+    def reference_force(self, a, b):
+        """The slope force ``g = -(M . a) (b x a) / (|a|^2 (|a| + b . a))`` of the moment
+        about the tangent of a rod's node of slope ``a`` and reference tangent ``b`` (unit),
+        ``-(M . t) (b x t) / ((1 + b . t) |a|)``, and its derivative ``dg/da`` (3, 3)."""
+        m, v, s = self.moment @ a, np.cross(b, a), np.sqrt(a @ a)
+        h = s**2 * (s + b @ a)
+        grad_h = 3 * s * a + 2 * (b @ a) * a + s**2 * b
+        bx = np.cross(b, np.eye(3)).T  # bx @ x = b x x
+        return -m * v / h, -(np.outer(v, self.moment) + m * bx) / h + m * np.outer(v, grad_h) / h**2
+
     def bind(self, system):
         dofs = system.dofs(self.node)[3:6]
         twist = system.dofs(self.node.body)[self.node.twist_dofs] if self.node.has_twist \
             else dofs[:0]
         rows = np.concatenate([dofs, twist])
+        frames = self.node.body.reference_frames(system) if twist.size else None
 
         def add(ev, index):
             a = ev.q[dofs]
             K = np.zeros((rows.size, 3))
-            ev.f_ext[dofs] += self.force(a)
-            K[:3] = self.stiffness(a)
+            f, K[:3] = self.force(a), self.stiffness(a)
             if twist.size:
                 T, K[3] = self.torque(a)
+                g, K_g = self.reference_force(a, frames.t0[self.node.index])
+                f, K[:3] = f + g, K[:3] + K_g
                 ev.f_ext[twist] += T
+            ev.f_ext[dofs] += f
             ev.add_tangent(index, K, sign=-1.0)
 
         return Term(add=add, rows=rows[:, None], cols=dofs[None, :],

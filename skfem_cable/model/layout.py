@@ -59,6 +59,9 @@ class Layout:
     ----------
     body_terms, load_terms : list of (Term, index)
         Bound contributors with the positions of their tangent entries.
+    own_terms : dict
+        Each body's own term (before terms with equal keys are merged), by ``id(body)``:
+        what ``System.energy_parts`` evaluates alone.
     f_const : ndarray
         Sum of the constant generalized forces (gravity, fixed loads).
     mass, mass_data, mass_diagonal
@@ -94,8 +97,9 @@ class Layout:
         orbit = getattr(system, "orbit", None)
         self.reference = None if orbit is None else Reference(orbit)
         self.inputs = InputTable(system_inputs(system))
-        bodies = merge_terms([t for t in (self._bind(b, system) for b in system.bodies)
-                              if t])
+        own = [self._bind(b, system) for b in system.bodies]
+        self.own_terms = dict(zip(map(id, system.bodies), own))
+        bodies = merge_terms([t for t in own if t])
         loads = [self._bind(load, system) for load in system.loads]
         body_blocks = [self._block(pattern, t) for t in bodies]
         load_blocks = [self._block(pattern, t) for t in loads]

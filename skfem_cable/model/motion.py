@@ -2,11 +2,12 @@
 coordinates (``vectors``, positions or directions, from the bodies' ``vector_mask`` and
 ``position_mask``) give.  ``SystemMotion`` is the part of ``System`` that reads them; it
 needs the system's ``vectors``, ``vector_is_position``, ``n_dofs``, ``q0``, ``layout``,
-``mass_matrix`` and ``deployments``."""
+``current_layout``, ``mass_matrix`` and ``deployments``."""
 
 import numpy as np
 import scipy.sparse as sp
 
+from ..core.contract import Evaluation
 from ..loads.point import vector3 as _vector3
 
 
@@ -54,22 +55,25 @@ class SystemMotion:
         """The energy (J) of each body at ``(q, v, t)``, keyed by its label
         (``io.labels.body_labels``): ``kinetic``, ``v_b^T M_b v_b / 2`` with its own mass
         matrix, and its stored energy under the names of its ``energy_parts``
-        (``contract.Body``), its term evaluated alone; ``point masses``: their kinetic
-        energy, when the system has any.  The kinetic parts add up to ``v^T M v / 2``,
-        the stored ones to the run's books (``axial`` + ``bending``)."""
+        (``contract.Body``), its own term in this system evaluated alone (with the state
+        its term holds here: a rod's reference frames of the last run or solve,
+        ``docs/rods.md``); ``point masses``: their kinetic energy, when the system has
+        any.  The kinetic parts add up to ``v^T M v / 2``, the stored ones to the run's
+        books (``axial`` + ``bending``)."""
         from .labels import body_labels
 
         v = np.zeros(self.n_dofs) if v is None else np.asarray(v, dtype=float)
         q = np.asarray(q, dtype=float)
+        own = self.current_layout().own_terms
         out, kinetic = {}, 0.0
         for label, body in zip(body_labels(self), self.bodies):
             d = self.dofs(body)
             parts = {"kinetic": 0.5 * float(v[d] @ (body.mass_matrix() @ v[d]))}
             kinetic += parts["kinetic"]
             if body.energy_parts:
-                alone = type(self)([body])
-                _, info = alone.evaluate(q[d], v[d], t, np.zeros(alone.n_constraints))
-                parts.update(zip(body.energy_parts, map(float, info["energy"])))
+                term, ev = own[id(body)], Evaluation(self, t, q, v, np.zeros(self.n_constraints))
+                term.evaluate(ev, _no_tangent(term))
+                parts.update(zip(body.energy_parts, map(float, ev.energy)))
             out[label] = parts
         if self.point_masses:
             out["point masses"] = {"kinetic": 0.5 * float(v @ (self.mass_matrix() @ v))
@@ -138,3 +142,12 @@ def vector_blocks(bodies):
         raise ValueError("the bodies' vector coordinates (vector_mask) must come in 3-vectors")
     blocks = index.reshape(-1, 3)
     return blocks, position[blocks[:, 0]]
+
+
+def _no_tangent(term):
+    """An index of the shape of ``term``'s tangent entries (``rows``, ``cols``) for an
+    evaluation without tangent, which reads none of it (compiled kernels are typed by its
+    shape)."""
+    if not term.has_tangent:
+        return None
+    return np.zeros(np.broadcast_shapes(np.shape(term.rows), np.shape(term.cols)), np.int64)
