@@ -21,10 +21,13 @@ it is the Lorentz force alone and ``tests/test_ed_deorbit.py`` checks it within 
 The system's coordinates are offsets from a Keplerian reference point; after every orbit
 the reference is moved onto the centre of mass's osculating orbit (``Orbit.from_state``)
 and the offsets shifted accordingly.  The altitude is that of the osculating semi-major
-axis of the centre of mass, ``a - R_E``.  Run ``python demos/ed_tether_deorbit.py``
-(a quarter of a day, 13.6 s CPU; its CPU time is printed).  A whole day does not complete
-yet: at 0.26 days the OML profile's Newton iteration fails at every step size with the
-models at knots (not with them at every step; ``docs/environment.md``).
+axis of the centre of mass, ``a - R_E``.  The current, power, EMF and force reported are
+those the run recorded at its saved steps (``Result.outputs``, the load's
+``step_outputs``).  The integrator refactors its iteration matrix at every Newton
+iteration (``newton="full"``): the stale matrix of modified Newton, with the current's
+coupling left out of the tangent, diverged on a step in five at the dayside density (976
+of 5071 attempted steps refused over a day, against 28 of 3175).  Run ``python
+demos/ed_tether_deorbit.py`` (a day, 24.6 s CPU; its CPU time is printed).
 """
 
 import numpy as np
@@ -58,12 +61,12 @@ def gauss_rate(a, velocity, force, mass):
     return 2 * a**2 * np.dot(velocity, force) / (sc.MU_EARTH * mass)
 
 
-def main(days=0.25, p=TETHER, drag=True):
+def main(days=1.0, p=TETHER, drag=True):
     """Simulate ``days`` days, one orbit at a time: times (days), altitudes (km), the
     cathode's current ``I(0)`` (A), the motional power (W) and EMF (V) at every 20th
-    step (the models evaluated at the points there), the drop (m) and Gauss's
-    equation's drop with the Lorentz force the run reports (m), and the run's CPU time
-    (s)."""
+    step (the numbers the run recorded there, ``Result.outputs``: the models at knots),
+    the drop (m) and Gauss's equation's drop with the Lorentz force the run recorded
+    (m), and the run's CPU time (s)."""
     import time
 
     clock = time.process_time()
@@ -76,15 +79,17 @@ def main(days=0.25, p=TETHER, drag=True):
         span = min(orbit.period, t_end - t)
         result = sc.simulate(system, t_start=t, t_end=t + span,
                              dt=orbit.period / p["steps_per_orbit"], every=20,
-                             initial=sc.State(system, q, v=v))
+                             initial=sc.State(system, q, v=v), newton="full")
         arcs = result.reference  # the run's reference: the orbit and its rebases
-        for qk, vk, tk in zip(result.q[:-1], result.v[:-1], result.t[:-1]):
+        out = {key: result.outputs[f"{load.cable.name}_{key}"] for key in
+               ("current", "power", "emf", "force_x", "force_y", "force_z")}
+        for k, (qk, vk, tk) in enumerate(zip(result.q[:-1], result.v[:-1], result.t[:-1])):
             x, u, m = centre_of_mass(system, qk, vk)
             R, V = arcs.position(tk) + x, arcs.velocity(tk) + u
-            out = load.evaluate(system, qk, vk, tk, arcs)
+            force = [out[f"force_{c}"][k] for c in "xyz"]
             a = sc.Orbit.from_state(sc.MU_EARTH, R, V).a
-            rows.append((tk, a, out["current"], out["power"], out["emf"]))
-            rate.append(gauss_rate(a, V, out["force"], m))
+            rows.append((tk, a, out["current"][k], out["power"][k], out["emf"][k]))
+            rate.append(gauss_rate(a, V, force, m))
         q, v, t = result.q[-1], result.v[-1], result.t[-1]
         orbit, q, v = recentred(system, arcs, q, v, t)
     times, a, current, power, emf = np.array(rows).T
@@ -102,8 +107,8 @@ def main(days=0.25, p=TETHER, drag=True):
 
 
 def gallery_figure(path):
-    """The gallery's picture (``scripts/gallery.py``) into ``path``: over a quarter of a
-    day, the altitude of the centre of mass's osculating orbit, the cathode's current, the
+    """The gallery's picture (``scripts/gallery.py``) into ``path``: over a day, the
+    altitude of the centre of mass's osculating orbit, the cathode's current, the
     motional power and the open-circuit EMF."""
     import matplotlib
 

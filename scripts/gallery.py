@@ -279,7 +279,7 @@ ENTRIES = (
           "the Lorentz force the run reports",
           "relative 2e-2",
           "tests/test_ed_deorbit.py::test_demo_follows_gauss_equation",
-          "Altitude of the centre of mass's osculating orbit over a quarter of a day, the "
+          "Altitude of the centre of mass's osculating orbit over a day, the "
           "cathode's current, the motional power and the EMF (IGRF, IRI, MSIS drag)."),
     Entry("plasma_brake.py",
           "altitude drop of the 260 kg object under the 5 km plasma brake at -1 kV (IRI at "

@@ -239,6 +239,11 @@ class Term:
         once per step (``loads.sampling.DensitySampler``: the hook keeps the state of the
         last accepted step, ``prepare`` evaluates the model from it).  What a hook's
         ``snapshot`` returns goes into every checkpoint.
+    outputs : callable or None
+        ``outputs()``: the term's numbers at its last evaluation, ``{name: float}`` with
+        the names its load declares (``protocols.Load``'s ``step_outputs``); ``simulate``
+        records them at every saved step (``Step.outputs``: the store's ``output_<name>``,
+        ``Result.outputs``), from the step's last Newton iterate.
     """
 
     add: Callable[..., None] | None = None
@@ -254,6 +259,7 @@ class Term:
     energy_rate: Callable[[Any, float], float] | None = None
     energy_change: Callable[[Any, Any, float, float], float] | None = None
     hooks: tuple = ()
+    outputs: Callable[[], dict] | None = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:
@@ -335,6 +341,9 @@ class Step:
     inputs : dict
         The values the system's inputs hold (``inputs.Input``, by name) for the steps
         after this one: what a controller set (empty without inputs).
+    outputs : dict
+        The loads' numbers at the step (``Term.outputs``, by the names the loads declare
+        in ``step_outputs``; empty when none does).
     """
 
     index: int
@@ -346,6 +355,7 @@ class Step:
     iterations: int
     energies: dict = field(default_factory=dict)
     inputs: dict = field(default_factory=dict)
+    outputs: dict = field(default_factory=dict)
 
 
 #: Values of a ``Shape``'s ``part`` (the cell data ``part`` of the ParaView output).

@@ -158,7 +158,10 @@ class Load(Protocol):
     system in orbit that reads the reference point's motion ``R(t)``, ``V(t)`` declares
     ``reads_reference = True`` and is bound with ``bind(system, reference)``: the run's
     ``orbit.Reference`` (the orbit and the rectification's rebases), not
-    ``system.orbit``, whose single arc a rectified run leaves behind."""
+    ``system.orbit``, whose single arc a rectified run leaves behind.  A load whose term
+    gives per-step numbers (``Term.outputs``) declares their names in ``step_outputs`` (a
+    tuple of str, unique in the system; ``load_outputs``): the run records them at every
+    saved step (the store's ``output_<name>``, ``Result.outputs``)."""
 
     def bind(self, system):
         """The load's ``Term`` in ``system``."""
@@ -410,3 +413,15 @@ class StepHook(Checkpointed, Protocol):
     def next_event(self, t):
         """The next time after ``t`` that an adaptive step must end on (``inf``: none)."""
         ...
+
+
+def load_outputs(system):
+    """The names of the per-step outputs the loads of ``system`` declare
+    (``step_outputs``, ``Load``), in the loads' order; a name declared twice is an
+    error."""
+    names = [name for load in system.loads for name in getattr(load, "step_outputs", ())]
+    twice = sorted({name for name in names if names.count(name) > 1})
+    if twice:
+        raise ValueError(f"two loads declare the step output {twice[0]!r}: give each its "
+                         "own name")
+    return tuple(names)

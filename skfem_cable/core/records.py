@@ -28,19 +28,30 @@ def settings_array(settings):
 
 #: Prefix of the records (and store variables) of the inputs: ``input_<name>``.
 INPUT = "input_"
+#: Prefix of the records (and store variables) of the loads' per-step outputs
+#: (``Step.outputs``): ``output_<name>``.
+OUTPUT = "output_"
 
 
 def step_record(step):
-    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied, and
-    its inputs' values under ``input_<name>``."""
+    """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied, its
+    inputs' values under ``input_<name>`` and the loads' outputs under
+    ``output_<name>``."""
     record = {"t": step.t, "q": step.q.copy(), "v": step.v.copy(), "a": step.a.copy(),
               "lam": step.lam.copy(), "iterations": step.iterations}
     record.update({name: step.energies[name] for name in ENERGIES})
     record.update({INPUT + name: np.array(value) for name, value in step.inputs.items()})
+    record.update({OUTPUT + name: float(value) for name, value in step.outputs.items()})
     return record
+
+
+def prefixed_records(records, prefix):
+    """The histories among ``records`` (a dict of arrays) whose keys start with
+    ``prefix`` (``INPUT``, ``OUTPUT``): ``{name: array}``, the prefix removed."""
+    return {key[len(prefix):]: np.asarray(value) for key, value in records.items()
+            if key.startswith(prefix)}
 
 
 def input_records(records):
     """The inputs' histories among ``records`` (a dict of arrays): ``{name: array}``."""
-    return {key[len(INPUT):]: np.asarray(value) for key, value in records.items()
-            if key.startswith(INPUT)}
+    return prefixed_records(records, INPUT)

@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.protocols import SystemView
-from ..core.records import FIELDS, INPUT
+from ..core.records import FIELDS, INPUT, OUTPUT
 from ..space.reference import Reference
 from . import lock
 from .legacy import is_legacy, read_legacy
@@ -222,8 +222,8 @@ def _manifest_or_raise(path):
 
 
 def read_records(path, system, manifest):
-    """The committed steps of the store in ``path`` as arrays keyed by ``FIELDS`` and
-    the inputs' values by ``input_<name>``."""
+    """The committed steps of the store in ``path`` as arrays keyed by ``FIELDS``, the
+    inputs' values by ``input_<name>`` and the loads' outputs by ``output_<name>``."""
     path = Path(path)
     n = int(manifest["saved"])
     stored = [FIELD.get(v, v) for v in manifest["variables"]]
@@ -236,7 +236,7 @@ def read_records(path, system, manifest):
     except Exception as err:
         raise _unopenable(root, err) from err
     records = {}
-    for name in [*FIELDS, *(v for v in stored if v.startswith(INPUT))]:
+    for name in [*FIELDS, *(v for v in stored if v.startswith((INPUT, OUTPUT)))]:
         if name not in stored:
             continue
         var = VARIABLE.get(name, name)
@@ -251,7 +251,7 @@ def read_records(path, system, manifest):
                                "completely; restore the file from a backup, or run the scene "
                                f"again into a new directory (--out); {_READABLE}",
                                bad[0]) from err
-    inputs = {k: v for k, v in records.items() if k.startswith(INPUT)}
+    inputs = {k: v for k, v in records.items() if k.startswith((INPUT, OUTPUT))}
     return {**fill_records(system, records, stored, n), **inputs}
 
 

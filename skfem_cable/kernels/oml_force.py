@@ -62,7 +62,7 @@ def finish(pack, index, ev):
     iterations, dV(L)]``.  When the profile's Newton iteration fails (twice, the second
     from a cold start) the iterations are -1 and the force NaN: the integrator refuses
     the step (a non-finite residual) and retries a shorter one."""
-    points, motion, source, cache, mesh, circuit, work, scratch, out = pack
+    points, _, _, cache, mesh, circuit, work, scratch, out = pack
     edofs, S, Sx, w = points
     X, A, U, B, dB, F, Fx, Fa, Fv, I, V = scratch
     nodes, E_st, E_nodes, N_nodes = mesh
@@ -91,10 +91,6 @@ def finish(pack, index, ev):
     out[3], out[4], out[5] = mean / nodes[0][-1], iterations, x[-1]
     forces(I, data.size > 0, A, B, dB, F, Fx, Fa)
     line.assemble(edofs, S, Sx, w, F, Fx, Fa, Fv, s[1], 0.0, f_ext, data, index)
-    for e in range(ne):  # the offsets of the positions: the next step's prepare reads them
-        for g in range(nq):
-            for i in range(3):
-                cache[5][e, g, i] = X[e, g, i] - motion[0, i]
 
 
 @njit(cache=True)

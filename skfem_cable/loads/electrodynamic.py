@@ -46,7 +46,7 @@ from ..kernels import electrodynamic as kernel
 from ..space.constants import OMEGA_EARTH as OMEGA_EARTH  # re-exported: the plasma's co-rotation
 from ..space.orbit import co_rotation
 from .line import AlongCable
-from .oml_circuit import bind_oml, circuit, profile, summary
+from .oml_circuit import bind_oml, circuit, names, profile, summary
 from .point import vector3
 
 MU0_OVER_4PI = 1.0e-7
@@ -348,6 +348,9 @@ class ElectrodynamicForce(AlongCable):
 
     #: Bound with the run's reference in orbit (``bind(system, reference)``).
     reads_reference = True
+
+    step_outputs = property(lambda self: names(self.cable.name, self.oml),
+                            doc="Recorded per saved step (protocols.Load): oml_circuit.names.")
 
     def inputs(self):
         """The inputs the current reads (``inputs.declared``)."""

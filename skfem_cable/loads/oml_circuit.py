@@ -12,8 +12,11 @@ tether's strain, about 1e-4, is left out of its perimeter and resistance).
 
 Once per time step (``Term.prepare(t)``; again at the same time, by an evaluation from
 Python, it does nothing) the plasma's density and velocity and a Python field's value and
-gradient (``IGRF``) are evaluated, one call each for all the points, at the positions of
-the previous evaluation carried with the orbit's reference point to ``t``; within the
+gradient (``IGRF``) are evaluated, one call each for all the points, at the positions
+predicted for ``t`` from the last accepted state of the run, ``q_n + (t - t_n) v_n``
+(``StepEnvironment``, a step hook), never at a Newton iterate's: the iterate of a step
+that diverged and is refused (offsets of 5e8 m were seen) would otherwise put every
+retry's density model out of range (``docs/environment.md``); within the
 step the density and plasma velocity are held and such a field is linearised about those
 positions (``kernels.oml_force.linearised_field``: its error is of the order of ``(dx /
 r)^2`` for a displacement ``dx`` within the step, the field varying on the scale of the
@@ -36,7 +39,13 @@ from ..environment.epoch import bound_model
 from ..environment.oml import ELECTRON_MASS, Cathode, collection_coefficient
 from ..kernels import oml_force as kernel
 from ..kernels.oml import MAX_ITER
+from .accepted import AcceptedState
 from .knots import OrbitKnots
+
+#: The numbers the OML force records at every saved step (``ElectrodynamicForce.
+#: step_outputs``, ``Term.outputs``): ``summary``'s, the force by component.
+OUTPUTS = ("current", "emf", "power", "mean_current", "anode_bias", "load_power", "ohmic",
+           "force_x", "force_y", "force_z")
 
 
 @dataclass(frozen=True)
@@ -139,6 +148,32 @@ def mesh_nodes(s, length, insulated):
     return (z, i0.astype(np.int64), i1.astype(np.int64), wt, on, at.astype(np.int64))
 
 
+class StepEnvironment(AcceptedState):
+    """The per-step environment of the OML term: a step hook of the run
+    (``AcceptedState``: it keeps the last accepted state) and the term's ``prepare(t)``,
+    which writes the offsets (ne, nq, 3) of the points predicted for ``t`` from that
+    state, ``q_n + (t - t_n) v_n``, into ``offsets`` and calls ``refresh(t)`` (the models
+    at those points), once per time; ``motion(t)`` (the reference point's position and
+    velocity) at every call.  A diverged iterate of a refused step never reaches the
+    models."""
+
+    def __init__(self, positions, offsets, motion, refresh, q0, t0):
+        self.positions, self.offsets = positions, offsets
+        self.motion, self.refresh = motion, refresh
+        self.accept(q0, np.zeros_like(q0), t0)
+
+    def prepare(self, t):
+        """The reference point at ``t`` and, once per time, the models at the predicted
+        points (class docstring)."""
+        t = float(t)
+        self.motion(t)
+        if t == self.done:
+            return
+        self.offsets[:] = self.positions(self.q + (t - self.t) * self.v)
+        self.refresh(t)
+        self.done = t
+
+
 def bind_oml(force, system, orbit, q=None):
     """``(term, pack)`` of the OML force ``force`` (``ElectrodynamicForce``) on
     ``system`` about the reference point of ``orbit`` (None: no orbit): the pack of
@@ -153,7 +188,6 @@ def bind_oml(force, system, orbit, q=None):
     motion, source = np.zeros((2, 3)), np.zeros((2, 3))
     cache = (np.zeros(shape + (3,)), np.zeros(shape + (3,)), np.zeros(shape + (3, 3)),
              np.zeros(shape + (3,)), np.zeros(s.size), np.zeros(shape + (3,)))
-    cache[5][:] = points.at(system.q0 if q is None else q)[0]
     mesh = (nodes, np.zeros(s.size), np.zeros(nodes[0].size), np.zeros(nodes[0].size))
     scratch = tuple(np.zeros(shape + extra) for extra in
                     [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3 + [()] * 2)
@@ -169,14 +203,12 @@ def bind_oml(force, system, orbit, q=None):
             0.0 if orbit is None else orbit.position(t)),
         field if field is None or callable(getattr(field, "field", None)) else
         SimpleNamespace(field=lambda x, t: force.field_and_gradient(x, t, field)), plasma)
-    prepared = np.array([np.nan])  # the time of the models' last evaluation
 
-    def prepare(t):
+    def move(t):
         if orbit is not None:
             motion[0], motion[1] = orbit.position(t), orbit.velocity(t)
-        if t == prepared[0]:  # a Python evaluation within the step: the step's models
-            return
-        prepared[0] = t
+
+    def refresh(t):
         X = (cache[5] + motion[0]).reshape(-1, 3)
         cache[0][:] = X.reshape(cache[0].shape)
         cache[3][:] = np.asarray(plasma.velocity(X, t)).reshape(cache[3].shape)
@@ -192,10 +224,14 @@ def bind_oml(force, system, orbit, q=None):
             cache[1][:], cache[2][:] = (np.reshape(B, cache[1].shape),
                                         np.reshape(dB, cache[2].shape))
 
-    prepare(0.0 if orbit is None else orbit.t0)
+    step = StepEnvironment(lambda y: points.at(y)[0], cache[5], move, refresh,
+                           np.asarray(system.q0 if q is None else q, dtype=float),
+                           0.0 if orbit is None else orbit.t0)
+    step.prepare(step.t)
     rows, cols = points.tangent_pattern()
     hook = kernel.kernel_dipole if force.compiled is not None else kernel.kernel_cached
-    return Term(kernels=((hook, pack),), rows=rows, cols=cols, prepare=prepare,
+    return Term(kernels=((hook, pack),), rows=rows, cols=cols, prepare=step.prepare,
+                hooks=(step,), outputs=lambda: outputs(pack, circuit, force.step_outputs),
                 name=f"OML electrodynamic force {force.cable.name}"), pack
 
 
@@ -219,11 +255,31 @@ def profile(pack, s, row):
 def summary(pack, circuit):
     """The summaries of the last evaluation of ``pack`` (``ElectrodynamicForce.
     evaluate``): ``current`` ``I(0)`` (A), ``emf`` ``int E ds`` (V), ``power`` ``int I
-    E ds`` (W), ``mean_current`` (A), ``load_power`` ``R_L I(0)^2`` (W), ``ohmic``
+    E ds`` (W), ``mean_current`` (A), ``anode_bias`` ``dV(L)`` (V), ``load_power``
+    ``R_L I(0)^2`` (W), ``ohmic``
     ``int I^2 / (sigma A) ds`` (W), ``iterations`` and ``force`` (N, (3,))."""
     points, out, scratch = solved(pack)[0], pack[-1], pack[7]
     w, I = points[3], scratch[9]
     return {"current": float(out[0]), "emf": float(out[1]), "power": float(out[2]),
-            "mean_current": float(out[3]), "load_power": circuit.load * float(out[0])**2,
+            "mean_current": float(out[3]), "anode_bias": float(out[5]),
+            "load_power": circuit.load * float(out[0])**2,
             "ohmic": float(np.sum(w * I**2)) / (circuit.conductivity * circuit.area),
             "iterations": int(out[4]), "force": np.einsum("eg,egi->i", w, scratch[5])}
+
+
+def names(prefix, circuit):
+    """The per-step outputs' names of an OML force (``ElectrodynamicForce.step_outputs``:
+    ``<prefix>_<key>`` for the keys of ``OUTPUTS``), none when ``circuit`` is None (a
+    prescribed current)."""
+    return () if circuit is None else tuple(f"{prefix}_{key}" for key in OUTPUTS)
+
+
+def outputs(pack, circuit, names):
+    """The per-step outputs (``OUTPUTS``) of the last evaluation of ``pack`` under
+    ``names`` (the load's ``step_outputs``, in that order): NaN when its profile did not
+    converge."""
+    if pack[-1][4] < 0:
+        return dict.fromkeys(names, np.nan)
+    out = summary(pack, circuit)
+    out.update(zip(("force_x", "force_y", "force_z"), out.pop("force")))
+    return {name: float(out[key]) for name, key in zip(names, OUTPUTS)}

@@ -8,7 +8,7 @@ with ``Result.load`` (xarray users open its store directly, see
 import numpy as np
 
 from ..core.protocols import IntegrableSystem, SystemView
-from ..core.records import FIELDS, input_records
+from ..core.records import FIELDS, OUTPUT, input_records, prefixed_records
 from ..model.fingerprint import describe_bodies, describe_system, differences
 from ..model.state import State
 from ..space.reference import Reference
@@ -54,6 +54,10 @@ class Result:
     inputs : dict
         The values the system's inputs (``inputs.Input``) held at each saved step, by
         name (``(nt, *shape)``; what controllers set: ``control``).
+    outputs : dict
+        The loads' numbers at each saved step (``Term.outputs``), by the names the loads
+        declare (``step_outputs``): ``(nt,)`` arrays (e.g. the OML current,
+        ``ElectrodynamicForce``).
     reference : orbit.Reference or None
         In orbit, the reference the offsets were computed against (the run's: the
         orbit's arcs and the rectification's rebases); its ``position(t)``, ``lvlh(t)``,
@@ -103,6 +107,7 @@ class Result:
         for name in FIELDS:
             setattr(self, name, np.asarray(records[name]))
         self.inputs = input_records(records)
+        self.outputs = prefixed_records(records, OUTPUT)
         self.stats = dict(stats or {})
         description = describe_system(system) if description is None else description
         self._simulated = {"bodies": description["bodies"],

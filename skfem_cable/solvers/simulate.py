@@ -307,6 +307,7 @@ def simulate(system: IntegrableSystem, t_end, dt, rho_inf=0.8, initial=None, t_s
     if pseudo_acceleration != "fitted":
         settings["pseudo_acceleration"] = pseudo_acceleration
     inputs = integ.lay.inputs  # the run's values of the inputs
+    outputs = [term for term, _ in integ.lay.load_terms if term.outputs is not None]
     hooks = integ.hooks = _step_hooks(system, integ, settings, rectify, controllers,
                                       t_start, None if adaptive else dt)
     if resume is not None:
@@ -340,7 +341,9 @@ def simulate(system: IntegrableSystem, t_end, dt, rho_inf=0.8, initial=None, t_s
     def save(index):
         """Hand the current state to every observer; returns a stop message or None."""
         return watch.saved(Step(index, integ.t, integ.q, integ.v, integ.a, integ.lam,
-                                integ.iterations, integ.energies(), inputs.snapshot()))
+                                integ.iterations, integ.energies(), inputs.snapshot(),
+                                {name: value for term in outputs
+                                 for name, value in term.outputs().items()}))
 
     def fixed_steps(i, stop):
         while stop is None and i < n_steps:
