@@ -19,7 +19,7 @@ import pytest
 import skfem_cable as sc
 from skfem_cable import io
 from skfem_cable.io import StoreMismatch
-from skfem_cable.loads import solar_wind_series, thrust_laws
+from skfem_cable.loads import coulomb_drag, solar_wind_series, thrust_laws
 from skfem_cable.loads.coulomb import AU, SolarWind, SolarWindForce
 from skfem_cable.loads.solar_wind_series import WindStatistics
 from skfem_cable.scenes import esail
@@ -84,9 +84,9 @@ def test_janhunen2009_gives_the_published_thrust_per_length():
 def test_one_formula_serves_the_esail_and_the_plasma_brake():
     """The E-sail law and the plasma brake evaluate the one ``CoulombDrag``: the brake's
     law is that class, and the E-sail law is its force at the wind's protons."""
-    from skfem_cable.loads.coulomb_drag import CoulombDrag
     from skfem_cable.loads.plasma_brake import BrakeLaw
 
+    CoulombDrag = coulomb_drag.CoulombDrag
     assert BrakeLaw is CoulombDrag
     law = thrust_laws.thrust_law("janhunen2009")
     wind = SolarWind()
@@ -289,7 +289,7 @@ def test_a_law_follows_the_series_and_the_moving_sun_once_per_step():
     assert pack[5][1].tolist() == [AU, 7 / 6]
 
 
-@pytest.mark.parametrize("module", [thrust_laws, solar_wind_series])
+@pytest.mark.parametrize("module", [thrust_laws, solar_wind_series, coulomb_drag])
 def test_docstring_examples_run(module):
     result = doctest.testmod(module, optionflags=doctest.ELLIPSIS, verbose=False)
     assert result.attempted > 0 and result.failed == 0

@@ -15,8 +15,9 @@ with ``n`` the plasma density, ``m_i`` the ion mass (protons of the solar wind, 
 F region), ``V0`` the tether's voltage (positive for the E-sail, negative for the plasma
 brake: the ions see the same barrier, the electrons, repelled or absent, do not shield
 it), ``r_w*`` the tether's effective electric radius (about ``sqrt(b r_w)`` for a
-multi-wire tether of width ``b`` and wire radius ``r_w``; 1 mm, the E-sail tether's in
-Janhunen's estimates) and ``K`` the simulations' fitting factor (1: the formula as
+multi-wire tether of width ``b`` and wire radius ``r_w``; default 1 mm, the order of a
+2 cm wide tether of 25 um wires; the force grows with it only through the logarithm)
+and ``K`` the simulations' fitting factor (1: the formula as
 published; "reduced by a modest factor" when the magnetic field lies along the tether,
 the 2014 abstract).  ``sqrt(eps0 V~ / (e n))`` is the width of the ion-deflecting
 potential, ``exp(-V_i / V~)`` the ions that cross it.  The papers' full texts were not
