@@ -153,7 +153,7 @@ def test_outputs_and_solar_wind_law(run):
     np.testing.assert_allclose(same.evaluate(result.system, q, v, t, result.reference)
                                ["force"], load.evaluate(result.system, q, v, t,
                                                         result.reference)["force"])
-    with pytest.raises(ValueError, match="law must be one of"):
+    with pytest.raises(ValueError, match=r"law must be one of \[.*'plasma-brake'"):
         sc.SolarWindForce([tether], 20e3, law="ionosphere")
     with pytest.raises(ValueError, match="< 0 V"):
         PlasmaBrake(tether, 500.0, sc.environment.UniformPlasma(DENSITY))

@@ -28,7 +28,7 @@ from ..core.linalg import thread_count
 from ..kernels import coulomb as kernel
 from ..kernels import line
 from ..space.constants import AU
-from .plasma_brake import PlasmaBrake
+from . import plasma_brake  # noqa: F401 (registers law="plasma-brake")
 from .solar_wind_series import SolarWindSeries, WindStatistics, read_series, synthetic_series
 from .thrust_laws import THRUST_EXPONENT, thrust_law  # noqa: F401 (the scenes import it here)
 
@@ -184,10 +184,10 @@ class SolarWindForce:
     law : str or thrust law
         The force per unit length on a tether across the wind (``loads.thrust_laws``):
         ``"paper"`` (Eq. 29, the default), ``"janhunen2009"``, ``"shielded"``,
-        ``"plasma-brake"`` (a ``plasma_brake.PlasmaBrake`` on the cables at the negative
-        ``voltage``, with the keywords ``plasma``, ``brake`` and the others of
-        ``PlasmaBrake``: ``docs/esail.md``), any registered name
-        (``thrust_laws.names()``), or a law object.
+        ``"plasma-brake"`` (a law with the hook ``load``: a ``plasma_brake.PlasmaBrake``
+        on the cables at the negative ``voltage``, with the keywords ``plasma``,
+        ``brake`` and the others of ``PlasmaBrake``: ``docs/esail.md``), any registered
+        name (``thrust_laws.names()``), or a law object.
 
     Notes
     -----
@@ -213,12 +213,13 @@ class SolarWindForce:
     >>> system = sc.System([a, b]).add_load(wind)
     """
 
-    def __new__(cls, cables, voltage, *args, law="paper", **options):
-        """``law="plasma-brake"``: the plasma brake of a negatively biased tether in the
-        ionosphere instead (``plasma_brake.PlasmaBrake(cables, voltage, **options)``,
+    def __new__(cls, cables, voltage, *args, law="paper", exponent=None, **options):
+        """A law with the hook ``load`` (``thrust_laws``) builds the load it needs instead
+        (``law="plasma-brake"``: ``plasma_brake.PlasmaBrake(cables, voltage, **options)``,
         with ``plasma=...``)."""
-        if law == "plasma-brake":
-            return PlasmaBrake(cables, voltage, *args, **options)
+        hook = getattr(thrust_law(law, exponent), "load", None)
+        if hook is not None:
+            return hook(cables, voltage, *args, **options)
         return super().__new__(cls)
 
     def __init__(self, cables, voltage, wind=None, sun_position=(-AU, 0.0, 0.0),

@@ -4,26 +4,19 @@ tether in low Earth orbit (Janhunen 2014), a load for ``System.add_load``.
 A tether at the voltage ``V0 < 0`` relative to the plasma repels the electrons and
 deflects the ions of the flow that meets it at the relative speed ``u`` (the orbital
 speed, some 7.5 km/s, against an ionosphere co-rotating with the Earth).  Across the flow,
-the force per unit length is the analytical thrust formula of Janhunen's E-sail
-(Ann. Geophys. 27, 3089, 2009), which, as the 2014 abstract states, "reproduces most of
-the simulation results well":
+the force per unit length is the Coulomb drag of Janhunen's E-sail formula
+(``coulomb_drag.CoulombDrag``, Ann. Geophys. 27, 3089, 2009, the one implementation the
+E-sail law ``"janhunen2009"`` shares), which, as the 2014 abstract states, "reproduces
+most of the simulation results well", with the ionosphere's ions (O+ in the F region),
+the negative bias and the ram flow:
 
-    dF/dz = K 3.864 P_dyn sqrt(eps0 V~ / (e n)) exp(-V_i / V~),
+    dF/dz = K 3.864 m_i n u^2 sqrt(eps0 V~ / (e n)) exp(-V_i / V~),
 
-with ``P_dyn = m_i n u^2`` the flow's dynamic pressure, ``n`` the plasma density, ``m_i``
-the ion mass (O+ in the F region), ``V~ = |V0| / ln(lambda_eff / r_w)`` the voltage
-reduced by the logarithm of the effective screening length ``lambda_eff = sqrt(eps0 |V0|
-/ (e n))`` over the tether's electric radius ``r_w``, ``V_i = m_i u^2 / (2 e)`` the ion's
-flow energy in volts (a few volts for O+ at 7.5 km/s: ``exp(-V_i / V~)`` is about 0.97
-at 1 kV) and ``K`` the simulations' fitting factor (about 1 for a field across the
-tether and the flow; "reduced by a modest factor" when the field is along the tether,
-the 2014 abstract).  The form and the factor 3.864 are reconstructed from the two papers
-without their full text at hand; for the protons of the 1 AU solar wind on a 20 kV
-tether (``r_w`` = 1 mm) they give 0.478 uN/m, the 2009 paper's "1 N per 2000 km" within
-5 %, and the 2014 abstract's numbers are checked against Gauss's equation
-(``tests/test_plasma_brake.py``).  The
-force grows as ``sqrt(n)`` (the sheath shrinks as the density grows), as ``m_i u^2`` and
-about as ``sqrt(|V0|)``.
+``V~ = |V0| / ln(lambda_eff / r_w*)``, ``V_i = m_i u^2 / (2 e)`` a few volts for O+ at
+7.5 km/s (``exp(-V_i / V~)`` is about 0.97 at 1 kV) and ``K`` the simulations' fitting
+factor (1; "reduced by a modest factor" when the magnetic field is along the tether, the
+2014 abstract).  The force grows as ``sqrt(n)`` (the sheath shrinks as the density
+grows), as ``m_i u^2`` and about as ``sqrt(|V0|)``.
 
 A tether at an angle to the flow meets its normal component ``u_n`` (a long cylinder's
 sheath sees only the flow across it, as in the normal drag of ``drag.MorisonDrag``), so
@@ -55,8 +48,6 @@ from dataclasses import dataclass
 from types import SimpleNamespace
 
 import numpy as np
-from scipy.constants import e as ELEMENTARY_CHARGE
-from scipy.constants import epsilon_0
 
 from ..bodies.section import check_positive
 from ..core import lines
@@ -66,70 +57,15 @@ from ..core.linalg import thread_count
 from ..environment.epoch import bound_model
 from ..kernels import drag as kernel
 from ..kernels import line
+from .coulomb_drag import CoulombDrag
 from .drag import Flow
 from .knots import OrbitKnots
 from .sampling import DensitySampler
+from .thrust_laws import fixed, register
 
-THRUST_FACTOR = 3.864
-"""The numerical factor of the thrust formula (Janhunen 2009, 2014)."""
-
-
-@dataclass(frozen=True)
-class BrakeLaw:
-    """The plasma brake's force per unit length across the flow (module notes).
-
-    Parameters
-    ----------
-    electric_radius : float
-        The tether's effective electric radius ``r_w`` (m, > 0): a multi-wire tether's
-        (about ``sqrt(b r_wire)`` for a width ``b``), default 1 mm.
-    fit : float
-        The simulations' fitting factor ``K`` (> 0), default 1.
-
-    Examples
-    --------
-    O+ at 1e11 m^-3 meeting a -1 kV tether at 7.5 km/s:
-
-    >>> from skfem_cable.loads.plasma_brake import BrakeLaw
-    >>> from skfem_cable.environment.plasma import OXYGEN_ION_MASS
-    >>> f"{BrakeLaw().force_per_length(-1e3, 1e11, 7.5e3, OXYGEN_ION_MASS):.3e} N/m"
-    '1.619e-07 N/m'
-    """
-
-    electric_radius: float = 1e-3
-    fit: float = 1.0
-
-    def __post_init__(self):
-        check_positive("electric_radius", self.electric_radius)
-        check_positive("fit", self.fit)
-
-    def reduced_voltage(self, voltage, density):
-        """``V~ = |V0| / ln(lambda_eff / r_w)`` (V) for the voltage ``voltage`` (V) in the
-        density ``density`` (m^-3, array); ``ValueError`` when the screening length is
-        not longer than the tether's radius (the formula's range)."""
-        screening = np.sqrt(epsilon_0 * abs(voltage) / (ELEMENTARY_CHARGE *
-                                                        np.asarray(density, dtype=float)))
-        ratio = screening / self.electric_radius
-        if np.any(ratio <= 1.0):
-            raise ValueError(f"BrakeLaw: the screening length sqrt(eps0 |V0| / (e n)) "
-                             f"({np.min(screening):.3g} m) must exceed electric_radius "
-                             f"({self.electric_radius:g} m): a larger voltage or a "
-                             f"thinner tether")
-        return abs(voltage) / np.log(ratio)
-
-    def coefficient(self, voltage, density, speed, ion_mass):
-        """``k`` (kg/m^2) of ``f = k |u_n| u_n`` at the voltage ``voltage`` (V), the
-        density ``density`` (m^-3, array), the flow speed ``speed`` (m/s, the one of
-        ``V_i``) and the ion mass ``ion_mass`` (kg)."""
-        reduced = self.reduced_voltage(voltage, density)
-        ion_voltage = ion_mass * speed**2 / (2.0 * ELEMENTARY_CHARGE)
-        return (self.fit * THRUST_FACTOR * ion_mass
-                * np.sqrt(epsilon_0 * reduced * np.asarray(density, dtype=float)
-                          / ELEMENTARY_CHARGE) * np.exp(-ion_voltage / reduced))
-
-    def force_per_length(self, voltage, density, speed, ion_mass):
-        """``dF/dz`` (N/m) on a tether across a flow of speed ``speed`` (m/s)."""
-        return self.coefficient(voltage, density, speed, ion_mass) * speed**2
+#: The plasma brake's force per length across the flow: Janhunen's formula
+#: (``coulomb_drag.CoulombDrag``: ``electric_radius`` ``r_w*``, default 1 mm; ``fit`` ``K``).
+BrakeLaw = CoulombDrag
 
 
 def _voltage(value):
@@ -310,3 +246,20 @@ class PlasmaBrake:
         speed = np.linalg.norm(V)
         along = float(out["force"] @ V / speed) if speed > 0 else 0.0
         return {"along_track_force": along, "power": out["power"]}
+
+
+@dataclass(frozen=True)
+class BrakeLoad:
+    """The entry ``"plasma-brake"`` of the thrust-law registry (``thrust_laws``): not a
+    force across the solar wind but the hook ``load``, so that
+    ``SolarWindForce(cables, voltage, law="plasma-brake", plasma=...)`` is the plasma
+    brake."""
+
+    name: str = "plasma-brake"
+
+    def load(self, cables, voltage, *args, **options):
+        """``PlasmaBrake(cables, voltage, *args, **options)``."""
+        return PlasmaBrake(cables, voltage, *args, **options)
+
+
+register("plasma-brake", fixed("plasma-brake", BrakeLoad))

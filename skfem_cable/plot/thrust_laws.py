@@ -52,7 +52,7 @@ def laws_figure(path=None, laws=LAWS, wind=None):
             ax.set_xscale("log")
             ax.set_yscale("log")
     axes[0].set_ylabel("force per length (nN/m)")
-    axes[0].axhline(500.0, color="0.5", lw=0.8, ls=":")
+    axes[0].axhline(500.0, color="0.5", lw=0.8, ls=":", label="1 N / 2000 km")
     axes[0].legend(title="law")
     fig.suptitle("E-sail thrust laws (wind 400 km/s, 7.3 cm$^{-3}$ at 1 AU)")
     if path is not None:
