@@ -27,12 +27,28 @@ def sails():
             for alpha in (30.0, -30.0)}
 
 
+RAMP = 5e-3  # the inward sail's held spin rises by 0.5 % over the window
+
+
+def _ramp(w0):
+    """The profile ``omega*(t)`` rising from ``w0`` by ``RAMP`` over the window."""
+    return lambda t: w0 * (1 + RAMP * t / WINDOW)
+
+
 @pytest.fixture(scope="module")
 def runs(sails):
-    """Each sail over the window, its spin free and held (time constant 1800 s)."""
-    return {(alpha, held): esail_spin.hold_spin(scene, thrusters, WINDOW / 86400.0, held,
-                                                dt=DT, time_constant=1800.0, every=20)
-            for alpha, (scene, thrusters) in sails.items() for held in (False, True)}
+    """Each sail over the window, its spin free and held (time constant 1800 s): the
+    outward one on its initial rate, the inward one on a profile rising by ``RAMP``
+    against its drift."""
+    out = {}
+    for alpha, (scene, thrusters) in sails.items():
+        w0 = sensors.sail_spin_rate(scene.initial, scene.tethers, scene.hub)
+        for held in (False, True):
+            target = _ramp(w0) if held and alpha < 0 else None
+            out[alpha, held] = esail_spin.hold_spin(
+                scene, thrusters, WINDOW / 86400.0, held, dt=DT, time_constant=1800.0,
+                every=20, target=target)
+    return out
 
 
 def _small_rig(thrust):
@@ -149,14 +165,24 @@ def test_free_drift_has_the_sign_of_toivanen_and_janhunen(runs):
 
 
 def test_controller_holds_the_spin_within_one_percent(runs):
-    """Held, the spin stays within 1 % of its target (measured: 0.04 %), its drift is
-    below a tenth of the free one, and the thrust stays within a few tens of uN."""
+    """Held, the spin stays within 1 % of its target, on a constant target (outward,
+    measured 0.043 %, a third of the free change) and on a profile rising by 0.5 % against
+    the drift (inward, measured 0.11 % while it catches the ramp; it rises by 0.489 %);
+    the error drifts at less than a tenth of the free spin's rate (measured 5 % and 7.5
+    %), and the thrust, a few tens of uN, acts against the drift."""
     for alpha in (30.0, -30.0):
         held, free = runs[alpha, True], runs[alpha, False]
         error = held["spin_rate"] / held["target"] - 1
+        change = free["spin_rate"] / free["target"] - 1
         assert np.abs(error).max() < 0.01
-        assert np.abs(error).max() < 0.5 * np.abs(free["spin_rate"] / free["target"] - 1).max()
-        drift = esail_spin.drift_rate(held["t"], held["spin_rate"])
-        assert abs(drift) < 0.1 * abs(esail_spin.drift_rate(free["t"], free["spin_rate"]))
+        drift = np.polyfit(held["t"], error, 1)[0]
+        assert abs(drift) < 0.1 * abs(np.polyfit(free["t"], change, 1)[0])
         assert 0 < np.abs(held["thrust"]).max() < 1e-4
         assert np.sign(np.mean(held["thrust"][len(held["thrust"]) // 2:])) == -np.sign(alpha)
+    held, free = runs[30.0, True], runs[30.0, False]
+    assert np.abs(held["spin_rate"] / held["target"] - 1).max() \
+        < 0.5 * np.abs(free["spin_rate"] / free["target"] - 1).max()
+    ramp = runs[-30.0, True]
+    assert ramp["target"][-1] / ramp["target"][0] - 1 == pytest.approx(RAMP)
+    rise = ramp["spin_rate"][-1] / ramp["spin_rate"][0] - 1
+    assert abs(rise - RAMP) < 0.2 * RAMP
