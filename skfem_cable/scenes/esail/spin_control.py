@@ -26,17 +26,6 @@ def spin_inertia(system, state, hub):
     return float(u @ (system.mass_matrix() @ u))
 
 
-def lever_sum(system, state, thrusters):
-    """``sum_j |a x c_j|`` (m): the torque about the spin axis of a unit thrust at every
-    point of ``thrusters`` (``RemoteUnitThrust``) at ``state``."""
-    d = state.q[system.dofs(thrusters.hub)]
-    axis = thrusters.hub.rotation(d)[:, 0]
-    centre = thrusters.hub.positions(d, thrusters.hub.center_of_mass)
-    arms = np.array([G @ state.q[dofs] for dofs, G in map(system.position_map,
-                                                           thrusters.points)])
-    return float(np.linalg.norm(np.cross(axis, arms - centre), axis=1).sum())
-
-
 class SpinController(Controller):
     """Holds the sail's spin rate on ``target`` with the remote units' thrusters: a
     proportional-integral law on the spin-rate error ``e = omega* - omega``,
@@ -94,7 +83,7 @@ class SpinController(Controller):
                        if target is None else target)
         self.target_at(0.0)  # fail now, not in the middle of a run
         self.inertia = spin_inertia(system, state, scene.hub)
-        self.levers = lever_sum(system, state, thrusters)
+        self.levers = float(thrusters.levers(system, state.q).sum())
         self.memory["integral"] = 0.0
 
     def target_at(self, t):

@@ -41,6 +41,8 @@ class RemoteUnitThrust:
         ``SpinController``), constant values, or ``thrust(t)``.
     thrust_max : float
         The largest thrust of one unit (N), > 0.
+    name : str
+        The load's name (its term's, in messages and tangent checks).
 
     Examples
     --------
@@ -86,13 +88,23 @@ class RemoteUnitThrust:
         """The inputs the thrust reads (``inputs.declared``)."""
         return declared(self.fn)
 
-    def directions(self, system, q):
-        """The spin directions ``d_j`` (k, 3) at the coordinates ``q``."""
+    def _normals(self, system, q):
+        """``a x c_j`` (k, 3) at the coordinates ``q``: the spin direction times the
+        lever of each point about the spin axis."""
         hub, A, C = self._hub_maps(system)
         a, centre = A @ q[hub], C @ q[hub]
         arms = np.array([G @ q[dofs] for dofs, G in map(system.position_map, self.points)])
-        w = np.cross(a, arms - centre)
+        return np.cross(a, arms - centre)
+
+    def directions(self, system, q):
+        """The spin directions ``d_j`` (k, 3) at the coordinates ``q``."""
+        w = self._normals(system, q)
         return w / np.linalg.norm(w, axis=1, keepdims=True)
+
+    def levers(self, system, q):
+        """The points' distances from the spin axis ``|a x c_j|`` (k,) (m): the torque of
+        a unit thrust at each."""
+        return np.linalg.norm(self._normals(system, q), axis=1)
 
     def power(self, system, q, v, thrust):
         """The thrusters' power (W), ``sum_j T_j d_j . v_j``, at the coordinates ``q`` and
