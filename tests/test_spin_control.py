@@ -70,6 +70,20 @@ def test_thrust_tangent_is_exact():
     assert part[0].scale > 0 and part[0].error < 1e-7, check
 
 
+def test_thrust_at_a_body_point_has_an_exact_tangent():
+    """A rigid remote unit's body point instead of a tether's node (the one line that
+    changes with rigid units, ``tip_points``): the tangent in the unit's and the hub's
+    coordinates (measured 2.8e-9)."""
+    hub = sc.RigidBody.cylinder(1.0, 2.0, 884.0, name="hub")
+    unit = sc.RigidBody.cylinder(0.2, 0.3, 500.0, position=(0, 10.0, 0.5), name="unit")
+    system = sc.System([hub, unit])
+    system.add_load(esail.RemoteUnitThrust([unit.point([0, 0.1, 0])], hub, [2e-3], 1e-2))
+    q = system.q0 + 1e-2 * np.random.default_rng(0).standard_normal(system.n_dofs)
+    check = sc.check_tangent(system, q, step=1e-8)
+    part = [p for p in check.parts if p.name == "remote-unit thrust" and p.wrt == "q"]
+    assert part[0].scale > 0 and part[0].error < 1e-7, check
+
+
 def test_thrust_acts_along_the_spin_and_is_bounded():
     """Each tip's force is ``T`` along ``a x c``: perpendicular to the spin axis and to the
     arm, along the tip's velocity in the spin (a positive thrust spins up), clipped to
