@@ -8,6 +8,8 @@ own maps, in the system's axes:
   (the E-sail paper's Sect. 3, Eqs. 67-70), oriented along the spin;
 * ``sail_angle(state, tips, sun_direction)``: the angle between that normal and the
   direction of the wind;
+* ``sail_spin_rate(state, tips, hub=None)``: the remote units' mean angular rate about
+  the sail's normal (``mean_spin_rate``: the sail's spin without the hub's libration);
 * ``tether_arms(state, cables, hub)``: the vectors from the hub's centre to the tethers'
   tips;
 * ``tether_phase(state, cable, hub)``: the angle of a tether's tip about the hub's axis,
@@ -97,6 +99,30 @@ def sail_angle(state, tips, sun_direction, hub=None):
     wind = np.asarray(sun_direction, dtype=float)
     cos = normal @ wind / np.linalg.norm(wind)
     return float(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def mean_spin_rate(arms, velocities, normal):
+    """The points' mean angular rate (rad/s) about ``normal`` (..., 3), from their
+    positions relative to their centre ``arms`` and their velocities (..., p, 3): the
+    spin of the sail's remote units, without the hub's libration against the tethers
+    (``esail.outputs``' ``spin_rate``; leading axes: e.g. time)."""
+    relative = velocities - velocities.mean(axis=-2, keepdims=True)
+    radial = arms - np.einsum("...pi,...i->...p", arms, normal)[..., None] \
+        * normal[..., None, :]
+    rate = np.einsum("...pi,...i->...p", np.cross(radial, relative), normal)
+    return (rate / np.einsum("...pi,...pi->...p", radial, radial)).mean(axis=-1)
+
+
+def sail_spin_rate(state, tips, hub=None):
+    """The sail's spin rate (rad/s): the mean angular rate of the ``tips`` (cables, whose
+    ends are the remote units, or their end ``Node``s) about the sail's normal
+    (``sail_normal``, oriented by ``hub``), relative to their centre
+    (``mean_spin_rate``)."""
+    points = _tips(state, tips)
+    index = _tip_index(state.system.layout, tuple(tips))
+    velocities = np.zeros_like(points) if state.v is None else state.v[index]
+    normal = sail_normal(state, tips, hub)
+    return float(mean_spin_rate(points - points.mean(axis=0), velocities, normal))
 
 
 def tether_arms(state, cables, hub):

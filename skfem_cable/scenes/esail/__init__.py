@@ -23,14 +23,18 @@ from .references import rigid_coning, spinning_modes, spinning_tether
 from .report import outputs
 from .rig import SETTLE_SPINS, SETTLE_STEP, build, build_orbit, rotating_cable_stretch, settled
 from .scene import run
+from .spin_control import SpinController
+from .thrusters import RemoteUnitThrust, tip_points
 
 __all__ = [
     "BaselineConfig",
     "ESailScene",
     "FULL_SIZE",
     "MISSION_RTOL",
+    "RemoteUnitThrust",
     "SETTLE_SPINS",
     "SETTLE_STEP",
+    "SpinController",
     "TABLE2_HZ",
     "build",
     "build_orbit",
@@ -46,4 +50,5 @@ __all__ = [
     "settled",
     "spinning_modes",
     "spinning_tether",
+    "tip_points",
 ]

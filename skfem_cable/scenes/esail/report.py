@@ -3,6 +3,7 @@
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from ...control import sensors
 from ...core.inputs import InputTable, system_inputs
 from ...space.frames import R1, euler_321, euler_323, orbit_frame
 
@@ -67,7 +68,7 @@ def outputs(scene, result):
     k_E = np.cross(normal, tips[:, 0] - centre[:, 0])
     k_E /= np.linalg.norm(k_E, axis=1, keepdims=True)
     C_I_E = np.stack([normal, np.cross(k_E, normal), k_E], axis=-1)
-    out["spin_rate"] = _spin_rate(tips - centre, np.stack(
+    out["spin_rate"] = sensors.mean_spin_rate(tips - centre, np.stack(
         [result.v[:, system.dofs(c)[-6:-3]] for c in scene.tethers], axis=1), normal)
     out["euler_E"] = euler_323(np.swapaxes(C_I_E, -1, -2) @ C_I_O)
     out["sailing_angle"] = np.arccos(np.clip(np.einsum("ti,ti->t", C_I_B[:, :, 0],
@@ -92,16 +93,6 @@ def outputs(scene, result):
     out["reaction_angle"] = _angle_from_z(out["reaction_force_O"])
     out.update(result.energy)
     return out
-
-
-def _spin_rate(arms, velocities, normal):
-    """The remote units' mean angular rate (rad/s) about ``normal`` (nt, 3), from their
-    positions relative to their centre ``arms`` and velocities (nt, p, 3): the sail's spin
-    rate, without the hub's libration against the tethers, which ``omega_B`` shows."""
-    relative = velocities - velocities.mean(axis=1, keepdims=True)
-    radial = arms - np.einsum("tpi,ti->tp", arms, normal)[..., None] * normal[:, None]
-    rate = np.einsum("tpi,ti->tp", np.cross(radial, relative), normal)
-    return (rate / np.einsum("tpi,tpi->tp", radial, radial)).mean(axis=1)
 
 
 def _angle_from_z(F_O):
