@@ -80,3 +80,52 @@ def test_python_terms_of_any_index_shape_share_one_step_signature():
         steps.append(GeneralizedAlpha(system).compiled)
     assert steps[0].newton is steps[1].newton
     assert numba.typeof(steps[0].terms) == numba.typeof(steps[1].terms)
+
+
+def test_systems_of_different_terms_share_one_compiled_newton_step():
+    """Before: the Newton step was generated and compiled for each sequence of term
+    kernels (about 10 s each); now it is compiled once, for every system, and a system
+    compiles only its terms module (``solvers.compiled.system_module``)."""
+    plain = _pinned_cable(2, 1.0, 7e10, 7800.0, 9.81)
+    dragged = _pinned_cable(3, 1.0, 7e10, 7800.0, 9.81)
+    dragged.add_load(sc.MorisonDrag(dragged.bodies[0], rho=1000.0, cd_normal=1.2,
+                                    cd_tangential=0.1, diameter=0.02))
+    runs = [sc.simulate(s, t_end=3e-3, dt=1e-3) for s in (plain, dragged)]
+    steps = [GeneralizedAlpha(s).compiled for s in (plain, dragged)]
+    assert steps[0].newton is steps[1].newton
+    assert len(steps[0].newton.overloads) == 1
+    assert steps[0].terms[0] != steps[1].terms[0]  # their own evaluate
+    assert all(r.stats["path"] == "compiled" for r in runs)
+
+
+def test_held_terms_outlive_the_references_python_dropped():
+    """``kernels.erased``: a tuple held at an address is read back intact after Python
+    dropped its own references (the hold keeps numba's), and given back once."""
+    import gc
+
+    from numba import njit
+
+    from skfem_cable.kernels import erased
+
+    value = (np.arange(4.0), (np.full(3, 2.5), np.arange(2)))
+    kind = numba.typeof(value)
+
+    @njit
+    def keep(address, v):
+        erased.hold(address, v)
+
+    @njit
+    def total(address):
+        v = erased.held(address, kind)
+        return v[0].sum() + v[1][0].sum() + v[1][1].sum()
+
+    @njit
+    def drop(address):
+        erased.release(address, kind)
+
+    blob = np.zeros(erased.size_of(kind), dtype=np.uint8)
+    keep(blob.ctypes.data, value)
+    del value
+    gc.collect()
+    assert total(blob.ctypes.data) == 6.0 + 7.5 + 1.0
+    drop(blob.ctypes.data)

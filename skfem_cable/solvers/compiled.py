@@ -1,25 +1,33 @@
-"""The Newton step of the generalized-alpha integrator, written once and compiled per system.
+"""The Newton step of the generalized-alpha integrator, written once and compiled once.
 
-A module is generated for the system's sequence of *slots*: ``evaluate`` calls its terms'
-compiled ``kernels`` (``contract.Term``) in order, ``constrain`` its nonlinear constraints'
-``kernel`` (the rigid body's, ``kernels.rigid``; linear constraints, pins to fixed or moving
-points, body points and joints of natural coordinates, are a sparse product in the
-template, a moving point's offset evaluated once per step), and ``newton`` (the template
-``kernels.step``) predicts, evaluates, assembles into the fixed pattern, factors, solves,
-updates and tests convergence in one compiled call.  The module is written to the cache of
-``kernels.generated`` and compiled once per machine.
+Two kinds of module are generated, written to the cache of ``kernels.generated`` and
+compiled once per machine:
+
+* **The Newton step** (``module``; one for the banded LU, one for the sparse LU called
+  back in Python): ``newton``, the template ``kernels.step``, predicts, evaluates,
+  assembles into the fixed pattern, factors, solves, updates and tests convergence in one
+  compiled call, for every system.
+* **A system's terms** (``system_module``, per sequence of *slots*): ``evaluate`` calls
+  the terms' compiled ``kernels`` (``contract.Term``) in order, ``constrain`` the
+  nonlinear constraints' ``kernel`` (the rigid body's, ``kernels.rigid``; linear
+  constraints, pins to fixed or moving points, body points and joints of natural
+  coordinates, are a sparse product in the template, a moving point's offset evaluated
+  once per step).  Both have one signature for all systems (``EVALUATE``, ``CONSTRAIN``)
+  and read the terms' data from an address (``kernels.erased``); the step calls them
+  through their machine addresses.  A new system compiles this small module alone (about
+  2 s, against about 10 s for a step module of its own, ``benchmarks/compile_cost.py``).
 
 What is Python in a system takes part from inside the compiled call through
 ``numba.objmode`` blocks, emitted only where the system has such parts
 (``PythonParts``): a term with a Python ``add`` hook (called once per evaluation, on an
 ``Evaluation`` that views the step's arrays), a nonlinear constraint without kernel
 (``Layout.python_constraint``), and the sparse LU of an iteration matrix that no band
-solver takes (``linalg.PatternSolver``); a fully compiled system's module has none.
+solver takes (``linalg.PatternSolver``); a fully compiled system's modules have none.
 
-``GeneralizedAlpha(compiled=False)`` runs the same generated module interpreted
-(``numba.config.DISABLE_JIT`` while it is imported; the kernels it calls stay compiled):
-the debugging mode, with the compiled run's iterates.  ``GeneralizedAlpha.step_path``
-says which run is used and which parts are Python.
+``GeneralizedAlpha(compiled=False)`` runs the same generated modules interpreted
+(``numba.config.DISABLE_JIT`` while they are imported; the kernels they call stay
+compiled): the debugging mode, with the compiled run's iterates.
+``GeneralizedAlpha.step_path`` says which run is used and which parts are Python.
 """
 
 import functools
