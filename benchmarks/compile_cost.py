@@ -2,11 +2,12 @@
 compiling, by kind of compiled code, and their LLVM part (``kernels.compile_log.Recorder``).
 
 Without ``--suite``: a fresh process with an empty cache (a temporary
-``SKFEM_CABLE_CACHE``) runs a pinned 4-element cable for 3 steps, the first system of a
-process (the package's kernels, the law's module, the Newton step compiled once per
-machine and the system's terms module), then two such cables in one system: a new
-sequence of term kernels, none of them new, so its terms module alone (what every further
-distinct system of a test session costs, its new kernels apart).
+``SKFEM_CABLE_CACHE``) runs a pinned 4-element cable in water (Morison drag) for 3 steps,
+the first system of a process (the package's kernels, the law's and the drag's modules,
+the Newton step compiled once per machine and the system's terms module), then the cable
+with two drag loads: a new sequence of term kernels, none of them new, so its terms module
+alone (what every further distinct system of a test session costs, its new kernels
+apart).
 
 ``--suite DIR``: the records of a test session run with ``SKFEM_CABLE_COMPILE_LOG=DIR``
 (``tests/compile_recorder.py``): compile seconds by kind, the distinct Newton-step and law
@@ -36,13 +37,13 @@ import skfem_cable as sc
 
 recorder = Recorder().install()
 
-def run(n_cables):
-    cables = [sc.Cable.straight([0, 0, 0], [1.0, 0, 0], n_elements=4,
-                                section=sc.Section.circular(radius=0.01, E=7e10, rho=7800.0))
-              for _ in range(n_cables)]
-    system = sc.System(cables).add_gravity([0, -9.81, 0])
-    for cable in cables:
-        system.pin(cable.node(0))
+def run(n_drags):
+    cable = sc.Cable.straight([0, 0, 0], [1.0, 0, 0], n_elements=4,
+                              section=sc.Section.circular(radius=0.01, E=7e10, rho=7800.0))
+    system = sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+    for k in range(n_drags):
+        system.add_load(sc.MorisonDrag(cable, rho=1000.0, cd_normal=1.2 + k,
+                                       cd_tangential=0.1, diameter=0.02))
     start = time.thread_time()
     sc.simulate(system, t_end=3e-3, dt=1e-3)
     return time.thread_time() - start, recorder.take()

@@ -1,10 +1,11 @@
 """Template of the calls from the compiled Newton step back into Python.
 
-``solvers.compiled`` copies these functions into a system's generated terms module (and
-the sparse LU's into the Newton step's) where the system has Python parts (``solvers.compiled.PythonParts``, found by its ``key`` with
-``python_part``): a term with a Python ``add`` hook, a nonlinear constraint without kernel,
-the sparse LU.  Each is a ``numba.objmode`` block (not inlined: numba does not inline a
-function that holds one); a module without Python parts has none of them.
+``solvers.compiled`` copies these functions into a system's generated terms module (and the
+sparse LU's into the Newton step's) where the system has Python parts
+(``solvers.compiled.PythonParts``, found by its ``key`` with ``python_part``): a term with
+a Python ``add`` hook, a nonlinear constraint without kernel, the sparse LU. Each is a
+``numba.objmode`` block (not inlined: numba does not inline a function that holds one); a
+module without Python parts has none of them.
 """
 
 from numba import objmode

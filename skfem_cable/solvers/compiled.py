@@ -352,13 +352,12 @@ def _give_back(drop, blob, address):
     drop(address)
 
 
-def _hold(system, kind, terms):
+def _hold(own, kind, terms):
     """A buffer holding ``terms`` (of numba type ``kind``) for the compiled functions of
-    ``system`` (its module), given back when the buffer's owner is collected; returns the
-    buffer and its address."""
+    the terms module ``own``; returns the buffer and its address."""
     blob = np.zeros(max(erased.size_of(kind), 8), dtype=np.uint8)
     address = blob.ctypes.data
-    system.keep(address, terms)
+    own.keep(address, terms)
     return blob, np.int64(address)
 
 
@@ -380,11 +379,11 @@ class CompiledNewton:
         terms = (packs, indices, cpacks, cindices)
         kind = numba.typeof(terms)
         with global_compiler_lock:  # what it compiles, said on one line (compile_log)
-            system = system_module(functions, cfunctions, kind, jit)
-            self.blob, address = _hold(system, kind, terms)
-        weakref.finalize(self, _give_back, system.drop, self.blob, address).atexit = False
-        self.terms = (erased.address(system.evaluate, EVALUATE),
-                      erased.address(system.constrain, CONSTRAIN), address)
+            own = system_module(functions, cfunctions, kind, jit)
+            self.blob, address = _hold(own, kind, terms)
+        weakref.finalize(self, _give_back, own.drop, self.blob, address).atexit = False
+        self.terms = (erased.address(own.evaluate, EVALUATE),
+                      erased.address(own.constrain, CONSTRAIN), address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
                         if term.kernels and term.prepare is not None]
         empty_csr = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
