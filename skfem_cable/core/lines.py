@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..kernels import line as kernel
+from .linalg import thread_count
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,13 @@ class LinePoints:
     def shape(self):
         """``(ne, nq)``: elements and points per element."""
         return self.w.shape
+
+    def hook(self, point, velocity=True, dissipative=False):
+        """The compiled hook (``contract.Term.kernels``) of the line load whose point
+        function is ``point`` on these points' element (``kernels.line.module``), on
+        numba's threads if the run has more than one (``linalg.thread_count``)."""
+        module = kernel.module(point, self.S.shape[2], velocity, dissipative)
+        return module.kernel_parallel if thread_count() > 1 else module.kernel
 
     def at(self, q, v=None):
         """Positions, slopes and velocities (ne, nq, 3) of the points for the global

@@ -4,9 +4,9 @@ compiles (``compile_log``).
 
 The element kernels are written for any number of element functions ``nf`` (the last
 dimension of their tables: ``elements``).  Those of the line loads (the solar wind, the
-drag, the electrodynamic force), whose work per point is light, are compiled twice, with
-``nf`` fixed at ``CUBIC`` (the paper's cubic element: its loops unrolled, as fast as code
-written for it) and general: reading ``nf`` from the tables cost the E-sail's step 3 %.
+drag, the electrodynamic force), whose work per point is light, are generated per ``nf``
+(``line.module``: its loops unrolled, as fast as code written for the element): reading
+``nf`` from the tables cost the E-sail's step 3 %.
 The laws' kernels (``cable``) read it, their point functions dominating; the assumed
 strain's (``assumed_strain``) is compiled per element type, with its sizes and map
 fixed (read from the tables they cost the cubic a fifth more time per evaluation and the

@@ -42,7 +42,7 @@ Derivatives (``h = H xd``, ``k' = dN_e/dp``, ``D = I / sigma - v_t v_t^T / sigma
 ``phi = v_t / sigma``.  The force splits in two parts (``coef[PART]``): ``ELASTIC``, the
 penalty ``N_e n`` (conservative: its work is booked as external work), and
 ``DISSIPATIVE``, the normal damping and the friction (booked as dissipation:
-``kernels.line.module(dissipative=True)``).
+``LinePoints.hook(point, dissipative=True)``).
 """
 
 import math

@@ -21,7 +21,7 @@ loop of the line loads (``kernels.line.module``; the force and its exact tangent
   viscous creep of speed ``eps |f_t| / (mu N)`` where it should stick.
 * Energy books: the penalty's work is external work (it is conservative: it closes over
   a cycle); the normal damping and the friction are booked as dissipation
-  (``kernels.line.module(dissipative=True)``).
+  (``LinePoints.hook(point, dissipative=True)``).
 """
 
 import warnings
@@ -29,10 +29,8 @@ import warnings
 import numpy as np
 
 from ..core.contract import PART_LOAD, Shape, Term
-from ..core.linalg import thread_count
 from ..core.lines import check_line_body, line_points
 from ..kernels import contact as kernel
-from ..kernels import line
 from .line import AlongCable
 from .surface_broad_phase import BroadPhase, ContactDampingWarning
 
@@ -173,16 +171,14 @@ class LineSurfaceContact(AlongCable):
         ``kernels.contact.point`` over the line's points."""
         points = line_points(self.cable, system)
         surface = self.surface.surface_array()
-        parts = [(line.module(kernel.point, velocity=False), kernel.ELASTIC)]
+        parts = [(points.hook(kernel.point, velocity=False), kernel.ELASTIC)]
         if self.dissipative:
-            parts.append((line.module(kernel.point, dissipative=True), kernel.DISSIPATIVE))
-        threads = thread_count() > 1
+            parts.append((points.hook(kernel.point, dissipative=True), kernel.DISSIPATIVE))
         broad = BroadPhase(points, surface, self.radius, self.tolerance * 2.0 * self.radius,
                            self.onset, self.cable.name)
         scale = broad.scale if self.broad_phase else None
-        kernels = tuple((module.kernel_parallel if threads else module.kernel,
-                         points.pack((surface, self.coefficients(part)), scale))
-                        for module, part in parts)
+        kernels = tuple((hook, points.pack((surface, self.coefficients(part)), scale))
+                        for hook, part in parts)
         rows, cols = points.tangent_pattern()
         self.broad = broad
         return Term(kernels=kernels, rows=rows, cols=cols, name=f"contact {self.cable.name}",

@@ -24,9 +24,7 @@ from ..bodies.section import check_positive
 from ..core import lines
 from ..core.contract import Term
 from ..core.inputs import declared, reader
-from ..core.linalg import thread_count
 from ..kernels import coulomb as kernel
-from ..kernels import line
 from ..space.constants import AU
 from . import plasma_brake  # noqa: F401 (registers law="plasma-brake")
 from .solar_wind_series import SolarWindSeries, WindStatistics, read_series, synthetic_series
@@ -363,8 +361,7 @@ class SolarWindForce:
         prepare(0.0)
         uniform = self.law.anchor is not None and scaling[1] == 0.0
         point = kernel.point_uniform if uniform else kernel.point
-        hooks = line.module(point, velocity=False)
-        hook = hooks.kernel_parallel if thread_count() > 1 else hooks.kernel
+        hook = points.hook(point, velocity=False)
         rows, cols = points.tangent_pattern()
         return Term(kernels=((hook, pack),), rows=rows, cols=cols, name="solar wind",
                     prepare=prepare if refresh else None)

@@ -39,10 +39,8 @@ import numpy as np
 
 from ..bodies.section import check_positive
 from ..core.contract import Term
-from ..core.linalg import thread_count
 from ..core.lines import check_line_body, line_points
 from ..kernels import drag as kernel
-from ..kernels import line
 from ..space.orbit import co_rotation
 from .line import AlongCable, UniformLineLoad
 from .point import vector3
@@ -231,8 +229,7 @@ class QuadraticDrag(AlongCable):
         points = line_points(self.cable, system)
         orbit = system.orbit if reference is None else reference
         arrays = self.flow.arrays(orbit)
-        module = line.module(kernel.point)
-        hook = module.kernel_parallel if thread_count() > 1 else module.kernel
+        hook = points.hook(kernel.point)
         rows, cols = points.tangent_pattern()
         hooks = self.samplers(system, points, orbit)
 

@@ -53,10 +53,8 @@ from ..bodies.section import check_positive
 from ..core import lines
 from ..core.contract import Evaluation, Term
 from ..core.inputs import declared, reader
-from ..core.linalg import thread_count
 from ..environment.epoch import bound_model
 from ..kernels import drag as kernel
-from ..kernels import line
 from .coulomb_drag import CoulombDrag
 from .drag import Flow
 from .knots import OrbitKnots
@@ -186,8 +184,7 @@ class PlasmaBrake:
                                     voltage(t), n, np.linalg.norm(arrays[0]),
                                     self.ion_mass))
         pack = points.pack((np.array([1.0, 0.0, 0.0, 0.0]), *arrays), sampler.out)
-        module = line.module(kernel.point)
-        hook = module.kernel_parallel if thread_count() > 1 else module.kernel
+        hook = points.hook(kernel.point)
 
         def prepare(t):
             self.flow.refresh(arrays, t, orbit)
