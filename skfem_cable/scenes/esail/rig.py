@@ -17,6 +17,18 @@ from ...space.frames import dcm_321, orbit_frame
 from ...space.orbit import Orbit
 from .config import ESailScene
 from .report import _facing
+from .ring import (
+    auxiliary_tension,
+    check_ring,
+    ring_cables,
+    ring_length,
+    ring_stretch,
+    ring_tip_mass,
+    tip_spacing,
+)
+
+#: The ring's default design tension: this share of a remote unit's centrifugal force.
+AUXILIARY_SHARE = 0.05
 
 # the files of the ``esail`` scene's run directory (``run``, ``figures``), for its summary
 register_files({"esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays"},
@@ -56,7 +68,8 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     return np.interp(s, grid, r), np.interp(s, grid, lam)
 
 
-def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
+def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_units=None,
+          auxiliary=None, auxiliary_tension=None):
     """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
     ``n_elements`` elements per tether of ``kind`` ("cable" or "truss") in the
     ``formulation`` of ``Cable`` (None: the default; ``"paper"`` is the paper's own).
@@ -65,8 +78,27 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
     rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
     rigid rotation (Eqs. 79-82).  The frame I is fixed, the Sun at ``-R0``.
+
+    The full rig (``ring``): ``remote_units`` (a ``RemoteUnit``: its mass replaces
+    ``config.remote_mass``) at the tips, and with ``auxiliary`` (a ``Section``) a ring of
+    auxiliary tethers (law ``"tension-only"``) pinned to neighbouring tips, their
+    reference length set so that the sail's steady spin under the wind holds them at
+    ``auxiliary_tension`` (N; default 5 % of a unit's centrifugal force ``m_u omega^2 L``;
+    ``_ring_design``).  The tethers' stretch is then that of the windless steady spin with
+    the ring's pull on the tips (``ring.ring_tip_mass``), the start of ``build``.
     """
-    return _build(config.validate(), alpha_deg, n_elements, kind, formulation)
+    if remote_units is not None:
+        config = replace(config, remote_mass=remote_units.mass)
+    config = config.validate()
+    if auxiliary_tension is None:
+        auxiliary_tension = AUXILIARY_SHARE * config.remote_mass * config.spin_rate**2 \
+            * config.tether_length
+    check_ring(auxiliary, auxiliary_tension, config.n_tethers)
+    length = None if auxiliary is None else _ring_design(
+        config, alpha_deg, n_elements, kind, formulation, auxiliary, auxiliary_tension)
+    return _build(config, alpha_deg, n_elements, kind, formulation,
+                  remote_units=remote_units, auxiliary=auxiliary,
+                  auxiliary_tension=auxiliary_tension, auxiliary_length=length)
 
 
 def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
@@ -88,7 +120,8 @@ def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, o
 
 
 def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
-           exponent=THRUST_EXPONENT):
+           exponent=THRUST_EXPONENT, remote_units=None, auxiliary=None, auxiliary_tension=None,
+           auxiliary_length=None):
     """``build`` of a validated config; with ``orbit``, the system is put on it and the Sun
     sits at its focus."""
     if int(n_elements) != n_elements or n_elements < 1:
@@ -108,8 +141,7 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     radial_B = np.column_stack([np.zeros(p), np.cos(zeta), np.sin(zeta)])
     anchors = cfg.hub_radius * radial_B
     s = np.linspace(0.0, cfg.tether_length, int(n_elements) + 1)
-    r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
-                                    sec.mass_per_length, cfg.remote_mass, cfg.spin_rate)
+    r, lam = _spin_stretch(cfg, s, auxiliary, auxiliary_length)
     tethers = []
     for i in range(p):
         e = C_I_B @ radial_B[i]
@@ -117,10 +149,15 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
                                      sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
                       law=kind, name=f"tether{i + 1}", formulation=formulation)
         tethers.append(cable)
-    system = System([hub, *tethers])
+    ring = [] if auxiliary is None else ring_cables(
+        [r[-1] * (C_I_B @ e) for e in radial_B], auxiliary_length, auxiliary)
+    system = System([hub, *tethers, *ring])
     for cable, x in zip(tethers, anchors):
         system.pin(cable.node(0), hub.point(x))
         system.add_point_mass(cable.node(-1), cfg.remote_mass)
+    for i, cable in enumerate(ring):
+        system.pin(cable.node(0), tethers[i].node(-1))
+        system.pin(cable.node(-1), tethers[(i + 1) % p].node(-1))
     sun = -R0 if orbit is None else SunAtFocus(orbit)
     wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=sun,
                                 exponent=exponent)
@@ -133,7 +170,55 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
                       State(system, q0, v=v0), R0, orbit,
                       {"n_elements": n_elements, "kind": kind, "formulation": formulation,
-                       "exponent": exponent})
+                       "exponent": exponent, "remote_units": remote_units,
+                       "auxiliary": auxiliary, "auxiliary_tension": auxiliary_tension,
+                       "auxiliary_length": auxiliary_length},
+                      ring)
+
+
+def _spin_stretch(cfg, s, auxiliary, length):
+    """Radius and stretch of a tether at the reference arc lengths ``s`` in the windless
+    steady spin (``rotating_cable_stretch``): with a ring of auxiliary tethers of
+    reference length ``length``, the tip mass is ``ring_tip_mass``'s at the tip radius,
+    iterated to round-off."""
+    sec = cfg.section
+    mass, tip = cfg.remote_mass, cfg.hub_radius + cfg.tether_length
+    for _ in range(50):
+        if auxiliary is not None:
+            mass, _ = ring_tip_mass(cfg.remote_mass, auxiliary, length, cfg.n_tethers, tip,
+                                    cfg.spin_rate)
+        r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
+                                        sec.mass_per_length, mass, cfg.spin_rate)
+        done = abs(r[-1] - tip) <= 1e-14 * tip
+        tip = r[-1]
+        if done or auxiliary is None:
+            break
+    return r, lam
+
+
+def _ring_design(cfg, alpha_deg, n_elements, kind, formulation, auxiliary, tension):
+    """The auxiliary tethers' reference length that holds them at ``tension`` in the
+    sail's steady spin under the wind (``steady_facing``: the tethers coned, which
+    shortens the chords between the tips; in the windless spin it is ``ring_length``'s):
+    the secant method on the tension of that equilibrium against the length, from the
+    windless value and the chord there over the stretch at ``tension``, to 1e-6."""
+
+    def found(length):
+        scene = _build(cfg, alpha_deg, n_elements, kind, formulation, auxiliary=auxiliary,
+                       auxiliary_tension=tension, auxiliary_length=length)
+        steady, _ = steady_facing(scene)
+        return auxiliary_tension(scene, steady.q).mean() - tension, \
+            tip_spacing(scene, steady.q).mean()
+
+    x0 = ring_length(auxiliary, tension, cfg.n_tethers, cfg.hub_radius + cfg.tether_length)
+    f0, chord = found(x0)
+    x1 = chord / ring_stretch(auxiliary.EA, tension)
+    for _ in range(8):
+        if abs(f0) <= 1e-6 * tension:
+            return x0
+        f1, _ = found(x1)
+        x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
+    return x0
 
 
 #: ``settled``'s relaxation: steps of this share of a spin period (4 deg of spin) ...
@@ -145,6 +230,18 @@ SETTLE_STEP = 1.0 / 90.0
 #: longer relaxation steps need more Newton iterations).  Now (full Newton, ``settle``'s
 #: default; ``MISSION_RTOL``): 4.4 s, then 3284 steps.
 SETTLE_SPINS = 3.0
+
+
+def steady_facing(scene):
+    """The relative equilibrium of ``scene`` (I fixed) turned to face the wind: its spin
+    axis turned by ``R`` onto the wind line, where the wind is constant in the spinning
+    frame (``solve_steady``: the tethers coned, the sail accelerating along the axis).
+    Returns the steady state (in the turned frame) and ``R``."""
+    system, initial = scene.system, scene.initial
+    axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
+    R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
+    turned = State(system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
+    return solve_steady(system, scene.config.spin_rate * (R @ axis), initial=turned), R
 
 
 def settled(scene, spins=SETTLE_SPINS):
@@ -171,15 +268,12 @@ def settled(scene, spins=SETTLE_SPINS):
     """
     if not (np.isfinite(spins) and spins > 0):
         raise ValueError(f"spins must be a finite number > 0, got {spins!r}")
-    system, initial = scene.system, scene.initial
+    system = scene.system
     # on an orbit the Sun line turns and the Sun's tides act: the equilibrium is that of
     # the sail fixed at the orbit's start, the rest is left to the relaxation
     fixed = scene if scene.orbit is None else _build(
         replace(scene.config, R0=tuple(scene.R0)), np.degrees(scene.alpha), **scene.options)
-    axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
-    R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
-    turned = State(fixed.system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
-    steady = solve_steady(fixed.system, scene.config.spin_rate * (R @ axis), initial=turned)
+    steady, R = steady_facing(fixed)
     start = State(system, system.rotate(steady.q, R.T), v=system.rotate(steady.v, R.T))
     period = scene.config.spin_period
     duration = spins * period
