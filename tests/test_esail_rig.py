@@ -8,10 +8,11 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from demo_modules import load_demo
 
 import skfem_cable as sc
 from skfem_cable.scenes import esail
-from skfem_cable.scenes.esail.modulation import alternating_voltage, spacing_under_modulation
+from skfem_cable.scenes.esail.modulation import alternating_voltage
 from skfem_cable.scenes.esail.rig import steady_facing
 
 SMALL = replace(esail.FULL_SIZE, n_tethers=6)
@@ -64,15 +65,18 @@ def test_windless_spin_holds_the_design_tension():
     cfg = replace(SMALL, voltage=0.0)
     scene = replace(RIG, config=cfg).build(30.0, 2)
     tension = esail.auxiliary_tension(scene, scene.initial.q)
-    np.testing.assert_allclose(tension, RIG.auxiliary_tension, rtol=1e-6)  # the design's
+    np.testing.assert_allclose(tension, RIG.auxiliary_tension, rtol=1e-9)
     state, R = steady_facing(scene)  # the start is the steady spin
     assert np.abs(state.q - scene.system.rotate(scene.initial.q, R)).max() < 1e-6
 
 
 def test_sailing_spin_holds_the_design_tension_and_equal_angles(ringed, steady):
+    """The design (``rig._ring_design``) leaves out the axial inertia of the ringless
+    sail's change of tip mass: 1.1 % on the tension here, measured."""
     state, R = steady
     tension = esail.auxiliary_tension(ringed, state.q)
-    np.testing.assert_allclose(tension, RIG.auxiliary_tension, rtol=1e-6)
+    np.testing.assert_allclose(tension, RIG.auxiliary_tension, rtol=0.02)
+    assert np.ptp(tension) < 1e-9 * tension.mean()
     hub = state.q[ringed.system.dofs(ringed.hub)].reshape(4, 3)
     axis = ringed.hub.rotation(state.q[ringed.system.dofs(ringed.hub)])[:, 0]
     tips = esail.tip_positions(ringed, state.q) - 0.5 * (hub[0] + hub[1])
@@ -89,12 +93,10 @@ def test_alternating_voltage():
     assert v(60.0).tolist() == [0.0, 20e3, 0.0, 20e3]
 
 
-def test_the_ring_keeps_the_units_apart_under_modulation(ringed):
-    """One spin period of on-off modulation, neighbours in antiphase: with the ring the
-    units keep >= 50 % of their nominal spacing (measured 0.996 at 8 x 2); without it they
-    come closer (measured 0.52 at 8 x 2, the 100-tether rig in the benchmark)."""
-    ring, _ = spacing_under_modulation(esail.settled(ringed, spins=0.25), steps_per_spin=45)
-    free = esail.build(SMALL, 30.0, 2, remote_units=RIG.remote_units)
-    alone, _ = spacing_under_modulation(esail.settled(free, spins=0.25), steps_per_spin=45)
-    assert ring.min() >= 0.5
-    assert alone.min() < ring.min()
+def test_the_ring_keeps_the_units_apart_under_modulation():
+    """One spin period of on-off modulation, neighbours in antiphase (``demos/esail_rig.py``
+    at 6 x 2): with the ring the units keep >= 50 % of their nominal spacing (measured
+    1.00 at 24 x 3); without it they come closer (0.02 at 24 x 3: nearly a collision)."""
+    out = load_demo("esail_rig").main(tethers=6, elements=2, per_spin=45, relax=0.25)
+    assert out["with_ring"].min() >= 0.5
+    assert out["without_ring"].min() < out["with_ring"].min()

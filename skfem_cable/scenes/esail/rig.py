@@ -3,6 +3,7 @@
 from dataclasses import replace
 
 import numpy as np
+from skfem import MeshLine
 
 from ...bodies.cable import Cable
 from ...bodies.rigid import RigidBody
@@ -17,15 +18,7 @@ from ...space.frames import dcm_321, orbit_frame
 from ...space.orbit import Orbit
 from .config import ESailScene
 from .report import _facing
-from .ring import (
-    auxiliary_tension,
-    check_ring,
-    ring_cables,
-    ring_length,
-    ring_stretch,
-    ring_tip_mass,
-    tip_spacing,
-)
+from .ring import check_ring, ring_cables, ring_length, ring_tension, ring_tip_mass, tip_spacing
 
 #: The ring's default design tension: this share of a remote unit's centrifugal force.
 AUXILIARY_SHARE = 0.05
@@ -94,11 +87,15 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_
         auxiliary_tension = AUXILIARY_SHARE * config.remote_mass * config.spin_rate**2 \
             * config.tether_length
     check_ring(auxiliary, auxiliary_tension, config.n_tethers)
-    length = None if auxiliary is None else _ring_design(
-        config, alpha_deg, n_elements, kind, formulation, auxiliary, auxiliary_tension)
-    return _build(config, alpha_deg, n_elements, kind, formulation,
-                  remote_units=remote_units, auxiliary=auxiliary,
-                  auxiliary_tension=auxiliary_tension, auxiliary_length=length)
+    if auxiliary is None:
+        return _build(config, alpha_deg, n_elements, kind, formulation,
+                      remote_units=remote_units)
+    length, free, steady = _ring_design(config, alpha_deg, n_elements, kind, formulation,
+                                        auxiliary, auxiliary_tension)
+    scene = _build(config, alpha_deg, n_elements, kind, formulation,
+                   remote_units=remote_units, auxiliary=auxiliary,
+                   auxiliary_tension=auxiliary_tension, auxiliary_length=length)
+    return replace(scene, facing=_facing_start(scene, free, steady))
 
 
 def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
@@ -145,8 +142,7 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     tethers = []
     for i in range(p):
         e = C_I_B @ radial_B[i]
-        cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
-                                     sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
+        cable = Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e,
                       law=kind, name=f"tether{i + 1}", formulation=formulation)
         tethers.append(cable)
     ring = [] if auxiliary is None else ring_cables(
@@ -185,8 +181,9 @@ def _spin_stretch(cfg, s, auxiliary, length):
     mass, tip = cfg.remote_mass, cfg.hub_radius + cfg.tether_length
     for _ in range(50):
         if auxiliary is not None:
-            mass, _ = ring_tip_mass(cfg.remote_mass, auxiliary, length, cfg.n_tethers, tip,
-                                    cfg.spin_rate)
+            tension = ring_tension(auxiliary, length, cfg.n_tethers, tip)
+            mass = ring_tip_mass(cfg.remote_mass, auxiliary, length, tension, cfg.n_tethers,
+                                 tip, cfg.spin_rate)
         r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
                                         sec.mass_per_length, mass, cfg.spin_rate)
         done = abs(r[-1] - tip) <= 1e-14 * tip
@@ -198,27 +195,45 @@ def _spin_stretch(cfg, s, auxiliary, length):
 
 def _ring_design(cfg, alpha_deg, n_elements, kind, formulation, auxiliary, tension):
     """The auxiliary tethers' reference length that holds them at ``tension`` in the
-    sail's steady spin under the wind (``steady_facing``: the tethers coned, which
-    shortens the chords between the tips; in the windless spin it is ``ring_length``'s):
-    the secant method on the tension of that equilibrium against the length, from the
-    windless value and the chord there over the stretch at ``tension``, to 1e-6."""
+    sail's steady spin under the wind (``steady_facing``: the tethers coned, the tips
+    nearer the axis than in the windless spin), and that equilibrium without the ring.
 
-    def found(length):
-        scene = _build(cfg, alpha_deg, n_elements, kind, formulation, auxiliary=auxiliary,
-                       auxiliary_tension=tension, auxiliary_length=length)
-        steady, _ = steady_facing(scene)
-        return auxiliary_tension(scene, steady.q).mean() - tension, \
-            tip_spacing(scene, steady.q).mean()
+    There the ring pulls each unit towards the axis in the plane of the tips, a change of
+    its centrifugal force: the sail without the ring, its units of ``ring_tip_mass``, has
+    the same equilibrium but for the axial inertia of that change of mass (the ring's
+    pull is 0.3 % of a unit's centrifugal force in ``FULL_RIG``, on the sail's
+    acceleration of about 1e-4 m/s^2).  The tips' distance from the axis is iterated
+    (two passes hold it to 1e-12: the mass depends on it only through the pull).  Returns
+    the length and the ringless sail with its equilibrium (``steady_facing``'s)."""
+    p = cfg.n_tethers
+    radius = cfg.hub_radius + cfg.tether_length
+    for _ in range(3):
+        length = ring_length(auxiliary, tension, p, radius)
+        mass = ring_tip_mass(cfg.remote_mass, auxiliary, length, tension, p, radius,
+                             cfg.spin_rate)
+        free = _build(replace(cfg, remote_mass=mass), alpha_deg, n_elements, kind,
+                      formulation)
+        steady = steady_facing(free)
+        radius = tip_spacing(free, steady[0].q).mean() / (2 * np.sin(np.pi / p))
+    return ring_length(auxiliary, tension, p, radius), free, steady
 
-    x0 = ring_length(auxiliary, tension, cfg.n_tethers, cfg.hub_radius + cfg.tether_length)
-    f0, chord = found(x0)
-    x1 = chord / ring_stretch(auxiliary.EA, tension)
-    for _ in range(8):
-        if abs(f0) <= 1e-6 * tension:
-            return x0
-        f1, _ = found(x1)
-        x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
-    return x0
+
+def _facing_start(scene, free, steady):
+    """The start of ``steady_facing`` for the ringed ``scene``: the ringless ``free``
+    sail's equilibrium ``steady`` (``_ring_design``), each auxiliary tether's nodes on
+    the tips it joins."""
+    state, _ = steady
+    system = scene.system
+    q, v = np.zeros(system.n_dofs), np.zeros(system.n_dofs)
+    for mine, theirs in zip([scene.hub, *scene.tethers], [free.hub, *free.tethers]):
+        q[system.dofs(mine)] = state.q[free.system.dofs(theirs)]
+        v[system.dofs(mine)] = state.v[free.system.dofs(theirs)]
+    p = len(scene.tethers)
+    for i, cable in enumerate(scene.auxiliary):
+        ends = [free.system.dofs(free.tethers[k].node(-1))[:3] for k in (i, (i + 1) % p)]
+        q[system.dofs(cable)] = state.q[np.concatenate(ends)]
+        v[system.dofs(cable)] = state.v[np.concatenate(ends)]
+    return State(system, q, v=v)
 
 
 #: ``settled``'s relaxation: steps of this share of a spin period (4 deg of spin) ...
@@ -236,11 +251,13 @@ def steady_facing(scene):
     """The relative equilibrium of ``scene`` (I fixed) turned to face the wind: its spin
     axis turned by ``R`` onto the wind line, where the wind is constant in the spinning
     frame (``solve_steady``: the tethers coned, the sail accelerating along the axis).
-    Returns the steady state (in the turned frame) and ``R``."""
+    Starts from ``scene.facing`` if it has one (a ringed sail's), else from its initial
+    state turned.  Returns the steady state (in the turned frame) and ``R``."""
     system, initial = scene.system, scene.initial
     axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
     R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
-    turned = State(system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
+    turned = scene.facing if scene.facing is not None else \
+        State(system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
     return solve_steady(system, scene.config.spin_rate * (R @ axis), initial=turned), R
 
 

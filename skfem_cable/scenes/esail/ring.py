@@ -69,20 +69,25 @@ def ring_length(auxiliary, tension, n_tethers, tip_radius):
     return 2 * tip_radius * np.sin(np.pi / n_tethers) / ring_stretch(auxiliary.EA, tension)
 
 
-def ring_tip_mass(unit_mass, auxiliary, length, n_tethers, tip_radius, omega):
-    """The tip mass ``m_eff`` with which the steady spin of a ringed tether is that of a
-    free one (``rotating_cable_stretch``): the unit's radial balance in the spinning frame
-    is ``T_tip = m_eff omega^2 r``, where ``m_eff = m_u + rho_a A_a L_a (2 + cos 2 zeta) / 3
-    - 2 T_a sin(zeta) / (omega^2 r)``, ``zeta = pi / p``: the centrifugal load of the units'
-    shares of the two auxiliary tethers of reference length ``L_a`` (one linear element
-    each, consistent mass: ``rho_a A_a L_a (2 x_i + x_j) / 6`` at node ``i``) less the
-    radial pull of their tension ``T_a``, that of the Green-strain law at the chord
-    ``2 r sin(zeta)`` (zero when slack).  Returns ``(m_eff, T_a)``."""
+def ring_tension(auxiliary, length, n_tethers, tip_radius):
+    """Tension (N) of the Green-strain auxiliary tethers of reference ``length`` between
+    neighbouring tips of a ring of ``n_tethers`` at ``tip_radius``: at the chord
+    ``2 r sin(pi / p)``, zero when slack."""
+    lam = 2 * tip_radius * np.sin(np.pi / n_tethers) / length
+    return max(auxiliary.EA * (lam**2 - 1) * lam / 2, 0.0)
+
+
+def ring_tip_mass(unit_mass, auxiliary, length, tension, n_tethers, tip_radius, omega):
+    """The tip mass ``m_eff`` with which a ringed tether spins as a free one: the unit's
+    radial balance in the spinning frame, in the plane of the tips, is ``T_tip = m_eff
+    omega^2 r`` with ``m_eff = m_u + rho_a A_a L_a (2 + cos 2 zeta) / 3 - 2 T_a sin(zeta)
+    / (omega^2 r)``, ``zeta = pi / p``, ``r`` the tip's distance from the spin axis: the
+    centrifugal load of the unit's shares of its two auxiliary tethers of reference length
+    ``L_a`` (one linear element each, consistent mass: ``rho_a A_a L_a (2 x_i + x_j) / 6``
+    at node ``i``) less the radial pull of their ``tension`` ``T_a``."""
     zeta = np.pi / n_tethers
-    lam = 2 * tip_radius * np.sin(zeta) / length
-    tension = max(auxiliary.EA * (lam**2 - 1) * lam / 2, 0.0)
     mass = unit_mass + auxiliary.mass_per_length * length * (2 + np.cos(2 * zeta)) / 3
-    return mass - 2 * tension * np.sin(zeta) / (omega**2 * tip_radius), tension
+    return mass - 2 * tension * np.sin(zeta) / (omega**2 * tip_radius)
 
 
 def ring_cables(tips, lengths, auxiliary):
