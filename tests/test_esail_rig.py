@@ -71,11 +71,12 @@ def test_windless_spin_holds_the_design_tension():
 
 
 def test_sailing_spin_holds_the_design_tension_and_equal_angles(ringed, steady):
-    """The design (``rig._ring_design``) leaves out the axial inertia of the ringless
-    sail's change of tip mass: 1.1 % on the tension here, measured."""
+    """The design's equivalent sail leaves out the axial inertia of its change of tip
+    mass (``rig._ring_design``): 1.1 % on the tension here after one pass, 6.5e-5 after
+    the two of ``RING_PASSES`` (8 x 2, measured)."""
     state, R = steady
     tension = esail.auxiliary_tension(ringed, state.q)
-    np.testing.assert_allclose(tension, RIG.auxiliary_tension, rtol=0.02)
+    np.testing.assert_allclose(tension, RIG.auxiliary_tension, rtol=1e-3)
     assert np.ptp(tension) < 1e-9 * tension.mean()
     hub = state.q[ringed.system.dofs(ringed.hub)].reshape(4, 3)
     axis = ringed.hub.rotation(state.q[ringed.system.dofs(ringed.hub)])[:, 0]

@@ -18,10 +18,15 @@ from ...space.frames import dcm_321, orbit_frame
 from ...space.orbit import Orbit
 from .config import ESailScene
 from .report import _facing
+from .ring import auxiliary_tension as auxiliary_tension_of
 from .ring import check_ring, ring_cables, ring_length, ring_tension, ring_tip_mass, tip_spacing
 
 #: The ring's default design tension: this share of a remote unit's centrifugal force.
 AUXILIARY_SHARE = 0.05
+#: Passes of the ring's design (``_ring_design``), each aiming its equivalent sail at the
+#: design tension scaled by the ratio the ringed sail missed it by: the first misses by
+#: the axial inertia left out (2.4 % for ``FULL_RIG``), the second by its square.
+RING_PASSES = 2
 
 # the files of the ``esail`` scene's run directory (``run``, ``figures``), for its summary
 register_files({"esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays"},
@@ -77,8 +82,9 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_
     auxiliary tethers (law ``"tension-only"``) pinned to neighbouring tips, their
     reference length set so that the sail's steady spin under the wind holds them at
     ``auxiliary_tension`` (N; default 5 % of a unit's centrifugal force ``m_u omega^2 L``;
-    ``_ring_design``).  The tethers' stretch is then that of the windless steady spin with
-    the ring's pull on the tips (``ring.ring_tip_mass``), the start of ``build``.
+    ``_ring_design``, ``RING_PASSES``).  The tethers' stretch is then that of the windless
+    steady spin with the ring's pull on the tips (``ring.ring_tip_mass``), the start of
+    ``build``.
     """
     if remote_units is not None:
         config = replace(config, remote_mass=remote_units.mass)
@@ -90,12 +96,18 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_
     if auxiliary is None:
         return _build(config, alpha_deg, n_elements, kind, formulation,
                       remote_units=remote_units)
-    length, free, steady = _ring_design(config, alpha_deg, n_elements, kind, formulation,
-                                        auxiliary, auxiliary_tension)
-    scene = _build(config, alpha_deg, n_elements, kind, formulation,
-                   remote_units=remote_units, auxiliary=auxiliary,
-                   auxiliary_tension=auxiliary_tension, auxiliary_length=length)
-    return replace(scene, facing=_facing_start(scene, free, steady))
+    target = auxiliary_tension
+    for passes in range(RING_PASSES, 0, -1):
+        length, free, steady = _ring_design(config, alpha_deg, n_elements, kind,
+                                            formulation, auxiliary, target)
+        scene = _build(config, alpha_deg, n_elements, kind, formulation,
+                       remote_units=remote_units, auxiliary=auxiliary,
+                       auxiliary_tension=auxiliary_tension, auxiliary_length=length)
+        scene = replace(scene, facing=_facing_start(scene, free, steady))
+        if passes > 1:
+            found = auxiliary_tension_of(scene, steady_facing(scene)[0].q).mean()
+            target *= auxiliary_tension / found
+    return scene
 
 
 def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
