@@ -184,6 +184,15 @@ ENTRIES = (
           "voltage leans the thrust by about half the sailing angle, a smooth `cos^2` "
           "modulation by three quarters, the on-off modulation of Toivanen, Janhunen and "
           "Envall (2015) by nearly all of it (crosses: the rigid flat sail)."),
+    Entry("esail_rig.py",
+          "least distance of neighbouring remote units over one spin period of on-off "
+          "modulation (neighbours in antiphase) over the nominal spacing, with the ring "
+          "of auxiliary tethers, 6 tethers of 2 elements",
+          ">= 0.5", "tests/test_esail_rig.py::"
+          "test_the_ring_keeps_the_units_apart_under_modulation",
+          "The rig (24 tethers, remote units, the ring) in its steady spin facing the "
+          "wind, and the least spacing of neighbouring units over a spin period of on-off "
+          "modulation: the ring keeps it, without the ring units nearly collide."),
     Entry("esail_attitude_hold.py",
           "largest departure of the sailing angle from the commanded 30 deg over a tenth "
           "of a day, controlled against free",

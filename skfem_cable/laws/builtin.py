@@ -1,10 +1,22 @@
 """The built-in element laws: the paper's ANCF cable (Green strain and squared curvature,
-Eqs. 23-26, with the Kelvin-Voigt damping of Eqs. 36-38), its truss (no bending), and
+Eqs. 23-26, with the Kelvin-Voigt damping of Eqs. 36-38), its truss (no bending), the truss
+that goes slack (``"tension-only"``), and
 Exudyn's cable (engineering strain, curvature per reference length), to reproduce that
 code's numbers (``docs/peers.md``)."""
 
 from .law import cable_law
-from .symbolic import cross, curvature_rate, dot, floored, green_strain, kappa2, norm, rate
+from .symbolic import (
+    cross,
+    curvature_rate,
+    dot,
+    floored,
+    green_strain,
+    kappa2,
+    norm,
+    ramp,
+    rate,
+    where,
+)
 
 
 # --8<-- [start:green]
@@ -35,6 +47,20 @@ def truss(a, b, EA):
     """The paper's comparison model: ``W = EA eps^2 / 2``, no bending stiffness."""
     return EA * green_strain(a) ** 2 / 2
 # --8<-- [end:truss]
+
+
+# --8<-- [start:tension_only]
+def slack_kelvin_voigt(a, b, ad, bd, EA, gamma_axial):
+    """``axial_kelvin_voigt`` while the tether is stretched, nothing while it is slack."""
+    return where(green_strain(a) >= 0, axial_kelvin_voigt(a, b, ad, bd, EA, gamma_axial), 0)
+
+
+@cable_law(dissipation=slack_kelvin_voigt, name="tension-only")
+def tension_only(a, b, EA):
+    """The truss that goes slack: ``W = EA max(eps, 0)^2 / 2``, no force in compression
+    (an auxiliary tether of an E-sail's ring, a mooring line that may slacken)."""
+    return EA * ramp(green_strain(a)) ** 2 / 2
+# --8<-- [end:tension_only]
 
 
 # --8<-- [start:exudyn]
@@ -69,4 +95,4 @@ def exudyn(a, b, EA, EI):
 
 
 #: Built-in laws by name (``Cable(..., law="truss")``).
-BUILTIN = {"cable": green, "truss": truss, "exudyn": exudyn}
+BUILTIN = {"cable": green, "truss": truss, "exudyn": exudyn, "tension-only": tension_only}

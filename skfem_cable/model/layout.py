@@ -164,7 +164,9 @@ class Layout:
         self.n_c = row
         return jac, jacT, hess
 
-    #: A body joined by constraints to at least this many other bodies is a hub.
+    #: A body joined by constraints to at least this many other bodies, and to no fewer
+    #: than any of them is, is a hub (the E-sail's tethers joined to the hub and to two
+    #: auxiliary tethers are not: their partner the hub has more).
     HUB_PARTNERS = 3
     #: Coordinates coupled to more than this many unknowns (a reel's length, coupled to
     #: every coordinate of its cable) are ordered last too.
@@ -184,7 +186,9 @@ class Layout:
             joined = set(owner[d].tolist())
             for b in joined:
                 partners[b] |= joined - {b}
-        hubs = {b for b, p in enumerate(partners) if len(p) >= self.HUB_PARTNERS}
+        count = [len(p) for p in partners]
+        hubs = {b for b, p in enumerate(partners)
+                if count[b] >= self.HUB_PARTNERS and all(count[o] <= count[b] for o in p)}
         parts = [system.dofs(system.bodies[b]) for b in sorted(hubs)]
         parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
                   if d.size and set(owner[d].tolist()) <= hubs]

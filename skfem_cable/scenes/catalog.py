@@ -315,6 +315,10 @@ register("esail-orbit", esail_orbit,
 register("esail-full", esail_full,
          "full-size E-sail (100 tethers of 20 km) at 1 AU, adaptive steps; --alpha, "
          "--t-end 30d", build=esail_full_scene, takes=("alpha",))
+register("esail-rig", "skfem_cable.scenes.esail_rig:run",
+         "full E-sail rig (100 tethers, remote units, the ring of auxiliary tethers) under "
+         "on-off modulation for a spin period; --alpha, --elements",
+         build="skfem_cable.scenes.esail_rig:scene", takes=("alpha",))
 register("capstan", "skfem_cable.scenes.capstan:run",
          "rope sliding over a fixed drum (wrap pi, mu = 0.3): T2 / T1 against exp(mu pi)",
          build="skfem_cable.scenes.capstan:scene")

@@ -18,10 +18,12 @@ the tethers apply to the hub (the paper's multipliers carry the opposite sign).
 """
 
 from .config import FULL_SIZE, MISSION_RTOL, BaselineConfig, ESailScene
+from .full_rig import FULL_RIG, Rig
 from .pictures import TABLE2_HZ, coning_animation, distinct_frequencies, figures, psd, psd_figure
 from .references import rigid_coning, spinning_modes, spinning_tether
 from .report import outputs
 from .rig import SETTLE_SPINS, SETTLE_STEP, build, build_orbit, rotating_cable_stretch, settled
+from .ring import RemoteUnit, auxiliary_tension, tip_positions, tip_spacing
 from .scene import run
 from .spin_control import SpinController
 from .thrusters import RemoteUnitThrust, tip_points
@@ -29,13 +31,17 @@ from .thrusters import RemoteUnitThrust, tip_points
 __all__ = [
     "BaselineConfig",
     "ESailScene",
+    "FULL_RIG",
     "FULL_SIZE",
     "MISSION_RTOL",
+    "RemoteUnit",
     "RemoteUnitThrust",
+    "Rig",
     "SETTLE_SPINS",
     "SETTLE_STEP",
     "SpinController",
     "TABLE2_HZ",
+    "auxiliary_tension",
     "build",
     "build_orbit",
     "coning_animation",
@@ -51,4 +57,6 @@ __all__ = [
     "spinning_modes",
     "spinning_tether",
     "tip_points",
+    "tip_positions",
+    "tip_spacing",
 ]

@@ -103,7 +103,10 @@ class ESailScene:
     needs (``zeta`` tether angles, ``anchors`` in the body frame, ``R0`` the heliocentric
     position of the origin of I at t = 0, ``orbit`` the heliocentric orbit of the system's
     reference point or None: I fixed; ``options`` the tethers' ``n_elements``, ``kind``,
-    ``formulation`` and the wind's ``exponent`` it was built with)."""
+    ``formulation`` and the wind's ``exponent`` it was built with, and the rig's
+    ``remote_units``, ``auxiliary`` section and ``auxiliary_tension``; ``auxiliary`` the
+    ring's auxiliary tethers, empty without one; ``facing`` a start for ``steady_facing``
+    in its turned frame, or None)."""
 
     config: BaselineConfig
     alpha: float
@@ -117,6 +120,8 @@ class ESailScene:
     R0: np.ndarray
     orbit: Orbit | None = None
     options: dict = field(default_factory=dict)
+    auxiliary: list = field(default_factory=list)
+    facing: State | None = None
 
     def heliocentric(self, t, reference=None):
         """Heliocentric position (m) of the origin of the system's coordinates at times

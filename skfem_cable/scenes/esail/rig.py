@@ -3,6 +3,7 @@
 from dataclasses import replace
 
 import numpy as np
+from skfem import MeshLine
 
 from ...bodies.cable import Cable
 from ...bodies.rigid import RigidBody
@@ -17,6 +18,15 @@ from ...space.frames import dcm_321, orbit_frame
 from ...space.orbit import Orbit
 from .config import ESailScene
 from .report import _facing
+from .ring import auxiliary_tension as auxiliary_tension_of
+from .ring import check_ring, ring_cables, ring_length, ring_tension, ring_tip_mass, tip_spacing
+
+#: The ring's default design tension: this share of a remote unit's centrifugal force.
+AUXILIARY_SHARE = 0.05
+#: Passes of the ring's design (``_ring_design``), each aiming its equivalent sail at the
+#: design tension scaled by the ratio the ringed sail missed it by: the first misses by
+#: the axial inertia left out (2.4 % for ``FULL_RIG``), the second by its square.
+RING_PASSES = 2
 
 # the files of the ``esail`` scene's run directory (``run``, ``figures``), for its summary
 register_files({"esail_outputs.npz": "every E-sail output of esail.outputs, as numpy arrays"},
@@ -56,7 +66,8 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     return np.interp(s, grid, r), np.interp(s, grid, lam)
 
 
-def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
+def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_units=None,
+          auxiliary=None, auxiliary_tension=None):
     """Build the baseline E-sail of Sect. 4.1 for sailing angle ``alpha_deg`` (deg) with
     ``n_elements`` elements per tether of ``kind`` ("cable" or "truss") in the
     ``formulation`` of ``Cable`` (None: the default; ``"paper"`` is the paper's own).
@@ -65,8 +76,38 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None):
     relative to O, all tethers radial in the hub mid-plane, stretched by the steady
     rotating-cable solution for the spin ``omega_0`` about ``X_B``, and the whole sail in
     rigid rotation (Eqs. 79-82).  The frame I is fixed, the Sun at ``-R0``.
+
+    The full rig (``ring``): ``remote_units`` (a ``RemoteUnit``: its mass replaces
+    ``config.remote_mass``) at the tips, and with ``auxiliary`` (a ``Section``) a ring of
+    auxiliary tethers (law ``"tension-only"``) pinned to neighbouring tips, their
+    reference length set so that the sail's steady spin under the wind holds them at
+    ``auxiliary_tension`` (N; default 5 % of a unit's centrifugal force ``m_u omega^2 L``;
+    ``_ring_design``, ``RING_PASSES``).  The tethers' stretch is then that of the windless
+    steady spin with the ring's pull on the tips (``ring.ring_tip_mass``), the start of
+    ``build``.
     """
-    return _build(config.validate(), alpha_deg, n_elements, kind, formulation)
+    if remote_units is not None:
+        config = replace(config, remote_mass=remote_units.mass)
+    config = config.validate()
+    if auxiliary_tension is None:
+        auxiliary_tension = AUXILIARY_SHARE * config.remote_mass * config.spin_rate**2 \
+            * config.tether_length
+    check_ring(auxiliary, auxiliary_tension, config.n_tethers)
+    if auxiliary is None:
+        return _build(config, alpha_deg, n_elements, kind, formulation,
+                      remote_units=remote_units)
+    target = auxiliary_tension
+    for passes in range(RING_PASSES, 0, -1):
+        length, free, steady = _ring_design(config, alpha_deg, n_elements, kind,
+                                            formulation, auxiliary, target)
+        scene = _build(config, alpha_deg, n_elements, kind, formulation,
+                       remote_units=remote_units, auxiliary=auxiliary,
+                       auxiliary_tension=auxiliary_tension, auxiliary_length=length)
+        scene = replace(scene, facing=_facing_start(scene, free, steady))
+        if passes > 1:
+            found = auxiliary_tension_of(scene, steady_facing(scene)[0].q).mean()
+            target *= auxiliary_tension / found
+    return scene
 
 
 def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, orbit=None,
@@ -88,7 +129,8 @@ def build_orbit(config, alpha_deg, n_elements, kind="cable", formulation=None, o
 
 
 def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
-           exponent=THRUST_EXPONENT):
+           exponent=THRUST_EXPONENT, remote_units=None, auxiliary=None, auxiliary_tension=None,
+           auxiliary_length=None):
     """``build`` of a validated config; with ``orbit``, the system is put on it and the Sun
     sits at its focus."""
     if int(n_elements) != n_elements or n_elements < 1:
@@ -108,19 +150,22 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     radial_B = np.column_stack([np.zeros(p), np.cos(zeta), np.sin(zeta)])
     anchors = cfg.hub_radius * radial_B
     s = np.linspace(0.0, cfg.tether_length, int(n_elements) + 1)
-    r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
-                                    sec.mass_per_length, cfg.remote_mass, cfg.spin_rate)
+    r, lam = _spin_stretch(cfg, s, auxiliary, auxiliary_length)
     tethers = []
     for i in range(p):
         e = C_I_B @ radial_B[i]
-        cable = Cable(Cable.straight([0, 0, 0], [cfg.tether_length, 0, 0], int(n_elements),
-                                     sec).mesh, sec, r[:, None] * e, lam[:, None] * e,
+        cable = Cable(MeshLine(s), sec, r[:, None] * e, lam[:, None] * e,
                       law=kind, name=f"tether{i + 1}", formulation=formulation)
         tethers.append(cable)
-    system = System([hub, *tethers])
+    ring = [] if auxiliary is None else ring_cables(
+        [r[-1] * (C_I_B @ e) for e in radial_B], auxiliary_length, auxiliary)
+    system = System([hub, *tethers, *ring])
     for cable, x in zip(tethers, anchors):
         system.pin(cable.node(0), hub.point(x))
         system.add_point_mass(cable.node(-1), cfg.remote_mass)
+    for i, cable in enumerate(ring):
+        system.pin(cable.node(0), tethers[i].node(-1))
+        system.pin(cable.node(-1), tethers[(i + 1) % p].node(-1))
     sun = -R0 if orbit is None else SunAtFocus(orbit)
     wind_force = SolarWindForce(tethers, cfg.voltage, cfg.wind, sun_position=sun,
                                 exponent=exponent)
@@ -133,7 +178,74 @@ def _build(cfg, alpha_deg, n_elements, kind, formulation, orbit=None,
     return ESailScene(cfg, alpha, system, hub, tethers, anchors, zeta, wind_force,
                       State(system, q0, v=v0), R0, orbit,
                       {"n_elements": n_elements, "kind": kind, "formulation": formulation,
-                       "exponent": exponent})
+                       "exponent": exponent, "remote_units": remote_units,
+                       "auxiliary": auxiliary, "auxiliary_tension": auxiliary_tension,
+                       "auxiliary_length": auxiliary_length},
+                      ring)
+
+
+def _spin_stretch(cfg, s, auxiliary, length):
+    """Radius and stretch of a tether at the reference arc lengths ``s`` in the windless
+    steady spin (``rotating_cable_stretch``): with a ring of auxiliary tethers of
+    reference length ``length``, the tip mass is ``ring_tip_mass``'s at the tip radius,
+    iterated to round-off."""
+    sec = cfg.section
+    mass, tip = cfg.remote_mass, cfg.hub_radius + cfg.tether_length
+    for _ in range(50):
+        if auxiliary is not None:
+            tension = ring_tension(auxiliary, length, cfg.n_tethers, tip)
+            mass = ring_tip_mass(cfg.remote_mass, auxiliary, length, tension, cfg.n_tethers,
+                                 tip, cfg.spin_rate)
+        r, lam = rotating_cable_stretch(s, cfg.hub_radius, cfg.tether_length, sec.EA,
+                                        sec.mass_per_length, mass, cfg.spin_rate)
+        done = abs(r[-1] - tip) <= 1e-14 * tip
+        tip = r[-1]
+        if done or auxiliary is None:
+            break
+    return r, lam
+
+
+def _ring_design(cfg, alpha_deg, n_elements, kind, formulation, auxiliary, tension):
+    """The auxiliary tethers' reference length that holds them at ``tension`` in the
+    sail's steady spin under the wind (``steady_facing``: the tethers coned, the tips
+    nearer the axis than in the windless spin), and that equilibrium without the ring.
+
+    There the ring pulls each unit towards the axis in the plane of the tips, a change of
+    its centrifugal force: the sail without the ring, its units of ``ring_tip_mass``, has
+    the same equilibrium but for the axial inertia of that change of mass (the ring's
+    pull is 0.3 % of a unit's centrifugal force in ``FULL_RIG``, on the sail's
+    acceleration of about 1e-4 m/s^2).  The tips' distance from the axis is iterated
+    (two passes hold it to 1e-12: the mass depends on it only through the pull).  Returns
+    the length and the ringless sail with its equilibrium (``steady_facing``'s)."""
+    p = cfg.n_tethers
+    radius = cfg.hub_radius + cfg.tether_length
+    for _ in range(3):
+        length = ring_length(auxiliary, tension, p, radius)
+        mass = ring_tip_mass(cfg.remote_mass, auxiliary, length, tension, p, radius,
+                             cfg.spin_rate)
+        free = _build(replace(cfg, remote_mass=mass), alpha_deg, n_elements, kind,
+                      formulation)
+        steady = steady_facing(free)
+        radius = tip_spacing(free, steady[0].q).mean() / (2 * np.sin(np.pi / p))
+    return ring_length(auxiliary, tension, p, radius), free, steady
+
+
+def _facing_start(scene, free, steady):
+    """The start of ``steady_facing`` for the ringed ``scene``: the ringless ``free``
+    sail's equilibrium ``steady`` (``_ring_design``), each auxiliary tether's nodes on
+    the tips it joins."""
+    state, _ = steady
+    system = scene.system
+    q, v = np.zeros(system.n_dofs), np.zeros(system.n_dofs)
+    for mine, theirs in zip([scene.hub, *scene.tethers], [free.hub, *free.tethers]):
+        q[system.dofs(mine)] = state.q[free.system.dofs(theirs)]
+        v[system.dofs(mine)] = state.v[free.system.dofs(theirs)]
+    p = len(scene.tethers)
+    for i, cable in enumerate(scene.auxiliary):
+        ends = [free.system.dofs(free.tethers[k].node(-1))[:3] for k in (i, (i + 1) % p)]
+        q[system.dofs(cable)] = state.q[np.concatenate(ends)]
+        v[system.dofs(cable)] = state.v[np.concatenate(ends)]
+    return State(system, q, v=v)
 
 
 #: ``settled``'s relaxation: steps of this share of a spin period (4 deg of spin) ...
@@ -145,6 +257,20 @@ SETTLE_STEP = 1.0 / 90.0
 #: longer relaxation steps need more Newton iterations).  Now (full Newton, ``settle``'s
 #: default; ``MISSION_RTOL``): 4.4 s, then 3284 steps.
 SETTLE_SPINS = 3.0
+
+
+def steady_facing(scene):
+    """The relative equilibrium of ``scene`` (I fixed) turned to face the wind: its spin
+    axis turned by ``R`` onto the wind line, where the wind is constant in the spinning
+    frame (``solve_steady``: the tethers coned, the sail accelerating along the axis).
+    Starts from ``scene.facing`` if it has one (a ringed sail's), else from its initial
+    state turned.  Returns the steady state (in the turned frame) and ``R``."""
+    system, initial = scene.system, scene.initial
+    axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
+    R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
+    turned = scene.facing if scene.facing is not None else \
+        State(system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
+    return solve_steady(system, scene.config.spin_rate * (R @ axis), initial=turned), R
 
 
 def settled(scene, spins=SETTLE_SPINS):
@@ -171,15 +297,12 @@ def settled(scene, spins=SETTLE_SPINS):
     """
     if not (np.isfinite(spins) and spins > 0):
         raise ValueError(f"spins must be a finite number > 0, got {spins!r}")
-    system, initial = scene.system, scene.initial
+    system = scene.system
     # on an orbit the Sun line turns and the Sun's tides act: the equilibrium is that of
     # the sail fixed at the orbit's start, the rest is left to the relaxation
     fixed = scene if scene.orbit is None else _build(
         replace(scene.config, R0=tuple(scene.R0)), np.degrees(scene.alpha), **scene.options)
-    axis = scene.hub.rotation(initial.q[system.dofs(scene.hub)])[:, 0]
-    R = _facing(axis, scene.R0 / np.linalg.norm(scene.R0))  # the wind blows from the Sun
-    turned = State(fixed.system, system.rotate(initial.q, R), v=system.rotate(initial.v, R))
-    steady = solve_steady(fixed.system, scene.config.spin_rate * (R @ axis), initial=turned)
+    steady, R = steady_facing(fixed)
     start = State(system, system.rotate(steady.q, R.T), v=system.rotate(steady.v, R.T))
     period = scene.config.spin_period
     duration = spins * period
