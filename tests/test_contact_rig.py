@@ -108,3 +108,28 @@ def test_an_edge_is_the_plane_behind_and_the_cylinder_beyond():
     assert d == pytest.approx([0.3, R, 0.1, 0.0], abs=1e-15)
     with pytest.raises(ValueError, match="outward must be perpendicular to normal"):
         sc.Edge([0, 0, 0], [0, 1, 0], [1, 1, 0], R)
+
+
+def test_the_line_broad_phase_keeps_only_near_pairs():
+    """Tether-tether contact's broad phase (``kernels.contact_lines.candidates``): of two
+    segments whose boxes overlap (a diagonal and a short segment in its box, 0.46 m
+    from it), the pair is a candidate only if their distance is within the margin and
+    the reach of their motion over the step (``2 dt v`` each), not otherwise: the radial
+    sail's boxes overlap pairwise, its segments do not (4034 candidate pairs of the
+    100-tether sail at rest become 100, ``benchmarks/contact_cost.py``)."""
+    from skfem_cable.kernels.contact_lines import candidates
+
+    X = np.array([[0.0, 0, 0], [1, 1, 0], [0.8, 0.1, 0], [0.85, 0.2, 0]])
+    ends, line, arc = np.array([[0, 1], [2, 3]]), np.array([0, 1]), np.zeros((2, 2))
+    gap = 0.65 / np.sqrt(2)                 # the distance of the segments, at (0.85, 0.2)
+
+    def found(margin, dt, speed):
+        V = np.zeros_like(X)
+        V[2:, 1] = speed
+        return candidates(X, V, ends, line, arc, -1.0, margin, dt, np.empty((2, 7)),
+                          np.zeros((4, 2), dtype=np.int64))
+
+    assert found(0.01, 0.0, 0.0) == 0                  # boxes overlap, segments apart
+    assert found(gap + 1e-9, 0.0, 0.0) == 1            # within the margin
+    assert found(0.01, 1.0, 0.5 * (gap - 0.01) + 1e-9) == 1   # within reach in the step
+    assert found(0.01, 1.0, 0.5 * (gap - 0.01) - 1e-6) == 0

@@ -339,22 +339,45 @@ def resolve(edofs, S, segments, pairs, count, coef, q, v, out):
 
 
 @njit(cache=True)
+def distance(X, ends, i, j, P):
+    """The distance of the segments ``i`` and ``j`` (their ends ``ends`` in ``X``);
+    ``P`` (4, 3) is scratch."""
+    for m in range(3):
+        P[0, m], P[1, m] = X[ends[i, 0], m], X[ends[i, 1], m]
+        P[2, m], P[3, m] = X[ends[j, 0], m], X[ends[j, 1], m]
+    s, t = closest(P)
+    d = 0.0
+    for m in range(3):
+        r = P[0, m] + s * (P[1, m] - P[0, m]) - P[2, m] - t * (P[3, m] - P[2, m])
+        d += r * r
+    return math.sqrt(d)
+
+
+@njit(cache=True)
 def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
-    """Sweep and prune: the pairs of segments whose boxes overlap, into ``pairs``; returns
-    how many there are (more than ``len(pairs)``: only the first were written).
+    """Sweep and prune: the pairs of segments whose boxes overlap and that are near,
+    into ``pairs``; returns how many there are (more than ``len(pairs)``: only the first
+    were written).
 
     Segment ``k`` joins the points ``ends[k]`` of ``X`` (moving at ``V``); its box is the
-    two points' box inflated by ``margin / 2`` and twice the distance its faster end
-    travels in ``dt``.  Pairs of one line (``line``) closer than ``exclusion`` along it
-    (``arc``, (nseg, 2)) are dropped; ``exclusion < 0``: every pair of one line is.
-    ``box`` (nseg, 6) is scratch."""
+    two points' box inflated by ``margin / 2`` and its reach ``2 dt v_k`` (``v_k`` the
+    speed of its faster end: twice the distance it travels in ``dt``).  Of the pairs
+    whose boxes overlap, those farther apart than ``margin`` and both reaches are dropped
+    (``distance``): a segment is a convex combination of its ends, so the distance of
+    two segments changes by at most the distances their ends move, and such a pair
+    cannot touch within the step (the narrow phase would find it apart).  Pairs of one
+    line (``line``) closer than ``exclusion`` along it (``arc``, (nseg, 2)) are dropped;
+    ``exclusion < 0``: every pair of one line is.  ``box`` (nseg, 7) is scratch (the
+    reach in its last column)."""
     nseg = ends.shape[0]
+    P = np.empty((4, 3))
     for k in range(nseg):
         a, b = ends[k, 0], ends[k, 1]
         speed = 0.0
         for m in (a, b):
             speed = max(speed, math.sqrt(V[m, 0] ** 2 + V[m, 1] ** 2 + V[m, 2] ** 2))
-        grow = 0.5 * margin + 2.0 * dt * speed
+        box[k, 6] = 2.0 * dt * speed
+        grow = 0.5 * margin + box[k, 6]
         for i in range(3):
             box[k, i] = min(X[a, i], X[b, i]) - grow
             box[k, 3 + i] = max(X[a, i], X[b, i]) + grow
@@ -380,6 +403,8 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
                     continue
                 if max(arc[i, 0] - arc[j, 1], arc[j, 0] - arc[i, 1]) < exclusion:
                     continue
+            if distance(X, ends, i, j, P) > margin + box[i, 6] + box[j, 6]:
+                continue
             if count < pairs.shape[0]:
                 pairs[count, 0], pairs[count, 1] = min(i, j), max(i, j)
             count += 1

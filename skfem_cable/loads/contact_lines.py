@@ -75,8 +75,9 @@ class BroadPhase(AcceptedState):
     ``prepare(t)``.  Each segment's box is inflated by ``margin / 2`` (``r_a + r_b`` and
     the stated tolerance) and twice the distance its faster end travels to ``t`` at the
     last state's speed; a compiled sweep and prune (``kernels.contact_lines.candidates``)
-    gives the pairs whose boxes overlap.  Pairs of one line closer than ``exclusion``
-    along it are dropped; ``exclusion`` None (two lines): every pair within one line.
+    gives the pairs whose boxes overlap, and keeps those whose segments are within
+    ``margin`` and both reaches of each other.  Pairs of one line closer than
+    ``exclusion`` along it are dropped; ``exclusion`` None (two lines): every pair within one line.
 
     Parameters
     ----------
@@ -99,7 +100,7 @@ class BroadPhase(AcceptedState):
         nq = points.shape[1]
         self.ends = np.column_stack([rows[:, 0] * nq + rows[:, 1], rows[:, 2] * nq + rows[:, 3]])
         self.exclusion = -1.0 if exclusion is None else float(exclusion)
-        self.margin, self.box = float(margin), np.empty((len(rows), 6))
+        self.margin, self.box = float(margin), np.empty((len(rows), 7))
         self.pairs, self.count = pairs, count
         self.accept(q0, np.zeros_like(q0), 0.0)
 
