@@ -6,7 +6,7 @@
   ``rho_inf = 0.25``, from its windless spin);
 * ``broad``: CPU of one refresh of the broad phase of ``loads.contact_lines`` on all the
   sail's tethers (``BroadPhase.prepare``: the segments of the sampled centrelines, a
-  compiled sweep and prune of their inflated boxes, the pairs of different tethers
+  compiled pass on a grid of their inflated boxes, the pairs of different tethers
   within the margin and their reach) at
   the sail's initial state, which the contact runs once per step;
 * ``narrow``: CPU of the compiled narrow phase (``kernels.contact_lines.kernel``,

@@ -111,13 +111,13 @@ def test_an_edge_is_the_plane_behind_and_the_cylinder_beyond():
 
 
 def test_the_line_broad_phase_keeps_only_near_pairs():
-    """Tether-tether contact's broad phase (``kernels.contact_lines.candidates``): of two
+    """Tether-tether contact's broad phase (``kernels.line_broad_phase.candidates``): of two
     segments whose boxes overlap (a diagonal and a short segment in its box, 0.46 m
     from it), the pair is a candidate only if their distance is within the margin and
     the reach of their motion over the step (``2 dt v`` each), not otherwise: the radial
     sail's boxes overlap pairwise, its segments do not (4034 candidate pairs of the
     100-tether sail at rest become 100, ``benchmarks/contact_cost.py``)."""
-    from skfem_cable.kernels.contact_lines import candidates
+    from skfem_cable.kernels.line_broad_phase import candidates
 
     X = np.array([[0.0, 0, 0], [1, 1, 0], [0.8, 0.1, 0], [0.85, 0.2, 0]])
     ends, line, arc = np.array([[0, 1], [2, 3]]), np.array([0, 1]), np.zeros((2, 2))
@@ -133,3 +133,29 @@ def test_the_line_broad_phase_keeps_only_near_pairs():
     assert found(gap + 1e-9, 0.0, 0.0) == 1            # within the margin
     assert found(0.01, 1.0, 0.5 * (gap - 0.01) + 1e-9) == 1   # within reach in the step
     assert found(0.01, 1.0, 0.5 * (gap - 0.01) - 1e-6) == 0
+
+
+def test_the_grid_finds_what_all_pairs_find():
+    """The grid of the broad phase finds the same pairs as a test of every pair (boxes
+    overlapping and segments within the margin and their reaches), on 400 random
+    segments of 40 lines of assorted lengths and speeds, none twice."""
+    from skfem_cable.kernels.line_broad_phase import candidates, distance
+
+    rng = np.random.default_rng(3)
+    start = rng.uniform(0, 10, (400, 3))
+    X = np.vstack([start, start + rng.normal(0, 1, (400, 3)) * rng.uniform(0.1, 2, (400, 1))])
+    V = rng.normal(0, 0.5, X.shape)
+    ends = np.column_stack([np.arange(400), np.arange(400) + 400])
+    line, arc = np.arange(400) // 10, np.zeros((400, 2))
+    margin, dt, box = 0.2, 0.3, np.empty((400, 7))
+    pairs = np.zeros((4000, 2), dtype=np.int64)
+    n = candidates(X, V, ends, line, arc, -1.0, margin, dt, box, pairs)
+    reach = 2 * dt * np.linalg.norm(V, axis=1).reshape(2, 400).max(axis=0)
+    P = np.empty((4, 3))
+    expected = {(i, j) for i in range(400) for j in range(i + 1, 400)
+                if line[i] != line[j] and np.all(box[i, :3] <= box[j, 3:6])
+                and np.all(box[j, :3] <= box[i, 3:6])
+                and distance(X, ends, i, j, P) <= margin + reach[i] + reach[j]}
+    found = [tuple(p) for p in pairs[:n]]
+    assert len(found) == len(set(found)) == n > 50
+    assert set(found) == expected
