@@ -87,10 +87,10 @@ def index(x, low, cell, i):
 
 @njit(cache=True)
 def binned(box, low, cell, shape):
-    """``(keys, segments, starts)``: the cells (keys) each box covers and its segment,
+    """``(keys, segments, starts, span)``: the cells (keys) each box covers and its segment,
     grouped by bucket (a counting sort on ``key mod`` a power of two at least twice the
     entries: bucket ``b`` is ``starts[b]:starts[b + 1]``; a bucket may hold several
-    cells)."""
+    cells), and each box's lowest and highest cell indices ``span`` (nseg, 6)."""
     nseg = box.shape[0]
     span = np.empty((nseg, 6), dtype=np.int64)
     total = 0
@@ -121,18 +121,19 @@ def binned(box, low, cell, shape):
                         else:
                             keys[fill[slot]], owner[fill[slot]] = key, k
                             fill[slot] += 1
-    return keys, owner, starts
+    return keys, owner, starts, span
 
 
-@njit(cache=True)
-def first_shared(box, i, j, low, cell, shape):
+@njit(cache=True, inline="always")
+def first_shared(box, span, i, j, shape):
     """The key of the cell of the lower corner of the boxes ``i`` and ``j``'s
-    intersection, or -1 if they do not overlap."""
+    intersection (the larger of their lowest cells, ``span``), or -1 if they do not
+    overlap."""
     key = 0
     for m in range(3):
         if box[j, m] > box[i, 3 + m] or box[i, m] > box[j, 3 + m]:
             return -1
-        key = key * shape[m] + index(max(box[i, m], box[j, m]), low, cell, m)
+        key = key * shape[m] + max(span[i, m], span[j, m])
     return key
 
 
@@ -149,7 +150,7 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
     ``exclusion < 0``: every pair of one line is.  ``box`` (nseg, 7) is scratch."""
     boxes(X, V, ends, margin, dt, box)
     low, cell, shape = grid(box)
-    keys, owner, starts = binned(box, low, cell, shape)
+    keys, owner, starts, span = binned(box, low, cell, shape)
     P = np.empty((4, 3))
     count = 0
     for bucket in range(len(starts) - 1):
@@ -158,7 +159,7 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
                 if keys[u] != keys[w]:
                     continue
                 i, j = min(owner[u], owner[w]), max(owner[u], owner[w])
-                if first_shared(box, i, j, low, cell, shape) != keys[u]:
+                if first_shared(box, span, i, j, shape) != keys[u]:
                     continue
                 if line[i] == line[j]:
                     if exclusion < 0.0:
