@@ -159,3 +159,30 @@ def test_the_grid_finds_what_all_pairs_find():
     found = [tuple(p) for p in pairs[:n]]
     assert len(found) == len(set(found)) == n > 50
     assert set(found) == expected
+
+
+def test_a_scene_file_names_an_edge():
+    """``[[contacts]]`` with ``edge = { point, normal, outward, radius }``: the contact's
+    surface is that ``sc.Edge``; an ``outward`` out of the plane is refused, naming it."""
+    scene = """
+[solver]
+t_end = 1.0
+dt = 1e-3
+[sections.rope]
+radius = 5e-3
+E = 1.27e9
+rho = 1273.0
+[[cables]]
+name = "rope"
+section = "rope"
+start = [-1, 0.005, 0]
+end = [0, 0.005, 0]
+elements = 2
+[[contacts]]
+cable = "rope"
+edge = { point = [0, 0, 0], normal = [0, 1, 0], outward = [OUT], radius = 0.05 }
+"""
+    contact = sc.scene_file.loads_text(scene.replace("OUT", "1, 0, 0")).system.loads[-1]
+    assert contact.surface.surface_array() == pytest.approx(EDGE.surface_array())
+    with pytest.raises(sc.scene_file.SceneFileError, match="outward must be perpendicular"):
+        sc.scene_file.loads_text(scene.replace("OUT", "1, 1, 0"))
