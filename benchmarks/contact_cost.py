@@ -6,7 +6,8 @@
   ``rho_inf = 0.25``, from its windless spin);
 * ``broad``: CPU of one refresh of the broad phase of ``loads.contact_lines`` on all the
   sail's tethers (``BroadPhase.prepare``: the segments of the sampled centrelines, a
-  compiled sweep and prune of their inflated boxes, the pairs of different tethers) at
+  compiled pass on a grid of their inflated boxes, the pairs of different tethers
+  within the margin and their reach) at
   the sail's initial state, which the contact runs once per step;
 * ``narrow``: CPU of the compiled narrow phase (``kernels.contact_lines.kernel``,
   without tangent) over those pairs (none touches), times the evaluations of a step
@@ -19,7 +20,7 @@ which the sail's solver factors apart (``docs/contact.md``, What remains).  CPU 
 (``time.process_time``), the minimum over the repeats after a run that compiles.  Goal:
 the ratio at most 1.2 (12 tethers) and 1.3 (100 tethers).
 
-    OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/contact_cost.py [--quick]
+    OPENBLAS_NUM_THREADS=1 PYTHONPATH=. .venv/bin/python benchmarks/contact_cost.py [--quick]
 """
 
 import time

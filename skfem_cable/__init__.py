@@ -8,7 +8,7 @@ and what may import what: ``docs/architecture.md``):
   ``ElementLineCableLinear``), ``Rod`` (a cable with twist and two principal bending
   stiffnesses, ``docs/rods.md``),
   ``RigidBody``, ``System``; the surfaces a system's lines touch (``System.contact``)
-  ``Plane``, ``Sphere``, ``Cylinder`` (``loads.surfaces``);
+  ``Plane``, ``Sphere``, ``Cylinder``, ``Edge`` (``loads.surfaces``);
 * loads (package ``loads``): ``Gravity``, ``PointLoad``, ``PointMoment``, ``LineLoad``,
   ``Centrifugal``, ``PointMass``, the solar wind ``SolarWind``, ``SolarWindForce``
   (``loads.coulomb``), drag in water and in a rarefied atmosphere ``MorisonDrag``,
@@ -97,7 +97,7 @@ from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
 from .loads.gravity import Centrifugal, Gravity
 from .loads.line import LineLoad
 from .loads.point import PointLoad, PointMass, PointMoment
-from .loads.surfaces import Cylinder, Plane, Sphere
+from .loads.surfaces import Cylinder, Edge, Plane, Sphere
 from .loads.twist import TwistTorque
 from .model.state import State
 from .model.system import System, SystemChanged
@@ -135,6 +135,7 @@ __all__ = [
     "Centrifugal",
     "CurrentProfile",
     "Cylinder",
+    "Edge",
     "ElectrodynamicForce",
     "Epoch",
     "Evaluation",

@@ -9,7 +9,17 @@ unit normal ``n = ds/dx`` and its derivative ``H = dn/dx`` (symmetric):
 
 * plane: ``s = n . (x - o)``, ``H = 0``;
 * sphere, cylinder: ``y = P (x - o)`` (``P = I``, or ``I - d d^T`` for the cylinder),
-  ``s = |y| - R``, ``n = y / |y|``, ``H = (P - n n^T) / |y|``.
+  ``s = |y| - R``, ``n = y / |y|``, ``H = (P - n n^T) / |y|``;
+* edge (``EDGE``, a table top ending in a rounded edge): ``surface = [kind, o, d, R, e,
+  c, a]`` (17 floats), the top through ``o`` of unit normal ``d``, ending along the line
+  through ``o`` of direction ``a = d x e`` (``e`` unit, in the top, pointing off the
+  table), rounded by the cylinder of axis ``c + s a``, ``c = o - R d``: the plane's
+  distance where ``e . (x - c) <= 0``, the cylinder's beyond.  Both give ``s = 0`` and
+  the normal ``d`` on the line where they meet (the force is continuous, ``H`` jumps from
+  0 to the cylinder's curvature, as where any rope leaves a flat onto a drum).  It is the
+  distance of the solid above the cylinder's axis and outside the cylinder (what a rope
+  lying on the table and hanging over the edge meets); below the axis, the table's
+  front face under the edge is not modelled.
 
 At a point ``x`` of a line of cross-section radius ``r_c`` moving at ``xd`` the gap is
 ``g = s(x) - r_c``.  Where ``g < 0`` (penetration ``p = -g``) the force per unit reference
@@ -51,11 +61,47 @@ import numpy as np
 from numba import njit
 
 #: Kinds of surface (``surface[0]``).
-PLANE, SPHERE, CYLINDER = 0.0, 1.0, 2.0
+PLANE, SPHERE, CYLINDER, EDGE = 0.0, 1.0, 2.0, 3.0
 #: Positions in ``coef = [k, c, mu, eps, r_c, part, p_0]``.
 STIFFNESS, DAMPING, FRICTION, SLIP, RADIUS, PART, ONSET = range(7)
 #: The two parts of the force (``coef[PART]``).
 ELASTIC, DISSIPATIVE = 0.0, 1.0
+
+
+@njit(cache=True, inline="always")
+def flat(surface, at, x, n, H):
+    """The signed distance of ``x`` from the plane through ``surface[at:at + 3]`` of unit
+    normal ``surface[at + 3:at + 6]``; the normal into ``n``, ``H = 0``."""
+    s = 0.0
+    for i in range(3):
+        n[i] = surface[at + 3 + i]
+        s += n[i] * (x[i] - surface[at + i])
+        for j in range(3):
+            H[i, j] = 0.0
+    return s
+
+
+@njit(cache=True, inline="always")
+def rounded(surface, at, cylinder, x, n, H):
+    """The signed distance of ``x`` from the sphere (``cylinder = 0``) or the cylinder
+    (``cylinder = 1``, axis ``surface[at + 3:at + 6]``) of centre ``surface[at:at + 3]``
+    and radius ``surface[7]``; the normal into ``n``, ``dn/dx`` into ``H``."""
+    axial = 0.0
+    for i in range(3):
+        n[i] = x[i] - surface[at + i]
+        axial += n[i] * surface[at + 3 + i]
+    for i in range(3):
+        n[i] -= cylinder * axial * surface[at + 3 + i]
+    r = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
+    inv = 1.0 / r if r > 0.0 else 0.0
+    for i in range(3):
+        n[i] *= inv
+    for i in range(3):
+        for j in range(3):
+            d = 1.0 if i == j else 0.0
+            H[i, j] = (d - cylinder * surface[at + 3 + i] * surface[at + 3 + j]
+                       - n[i] * n[j]) * inv
+    return r - surface[7]
 
 
 @njit(cache=True, inline="always")
@@ -64,29 +110,15 @@ def distance(surface, x, n, H):
     ``dn/dx`` into ``H`` (3, 3) (module notes)."""
     kind = surface[0]
     if kind == PLANE:
-        s = 0.0
+        return flat(surface, 1, x, n, H)
+    if kind == EDGE:
+        beyond = 0.0
         for i in range(3):
-            n[i] = surface[4 + i]
-            s += n[i] * (x[i] - surface[1 + i])
-            for j in range(3):
-                H[i, j] = 0.0
-        return s
-    axial = 0.0
-    for i in range(3):
-        n[i] = x[i] - surface[1 + i]
-        axial += n[i] * surface[4 + i]
-    cylinder = 1.0 if kind == CYLINDER else 0.0
-    for i in range(3):
-        n[i] -= cylinder * axial * surface[4 + i]
-    r = math.sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2])
-    inv = 1.0 / r if r > 0.0 else 0.0
-    for i in range(3):
-        n[i] *= inv
-    for i in range(3):
-        for j in range(3):
-            d = 1.0 if i == j else 0.0
-            H[i, j] = (d - cylinder * surface[4 + i] * surface[4 + j] - n[i] * n[j]) * inv
-    return r - surface[7]
+            beyond += surface[8 + i] * (x[i] - surface[11 + i])
+        if beyond <= 0.0:
+            return flat(surface, 1, x, n, H)
+        return rounded(surface, 11, 1.0, x, n, H)
+    return rounded(surface, 1, 1.0 if kind == CYLINDER else 0.0, x, n, H)
 
 
 @njit(cache=True, inline="always")
@@ -221,8 +253,9 @@ def near(surface, X, V, radius, h, margin, scale):
     touch, 0 for the others (the line loop skips them); returns the smallest gap.  A point
     may touch if its gap ``s(x) - radius`` is at most ``margin + 3 h v_max``, with
     ``v_max`` the largest speed of the line's points: the signed distance of a plane, a
-    sphere or a cylinder changes by at most the distance a point moves (it is
-    1-Lipschitz), and 3 covers a speed that grows threefold within the step."""
+    sphere, a cylinder or an edge (above its axis) changes by at most the distance a
+    point moves (it is 1-Lipschitz), and 3 covers a speed that grows threefold within
+    the step."""
     n = np.empty(3)
     H = np.empty((3, 3))
     vmax = 0.0

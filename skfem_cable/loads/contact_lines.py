@@ -2,8 +2,8 @@
 friction: a penalty on the gap between the closest points of segments of their sampled
 centrelines (``kernels.contact_lines``: the narrow phase, with exact tangents), over the
 candidate pairs of a broad phase refreshed once per time step (``BroadPhase``: a compiled
-sweep and prune on the segments' bounding boxes); ``docs/contact.md`` states
-the method and its tolerances.
+grid of the segments' bounding boxes, ``kernels.line_broad_phase``); ``docs/contact.md``
+states the method and its tolerances.
 
 * Segments: the lines' quadrature points (``lines.LinePoints``), joined in order along
   each line; a contact at a line's stubs before its first and after its last point is not
@@ -33,6 +33,7 @@ import numpy as np
 from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
 from ..kernels import contact_lines as kernel
+from ..kernels import line_broad_phase
 from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
 
@@ -74,9 +75,11 @@ class BroadPhase(AcceptedState):
     run (``protocols.StepHook``: it keeps the last accepted state) and the term's
     ``prepare(t)``.  Each segment's box is inflated by ``margin / 2`` (``r_a + r_b`` and
     the stated tolerance) and twice the distance its faster end travels to ``t`` at the
-    last state's speed; a compiled sweep and prune (``kernels.contact_lines.candidates``)
-    gives the pairs whose boxes overlap.  Pairs of one line closer than ``exclusion``
-    along it are dropped; ``exclusion`` None (two lines): every pair within one line.
+    last state's speed; a compiled pass on a grid of the boxes
+    (``kernels.line_broad_phase.candidates``) gives the pairs whose boxes overlap, and
+    keeps those whose segments are within ``margin`` and both reaches of each other.
+    Pairs of one line closer than ``exclusion`` along it are dropped; ``exclusion``
+    None (two lines): every pair within one line.
 
     Parameters
     ----------
@@ -99,20 +102,21 @@ class BroadPhase(AcceptedState):
         nq = points.shape[1]
         self.ends = np.column_stack([rows[:, 0] * nq + rows[:, 1], rows[:, 2] * nq + rows[:, 3]])
         self.exclusion = -1.0 if exclusion is None else float(exclusion)
-        self.margin, self.box = float(margin), np.empty((len(rows), 6))
+        self.margin, self.box = float(margin), np.empty((len(rows), 7))
         self.pairs, self.count = pairs, count
         self.accept(q0, np.zeros_like(q0), 0.0)
 
     def prepare(self, t):
         """The candidate pairs for the step to ``t`` into ``pairs[:count[0]]`` (once per
-        time; ``kernels.contact_lines.candidates``)."""
+        time; ``kernels.line_broad_phase.candidates``)."""
         t = float(t)
         if t == self.done:
             return
         X, _, V = self.points.at(self.q, self.v)
-        found = kernel.candidates(X.reshape(-1, 3), V.reshape(-1, 3), self.ends, self.line,
-                                  self.arc, self.exclusion, self.margin, abs(t - self.t),
-                                  self.box, self.pairs)
+        found = line_broad_phase.candidates(X.reshape(-1, 3), V.reshape(-1, 3), self.ends,
+                                            self.line, self.arc, self.exclusion,
+                                            self.margin, abs(t - self.t), self.box,
+                                            self.pairs)
         if found > len(self.pairs):
             raise RuntimeError(f"line contact: {found} candidate pairs exceed the "
                                f"capacity {len(self.pairs)}: give capacity= larger")

@@ -1,5 +1,6 @@
 """Fixed rigid surfaces that line bodies touch (``system.contact``): a plane, a sphere,
-the outside of a cylinder.  Each declares the ``protocols.Surface`` hooks:
+the outside of a cylinder, a table top ending in a rounded edge.  Each declares the
+``protocols.Surface`` hooks:
 ``surface_array()`` for the compiled contact (``kernels.contact``) and ``distance(x)``.
 
 Examples
@@ -83,3 +84,34 @@ class Cylinder(Surface):
     def __init__(self, axis_point, axis, radius):
         super().__init__(vector3(axis_point, "axis_point"), unit(axis, "axis"),
                          check_positive("radius", radius))
+
+
+class Edge(Surface):
+    """A table top ending in a rounded edge: the plane through ``point`` of normal
+    ``normal`` (made unit) for the points behind the edge, the line through ``point``
+    across ``outward`` (a direction in the plane pointing off the table, made unit),
+    rounded by a cylinder of radius ``radius`` (m, > 0) whose top is that line
+    (``kernels.contact``, ``EDGE``): a rope lying on a table and hanging over its edge.
+    Its distance is that of the solid above the rounding cylinder's axis; the table's
+    front face below the edge is not modelled (a hanging rope does not reach it)."""
+
+    kind = kernel.EDGE
+
+    def __init__(self, point, normal, outward, radius):
+        normal = unit(normal, "normal")
+        outward = unit(outward, "outward")
+        if abs(float(normal @ outward)) > 1e-12:
+            raise ValueError(f"outward must be perpendicular to normal, got outward "
+                             f"{outward.tolist()} and normal {normal.tolist()}")
+        super().__init__(vector3(point, "point"), normal, check_positive("radius", radius))
+        self.outward = outward
+
+    def surface_array(self):
+        """``[kind, o, d, R, e, c, a]`` for ``kernels.contact`` (its ``EDGE``)."""
+        centre = self.origin - self.radius * self.direction
+        return np.concatenate([super().surface_array(), self.outward, centre,
+                               np.cross(self.direction, self.outward)])
+
+    def __repr__(self):
+        return (f"Edge({self.origin.tolist()}, {self.direction.tolist()}, "
+                f"{self.outward.tolist()}, {self.radius})")

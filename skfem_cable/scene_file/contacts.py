@@ -3,7 +3,7 @@
 class and the keys of its inline table; a new kind of surface is one more entry."""
 
 from ..bodies.cable import Cable
-from ..loads.surfaces import Cylinder, Plane, Sphere
+from ..loads.surfaces import Cylinder, Edge, Plane, Sphere
 from .schema import non_negative, positive, vector3
 
 #: The surfaces of a contact table: ``key = { ... }`` with the parameters of the class, in
@@ -11,7 +11,9 @@ from .schema import non_negative, positive, vector3
 SURFACES = {"plane": (Plane, (("point", vector3), ("normal", vector3))),
             "sphere": (Sphere, (("centre", vector3), ("radius", positive))),
             "cylinder": (Cylinder, (("axis_point", vector3), ("axis", vector3),
-                                    ("radius", positive)))}
+                                    ("radius", positive))),
+            "edge": (Edge, (("point", vector3), ("normal", vector3), ("outward", vector3),
+                            ("radius", positive)))}
 
 #: The optional numbers of a contact table (``LineSurfaceContact``'s keywords).
 OPTIONS = (("radius", positive), ("stiffness", positive), ("tolerance", positive),
@@ -22,7 +24,7 @@ def read_surface(t):
     """The one surface of the contact table ``t``."""
     given = [key for key in SURFACES if t.has(key)]
     if len(given) != 1:
-        t.fail("plane", f"or sphere or cylinder: exactly one surface must be given, got "
+        t.fail("plane", f"or sphere or cylinder or edge: exactly one surface must be given, got "
                f"{given or 'none'}")
     key = given[0]
     cls, keys = SURFACES[key]
@@ -36,8 +38,8 @@ def read_surface(t):
 
 
 def read_contact(t, bodies, system):
-    """A ``[[contacts]]`` table: ``cable`` (name) on one surface (``plane``, ``sphere`` or
-    ``cylinder``) with ``friction`` (default 0) and the optional numbers ``OPTIONS``."""
+    """A ``[[contacts]]`` table: ``cable`` (name) on one surface (``plane``, ``sphere``,
+    ``cylinder`` or ``edge``) with ``friction`` (default 0) and the optional numbers ``OPTIONS``."""
     cable = bodies.body(t, "cable", Cable)
     surface = read_surface(t)
     friction = t.get("friction", non_negative, 0.0)
