@@ -25,18 +25,18 @@ pytest_plugins = ["compile_recorder"]
 
 ROOT = Path(__file__).resolve().parents[1]
 
-#: The test files that took longest on a cold kernel cache, longest first (seconds of one
-#: worker, ``pytest -n 2 --dist loadfile --durations=60`` from an empty cache).
+#: The test files that took longest on a cold kernel cache, longest first (CPU seconds of
+#: their worker, ``SKFEM_CABLE_COMPILE_LOG``'s records of a run from an empty cache; the
+#: sweep's, whose work is in its dask workers, after them).
 LONGEST = (
-    "test_peer_suites.py", "test_extending.py", "test_laws.py", "test_esail_baseline.py",
-    "test_compiled.py", "test_peer_api.py", "test_demos.py", "test_reel.py",
-    "test_faults_round_two.py", "test_one_engine.py", "test_mission.py", "test_deploy.py",
-    "test_faults_round_three_control.py", "test_sweep.py", "test_elements.py",
-    "test_esail_deployment.py", "test_bench_guard.py", "test_body_clamp.py",
-    "test_faults_records.py", "test_electrodynamic.py", "test_faults_round_three_orbit.py",
-    "test_cli.py", "test_esail_attitude.py", "test_orbit_scenes.py",
-    "test_tss_deployment.py", "test_faults.py", "test_plot.py", "test_control.py",
-    "test_esail.py", "test_validation_statics.py", "test_observers.py",
+    "test_laws.py", "test_contact.py", "test_esail_orbit.py", "test_elements.py",
+    "test_peer_suites.py", "test_benchmarks.py", "test_mission.py", "test_esail_baseline.py",
+    "test_demos.py", "test_extending.py", "test_faults_round_three_cli.py",
+    "test_contact_lines.py", "test_ed_deorbit.py", "test_faults_round_two.py",
+    "test_line_bodies.py", "test_rods_coupling.py", "test_esail_rig.py", "test_faults.py",
+    "test_reel.py", "test_deploy.py", "test_esail_vectoring.py", "test_rod_scenes.py",
+    "test_kernels.py", "test_line_bodies_space.py", "test_orbit_scenes.py",
+    "test_esail_attitude.py", "test_sweep.py",
 )
 
 
