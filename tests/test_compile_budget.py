@@ -129,3 +129,17 @@ def test_held_terms_outlive_the_references_python_dropped():
     gc.collect()
     assert total(blob.ctypes.data) == 6.0 + 7.5 + 1.0
     drop(blob.ctypes.data)
+
+
+def test_a_compiled_step_refuses_to_be_copied():
+    """Its terms are behind an address of this process: a copy or a pickle is refused by
+    name instead of reading them after the original gave them back."""
+    import copy
+    import pickle
+
+    import pytest
+
+    step = GeneralizedAlpha(_pinned_cable(2, 1.0, 7e10, 7800.0, 9.81)).compiled
+    for clone in (copy.copy, copy.deepcopy, pickle.dumps):
+        with pytest.raises(TypeError, match="cannot be copied or pickled"):
+            clone(step)

@@ -427,6 +427,14 @@ class CompiledNewton:
         prm[template.TOL_LOCAL], prm[template.ERROR_CONSTANT] = g.tol_local or 0.0, \
             g.error_constant
 
+    def __reduce__(self):
+        """Refused: the step holds machine addresses and references of this process (its
+        terms behind ``blob``); a copy would read them after the original gave them
+        back."""
+        raise TypeError("a compiled Newton step cannot be copied or pickled: it holds "
+                        "addresses of this process; build a GeneralizedAlpha of the system "
+                        "instead")
+
     def iterate(self, g, h, t1, need, full):
         """Run the Newton iteration of the step ``t_n -> t1 = t_n + h`` of the integrator
         ``g`` (from a fresh tangent if ``need``, in full Newton if ``full``); returns
