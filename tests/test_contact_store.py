@@ -114,3 +114,13 @@ def test_two_contacts_of_a_line_have_their_own_outputs():
     assert [load.name for load in system.loads] == ["contact_a", "contact_a_2", "drum"]
     assert len(set(load_outputs(system))) == 3 * len(surface_contact.OUTPUTS)
     assert "drum_normal" in load_outputs(system)
+
+
+def test_the_run_summary_takes_a_run_with_contacts(run):
+    """The summary of a run (``runner.summary.run_outputs``, the CLI's ``summary.json``)
+    takes a run with contacts: their per-step outputs are no ``outputs(result)`` of a
+    load's key numbers (no compiled step: the fixture's run)."""
+    from skfem_cable.runner.summary import run_outputs
+
+    _, result, _ = run
+    assert "loads" not in run_outputs(result)

@@ -211,9 +211,9 @@ class LineSurfaceContact(AlongCable):
         self.broad = broad
         return Term(kernels=kernels, rows=rows, cols=cols, name=f"contact {self.cable.name}",
                     prepare=broad.prepare, hooks=(broad,),
-                    outputs=lambda: self.outputs(points, broad.q, broad.v))
+                    outputs=lambda: self.step_values(points, broad.q, broad.v))
 
-    def outputs(self, points, q, v):
+    def step_values(self, points, q, v):
         """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the line's
         points ``points`` (the term's: the converged state its broad phase keeps)."""
         return dict(zip(self.step_outputs, summary(self.evaluate(points, q, v)).values()))

@@ -239,9 +239,9 @@ class LineLineContact:
                 local)
         return Term(kernels=((kernel.kernel, pack),), rows=dofs[:, None], cols=dofs[None, :],
                     prepare=broad.prepare, hooks=(broad,), name=self.name,
-                    outputs=lambda: self.outputs(system, tables, broad.q, broad.v))
+                    outputs=lambda: self.step_values(system, tables, broad.q, broad.v))
 
-    def outputs(self, system, tables, q, v):
+    def step_values(self, system, tables, q, v):
         """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the lines'
         ``tables`` (the term's: the converged state its broad phase keeps)."""
         out = self.evaluate(system, tables, q, v)
