@@ -22,6 +22,9 @@ loop of the line loads (``kernels.line.module``; the force and its exact tangent
 * Energy books: the penalty's work is external work (it is conservative: it closes over
   a cycle); the normal damping and the friction are booked as dissipation
   (``LinePoints.hook(point, dissipative=True)``).
+* Run store: the contact declares the per-step outputs ``<name>_<key>`` (``OUTPUTS``,
+  ``summary``; ``protocols.Load``'s ``step_outputs``), evaluated once per saved step from
+  the step's converged state (the one its broad phase keeps).
 """
 
 import warnings
@@ -41,6 +44,10 @@ REFERENCE_LOAD = 1e-2 / 10.0
 
 #: The onset ``p_0`` of the penalty and the damping, in units of ``tolerance d``.
 ONSET = 0.1
+
+
+#: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
+OUTPUTS = ("elements", "normal", "tangential", "max_penetration", "friction_power")
 
 
 class ContactToleranceWarning(UserWarning):
@@ -63,6 +70,19 @@ def positive(name, value):
     if value == 0.0:
         raise ValueError(f"{name} must be finite and > 0, got {value!r}")
     return value
+
+
+def summary(out):
+    """The per-step outputs (``OUTPUTS``) of the contact forces ``out``
+    (``LineSurfaceContact.resolve``): ``elements`` the number of elements pressed on the
+    surface (normal force > 0), ``normal`` the total normal force (N), ``tangential`` the
+    sum over the elements of the magnitudes of their friction forces (N),
+    ``max_penetration`` (m) and ``friction_power`` (W, <= 0)."""
+    return {"elements": float(np.count_nonzero(out["normal"] > 0.0)),
+            "normal": float(out["normal"].sum()),
+            "tangential": float(np.linalg.norm(out["tangential"], axis=1).sum()),
+            "max_penetration": out["max_penetration"],
+            "friction_power": out["friction_power"]}
 
 
 class LineSurfaceContact(AlongCable):
@@ -97,6 +117,9 @@ class LineSurfaceContact(AlongCable):
         stated tolerance of the surface (``loads.surface_broad_phase``; default True).
         The last bound one is ``broad``; it also checks, once per step, that the contact
         does not work where its damping is below critical (``ContactDampingWarning``).
+    name : str, optional
+        The prefix of its per-step outputs (``step_outputs``); default ``contact_<line>``
+        (``System.contact`` numbers a second contact of a line: ``contact_<line>_2``).
     """
 
     #: Attributes a run refreshes, not part of the system's fingerprint
@@ -104,7 +127,8 @@ class LineSurfaceContact(AlongCable):
     caches = ("broad",)
 
     def __init__(self, line, surface, friction=0.0, radius=None, stiffness=None,
-                 tolerance=1e-2, damping=None, slip_velocity=1e-3, broad_phase=True):
+                 tolerance=1e-2, damping=None, slip_velocity=1e-3, broad_phase=True,
+                 name=None):
         self.cable = check_line_body(line, "line")
         if not callable(getattr(surface, "surface_array", None)):
             raise TypeError("surface must have the hooks of skfem_cable.core.protocols."
@@ -131,6 +155,10 @@ class LineSurfaceContact(AlongCable):
         self.slip_velocity = positive("slip_velocity", slip_velocity)
         self.check_damping(section)
         self.broad_phase, self.broad = bool(broad_phase), None
+        self.name = f"contact_{self.cable.name}" if name is None else str(name)
+
+    step_outputs = property(lambda self: tuple(f"{self.name}_{key}" for key in OUTPUTS),
+                            doc="Recorded per saved step (protocols.Load): ``summary``.")
 
     def __repr__(self):
         return (f"{type(self).__name__}({self.cable.name!r}, {self.surface!r}, "
@@ -182,7 +210,13 @@ class LineSurfaceContact(AlongCable):
         rows, cols = points.tangent_pattern()
         self.broad = broad
         return Term(kernels=kernels, rows=rows, cols=cols, name=f"contact {self.cable.name}",
-                    prepare=broad.prepare, hooks=(broad,))
+                    prepare=broad.prepare, hooks=(broad,),
+                    outputs=lambda: self.step_values(points, broad.q, broad.v))
+
+    def step_values(self, points, q, v):
+        """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the line's
+        points ``points`` (the term's: the converged state its broad phase keeps)."""
+        return dict(zip(self.step_outputs, summary(self.evaluate(points, q, v)).values()))
 
     def forces(self, state):
         """The contact forces of the ``State`` ``state`` (``resolve`` of its ``system``,
@@ -197,7 +231,17 @@ class LineSurfaceContact(AlongCable):
         ``gap`` (ne,) the smallest gap (m; negative: penetration) and
         ``max_penetration`` (m).  Warns (``ContactToleranceWarning``) where the
         penetration exceeds ``tolerance d``."""
-        points = line_points(self.cable, system)
+        out = self.evaluate(line_points(self.cable, system), q, v)
+        depth = out["max_penetration"]
+        if depth > self.tolerance * 2.0 * self.radius:
+            warnings.warn(f"contact {self.cable.name}: penetration {depth:.3g} m exceeds "
+                          f"the stated tolerance {self.tolerance:g} d = "
+                          f"{self.tolerance * 2 * self.radius:.3g} m: raise the stiffness",
+                          ContactToleranceWarning, stacklevel=3)
+        return out
+
+    def evaluate(self, points, q, v):
+        """``resolve`` over the line's points ``points`` (``LinePoints``), unchecked."""
         X, _, V = points.at(q, v)
         ne, nq = points.shape
         normal, gap = np.empty(ne * nq), np.empty(ne * nq)
@@ -208,11 +252,6 @@ class LineSurfaceContact(AlongCable):
         w = points.w.ravel()
         power = float(np.sum(w * np.einsum("mi,mi->m", resistance, V.reshape(-1, 3))))
         depth = float(max(0.0, -gap.min()))
-        if depth > self.tolerance * 2.0 * self.radius:
-            warnings.warn(f"contact {self.cable.name}: penetration {depth:.3g} m exceeds "
-                          f"the stated tolerance {self.tolerance:g} d = "
-                          f"{self.tolerance * 2 * self.radius:.3g} m: raise the stiffness",
-                          ContactToleranceWarning, stacklevel=3)
         return {"normal": (w * normal).reshape(ne, nq).sum(axis=1),
                 "tangential": (w[:, None] * tangential).reshape(ne, nq, 3).sum(axis=1),
                 "friction_power": power,

@@ -24,6 +24,8 @@ states the method and its tolerances.
   element of one with any of the other).  It fits systems of a few lines; a system such as
   the E-sail, whose solver factors each cable apart, needs a pattern refreshed with the
   pairs (``docs/contact.md``, What remains).
+* Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``), evaluated
+  once per saved step from the step's converged state (the one its broad phase keeps).
 """
 
 import warnings
@@ -43,6 +45,18 @@ REFERENCE_FORCE = 1e-3
 
 #: Candidate pairs held per segment (``capacity`` default).
 PAIRS_PER_SEGMENT = 8
+
+#: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
+OUTPUTS = ("contacts", "normal", "max_penetration", "friction_power")
+
+
+def summary(out):
+    """The per-step outputs (``OUTPUTS``) of the contacts ``out``
+    (``LineLineContact.contacts``): ``contacts`` their number, ``normal`` the total normal
+    force (N), ``max_penetration`` (m) and ``friction_power`` (W, <= 0)."""
+    return {"contacts": float(len(out["normal"])), "normal": float(out["normal"].sum()),
+            "max_penetration": out["max_penetration"],
+            "friction_power": out["friction_power"]}
 
 
 def _radius(line, radius):
@@ -148,10 +162,14 @@ class LineLineContact:
         are no pair (default ``pi d``).
     capacity : int, optional
         Candidate pairs held (default ``PAIRS_PER_SEGMENT`` per segment).
+    name : str, optional
+        The prefix of its per-step outputs (``step_outputs``) and its name in messages;
+        default ``contact_<first>_<second>`` (``contact_<line>`` for self-contact).
     """
 
     def __init__(self, first, second, friction=0.0, radius=None, stiffness=None,
-                 tolerance=1e-2, slip_velocity=1e-3, exclusion=None, capacity=None):
+                 tolerance=1e-2, slip_velocity=1e-3, exclusion=None, capacity=None,
+                 name=None):
         self.lines = (check_line_body(first, "first"), check_line_body(second, "second"))
         self.self_contact = first is second
         radii = radius if np.ndim(radius) else (radius, radius)
@@ -169,7 +187,11 @@ class LineLineContact:
         self.exclusion = nonnegative("exclusion", np.pi * d if exclusion is None
                                      else exclusion)
         self.capacity = capacity if capacity is None else int(positive("capacity", capacity))
-        self.name = "contact " + " ".join(dict.fromkeys(body.name for body in self.lines))
+        self.name = ("contact_" + "_".join(dict.fromkeys(body.name for body in self.lines))
+                     if name is None else str(name))
+
+    step_outputs = property(lambda self: tuple(f"{self.name}_{key}" for key in OUTPUTS),
+                            doc="Recorded per saved step (protocols.Load): ``summary``.")
 
     def __repr__(self):
         names = ", ".join(repr(body.name) for body in self.lines)
@@ -216,7 +238,14 @@ class LineLineContact:
         pack = (points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
                 local)
         return Term(kernels=((kernel.kernel, pack),), rows=dofs[:, None], cols=dofs[None, :],
-                    prepare=broad.prepare, hooks=(broad,), name=self.name)
+                    prepare=broad.prepare, hooks=(broad,), name=self.name,
+                    outputs=lambda: self.step_values(system, tables, broad.q, broad.v))
+
+    def step_values(self, system, tables, q, v):
+        """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the lines'
+        ``tables`` (the term's: the converged state its broad phase keeps)."""
+        out = self.evaluate(system, tables, q, v)
+        return dict(zip(self.step_outputs, summary(out).values()))
 
     def contacts(self, system, q, v=None):
         """The active contacts at ``q``, ``v`` (zero if None) of ``system`` (a broad phase
@@ -225,7 +254,16 @@ class LineLineContact:
         ``tangential`` (n, 3) the friction on the first line (the second gets the
         opposite), ``friction_power`` (W, <= 0) and ``max_penetration`` (m).  Warns
         (``ContactToleranceWarning``) where the penetration exceeds ``tolerance d``."""
-        tables = self.tables(system)
+        out = self.evaluate(system, self.tables(system), q, v)
+        depth, limit = out["max_penetration"], self.tolerance * sum(self.radii)
+        if depth > limit:
+            warnings.warn(f"{self.name}: penetration {depth:.3g} m exceeds the stated "
+                          f"tolerance {limit:.3g} m: raise the stiffness",
+                          ContactToleranceWarning, stacklevel=2)
+        return out
+
+    def evaluate(self, system, tables, q, v=None):
+        """``contacts`` over the lines' ``tables`` (``tables``), unchecked."""
         points, rows = tables[:2]
         v = np.zeros_like(q) if v is None else v
         broad = self.broad_phase(system, tables, q)
@@ -236,11 +274,6 @@ class LineLineContact:
                            np.ascontiguousarray(v, float), out)
         out = out[:n]
         depth = float(out[:, 2].max(initial=0.0))
-        limit = self.tolerance * sum(self.radii)
-        if depth > limit:
-            warnings.warn(f"{self.name}: penetration {depth:.3g} m exceeds the stated "
-                          f"tolerance {limit:.3g} m: raise the stiffness",
-                          ContactToleranceWarning, stacklevel=2)
         power = float(np.einsum("mi,mi->", out[:, 9:12], out[:, 12:15]))
         return {"normal": out[:, 1], "penetration": out[:, 2], "first": out[:, 3:6],
                 "second": out[:, 6:9], "tangential": out[:, 9:12], "friction_power": power,

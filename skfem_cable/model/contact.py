@@ -2,6 +2,8 @@
 chosen by what they declare (``protocols.Surface``: ``surface_array``; a line body:
 ``line_points``), not by their classes."""
 
+import itertools
+
 from ..loads.contact import LineSurfaceContact
 from ..loads.contact_lines import LineLineContact
 
@@ -17,12 +19,28 @@ def role(item, name):
                     f"surface (with surface_array, e.g. sc.Cylinder), got {item!r}")
 
 
-def contact(first, second, friction=0.0, **options):
+def distinct(name, taken):
+    """``name``, else the first of ``name_2``, ``name_3``, ... not in ``taken``."""
+    candidates = itertools.chain([name], (f"{name}_{k}" for k in itertools.count(2)))
+    return next(n for n in candidates if n not in taken)
+
+
+def contact(first, second, friction=0.0, taken=(), **options):
     """The contact load of ``first`` and ``second`` (a line body and a surface, in either
     order) with Coulomb's ``friction``; ``options`` of ``LineSurfaceContact`` (``radius``,
-    ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``).  Two line bodies (or
-    one twice: self-contact) give a ``LineLineContact`` (its ``options``); two surfaces
-    raise ``ValueError``."""
+    ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``, ``name``).  Two line
+    bodies (or one twice: self-contact) give a ``LineLineContact`` (its ``options``); two
+    surfaces raise ``ValueError``.  Without a ``name``, the default one numbered past the
+    names in ``taken`` (``distinct``: a line's second contact, ``contact_<line>_2``), so
+    that two contacts' per-step outputs do not clash."""
+    load = _contact(first, second, friction, **options)
+    if "name" not in options:
+        load.name = distinct(load.name, set(taken))
+    return load
+
+
+def _contact(first, second, friction, **options):
+    """``contact`` by the roles of ``first`` and ``second``."""
     roles = (role(first, "first"), role(second, "second"))
     if roles == ("line", "surface"):
         return LineSurfaceContact(first, second, friction, **options)

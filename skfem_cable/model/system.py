@@ -280,8 +280,12 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         ``loads.contact.LineSurfaceContact`` and its ``options`` (``radius``,
         ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``; ``docs/contact.md``).
         Two line bodies, or one twice (self-contact): ``loads.contact_lines.LineLineContact``
-        (``model.contact``).  Returns the system; the contact is ``system.loads[-1]``."""
-        return self.add_load(contact(first, second, friction, **options))
+        (``model.contact``).  Its per-step outputs (``docs/contact.md``) are prefixed by
+        its ``name`` (option; default ``contact_<line>``, numbered ``_2``, ... past the
+        names of the system's loads).  Returns the system; the contact is
+        ``system.loads[-1]``."""
+        taken = [getattr(load, "name", None) for load in self.loads]
+        return self.add_load(contact(first, second, friction, taken, **options))
 
     def add_point_load(self, node, force):
         """Force (N) at a cable node or a rigid-body point (``RigidBody.point``): a 3-vector,
