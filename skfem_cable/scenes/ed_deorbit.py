@@ -16,10 +16,9 @@ from ..bodies.section import Section
 from ..environment.oml import Cathode
 from ..loads.atmosphere import AtmosphericDrag
 from ..loads.electrodynamic import ElectrodynamicForce
-from ..model.state import State
 from ..model.system import System
 from ..runner.drive import RunScene
-from ..solvers.steady import solve_steady
+from ..solvers.steady import at_rest_in_orbit
 from ..space.constants import MU_EARTH, R_EARTH
 from ..space.orbit import Orbit
 
@@ -57,14 +56,8 @@ def start(p=TETHER, epoch=EPOCH):
     Lorentz force), at rest in the orbiting frame: ``(orbit, State)``."""
     orbit = Orbit(MU_EARTH, R_EARTH + p["altitude"],
                   inclination=np.radians(p["inclination"]))
-    n = orbit.mean_motion
     free = build(orbit, p, lorentz=False, drag=False, epoch=epoch)[0]  # none with drag
-    axis = np.cross(orbit.position(0.0), orbit.velocity(0.0))
-    omega = n * axis / np.linalg.norm(axis)
-    steady = solve_steady(free, omega=omega)
-    system = build(orbit, p, epoch=epoch)[0]
-    v = system.rotation_operator(np.cross(omega, np.eye(3)).T) @ steady.q
-    return orbit, State(system, steady.q, steady.lam, v=v)
+    return orbit, at_rest_in_orbit(free, build(orbit, p, epoch=epoch)[0], orbit)
 
 
 def scene(epoch=EPOCH, orbits=1.0, p=TETHER):

@@ -17,10 +17,9 @@ from .. import environment
 from ..bodies.cable import Cable
 from ..bodies.section import Section
 from ..loads.plasma_brake import PlasmaBrake
-from ..model.state import State
 from ..model.system import System
 from ..runner.drive import RunScene
-from ..solvers.steady import solve_steady
+from ..solvers.steady import at_rest_in_orbit
 from ..space.constants import MU_EARTH, R_EARTH
 from ..space.orbit import Orbit
 
@@ -61,12 +60,7 @@ def start(p=BRAKE, epoch=EPOCH, plasma=None):
     the brake in ``plasma`` (``build``)."""
     orbit = Orbit(MU_EARTH, R_EARTH + p["altitude"], inclination=np.radians(p["inclination"]))
     free = build(orbit, p, brake=False, epoch=epoch)[0]
-    axis = np.cross(orbit.position(0.0), orbit.velocity(0.0))
-    omega = orbit.mean_motion * axis / np.linalg.norm(axis)
-    steady = solve_steady(free, omega=omega)
-    system = build(orbit, p, epoch=epoch, plasma=plasma)[0]
-    v = system.rotation_operator(np.cross(omega, np.eye(3)).T) @ steady.q
-    return orbit, State(system, steady.q, steady.lam, v=v)
+    return orbit, at_rest_in_orbit(free, build(orbit, p, epoch=epoch, plasma=plasma)[0], orbit)
 
 
 def scene(epoch=EPOCH, orbits=1.0, p=BRAKE, plasma=None):

@@ -307,3 +307,14 @@ def _check_torque(frame, state, torque):
             f"solve_steady: the loads exert a net torque of {torque:.6g} N m about the spin "
             "axis (held by the phase condition): the spin rate cannot stay constant, no "
             "relative equilibrium exists; simulate the system instead", state)
+
+
+def at_rest_in_orbit(free, system, orbit):
+    """The relative equilibrium of ``free`` at rest in the frame orbiting with ``orbit``
+    (``solve_steady`` at the orbit's rate, ``Orbit.angular_velocity``), as a ``State`` of
+    ``system``: the same bodies, with the loads ``free`` leaves out (a Lorentz force, drag,
+    a brake: no equilibrium with them), moving with the orbiting frame."""
+    omega = orbit.angular_velocity(0.0)
+    steady = solve_steady(free, omega=omega)
+    return State(system, steady.q, steady.lam,
+                 v=system.rigid_motion_velocity(steady.q, omega))
