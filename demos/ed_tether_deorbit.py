@@ -10,7 +10,7 @@ evaluation), and a hollow cathode (10 V drop) with a 100 ohm load at its lower e
 the circuit.  The field is IGRF and the plasma IRI (F10.7 = 150), both sampled at knots
 every 60 s along the orbit and interpolated (``sample_every``: within 3e-5 of the field
 and 1e-2 of the density, ``docs/environment.md``); the tape also feels the co-rotating
-atmosphere's drag with NRLMSIS's density (``AtmosphericDrag``, evaluated once per step).
+atmosphere's drag with NRLMSIS's density (``AtmosphericDrag``, at the same 60 s knots).
 
 The Lorentz force ``I r_x x B`` points against the motion where the tether is roughly
 perpendicular to the field; the orbit decays at the rate Gauss's equation gives for the
@@ -27,7 +27,7 @@ those the run recorded at its saved steps (``Result.outputs``, the load's
 iteration (``newton="full"``): the stale matrix of modified Newton, with the current's
 coupling left out of the tangent, diverged on a step in five at the dayside density (976
 of 5071 attempted steps refused over a day, against 28 of 3175).  Run ``python
-demos/ed_tether_deorbit.py`` (a day, 24.6 s CPU; its CPU time is printed).
+demos/ed_tether_deorbit.py`` (a day, 14.7 s CPU; its CPU time is printed).
 """
 
 import numpy as np
