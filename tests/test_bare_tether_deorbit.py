@@ -130,3 +130,59 @@ def test_the_scene_runs_full_newton(tmp_path):
     assert ed_deorbit.NEWTON == "full" and summary["parameters"]["newton"] == "full"
     newton = summary["newton"]
     assert newton["factorizations"] >= newton["iterations"] > 0
+
+
+def test_scene_file_drag_at_knots():
+    """``[[loads.atmospheric_drag]]`` and ``[[loads.free_molecular]]`` take
+    ``sample_every``: the drag's step hook samples the ``[environment]``'s atmosphere at
+    knots that far apart; without it, at every step; a spacing <= 0 is refused naming
+    the key."""
+    text = """
+[[rigid_bodies]]
+name = "ball"
+radius = 0.5
+height = 1.0
+density = 500.0
+
+[sections.tape]
+E = 7e10
+rho = 2700.0
+A = 1e-6
+I = 1e-12
+
+[[cables]]
+name = "tape"
+section = "tape"
+start = [0.0, 0.0, 0.0]
+end = [100.0, 0.0, 0.0]
+elements = 2
+
+[orbit]
+central_body = "earth"
+altitude = 400e3
+
+[environment]
+epoch = 2026-01-01T00:00:00Z
+atmosphere = { model = "msis", f107 = 150.0, f107a = 150.0, ap = 4.0 }
+
+[[loads.atmospheric_drag]]
+body = "ball"
+area = 0.785
+sample_every = 60.0
+
+[[loads.free_molecular]]
+cable = "tape"
+diameter = 0.02
+
+[solver]
+t_end = 60.0
+dt = 30.0
+"""
+    spec = sc.scene_file.loads_text(text, "drag.toml")
+    hooks = {type(load).__name__: load.bind(spec.system).hooks[0]
+             for load in spec.system.loads if type(load).__name__.endswith("Drag")}
+    assert hooks["AtmosphericDrag"].knots.spacing == 60.0
+    assert hooks["FreeMolecularDrag"].knots is None
+    with pytest.raises(sc.scene_file.SceneFileError, match="sample_every"):
+        sc.scene_file.loads_text(text.replace("sample_every = 60.0", "sample_every = 0.0"),
+                                 "drag.toml")
