@@ -75,7 +75,7 @@ class Epoch:
 
     #: Derived values a fingerprint does not describe (``model.fingerprint``): the
     #: astropy ``Time`` (described by ``utc``) and the rotations evaluated so far.
-    caches = ("start", "_rotations", "_knots")
+    caches = ("start", "_rotations", "_knots", "_turns")
 
     def __init__(self, value, name="epoch"):
         Time = _astropy()[0]
@@ -90,7 +90,7 @@ class Epoch:
         utc = self.start.copy()
         utc.precision = 9
         self.utc = utc.isot
-        self._rotations, self._knots = OrderedDict(), OrderedDict()
+        self._rotations, self._knots, self._turns = OrderedDict(), OrderedDict(), OrderedDict()
 
     def __eq__(self, other):
         return isinstance(other, Epoch) and other.utc == self.utc
@@ -121,15 +121,27 @@ class Epoch:
 
     def _between_knots(self, t):
         """``R(t)`` from the knots ``k KNOT <= t < (k + 1) KNOT`` (the knot's own at a
-        knot)."""
-        from scipy.spatial.transform import Rotation, Slerp
+        knot): scipy's ``Slerp`` between them, ``R_k Exp(u w_k)`` with ``u = t / KNOT -
+        k`` and the rotation vector ``w_k`` of ``R_k^T R_(k+1)`` kept per interval."""
+        from scipy.spatial.transform import Rotation
 
         k = math.floor(t / KNOT)
         first = self._knot(k)
         if t == k * KNOT:
             return first
-        ends = Rotation.from_matrix(np.stack([first, self._knot(k + 1)]))
-        return Slerp([0.0, 1.0], ends)(t / KNOT - k).as_matrix()
+        return first @ Rotation.from_rotvec((t / KNOT - k) * self._turn(k)).as_matrix()
+
+    def _turn(self, k):
+        """The rotation vector (3,) of ``R_k^T R_(k+1)`` (the knots' ``_knot``), cached
+        (the last few)."""
+        from scipy.spatial.transform import Rotation
+
+        if k not in self._turns:
+            self._turns[k] = Rotation.from_matrix(self._knot(k).T @ self._knot(k + 1)) \
+                .as_rotvec()
+            if len(self._turns) > CACHE_SIZE:
+                self._turns.popitem(last=False)
+        return self._turns[k]
 
     def _knot(self, k):
         """astropy's rotation at the knot ``t = k KNOT``, cached (the last few)."""
@@ -155,11 +167,13 @@ class Epoch:
     def geodetic(self, x, t=0.0):
         """WGS84 geodetic longitude (deg), latitude (deg) and height (km) of GCRS
         positions ``x`` (..., 3) (m), by astropy's ``EarthLocation``."""
-        u, EarthLocation = _astropy()[1], _astropy()[5]
-        y = self.to_itrs(x, t)
-        where = EarthLocation.from_geocentric(y[..., 0], y[..., 1], y[..., 2], unit=u.m)
-        lon, lat, height = where.to_geodetic("WGS84")
-        return lon.to_value(u.deg), lat.to_value(u.deg), height.to_value(u.km)
+        return itrs_geodetic(self.to_itrs(x, t))
+
+    def geodetic_series(self, x, times):
+        """``geodetic`` of the positions ``x`` (k, ..., 3) at the times ``times`` (k,)
+        (row ``k`` at ``times[k]``), in one conversion: shapes (k, ...) each."""
+        x = np.asarray(x, dtype=float)
+        return itrs_geodetic(np.stack([self.to_itrs(xk, t) for xk, t in zip(x, times)]))
 
     def __repr__(self):
         return f"Epoch({self.start.isot!r})"
@@ -225,6 +239,15 @@ def bound_model(model, epoch, name):
                          f"{epoch.utc} (add_orbit(..., epoch=...)): t = 0 must be one "
                          f"instant")
     return model
+
+
+def itrs_geodetic(y):
+    """WGS84 geodetic longitude (deg), latitude (deg) and height (km) of ITRS positions
+    ``y`` (..., 3) (m), by astropy's ``EarthLocation``."""
+    u, EarthLocation = _astropy()[1], _astropy()[5]
+    where = EarthLocation.from_geocentric(y[..., 0], y[..., 1], y[..., 2], unit=u.m)
+    lon, lat, height = where.to_geodetic("WGS84")
+    return lon.to_value(u.deg), lat.to_value(u.deg), height.to_value(u.km)
 
 
 def _rotation(when):

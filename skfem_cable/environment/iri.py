@@ -113,13 +113,12 @@ class IRI:
         x, times = np.asarray(x, dtype=float), np.asarray(times, dtype=float)
         epoch = model_epoch(self)
         whens = [epoch.datetime(t) for t in times]
-        where = np.array([np.reshape(epoch.geodetic(xk, t), (3, -1))
-                          for xk, t in zip(x, times)])
+        where = np.array(epoch.geodetic_series(x, times))
         out = np.empty(x.shape[:2])
         for day in sorted({when.date() for when in whens}):
             rows = np.array([when.date() == day for when in whens])
             out[rows] = pyiri_series([w for w, r in zip(whens, rows) if r],
-                                     *where[rows].transpose(1, 0, 2),
+                                     *where[:, rows],
                                      float(self.f107(np.median(times[rows]))))
         return out
 

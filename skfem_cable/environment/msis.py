@@ -82,15 +82,27 @@ class MSIS:
     def density(self, x, t=0.0):
         """The neutral mass density (kg/m^3) at GCRS positions ``x`` (..., 3) (m):
         shape (...)."""
-        import pymsis
         x = np.asarray(x, dtype=float)
-        lon, lat, height = model_epoch(self).geodetic(x.reshape(-1, 3), t)
-        n = lon.size
-        dates = np.full(n, np.datetime64(model_epoch(self).datetime(t), "ns"))
-        out = pymsis.calculate(dates, lon, lat, height,
-                               np.full(n, float(self.f107(t))),
-                               np.full(n, float(self.f107a(t))),
-                               np.full((n, 7), float(self.ap(t))), version=VERSION)
+        return self.density_series(x[None], [t])[0]
+
+    def density_series(self, x, times):
+        """``density`` at several times in one pymsis call: positions ``x`` (k, ..., 3)
+        at the times ``times`` (k,) (s), each time its own indices: shape (k, ...)
+        (``loads.knots``, the drag's density at knots)."""
+        import pymsis
+        x, times = np.asarray(x, dtype=float), np.asarray(times, dtype=float)
+        epoch = model_epoch(self)
+        lon, lat, height = (np.ravel(c) for c in epoch.geodetic_series(x, times))
+        per_time = np.prod(x.shape[1:-1], dtype=int)
+
+        def at_points(values):
+            return np.repeat(np.asarray(values), per_time)
+
+        dates = at_points([np.datetime64(epoch.datetime(t), "ns") for t in times])
+        indices = [at_points([float(index(t)) for t in times])
+                   for index in (self.f107, self.f107a, self.ap)]
+        out = pymsis.calculate(dates, lon, lat, height, indices[0], indices[1],
+                               np.repeat(indices[2][:, None], 7, axis=1), version=VERSION)
         return out[:, pymsis.Variable.MASS_DENSITY].reshape(x.shape[:-1])
 
     def __repr__(self):

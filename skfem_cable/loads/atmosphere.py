@@ -29,6 +29,7 @@ from ..core.contract import Term
 from ..environment.epoch import bound_model
 from ..kernels import drag as kernel
 from .drag import Flow, FreeMolecularDrag
+from .knots import spacing_or_none
 from .sampling import DensitySampler, density_model, is_model
 
 
@@ -49,14 +50,17 @@ class PointDrag:
         Cross-section area ``A`` (m^2, > 0) normal to the flow.
     omega : array_like (3,) or None
         Rotation rate of the atmosphere (rad/s); None: the central body's in orbit.
+    sample_every : float or None
+        A density model at every step (None) or at knots every ``h`` s (``sampling``).
     """
 
     #: Bound with the run's reference in orbit (``bind(system, reference)``).
     reads_reference = True
 
-    def __init__(self, point, density, cd, area, omega=None):
+    def __init__(self, point, density, cd, area, omega=None, sample_every=None):
         self.point = point
         self.density = density_model(density)
+        self.sample_every = spacing_or_none(sample_every)
         self.cd = check_positive("cd", cd, allow_zero=True)
         self.area = check_positive("area", area)
         self.flow = Flow(None, omega)
@@ -74,7 +78,7 @@ class PointDrag:
         if is_model(self.density):
             model = bound_model(self.density, system.epoch, "density")
             at = DensitySampler(model, lambda q: (G @ q[dofs])[None, None, :],
-                                np.ones((1, 1)), orbit, system.q0)
+                                np.ones((1, 1)), orbit, system.q0, self.sample_every)
             hooks, rho = (at,), at.out
         else:
             rho[0] = self.density
@@ -116,13 +120,18 @@ class AtmosphericDrag:
         of a line body.
     omega : array_like (3,) or None
         Rotation rate of the atmosphere (rad/s); None: the central body's in orbit.
+    sample_every : float or None
+        None (default): the density model at every point once per time step; ``h`` (s,
+        > 0): the model at knots every ``h`` seconds along the reference point (blocks
+        of knots in one call), its logarithm interpolated in time and carried to the
+        points by its gradient (``loads.knots``; ``docs/environment.md``).
 
     Notes
     -----
-    The density is evaluated once per time step at every point of the body and frozen
-    over the step (module notes): the tangent is exact in the velocities, without
-    ``d rho / dx`` in the positions; on a line body the element's points share the
-    weighted mean of their densities.
+    The density is evaluated once per time step at every point of the body (or
+    interpolated from the knots) and frozen over the step (module notes): the tangent is
+    exact in the velocities, without ``d rho / dx`` in the positions; on a line body the
+    element's points share the weighted mean of their densities.
 
     Examples
     --------
@@ -136,18 +145,20 @@ class AtmosphericDrag:
     #: Bound with the run's reference in orbit (``bind(system, reference)``).
     reads_reference = True
 
-    def __init__(self, body_or_cable, density, cd=2.2, area=None, omega=None):
+    def __init__(self, body_or_cable, density, cd=2.2, area=None, omega=None,
+                 sample_every=None):
         if area is None:
             raise ValueError("area must be given: the area A (m^2, > 0) of a body or a "
                              "point, the projected width d (m, > 0) of a line body")
         target = body_or_cable
         if callable(getattr(target, "line_points", None)):
-            self.part = FreeMolecularDrag(target, density, area, cd, omega=omega)
+            self.part = FreeMolecularDrag(target, density, area, cd, omega=omega,
+                                          sample_every=sample_every)
         else:
             if callable(getattr(target, "point", None)) and \
                     getattr(target, "center_of_mass", None) is not None:
                 target = target.point(target.center_of_mass)
-            self.part = PointDrag(target, density, cd, area, omega)
+            self.part = PointDrag(target, density, cd, area, omega, sample_every)
 
     @property
     def cables(self):

@@ -42,6 +42,7 @@ from ..core.contract import Term
 from ..core.lines import check_line_body, line_points
 from ..kernels import drag as kernel
 from ..space.orbit import co_rotation
+from .knots import spacing_or_none
 from .line import AlongCable, UniformLineLoad
 from .point import vector3
 from .sampling import density_model, is_model, line_sampler
@@ -382,6 +383,10 @@ class FreeMolecularDrag(QuadraticDrag):
         body), zero otherwise.
     deformed_length : bool
         True: per unit deformed length.
+    sample_every : float or None
+        With a density model: None (default), the model at the points once per time
+        step; ``h`` (s, > 0), the model at knots every ``h`` seconds along the reference
+        point, interpolated (``sampling``, ``loads.knots``).
 
     Examples
     --------
@@ -395,8 +400,9 @@ class FreeMolecularDrag(QuadraticDrag):
     """
 
     def __init__(self, cable, density, diameter, cd=2.2, velocity=(0.0, 0.0, 0.0),
-                 omega=None, deformed_length=False):
+                 omega=None, deformed_length=False, sample_every=None):
         self.density = density_model(density)
+        self.sample_every = spacing_or_none(sample_every)
         self.diameter = check_positive("diameter", diameter)
         self.cd = check_positive("cd", cd, allow_zero=True)
         rho = 1.0 if is_model(self.density) else self.density  # a model: the elements' scale
@@ -408,7 +414,7 @@ class FreeMolecularDrag(QuadraticDrag):
         ``scale``: the coefficients are per unit density), none for a number."""
         if not is_model(self.density):
             return ()
-        return (line_sampler(self.density, points, system, orbit),)
+        return (line_sampler(self.density, points, system, orbit, self.sample_every),)
 
 
 class Buoyancy(UniformLineLoad):

@@ -38,6 +38,21 @@ FLOOR = 1.0
 STENCIL = np.vstack([np.zeros(3), np.eye(3), -np.eye(3)])
 
 
+def spacing_or_none(value):
+    """``sample_every`` checked: None (models at every step) or a knot spacing (s),
+    finite and > 0 (``ValueError`` naming ``sample_every``)."""
+    if value is None:
+        return None
+    try:
+        h = float(value)
+    except (TypeError, ValueError):
+        h = np.nan
+    if isinstance(value, bool) or not (np.isfinite(h) and h > 0):
+        raise ValueError(f"sample_every must be a time step (s, > 0) or None, got "
+                         f"{value!r}")
+    return h
+
+
 def lagrange_weights(u):
     """The weights of the cubic Lagrange interpolant through uniform knots ``-1, 0, 1,
     2`` at ``u`` (in [0, 1] between knots 0 and 1): (4,)."""
@@ -73,7 +88,10 @@ class OrbitKnots:
     field : object with ``field(x, t) -> (B, dB)`` or None
         The field (``environment.IGRF``); None: no field is sampled.
     plasma : object with ``density(x, t)``
-        The density model (m^-3).
+        The density model (m^-3, or kg/m^3 for a neutral atmosphere).
+    floor : float
+        The smallest density whose logarithm is interpolated (default ``FLOOR``, in
+        m^-3; an atmosphere's mass density needs one below its kg/m^3).
 
     Attributes
     ----------
@@ -81,11 +99,9 @@ class OrbitKnots:
         Knots evaluated so far (each model is called once per ``BLOCK`` of them).
     """
 
-    def __init__(self, spacing, origin, centre, field, plasma):
-        if not (np.isfinite(spacing) and spacing > 0):
-            raise ValueError(f"sample_every must be a time step (s, > 0) or None, got "
-                             f"{spacing!r}")
-        self.spacing, self.origin = float(spacing), float(origin)
+    def __init__(self, spacing, origin, centre, field, plasma, floor=FLOOR):
+        self.spacing, self.origin = spacing_or_none(spacing), float(origin)
+        self.floor = float(floor)
         self.centre, self.field, self.plasma = centre, field, plasma
         self.knots, self.calls = {}, 0
 
@@ -101,7 +117,7 @@ class OrbitKnots:
         else:
             B, dB = (y[:, 0] for y in in_series(self.field, "field", P[:, None], times))
         n = in_series(self.plasma, "density", P[:, None] + DENSITY_STEP * STENCIL, times)
-        n = np.log(np.maximum(n, FLOOR))
+        n = np.log(np.maximum(n, self.floor))
         dn = (n[:, 1:4] - n[:, 4:7]) / (2.0 * DENSITY_STEP)
         self.knots = {k: v for k, v in self.knots.items() if k >= first - BLOCK}
         self.knots.update((k, (P[i], B[i], dB[i], n[i, 0], dn[i]))

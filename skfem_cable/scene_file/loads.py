@@ -99,14 +99,15 @@ def free_molecular_load(p, bodies, system, environment):
     system.add_load(FreeMolecularDrag(
         bodies.body(p, "cable", Cable), density(p, environment),
         p.get("diameter", positive), p.get("cd", non_negative, 2.2),
-        p.get("velocity", vector3, (0.0, 0.0, 0.0)), p.get("omega", vector3, None)))
+        p.get("velocity", vector3, (0.0, 0.0, 0.0)), p.get("omega", vector3, None),
+        sample_every=p.get("sample_every", positive, None)))
 
 
 def atmospheric_drag_load(p, bodies, system, environment):
     """``[[loads.atmospheric_drag]]``: the co-rotating atmosphere's drag on a ``cable``
     (``area``: its projected width, m), a rigid ``body`` (at its centre of mass) or a
     point ``at`` (``area``: m^2), with the ``[environment]``'s atmosphere unless a
-    ``density`` is given."""
+    ``density`` is given; ``sample_every`` (s): the model at knots (``loads.knots``)."""
     key, _ = one_of(p, ("cable", "body", "at"), lambda v: v)
     if key is None:
         p.missing("cable", "is required (a cable's name), or body (a rigid body's) or at "
@@ -114,7 +115,8 @@ def atmospheric_drag_load(p, bodies, system, environment):
     target = bodies.point(p, "at") if key == "at" else \
         bodies.body(p, key, Cable if key == "cable" else RigidBody)
     system.add_load(AtmosphericDrag(target, density(p, environment),
-                                    p.get("cd", non_negative, 2.2), p.get("area", positive)))
+                                    p.get("cd", non_negative, 2.2), p.get("area", positive),
+                                    sample_every=p.get("sample_every", positive, None)))
 
 
 def electrodynamic_load(p, bodies, system, environment):
