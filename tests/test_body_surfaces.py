@@ -134,15 +134,15 @@ def test_atwood_machine_with_a_pulley_of_inertia(atwood):
     so ``x = a0 / w^2 (cosh w t - 1)``, ``a0 = g (m1 - m2) / M_J``, ``w^2 = 2 rho A g /
     M_J``, ``M_J = M + J / R_e^2``.  m1's descent over 0.2 .. 1 s (from 0.1 s, after the
     rope's first stretch) within 1 % (measured 4.9e-3); without the drum's inertia it
-    would be 40 % off.  The regularised friction lets the rope creep over the drum at
+    would be 43 % off.  The regularised friction lets the rope creep over the drum at
     ``v_s = eps r / sqrt(1 - r^2)``, ``r = sum |f_t| / (mu sum N)``, for a uniform slip
     (2.3e-5 m/s at 1 s).  The slip at 1 s (the velocities of the rope's points on the
     arc relative to the drum's, along the drum) has a mean that matches it within 15 %
     (the slip varies along the arc, from -5e-5 m/s where the rope comes onto the drum to
     4e-5 m/s where it leaves), and it is below 1e-3 of ``x'`` (0.31 m/s) everywhere: the
     rope does not slip.  The
-    books close within 1e-4 of m1's loss of potential energy (friction and the rope's
-    damping booked as dissipation)."""
+    books close within 1e-4 of m1's loss of potential energy (measured 2.2e-5; friction
+    and the rope's damping booked as dissipation)."""
     system, cable, drum, result, _ = atwood
     assert result.stats["path"] == "compiled"
     rho_a, J, Re = ROPE.mass_per_length, drum.inertia[0, 0], R + RC
