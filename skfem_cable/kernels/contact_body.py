@@ -190,16 +190,39 @@ def dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv):
 
 
 @njit(cache=True)
+def product(A, B, out, transpose):
+    """``out = A B`` (``transpose`` False) or ``A^T B`` (True), by loops: the kernel's
+    matrices are small, and loops compile faster than the BLAS bindings of ``@``."""
+    rows = A.shape[1] if transpose else A.shape[0]
+    inner = A.shape[0] if transpose else A.shape[1]
+    for i in range(rows):
+        for j in range(B.shape[1]):
+            acc = 0.0
+            for m in range(inner):
+                acc += (A[m, i] if transpose else A[i, m]) * B[m, j]
+            out[i, j] = acc
+
+
+@njit(cache=True)
 def body_frame(d, dd, E, Einv, W):
     """The edges ``E`` (3, 3: columns ``r_B - r_A``, ...) of the body's coordinates ``d``,
-    their inverse ``Einv`` and ``W = E_dot E^-1`` from the velocities ``dd``."""
+    their inverse ``Einv`` (by cofactors) and ``W = E_dot E^-1`` from the velocities
+    ``dd``."""
     Ed = np.empty((3, 3))
     for i in range(3):
         for k in range(3):
             E[i, k] = d[3 * (k + 1) + i] - d[i]
             Ed[i, k] = dd[3 * (k + 1) + i] - dd[i]
-    Einv[:] = np.linalg.inv(E)
-    W[:] = Ed @ Einv
+    for i in range(3):
+        for k in range(3):
+            a, b = (k + 1) % 3, (k + 2) % 3
+            c, e = (i + 1) % 3, (i + 2) % 3
+            Einv[i, k] = E[a, c] * E[b, e] - E[a, e] * E[b, c]
+    det = E[0, 0] * Einv[0, 0] + E[0, 1] * Einv[1, 0] + E[0, 2] * Einv[2, 0]
+    for i in range(3):
+        for k in range(3):
+            Einv[i, k] /= det
+    product(Ed, Einv, W, False)
 
 
 @njit(cache=True)
@@ -241,15 +264,19 @@ def element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke):
     z, g, Hs, work = np.empty(9), np.empty(9), np.empty((9, 9)), np.empty((6, 6))
     L, Lrel, cvec = np.empty((9, nd)), np.empty((3, nd)), np.empty(3)
     f, Fz, Fv, v = np.empty(3), np.empty((3, 9)), np.empty((3, 3)), np.empty(3)
+    gL, HL, LHL = np.empty(nd), np.empty((9, nd)), np.empty((nd, nd))
+    WL, EL, FL, A3 = np.empty((3, nd)), np.empty((3, nd)), np.empty((3, nd)), np.empty((3, nd))
     for m in range(6):
-        z[3 + m] = B[m] @ d
+        z[3 + m] = 0.0
+        for j in range(12):
+            z[3 + m] += B[m, j] * d[j]
     dis = dynamic and (coef[DAMPING] > 0.0 or coef[FRICTION] > 0.0)
     energy = 0.0
     for gp in range(S.shape[1]):
         for i in range(3):
             z[i] = 0.0
-            for A in range(nf):
-                z[i] += S[e, gp, A] * u[3 * A + i]
+            for a in range(nf):
+                z[i] += S[e, gp, a] * u[3 * a + i]
         p = coef[RADIUS] - geometry(kind, coef[7], z[:3], z[3:6], z[6:], g, Hs, work)
         if p <= 0.0:
             continue
@@ -257,24 +284,64 @@ def element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke):
         Phi, N, kp = penalty(p, coef[STIFFNESS], coef[ONSET])
         energy += wg * Phi
         point_maps(S, e, gp, nf, B, z[:3], d[:3], Einv, L, Lrel, cvec)
-        gL = g @ L
-        fe -= wg * N * gL
+        for a in range(nd):
+            gL[a] = 0.0
+            for m in range(9):
+                gL[a] += g[m] * L[m, a]
+            fe[a] -= wg * N * gL[a]
         if want:
-            Ke += cK * wg * (kp * np.outer(gL, gL) - N * (L.T @ (Hs @ L)))
+            product(Hs, L, HL, False)
+            product(L, HL, LHL, True)
+            for a in range(nd):
+                for b in range(nd):
+                    Ke[a, b] += cK * wg * (kp * gL[a] * gL[b] - N * LHL[a, b])
         if not dis:
             continue
-        v[:] = Lrel @ ud
+        for i in range(3):
+            v[i] = 0.0
+            for a in range(nd):
+                v[i] += Lrel[i, a] * ud[a]
         dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv)
-        fde += wg * (Lrel.T @ f)
+        for a in range(nd):
+            for i in range(3):
+                fde[a] += wg * Lrel[i, a] * f[i]
         if want:
-            Z = np.zeros((nd, 3))
-            for k in range(3):
-                for i in range(3):
-                    Z[nl + i, k] = f[i]
-                    Z[nl + 3 * (k + 1) + i, k] = -f[i]
-            dq = Lrel.T @ (Fz @ L - Fv @ (W @ Lrel)) + Z @ (Einv @ Lrel)
-            Ke -= wg * (cK * dq + cC * (Lrel.T @ (Fv @ Lrel)))
+            dissipative_tangent(nl, wg, cK, cC, f, Fz, Fv, W, Einv, L, Lrel, WL, EL, FL,
+                                A3, LHL, Ke)
     return energy
+
+
+@njit(cache=True)
+def dissipative_tangent(nl, wg, cK, cC, f, Fz, Fv, W, Einv, L, Lrel, WL, EL, FL, A3, K,
+                        Ke):
+    """Subtract ``wg (cK dQ/du + cC dQ/du_dot)`` of the dissipative force ``Q = wg Lrel^T
+    f`` from ``Ke`` (module notes); ``WL``, ``EL``, ``FL``, ``A3`` (3, nd) and ``K`` (nd,
+    nd) are scratch."""
+    nd = L.shape[1]
+    product(W, Lrel, WL, False)
+    product(Einv, Lrel, EL, False)
+    product(Fv, Lrel, FL, False)
+    product(Fz, L, A3, False)
+    for i in range(3):
+        for b in range(nd):
+            acc = 0.0
+            for j in range(3):
+                acc += Fv[i, j] * WL[j, b]
+            A3[i, b] -= acc
+    product(Lrel, A3, K, True)
+    for a in range(nd):
+        for b in range(nd):
+            Ke[a, b] -= wg * cK * K[a, b]
+    product(Lrel, FL, K, True)
+    for a in range(nd):
+        for b in range(nd):
+            Ke[a, b] -= wg * cC * K[a, b]
+    for b in range(nd):              # Z E^-1 Lrel: d(-G(c)^T f)/dc_k dc_k
+        total = EL[0, b] + EL[1, b] + EL[2, b]
+        for i in range(3):
+            Ke[nl + i, b] -= wg * cK * f[i] * total
+            for k in range(3):
+                Ke[nl + 3 * (k + 1) + i, b] += wg * cK * f[i] * EL[k, b]
 
 
 @njit(cache=True)

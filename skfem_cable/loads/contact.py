@@ -291,7 +291,8 @@ class LineSurfaceContact(AlongCable):
         X, _, V = line_points(self.cable, system).at(q, v)
         centre = X.mean(axis=1)
         normals = np.empty_like(centre)
-        kernel.normals(self.seen(system, q, v, X, V)[0], centre, normals)
+        kernel.normals(self.seen(system, q, v, X.reshape(-1, 3), V.reshape(-1, 3))[0], centre,
+                       normals)
         force = out["normal"][:, None] * normals + out["tangential"]
         return Shape(centre, V.mean(axis=1), "vertex", np.arange(len(centre))[:, None],
                      PART_LOAD, data={"contact_normal": out["normal"],
