@@ -68,7 +68,7 @@ from .contact import (
 def geometry(kind, R, x, o, a, g, Hs, work):
     """The signed distance ``s(x, o, a)`` of the surface of kind ``kind`` (radius ``R``);
     its gradient into ``g`` (9,) and Hessian into ``Hs`` (9, 9) over ``z = (x, o, a)``
-    (module notes); ``work`` (6, 6) scratch."""
+    (module notes); ``work`` (12, 9) scratch."""
     g[:] = 0.0
     Hs[:] = 0.0
     if kind == PLANE:
@@ -81,7 +81,7 @@ def geometry(kind, R, x, o, a, g, Hs, work):
             Hs[3 + i, 6 + i] = Hs[6 + i, 3 + i] = -1.0
         return s
     cyl = 1.0 if kind == CYLINDER else 0.0
-    r, y, n = np.empty(3), np.empty(3), np.empty(3)
+    H6, J, r, y, n = work[:6, :6], work[6:9, :6], work[9, :3], work[10, :3], work[11, :3]
     beta = 0.0
     for i in range(3):
         r[i] = x[i] - o[i]
@@ -94,7 +94,6 @@ def geometry(kind, R, x, o, a, g, Hs, work):
     for i in range(3):
         n[i] = y[i] * inv
         alpha += cyl * a[i] * n[i]
-    J = np.zeros((3, 6))
     for i in range(3):
         g[i] = n[i] - alpha * cyl * a[i]
         g[3 + i] = -g[i]
@@ -102,7 +101,6 @@ def geometry(kind, R, x, o, a, g, Hs, work):
         for j in range(3):
             J[i, j] = (1.0 if i == j else 0.0) - cyl * a[i] * a[j]
             J[i, 3 + j] = -cyl * (a[i] * r[j] + (beta if i == j else 0.0))
-    H6 = work
     for p in range(6):
         for m in range(6):
             acc = 0.0
@@ -139,10 +137,12 @@ def penalty(p, k, onset):
 
 
 @njit(cache=True)
-def dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv):
+def dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv, work):
     """The normal damping and friction ``f`` (3) on the line at the slip velocity ``v``
     and their derivatives ``Fz`` (3, 9), ``Fv`` (3, 3) (``kernels.contact``'s, with the
-    normal ``n = g[:3]`` and ``dn/dz = Hs[:3]``)."""
+    normal ``n = g[:3]`` and ``dn/dz = Hs[:3]``); ``work`` (9, 9) scratch."""
+    dvn, vt, phi = work[0], work[1, :3], work[2, :3]
+    D, Pn = work[3:6, :3], work[6:9, :3]
     c, mu, onset = coef[DAMPING], coef[FRICTION], coef[ONSET]
     if p < onset:
         u = 1.0 - p / onset
@@ -150,8 +150,8 @@ def dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv):
     else:
         ramp, dramp = 1.0, 0.0
     vn = g[0] * v[0] + g[1] * v[1] + g[2] * v[2]
-    dvn = np.zeros(9)
     for m in range(9):
+        dvn[m] = 0.0
         for i in range(3):
             dvn[m] += v[i] * Hs[i, m]
     Nd = -c * vn * ramp
@@ -164,13 +164,11 @@ def dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv):
             Fv[i, j] = -c * ramp * g[i] * g[j]
     if mu == 0.0:
         return
-    vt = np.empty(3)
     for i in range(3):
         vt[i] = v[i] - vn * g[i]
     sigma = math.sqrt(vt[0] ** 2 + vt[1] ** 2 + vt[2] ** 2 + coef[SLIP] ** 2)
-    phi = vt / sigma
-    D = np.empty((3, 3))
-    Pn = np.empty((3, 3))
+    for i in range(3):
+        phi[i] = vt[i] / sigma
     for i in range(3):
         f[i] -= mu * N * phi[i]
         for j in range(3):
@@ -187,20 +185,6 @@ def dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv):
             for m in range(3):
                 acc += D[i, m] * Pn[m, j]
             Fv[i, j] -= mu * N * acc
-
-
-@njit(cache=True)
-def product(A, B, out, transpose):
-    """``out = A B`` (``transpose`` False) or ``A^T B`` (True), by loops: the kernel's
-    matrices are small, and loops compile faster than the BLAS bindings of ``@``."""
-    rows = A.shape[1] if transpose else A.shape[0]
-    inner = A.shape[0] if transpose else A.shape[1]
-    for i in range(rows):
-        for j in range(B.shape[1]):
-            acc = 0.0
-            for m in range(inner):
-                acc += (A[m, i] if transpose else A[i, m]) * B[m, j]
-            out[i, j] = acc
 
 
 @njit(cache=True)
@@ -222,50 +206,51 @@ def body_frame(d, dd, E, Einv, W):
     for i in range(3):
         for k in range(3):
             Einv[i, k] /= det
-    product(Ed, Einv, W, False)
-
-
-@njit(cache=True)
-def point_maps(S, e, gp, nf, B, x, rA, Einv, L, Lrel, cvec):
-    """The maps ``L`` (9, nd) and ``Lrel`` (3, nd) of the element's and the body's
-    coordinates at point ``gp`` of element ``e`` at ``x`` (module notes), and the edge
-    coefficients ``cvec`` (3) of the body's material point there."""
-    nl = 3 * nf
-    L[:] = 0.0
-    Lrel[:] = 0.0
-    for A in range(nf):
-        for i in range(3):
-            L[i, 3 * A + i] = Lrel[i, 3 * A + i] = S[e, gp, A]
-    for m in range(6):
-        for j in range(12):
-            L[3 + m, nl + j] = B[m, j]
-    for k in range(3):
-        cvec[k] = 0.0
-        for i in range(3):
-            cvec[k] += Einv[k, i] * (x[i] - rA[i])
-    c0 = 1.0 - cvec[0] - cvec[1] - cvec[2]
     for i in range(3):
-        Lrel[i, nl + i] = -c0
         for k in range(3):
-            Lrel[i, nl + 3 * (k + 1) + i] = -cvec[k]
+            W[i, k] = Ed[i, 0] * Einv[0, k] + Ed[i, 1] * Einv[1, k] + Ed[i, 2] * Einv[2, k]
 
 
 @njit(cache=True)
-def element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke):
+def coefficients(S, e, gp, nf, x, rA, Einv, ell):
+    """``ell`` (nf + 4): ``Lrel = ell^T (x) I`` (module notes), the element's functions at
+    point ``gp`` of element ``e`` and minus ``G(c)``'s coefficients ``(1 - sum c, c)`` of
+    the body's material point at ``x`` (``c = E^-1 (x - r_A)``)."""
+    total = 0.0
+    for a in range(nf):
+        ell[a] = S[e, gp, a]
+    for k in range(3):
+        c = 0.0
+        for i in range(3):
+            c += Einv[k, i] * (x[i] - rA[i])
+        ell[nf + 1 + k] = -c
+        total += c
+    ell[nf] = total - 1.0
+
+
+@njit(cache=True)
+def scratch(nd):
+    """The scratch arrays of ``element`` for ``nd`` coordinates, allocated once per
+    evaluation."""
+    return (np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3)), np.empty(9), np.empty(9),
+            np.empty((9, 9)), np.empty((12, 9)), np.empty(nd // 3), np.empty(3),
+            np.empty((3, 9)), np.empty((3, 3)), np.empty(3), np.empty(nd), np.empty((9, 12)),
+            np.empty((3, nd)), np.empty((9, 9)), np.empty((9, 9)))
+
+
+@njit(cache=True)
+def element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke, tmp):
     """The element ``e``'s internal force ``fe``, dissipative force ``fde`` (applied,
     ``Q``) and, if ``want``, iteration matrix ``Ke`` (nd, nd) over its coordinates ``u``
-    (velocities ``ud``; the body's last 12); returns ``Pi`` (J)."""
+    (velocities ``ud``; the body's last 12), with the scratch ``tmp`` (``scratch``);
+    returns ``Pi`` (J).  ``L`` is block diagonal (the functions for ``x``, ``B`` for
+    ``(o, a)``) and ``Lrel = ell^T (x) I``: the products are written by blocks."""
     udofs, S, w, scale, B, kind, coef = pack[:7]
     nf = S.shape[2]
     nl, nd = 3 * nf, 3 * nf + 12
     d, dd = u[nl:], ud[nl:]
-    E, Einv, W = np.empty((3, 3)), np.empty((3, 3)), np.empty((3, 3))
+    E, Einv, W, z, g, Hs, work, ell, f, Fz, Fv, v, gL, MB, T, dwork, M = tmp
     body_frame(d, dd, E, Einv, W)
-    z, g, Hs, work = np.empty(9), np.empty(9), np.empty((9, 9)), np.empty((6, 6))
-    L, Lrel, cvec = np.empty((9, nd)), np.empty((3, nd)), np.empty(3)
-    f, Fz, Fv, v = np.empty(3), np.empty((3, 9)), np.empty((3, 3)), np.empty(3)
-    gL, HL, LHL = np.empty(nd), np.empty((9, nd)), np.empty((nd, nd))
-    WL, EL, FL, A3 = np.empty((3, nd)), np.empty((3, nd)), np.empty((3, nd)), np.empty((3, nd))
     for m in range(6):
         z[3 + m] = 0.0
         for j in range(12):
@@ -283,65 +268,103 @@ def element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke):
         wg = scale[e] * w[e, gp]
         Phi, N, kp = penalty(p, coef[STIFFNESS], coef[ONSET])
         energy += wg * Phi
-        point_maps(S, e, gp, nf, B, z[:3], d[:3], Einv, L, Lrel, cvec)
+        coefficients(S, e, gp, nf, z[:3], d[:3], Einv, ell)
+        for a in range(nf):
+            for i in range(3):
+                gL[3 * a + i] = ell[a] * g[i]
+        for c in range(12):
+            gL[nl + c] = 0.0
+            for m in range(6):
+                gL[nl + c] += g[3 + m] * B[m, c]
         for a in range(nd):
-            gL[a] = 0.0
-            for m in range(9):
-                gL[a] += g[m] * L[m, a]
             fe[a] -= wg * N * gL[a]
         if want:
-            product(Hs, L, HL, False)
-            product(L, HL, LHL, True)
-            for a in range(nd):
-                for b in range(nd):
-                    Ke[a, b] += cK * wg * (kp * gL[a] * gL[b] - N * LHL[a, b])
+            for m in range(9):
+                for j in range(9):
+                    M[m, j] = kp * g[m] * g[j] - N * Hs[m, j]
+            sandwich(S, e, gp, nf, B, M, cK * wg, MB, Ke)
         if not dis:
             continue
         for i in range(3):
             v[i] = 0.0
-            for a in range(nd):
-                v[i] += Lrel[i, a] * ud[a]
-        dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv)
-        for a in range(nd):
+            for a in range(nf + 4):
+                v[i] += ell[a] * ud[3 * a + i]
+        dissipative(coef, N, kp, p, g, Hs, v, f, Fz, Fv, dwork)
+        for a in range(nf + 4):
             for i in range(3):
-                fde[a] += wg * Lrel[i, a] * f[i]
+                fde[3 * a + i] += wg * ell[a] * f[i]
         if want:
-            dissipative_tangent(nl, wg, cK, cC, f, Fz, Fv, W, Einv, L, Lrel, WL, EL, FL,
-                                A3, LHL, Ke)
+            dissipative_tangent(nf, B, wg, cK, cC, f, Fz, Fv, W, Einv, ell, T, dwork, Ke)
     return energy
 
 
 @njit(cache=True)
-def dissipative_tangent(nl, wg, cK, cC, f, Fz, Fv, W, Einv, L, Lrel, WL, EL, FL, A3, K,
-                        Ke):
-    """Subtract ``wg (cK dQ/du + cC dQ/du_dot)`` of the dissipative force ``Q = wg Lrel^T
-    f`` from ``Ke`` (module notes); ``WL``, ``EL``, ``FL``, ``A3`` (3, nd) and ``K`` (nd,
-    nd) are scratch."""
-    nd = L.shape[1]
-    product(W, Lrel, WL, False)
-    product(Einv, Lrel, EL, False)
-    product(Fv, Lrel, FL, False)
-    product(Fz, L, A3, False)
-    for i in range(3):
-        for b in range(nd):
-            acc = 0.0
-            for j in range(3):
-                acc += Fv[i, j] * WL[j, b]
-            A3[i, b] -= acc
-    product(Lrel, A3, K, True)
-    for a in range(nd):
-        for b in range(nd):
-            Ke[a, b] -= wg * cK * K[a, b]
-    product(Lrel, FL, K, True)
-    for a in range(nd):
-        for b in range(nd):
-            Ke[a, b] -= wg * cC * K[a, b]
-    for b in range(nd):              # Z E^-1 Lrel: d(-G(c)^T f)/dc_k dc_k
-        total = EL[0, b] + EL[1, b] + EL[2, b]
+def sandwich(S, e, gp, nf, B, M, c, MB, Ke):
+    """``Ke += c L^T M L`` at point ``gp`` of element ``e`` (``M`` (9, 9) symmetric, ``L``
+    block diagonal: the element's functions for ``x``, ``B`` for ``(o, a)``); ``MB`` (9,
+    12) scratch."""
+    nl = 3 * nf
+    for m in range(9):
+        for k in range(12):
+            MB[m, k] = 0.0
+            for j in range(6):
+                MB[m, k] += M[m, 3 + j] * B[j, k]
+    for a in range(nf):
+        sa = c * S[e, gp, a]
+        for b in range(nf):
+            sab = sa * S[e, gp, b]
+            for i in range(3):
+                for j in range(3):
+                    Ke[3 * a + i, 3 * b + j] += sab * M[i, j]
         for i in range(3):
-            Ke[nl + i, b] -= wg * cK * f[i] * total
-            for k in range(3):
-                Ke[nl + 3 * (k + 1) + i, b] += wg * cK * f[i] * EL[k, b]
+            for k in range(12):
+                Ke[3 * a + i, nl + k] += sa * MB[i, k]
+                Ke[nl + k, 3 * a + i] += sa * MB[i, k]
+    for k in range(12):
+        for m in range(12):
+            acc = 0.0
+            for j in range(6):
+                acc += B[j, k] * MB[3 + j, m]
+            Ke[nl + k, nl + m] += c * acc
+
+
+@njit(cache=True)
+def dissipative_tangent(nf, B, wg, cK, cC, f, Fz, Fv, W, Einv, ell, T, work, Ke):
+    """Subtract ``wg (cK dQ/du + cC dQ/du_dot)`` of the dissipative force ``Q = wg Lrel^T
+    f`` from ``Ke`` (module notes), with ``Lrel = ell^T (x) I``: ``dQ/du = Lrel^T T + Z
+    E^-1 Lrel`` with ``T = F_z L - F_v W Lrel``, ``dQ/du_dot = (ell ell^T) (x) F_v``;
+    ``T`` (3, nd) and ``work`` (9, 9) scratch."""
+    nl = 3 * nf
+    FW = work[:3, :3]
+    for i in range(3):
+        for j in range(3):
+            FW[i, j] = Fv[i, 0] * W[0, j] + Fv[i, 1] * W[1, j] + Fv[i, 2] * W[2, j]
+    for i in range(3):
+        for a in range(nf):
+            for j in range(3):
+                T[i, 3 * a + j] = Fz[i, j] * ell[a]
+        for k in range(12):
+            T[i, nl + k] = 0.0
+            for m in range(6):
+                T[i, nl + k] += Fz[i, 3 + m] * B[m, k]
+        for b in range(nf + 4):
+            for j in range(3):
+                T[i, 3 * b + j] -= FW[i, j] * ell[b]
+    for a in range(nf + 4):
+        for i in range(3):
+            sa = wg * ell[a]
+            for col in range(T.shape[1]):
+                Ke[3 * a + i, col] -= sa * cK * T[i, col]
+            for b in range(nf + 4):
+                for j in range(3):
+                    Ke[3 * a + i, 3 * b + j] -= sa * cC * ell[b] * Fv[i, j]
+    for b in range(nf + 4):          # Z E^-1 Lrel: d(-G(c)^T f)/dc_k dc_k
+        for j in range(3):
+            total = (Einv[0, j] + Einv[1, j] + Einv[2, j]) * ell[b]
+            for i in range(3):
+                Ke[nl + i, 3 * b + j] -= wg * cK * f[i] * total
+                for k in range(3):
+                    Ke[nl + 3 * (k + 1) + i, 3 * b + j] += wg * cK * f[i] * Einv[k, j] * ell[b]
 
 
 @njit(cache=True)
@@ -360,6 +383,7 @@ def kernel(pack, index, ev):
     nd = udofs.shape[1]
     u, ud = np.empty(nd), np.empty(nd)
     fe, fde, Ke = np.empty(nd), np.empty(nd), np.empty((nd, nd))
+    tmp = scratch(nd)
     for e in range(udofs.shape[0]):
         if scale[e] == 0.0:
             continue
@@ -368,7 +392,7 @@ def kernel(pack, index, ev):
         fe[:] = 0.0
         fde[:] = 0.0
         Ke[:] = 0.0
-        energy[0] += element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke)
+        energy[0] += element(e, pack, u, ud, dynamic, want, cK, cC, fe, fde, Ke, tmp)
         for k in range(nd):
             f[udofs[e, k]] += fe[k] - fde[k]
             fd[udofs[e, k]] -= fde[k]
