@@ -84,7 +84,7 @@ def test_the_body_takes_the_opposite_force_and_moment(rigs):
         term = contact.bind(system)
         ev = Evaluation(system, 0.0, q, v, np.zeros(system.n_constraints))
         for function, pack in term.kernels:
-            function(pack, np.zeros(0, dtype=np.int64), ev.packed())
+            function(pack, np.zeros((0, 0, 0), dtype=np.int64), ev.packed())
         force = -ev.f                                   # the contact's applied forces
         line, body = (system.dofs(b) for b in system.bodies)
         modes = [system.rigid_motion_velocity(q, np.zeros(3), velocity=e) for e in np.eye(3)]
