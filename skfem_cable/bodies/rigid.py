@@ -98,6 +98,8 @@ class RigidBody:
     See Also
     --------
     System.pin : ``pin(cable.node(0), body.point(x))`` joins a cable to the body.
+    plane, sphere, cylinder : surfaces in the body's frame that move with it, for
+        ``system.contact(cable, body.cylinder(...))`` (``rigid_surfaces``).
 
     Examples
     --------
