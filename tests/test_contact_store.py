@@ -112,7 +112,8 @@ def test_two_contacts_of_a_line_have_their_own_outputs():
               .contact(a, sc.Sphere([0, 0, 1], 0.5))
               .contact(a, sc.Cylinder([0, 0, 2], [0, 1, 0], 0.5), name="drum"))
     assert [load.name for load in system.loads] == ["contact_a", "contact_a_2", "drum"]
-    assert len(set(load_outputs(system))) == 3 * len(surface_contact.OUTPUTS)
+    assert len(set(load_outputs(system))) == 3 * (len(surface_contact.OUTPUTS)
+                                                  + len(surface_contact.ARRAYS))
     assert "drum_normal" in load_outputs(system)
 
 

@@ -19,6 +19,7 @@ import scipy.sparse as sp
 
 from ..core.contract import PART_RIGID, Shape
 from ..core.quadratic import QuadraticConstraints
+from . import rigid_surfaces as surfaces
 from .section import check_positive
 
 #: Pairs of edge vectors ``(a, b)`` of the six internal constraints ``r_a . r_b = const``
@@ -97,6 +98,8 @@ class RigidBody:
     See Also
     --------
     System.pin : ``pin(cable.node(0), body.point(x))`` joins a cable to the body.
+    plane, sphere, cylinder : surfaces in the body's frame that move with it, for
+        ``system.contact(cable, body.cylinder(...))`` (``rigid_surfaces``).
 
     Examples
     --------
@@ -148,9 +151,8 @@ class RigidBody:
         self.radius = self.height = None  # a cylinder's (``cylinder``), for its surface
         self._mass = None
 
-    @classmethod
-    def cylinder(cls, radius, height, density, position=(0, 0, 0), rotation=None,
-                 name="hub"):
+    def _cylinder_body(cls, radius, height, density, position=(0, 0, 0), rotation=None,
+                       name="hub"):
         """Homogeneous cylinder with its axis along the body x axis, centred at the origin;
         base points ``A = (-h/2, 0, 0)``, ``B = (h/2, 0, 0)``, ``C = (0, R, 0)``,
         ``D = (0, 0, R)`` as in the paper (Sect. 4.1)."""
@@ -162,6 +164,27 @@ class RigidBody:
         body = cls(m, np.zeros(3), inertia, P, position, rotation, name)
         body.radius, body.height = R, h
         return body
+
+    def _cylinder_surface(self, axis_point, axis, radius):
+        """The outside of the cylinder of body-frame axis through ``axis_point`` along
+        ``axis`` and ``radius`` (m, > 0), moving with the body: a drum, a pulley
+        (``rigid_surfaces.cylinder``; ``system.contact(cable, body.cylinder(...))``)."""
+        return surfaces.cylinder(self, axis_point, axis, radius)
+
+    #: ``RigidBody.cylinder(radius, height, density, ...)``: a homogeneous cylinder body;
+    #: ``body.cylinder(axis_point, axis, radius)``: a cylindrical surface carried by
+    #: ``body`` (``rigid_surfaces.ClassOrInstance``).
+    cylinder = surfaces.ClassOrInstance(classmethod(_cylinder_body), _cylinder_surface)
+
+    def sphere(self, centre, radius):
+        """The sphere of body-frame ``centre`` and ``radius`` (m, > 0), moving with the
+        body (``rigid_surfaces.sphere``)."""
+        return surfaces.sphere(self, centre, radius)
+
+    def plane(self, point, normal):
+        """The plane through the body-frame ``point`` of body-frame ``normal``, moving
+        with the body: a plate, a deck (``rigid_surfaces.plane``)."""
+        return surfaces.plane(self, point, normal)
 
     @property
     def base_points(self):

@@ -13,6 +13,8 @@ import math
 import numbers
 from dataclasses import dataclass
 
+import numpy as np
+
 
 def check_positive(name, value, allow_zero=False):
     """Return ``float(value)``; raise ``ValueError`` naming ``name`` unless it is finite and
@@ -26,6 +28,23 @@ def check_positive(name, value, allow_zero=False):
         bound = ">= 0" if allow_zero else "> 0"
         raise ValueError(f"{name} must be finite and {bound}, got {value!r}")
     return v
+
+
+def vector3(v, name):
+    """``v`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
+    v = np.asarray(v, dtype=float)
+    if v.shape != (3,) or not np.all(np.isfinite(v)):
+        raise ValueError(f"{name} must be a finite 3-vector, got {v!r}")
+    return v
+
+
+def unit(v, name):
+    """``v`` (a nonzero finite 3-vector) normalised, or ``ValueError`` naming ``name``."""
+    v = vector3(v, name)
+    norm = float(np.linalg.norm(v))
+    if norm == 0.0:
+        raise ValueError(f"{name} must be a nonzero 3-vector, got {v!r}")
+    return v / norm
 
 
 def real_number(name, value, allow_zero=False, hint=""):

@@ -161,7 +161,9 @@ class Load(Protocol):
     ``system.orbit``, whose single arc a rectified run leaves behind.  A load whose term
     gives per-step numbers (``Term.outputs``) declares their names in ``step_outputs`` (a
     tuple of str, unique in the system; ``load_outputs``): the run records them at every
-    saved step (the store's ``output_<name>``, ``Result.outputs``)."""
+    saved step (the store's ``output_<name>``, ``Result.outputs``).  Per-step arrays
+    (a contact's forces per element) it declares in ``step_arrays(system)``, a dict of
+    their names and shapes: recorded the same way, ``(n_saved, *shape)``."""
 
     def bind(self, system):
         """The load's ``Term`` in ``system``."""
@@ -415,13 +417,25 @@ class StepHook(Checkpointed, Protocol):
         ...
 
 
-def load_outputs(system):
-    """The names of the per-step outputs the loads of ``system`` declare
-    (``step_outputs``, ``Load``), in the loads' order; a name declared twice is an
-    error."""
-    names = [name for load in system.loads for name in getattr(load, "step_outputs", ())]
+def load_output_shapes(system):
+    """``{name: shape}`` of the per-step outputs the loads of ``system`` declare, in the
+    loads' order: their numbers (``step_outputs``, shape ``()``) and arrays
+    (``step_arrays(system)``, ``Load``); a name declared twice is an error."""
+    pairs = []
+    for load in system.loads:
+        pairs += [(name, ()) for name in getattr(load, "step_outputs", ())]
+        arrays = getattr(load, "step_arrays", None)
+        pairs += [(name, tuple(shape)) for name, shape in
+                  (arrays(system) if arrays is not None else {}).items()]
+    names = [name for name, _ in pairs]
     twice = sorted({name for name in names if names.count(name) > 1})
     if twice:
         raise ValueError(f"two loads declare the step output {twice[0]!r}: give each its "
                          "own name")
-    return tuple(names)
+    return dict(pairs)
+
+
+def load_outputs(system):
+    """The names of the per-step outputs (numbers and arrays) the loads of ``system``
+    declare (``load_output_shapes``), in the loads' order."""
+    return tuple(load_output_shapes(system))

@@ -36,12 +36,13 @@ OUTPUT = "output_"
 def step_record(step):
     """The ``FIELDS`` of a saved step (a ``contract.Step``) as a dict, arrays copied, its
     inputs' values under ``input_<name>`` and the loads' outputs under
-    ``output_<name>``."""
+    ``output_<name>`` (a float, or an array copied: ``protocols.load_output_shapes``)."""
     record = {"t": step.t, "q": step.q.copy(), "v": step.v.copy(), "a": step.a.copy(),
               "lam": step.lam.copy(), "iterations": step.iterations}
     record.update({name: step.energies[name] for name in ENERGIES})
     record.update({INPUT + name: np.array(value) for name, value in step.inputs.items()})
-    record.update({OUTPUT + name: float(value) for name, value in step.outputs.items()})
+    record.update({OUTPUT + name: float(value) if np.ndim(value) == 0 else
+                   np.array(value, dtype=float) for name, value in step.outputs.items()})
     return record
 
 

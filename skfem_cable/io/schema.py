@@ -45,7 +45,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..core.inputs import system_inputs
-from ..core.protocols import SystemView, load_outputs
+from ..core.protocols import SystemView, load_output_shapes
 from ..core.records import ENERGIES, FIELDS, INPUT, OUTPUT
 from ..model.labels import POSITION, Points, dof_labels, multiplier_labels
 
@@ -174,8 +174,10 @@ def variables(system: SystemView, fields):
         key = INPUT + name
         spec[key] = Variable(key, ("time", *(f"{key}_{k}" for k in range(x.initial.ndim))),
                              x.initial.shape, "float64")
-    for name in load_outputs(system):
-        spec[OUTPUT + name] = Variable(OUTPUT + name, ("time",), (), "float64")
+    for name, shape in load_output_shapes(system).items():
+        key = OUTPUT + name
+        spec[key] = Variable(key, ("time", *(f"{key}_{k}" for k in range(len(shape)))),
+                             shape, "float64")
     points = Points(system)
     if "q" in fields and points:  # q's positions again: level 1, a third of the time
         spec["r"] = Variable("q", ("time", "body", "node", "component"),

@@ -23,8 +23,9 @@ loop of the line loads (``kernels.line.module``; the force and its exact tangent
   a cycle); the normal damping and the friction are booked as dissipation
   (``LinePoints.hook(point, dissipative=True)``).
 * Run store: the contact declares the per-step outputs ``<name>_<key>`` (``OUTPUTS``,
-  ``summary``; ``protocols.Load``'s ``step_outputs``), evaluated once per saved step from
-  the step's converged state (the one its broad phase keeps).
+  ``summary``; ``protocols.Load``'s ``step_outputs``) and the forces per element
+  (``ARRAYS``, ``step_arrays``), evaluated once per saved step from the step's converged
+  state (the one its broad phase keeps).
 """
 
 import warnings
@@ -48,6 +49,10 @@ ONSET = 0.1
 
 #: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
 OUTPUTS = ("elements", "normal", "tangential", "max_penetration", "friction_power")
+
+#: The per-step arrays of a contact (``step_arrays``), recorded as ``<name>_<key>``: the
+#: normal (ne,) and tangential (ne, 3) forces (N) of the surface on each element.
+ARRAYS = ("element_normal", "element_tangential")
 
 
 class ContactToleranceWarning(UserWarning):
@@ -160,6 +165,13 @@ class LineSurfaceContact(AlongCable):
     step_outputs = property(lambda self: tuple(f"{self.name}_{key}" for key in OUTPUTS),
                             doc="Recorded per saved step (protocols.Load): ``summary``.")
 
+    def step_arrays(self, system):
+        """The per-step arrays (``protocols.Load``) in ``system``: ``{<name>_<key>:
+        shape}`` of ``ARRAYS``, the normal (ne,) and tangential (ne, 3) forces (N) of the
+        surface on each element of the line (``resolve``)."""
+        ne = line_points(self.cable, system).shape[0]
+        return dict(zip((f"{self.name}_{key}" for key in ARRAYS), ((ne,), (ne, 3))))
+
     def __repr__(self):
         return (f"{type(self).__name__}({self.cable.name!r}, {self.surface!r}, "
                 f"friction={self.friction})")
@@ -211,12 +223,22 @@ class LineSurfaceContact(AlongCable):
         self.broad = broad
         return Term(kernels=kernels, rows=rows, cols=cols, name=f"contact {self.cable.name}",
                     prepare=broad.prepare, hooks=(broad,),
-                    outputs=lambda: self.step_values(points, broad.q, broad.v))
+                    outputs=lambda: self.step_values(system, points, broad.q, broad.v))
 
-    def step_values(self, points, q, v):
-        """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the line's
-        points ``points`` (the term's: the converged state its broad phase keeps)."""
-        return dict(zip(self.step_outputs, summary(self.evaluate(points, q, v)).values()))
+    def step_values(self, system, points, q, v):
+        """The per-step outputs ``{step_outputs: summary}`` and arrays (``step_arrays``:
+        the forces per element) at ``q``, ``v`` of the line's points ``points`` (the
+        term's: the converged state its broad phase keeps)."""
+        out = self.evaluate(system, points, q, v)
+        arrays = (f"{self.name}_{key}" for key in ARRAYS)
+        return {**dict(zip(self.step_outputs, summary(out).values())),
+                **dict(zip(arrays, (out["normal"], out["tangential"])))}
+
+    def seen(self, system, q, v, X, V):
+        """``(surface, V)``: the surface array (``kernels.contact``) at the coordinates
+        ``q`` and the velocities ``V`` (m, 3) of the points ``X`` relative to it (a fixed
+        surface: ``V``; ``loads.contact_body``: relative to the body)."""
+        return self.surface.surface_array(), V
 
     def forces(self, state):
         """The contact forces of the ``State`` ``state`` (``resolve`` of its ``system``,
@@ -231,7 +253,7 @@ class LineSurfaceContact(AlongCable):
         ``gap`` (ne,) the smallest gap (m; negative: penetration) and
         ``max_penetration`` (m).  Warns (``ContactToleranceWarning``) where the
         penetration exceeds ``tolerance d``."""
-        out = self.evaluate(line_points(self.cable, system), q, v)
+        out = self.evaluate(system, line_points(self.cable, system), q, v)
         depth = out["max_penetration"]
         if depth > self.tolerance * 2.0 * self.radius:
             warnings.warn(f"contact {self.cable.name}: penetration {depth:.3g} m exceeds "
@@ -240,17 +262,19 @@ class LineSurfaceContact(AlongCable):
                           ContactToleranceWarning, stacklevel=3)
         return out
 
-    def evaluate(self, points, q, v):
-        """``resolve`` over the line's points ``points`` (``LinePoints``), unchecked."""
+    def evaluate(self, system, points, q, v):
+        """``resolve`` over the line's points ``points`` (``LinePoints``) of ``system``,
+        unchecked."""
         X, _, V = points.at(q, v)
+        X, V = X.reshape(-1, 3), V.reshape(-1, 3)
+        surface, V = self.seen(system, q, v, X, V)
         ne, nq = points.shape
         normal, gap = np.empty(ne * nq), np.empty(ne * nq)
         tangential, resistance = np.empty((ne * nq, 3)), np.empty((ne * nq, 3))
-        kernel.resolve(self.surface.surface_array(), self.coefficients(kernel.ELASTIC),
-                       X.reshape(-1, 3), V.reshape(-1, 3), normal, tangential, resistance,
-                       gap)
+        kernel.resolve(surface, self.coefficients(kernel.ELASTIC), X,
+                       V, normal, tangential, resistance, gap)
         w = points.w.ravel()
-        power = float(np.sum(w * np.einsum("mi,mi->m", resistance, V.reshape(-1, 3))))
+        power = float(np.sum(w * np.einsum("mi,mi->m", resistance, V)))
         depth = float(max(0.0, -gap.min()))
         return {"normal": (w * normal).reshape(ne, nq).sum(axis=1),
                 "tangential": (w[:, None] * tangential).reshape(ne, nq, 3).sum(axis=1),
@@ -260,22 +284,21 @@ class LineSurfaceContact(AlongCable):
     def show(self, system, q, v, t, **detail):
         """What ParaView draws of the contact (``io.export``): a vertex at the mean of each
         element's points, with the point data ``contact_normal`` (N), ``contact_force``
-        (the normal and tangential force, N, a vector) and ``contact_gap`` (m) of the
-        element (``resolve``)."""
+        (the normal and tangential force, N, a vector), ``contact_tangential`` (the
+        tangential force, N, a vector) and ``contact_gap`` (m) of the element
+        (``resolve``)."""
         out = self.resolve(system, q, v)
         X, _, V = line_points(self.cable, system).at(q, v)
         centre = X.mean(axis=1)
-        normals = self.surface_normals(centre)
+        normals = np.empty_like(centre)
+        kernel.normals(self.seen(system, q, v, X.reshape(-1, 3), V.reshape(-1, 3))[0], centre,
+                       normals)
         force = out["normal"][:, None] * normals + out["tangential"]
         return Shape(centre, V.mean(axis=1), "vertex", np.arange(len(centre))[:, None],
                      PART_LOAD, data={"contact_normal": out["normal"],
-                                      "contact_force": force, "contact_gap": out["gap"]})
-
-    def surface_normals(self, x):
-        """Unit normals (n, 3) of the surface at the points ``x`` (n, 3)."""
-        normals = np.empty_like(x)
-        kernel.normals(self.surface.surface_array(), np.ascontiguousarray(x), normals)
-        return normals
+                                      "contact_force": force,
+                                      "contact_tangential": out["tangential"],
+                                      "contact_gap": out["gap"]})
 
     def watch(self):
         """An observer of a run (``simulate(..., observers=[contact.watch()])``) that

@@ -2,17 +2,10 @@
 
 import numpy as np
 
+from ..bodies.section import vector3
 from ..core.contract import Term
 from ..core.inputs import declared, reader
 from ..kernels import drives
-
-
-def vector3(v, name):
-    """``v`` as a finite 3-vector, or ``ValueError`` naming ``name``."""
-    v = np.asarray(v, dtype=float)
-    if v.shape != (3,) or not np.all(np.isfinite(v)):
-        raise ValueError(f"{name} must be a finite 3-vector, got {v!r}")
-    return v
 
 
 class PointLoad:

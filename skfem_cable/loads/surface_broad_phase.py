@@ -53,10 +53,15 @@ class BroadPhase(AcceptedState):
         place).
     skipped : int
         Element evaluations left out so far (one count per element and step).
+
+    ``seen(q, v, X, V)``, if given, returns the surface array and the points'
+    velocities relative to it at the accepted state (a surface carried by a body,
+    ``loads.contact_body``); the distance changes by at most the relative motion.
     """
 
-    def __init__(self, points, surface, radius, margin, onset, name):
+    def __init__(self, points, surface, radius, margin, onset, name, seen=None):
         self.points, self.surface, self.name = points, surface, name
+        self.seen = seen
         self.radius, self.margin, self.onset = float(radius), float(margin), float(onset)
         self.rho_inf, self.warned, self.shallow = 0.0, False, 0
         self.scale = np.ones(points.shape[0])
@@ -76,7 +81,12 @@ class BroadPhase(AcceptedState):
         q, v, t0 = self.q, self.v, self.t
         p = self.points
         line.points(p.edofs, p.S, p.Sx, q, v, self.X, self.A, self.V)
-        depth = -kernel.near(self.surface, self.X, self.V, self.radius, t - t0, self.margin,
+        surface, V = self.surface, self.V
+        if self.seen is not None:
+            shape = self.V.shape
+            surface, V = self.seen(q, v, self.X.reshape(-1, 3), self.V.reshape(-1, 3))
+            V = V.reshape(shape)
+        depth = -kernel.near(surface, self.X, V, self.radius, t - t0, self.margin,
                              self.scale)
         self.skipped += int(self.scale.size - np.count_nonzero(self.scale))
         self.check(depth)

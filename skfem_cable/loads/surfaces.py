@@ -15,18 +15,8 @@ Examples
 
 import numpy as np
 
-from ..bodies.section import check_positive
+from ..bodies.section import check_positive, unit, vector3
 from ..kernels import contact as kernel
-from .point import vector3
-
-
-def unit(v, name):
-    """``v`` (a nonzero finite 3-vector) normalised, or ``ValueError`` naming ``name``."""
-    v = vector3(v, name)
-    norm = float(np.linalg.norm(v))
-    if norm == 0.0:
-        raise ValueError(f"{name} must be a nonzero 3-vector, got {v!r}")
-    return v / norm
 
 
 class Surface:

@@ -5,6 +5,7 @@ chosen by what they declare (``protocols.Surface``: ``surface_array``; a line bo
 import itertools
 
 from ..loads.contact import LineSurfaceContact
+from ..loads.contact_body import LineBodyContact
 from ..loads.contact_lines import LineLineContact
 
 
@@ -27,12 +28,14 @@ def distinct(name, taken):
 
 def contact(first, second, friction=0.0, taken=(), **options):
     """The contact load of ``first`` and ``second`` (a line body and a surface, in either
-    order) with Coulomb's ``friction``; ``options`` of ``LineSurfaceContact`` (``radius``,
-    ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``, ``name``).  Two line
-    bodies (or one twice: self-contact) give a ``LineLineContact`` (its ``options``); two
-    surfaces raise ``ValueError``.  Without a ``name``, the default one numbered past the
-    names in ``taken`` (``distinct``: a line's second contact, ``contact_<line>_2``), so
-    that two contacts' per-step outputs do not clash."""
+    order; a surface carried by a rigid body, with its ``body``, gives a
+    ``LineBodyContact``) with Coulomb's ``friction``; ``options`` of
+    ``LineSurfaceContact`` (``radius``, ``stiffness``, ``tolerance``, ``damping``,
+    ``slip_velocity``, ``name``).  Two line bodies (or one twice: self-contact) give a
+    ``LineLineContact`` (its ``options``); two surfaces raise ``ValueError``.  Without a
+    ``name``, the default one numbered past the names in ``taken`` (``distinct``: a
+    line's second contact, ``contact_<line>_2``), so that two contacts' per-step outputs
+    do not clash."""
     load = _contact(first, second, friction, **options)
     if "name" not in options:
         load.name = distinct(load.name, set(taken))
@@ -42,10 +45,11 @@ def contact(first, second, friction=0.0, taken=(), **options):
 def _contact(first, second, friction, **options):
     """``contact`` by the roles of ``first`` and ``second``."""
     roles = (role(first, "first"), role(second, "second"))
-    if roles == ("line", "surface"):
-        return LineSurfaceContact(first, second, friction, **options)
-    if roles == ("surface", "line"):
-        return LineSurfaceContact(second, first, friction, **options)
+    if roles in (("line", "surface"), ("surface", "line")):
+        line, surface = (first, second) if roles[0] == "line" else (second, first)
+        carried = getattr(surface, "body", None) is not None
+        return (LineBodyContact if carried else LineSurfaceContact)(line, surface, friction,
+                                                                    **options)
     if roles == ("line", "line"):
         return LineLineContact(first, second, friction, **options)
     raise ValueError(f"contact between two surfaces ({first!r}, {second!r}): fixed surfaces "

@@ -174,8 +174,10 @@ class Layout:
 
     def _border(self, system):
         """Unknowns of the hubs (bodies joined to ``HUB_PARTNERS`` or more others, such
-        as the E-sail's hub): their coordinates and the multipliers of the constraints on
-        them alone; and coordinates with more than ``DENSE_ROW`` entries in their row.
+        as the E-sail's hub) and coordinates with more than ``DENSE_ROW`` entries in their
+        row (a reel's length; a rigid body whose surface a line touches,
+        ``loads.contact_body``), with the multipliers of the constraints on those
+        coordinates alone (a pivot-free elimination of the rest needs them last).
         Ordered last by the linear solver, they keep the band narrow
         (``linalg.PatternSolver``)."""
         owner = np.empty(system.n_dofs, dtype=np.int64)
@@ -189,11 +191,12 @@ class Layout:
         count = [len(p) for p in partners]
         hubs = {b for b, p in enumerate(partners)
                 if count[b] >= self.HUB_PARTNERS and all(count[o] <= count[b] for o in p)}
-        parts = [system.dofs(system.bodies[b]) for b in sorted(hubs)]
-        parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
-                  if d.size and set(owner[d].tolist()) <= hubs]
         counts = np.diff(self.indptr)[:system.n_dofs]
+        parts = [system.dofs(system.bodies[b]) for b in sorted(hubs)]
         parts.append(np.flatnonzero(counts > self.DENSE_ROW))
+        coordinates = np.unique(np.concatenate(parts))
+        parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
+                  if d.size and np.isin(d, coordinates).all()]
         return np.unique(np.concatenate(parts)).astype(np.int64)
 
     @staticmethod

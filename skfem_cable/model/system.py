@@ -279,6 +279,8 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         ``sc.Cylinder``), in either order, with Coulomb's ``friction`` (``mu >= 0``):
         ``loads.contact.LineSurfaceContact`` and its ``options`` (``radius``,
         ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``; ``docs/contact.md``).
+        A surface carried by a rigid body (``body.cylinder(...)``, ``body.plane``,
+        ``body.sphere``): ``loads.contact_body.LineBodyContact``, coupling the body.
         Two line bodies, or one twice (self-contact): ``loads.contact_lines.LineLineContact``
         (``model.contact``).  Its per-step outputs (``docs/contact.md``) are prefixed by
         its ``name`` (option; default ``contact_<line>``, numbered ``_2``, ... past the

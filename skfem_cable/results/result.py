@@ -57,7 +57,8 @@ class Result:
     outputs : dict
         The loads' numbers at each saved step (``Term.outputs``), by the names the loads
         declare (``step_outputs``): ``(nt,)`` arrays (e.g. the OML current,
-        ``ElectrodynamicForce``).
+        ``ElectrodynamicForce``), and ``(nt, *shape)`` for the arrays they declare
+        (``step_arrays``: a contact's forces per element).
     reference : orbit.Reference or None
         In orbit, the reference the offsets were computed against (the run's: the
         orbit's arcs and the rectification's rebases); its ``position(t)``, ``lvlh(t)``,
