@@ -137,8 +137,15 @@ def first_shared(box, span, i, j, shape):
     return key
 
 
+@njit(cache=True, inline="always")
+def _listed(keys, key):
+    """True when ``key`` is in the sorted ``keys``."""
+    at = np.searchsorted(keys, key)
+    return at < keys.size and keys[at] == key
+
+
 @njit(cache=True)
-def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
+def candidates(X, V, ends, line, arc, exclusion, excluded, margin, dt, box, pairs):
     """The pairs of segments that the step of ``dt`` may bring into touch, into
     ``pairs``; returns how many there are (more than ``len(pairs)``: only the first were
     written).
@@ -147,12 +154,14 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
     whose boxes overlap (``boxes``, found on a grid: module notes) and whose segments are
     within ``margin`` and both reaches (``distance``).  Pairs of one line (``line``)
     closer than ``exclusion`` along it (``arc``, (nseg, 2)) are dropped;
-    ``exclusion < 0``: every pair of one line is.  ``box`` (nseg, 7) is scratch."""
+    ``exclusion < 0``: every pair of one line is.  The pairs whose keys ``i nseg + j``
+    (``i < j``) are in the sorted ``excluded`` are dropped too (next to a joint two lines
+    share, ``loads.contact_joints``).  ``box`` (nseg, 7) is scratch."""
     boxes(X, V, ends, margin, dt, box)
     low, cell, shape = grid(box)
     keys, owner, starts, span = binned(box, low, cell, shape)
     P = np.empty((4, 3))
-    count = 0
+    count, nseg = 0, ends.shape[0]
     for bucket in range(len(starts) - 1):
         for u in range(starts[bucket], starts[bucket + 1]):
             for w in range(u + 1, starts[bucket + 1]):
@@ -166,6 +175,8 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
                         continue
                     if max(arc[i, 0] - arc[j, 1], arc[j, 0] - arc[i, 1]) < exclusion:
                         continue
+                elif _listed(excluded, i * nseg + j):
+                    continue
                 if distance(X, ends, i, j, P) > margin + box[i, 6] + box[j, 6]:
                     continue
                 if count < pairs.shape[0]:
