@@ -11,61 +11,17 @@ import skfem_cable as sc
 from skfem_cable.core.contract import Evaluation
 from skfem_cable.loads.contact_lines import PAIRS_PER_SEGMENT, BroadPhase
 from skfem_cable.scenes import esail
+from skfem_cable.scenes.esail_tangle import CrossingRig, crossing_sail
 
-#: The capstan's rope (EA = 1e5 N, d = 1 cm) without its material damping.
-ROPE = sc.Section.circular(5e-3, 1.27e9, 1273.0)
-#: Hub radius and height, tether length (m); the tethers' strain after the ramp (s).
-R, H, L, STRAIN, RAMP = 0.15, 0.04, 1.0, 0.01, 0.1
-#: The rope's diameter (m), the stated tolerance of the default contact (of d), the
-#: arc (m) along tether 2 where tether 1 crosses it, and the drop (m) of tether 1's tip.
-D, TOLERANCE, CROSS, DROP, GAP = 1e-2, 1e-2, 0.5, 0.02, 2e-3
-#: The run (s) and its step.
+#: The stated tolerance of the default contact (of d = 1 cm), the rig, the run (s) and its
+#: step.
+TOLERANCE, RIG, D = 1e-2, CrossingRig(), 1e-2
 T_END, DT = 0.45, 1e-4
 
 
-def smooth(u):
-    """0 before 0, 1 after 1, ``3 u^2 - 2 u^3`` between."""
-    u = min(max(u, 0.0), 1.0)
-    return u * u * (3.0 - 2.0 * u)
-
-
-def held(root, tip, drop=(0.0, 0.0, 0.0)):
-    """A tip target: ``tip`` moved away from ``root`` by ``STRAIN`` over ``RAMP``, then by
-    ``drop`` over the next 0.3 s."""
-    root, tip, drop = (np.asarray(x, float) for x in (root, tip, drop))
-
-    def target(t):
-        return tip + STRAIN * smooth(t / RAMP) * (tip - root) + smooth((t - RAMP) / 0.3) * drop
-    return target
-
-
 def sail(tangent=None):
-    """Four tethers (3 elements each, the capstan's rope: EA = 1e5 N, d = 1 cm) pinned to
-    the rim of a free hub (its axis along x) at azimuths 0, 90, 180 and 270 deg, their
-    tips held and stretched by 1 %.  Tether 1 leaves the hub's top face (x = H/2) towards
-    tether 2, across it ``CROSS`` from its root and 0.2 mm above touching; its tip then
-    drops by ``DROP`` along -x.  ``(system, hub, tethers, contact)``."""
-    hub = sc.RigidBody.cylinder(R, H, 1e8)       # 2.8e6 kg: it barely moves
-    zeta = np.deg2rad([0, 90, 180, 270])
-    anchors = [np.array([0.0, R * np.cos(z), R * np.sin(z)]) for z in zeta]
-    anchors[0][0] = H / 2
-    tips = [a + L * np.array([0.0, np.cos(z), np.sin(z)]) for a, z in zip(anchors, zeta)]
-    cross = np.array([0.0, 0.0, R + CROSS])                    # on tether 2's line
-    along = np.linalg.norm(cross[1:] - anchors[0][1:])
-    share = along / L                                          # of tether 1 at the crossing
-    direction = np.append(0.0, (cross - anchors[0])[1:] / along)
-    tip1 = anchors[0] + L * direction
-    tip1[0] = H / 2 + (D + GAP - H / 2) / share                # GAP above at the crossing
-    tips[0] = anchors[0] + L * (tip1 - anchors[0]) / np.linalg.norm(tip1 - anchors[0])
-    tethers = [sc.Cable.straight(a, t, 3, ROPE, name=f"tether{k + 1}")
-               for k, (a, t) in enumerate(zip(anchors, tips))]
-    system = sc.System([hub, *tethers])
-    for k, (cable, a, t) in enumerate(zip(tethers, anchors, tips)):
-        system.pin(cable.node(0), hub.point(a))
-        drop = (-DROP / share, 0.0, 0.0) if k == 0 else (0.0, 0.0, 0.0)
-        system.pin(cable.node(-1), held(a, t, drop))
-    system.contact(tethers, tangent=tangent)
-    return system, hub, tethers, system.loads[-1]
+    """``crossing_sail``: four tethers, tether 1 lowered across tether 2."""
+    return crossing_sail(4, 3, tangent)
 
 
 @pytest.fixture(scope="module")
@@ -103,7 +59,7 @@ def test_own_tangent_keeps_the_sails_pattern(runs):
 
 def test_tether_stops_on_its_neighbour(runs):
     """Tether 1, lowered across tether 2, stops on it: one contact, at the crossing
-    (``CROSS`` from tether 2's root), penetrating less than the stated tolerance d; the
+    (``RIG.cross`` from tether 2's root), penetrating less than the stated tolerance d; the
     contact's forces on the two tethers are equal and opposite (1e-9), none on the
     others; the books close to 5e-6 of the work (measured 2.9e-6, as the slide of
     ``tests/test_contact_lines.py``: the contact point crosses the joints of the sampled
@@ -114,7 +70,7 @@ def test_tether_stops_on_its_neighbour(runs):
     assert len(out["normal"]) == 1 and out["normal"][0] > 10.0
     assert 0.0 < out["max_penetration"] < TOLERANCE * D
     assert out["lines"].tolist() == [[0, 1]]
-    assert out["arc"][0, 1] == pytest.approx(CROSS, abs=0.05)
+    assert out["arc"][0, 1] == pytest.approx(RIG.cross, abs=0.05)
     assert out["first"][0, 0] > out["second"][0, 0]              # tether 1 stays above
     forces = resultants(system, contact, state.q, state.v, tethers)
     assert np.abs(forces[0] + forces[1]).max() < 1e-9 * np.abs(forces[0]).max()

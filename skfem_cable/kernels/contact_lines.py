@@ -281,6 +281,8 @@ def kernel(pack, index, ev):
     1: the points' own elements only, module notes)."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     edofs, S, segments, pairs, count, coef, local, own = pack
+    if count[0] == 0:
+        return
     cK, cC, dynamic = s[1], s[2] if s[3] != 0.0 else 0.0, s[3] != 0.0
     want = data.size > 0
     flat = index.ravel()

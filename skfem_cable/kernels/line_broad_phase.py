@@ -3,16 +3,16 @@ of segments of the lines' sampled centrelines that a time step may bring into to
 the narrow phase (``kernels.contact_lines``).
 
 Each segment's axis-aligned box is inflated by half the margin and by its reach (twice
-the distance its faster end travels over the step).  The boxes are binned on a uniform
-grid whose cell is the median of the boxes' largest sides (a typical box covers one or
-two cells along each axis), by a counting sort on a hash of the cells; the pairs of
-boxes sharing a cell are tested (box overlap, once: in the cell of the lower corner of
-their intersection).  A sweep and prune along one axis (the first version) is quadratic
-where the boxes are spread over a plane or a volume, as a radial star of tethers is.  Of
-the overlapping pairs it keeps those whose segments are within the margin and both
-reaches (``distance``): a segment is a convex combination of its ends, so the distance
-of two segments changes by at most the distances their ends move, and a dropped pair
-cannot touch within the step.
+the distance its faster end travels over the step). The boxes are binned on a uniform
+grid whose cell is twice the median of the boxes' largest sides (``CELL_SIDES``: a
+typical box covers one to three cells along each axis), by a counting sort on a hash of
+the cells; the pairs of boxes sharing a cell are tested (box overlap, once: in the cell
+of the lower corner of their intersection). A sweep and prune along one axis (the first
+version) is quadratic where the boxes are spread over a plane or a volume, as a radial
+star of tethers is. Of the overlapping pairs it keeps those whose segments are within
+the margin and both reaches (``distance``): a segment is a convex combination of its
+ends, so the distance of two segments changes by at most the distances their ends move,
+and a dropped pair cannot touch within the step.
 """
 
 import math
@@ -21,6 +21,13 @@ import numpy as np
 from numba import njit
 
 from .contact_lines import closest
+
+#: The grid's cell in medians of the boxes' largest sides: on the 12-tether sail (588
+#: segments, ``benchmarks/contact_cost.py``'s state) one refresh took 0.42 ms with one
+#: median (4441 box-cell entries), 0.19 ms with two (1813), 0.17 ms with four; on the
+#: full-size sail (4900 segments) 4.8, 4.5 and 4.8 ms (the hub's cells, where every
+#: tether's first segments meet, dominate).
+CELL_SIDES = 2.0
 
 #: The most cells along the grid's axes together (their product is a 64-bit key).
 MOST_CELLS = 2**60
@@ -60,15 +67,15 @@ def boxes(X, V, ends, margin, dt, box):
 @njit(cache=True)
 def grid(box):
     """``(low, cell, shape)``: the grid's lower corner (3,), its cell size and its number
-    of cells along each axis (3,): the cell is the median of the boxes' largest sides
-    (grown until the cells number at most ``MOST_CELLS``)."""
+    of cells along each axis (3,): the cell is ``CELL_SIDES`` medians of the boxes'
+    largest sides (grown until the cells number at most ``MOST_CELLS``)."""
     low, shape = np.empty(3), np.empty(3, dtype=np.int64)
     side = np.zeros(box.shape[0])
     for i in range(3):
         low[i] = box[:, i].min()
         for k in range(box.shape[0]):
             side[k] = max(side[k], box[k, 3 + i] - box[k, i])
-    cell = max(np.median(side), 1e-300)
+    cell = max(CELL_SIDES * np.median(side), 1e-300)
     while True:
         total = 1.0
         for i in range(3):

@@ -40,6 +40,7 @@ from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
 from ..kernels import contact_lines as kernel
 from ..kernels import line_broad_phase
+from ..kernels.line import points as line_points_kernel
 from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
 from .contact_joints import excluded_pairs
@@ -129,20 +130,24 @@ class BroadPhase(AcceptedState):
         self.ends = np.column_stack([rows[:, 0] * nq + rows[:, 1], rows[:, 2] * nq + rows[:, 3]])
         self.exclusion = -1.0 if exclusion is None else float(exclusion)
         self.margin, self.box = float(margin), np.empty((len(rows), 7))
+        self.scratch = tuple(np.empty(points.shape + (3,)) for _ in range(3))
         self.pairs, self.count = pairs, count
         self.accept(q0, np.zeros_like(q0), 0.0)
 
     def prepare(self, t):
         """The candidate pairs for the step to ``t`` into ``pairs[:count[0]]`` (once per
-        time; ``kernels.line_broad_phase.candidates``)."""
+        time; ``kernels.line_broad_phase.candidates``).  A time before the kept state's
+        (a new run's first evaluation, before its hooks start) reaches nothing."""
         t = float(t)
         if t == self.done:
             return
-        X, _, V = self.points.at(self.q, self.v)
+        X, A, V = self.scratch
+        points = self.points
+        line_points_kernel(points.edofs, points.S, points.Sx, self.q, self.v, X, A, V)
         found = line_broad_phase.candidates(X.reshape(-1, 3), V.reshape(-1, 3), self.ends,
                                             self.line, self.arc, self.exclusion,
-                                            self.excluded, self.margin, abs(t - self.t), self.box,
-                                            self.pairs)
+                                            self.excluded, self.margin, max(t - self.t, 0.0),
+                                            self.box, self.pairs)
         if found > len(self.pairs):
             raise RuntimeError(f"line contact: {found} candidate pairs exceed the "
                                f"capacity {len(self.pairs)}: give capacity= larger")
@@ -276,12 +281,13 @@ class LineLineContact:
                 local, int(own))
         return Term(kernels=((kernel.kernel, pack),), rows=block[0], cols=block[1],
                     prepare=broad.prepare, hooks=(broad,), name=self.name,
-                    outputs=lambda: self.step_values(system, tables, broad.q, broad.v))
+                    outputs=lambda: self.step_values(system, tables, broad))
 
-    def step_values(self, system, tables, q, v):
-        """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the lines'
-        ``tables`` (the term's: the converged state its broad phase keeps)."""
-        out = self.evaluate(system, tables, q, v)
+    def step_values(self, system, tables, broad):
+        """The per-step outputs ``{step_outputs: summary}`` of the lines' ``tables`` at the
+        converged state the term's ``broad`` phase keeps, over its pairs (those of the
+        step that ended there)."""
+        out = self.evaluate(system, tables, broad.q, broad.v, broad)
         return dict(zip(self.step_outputs, summary(out).values()))
 
     def contacts(self, system, q, v=None):
@@ -301,16 +307,18 @@ class LineLineContact:
                           ContactToleranceWarning, stacklevel=2)
         return out
 
-    def evaluate(self, system, tables, q, v=None):
-        """``contacts`` over the lines' ``tables`` (``tables``), unchecked."""
+    def evaluate(self, system, tables, q, v=None, broad=None):
+        """``contacts`` over the lines' ``tables`` (``tables``), unchecked, over the pairs
+        of ``broad`` (default: a broad phase of their own at ``q``)."""
         points, rows, arc, line = tables[:4]
         v = np.zeros_like(q) if v is None else v
-        broad = self.broad_phase(system, tables, q)
-        broad.prepare(0.0)
+        if broad is None:
+            broad = self.broad_phase(system, tables, q)
+            broad.prepare(0.0)
         out = np.empty((broad.count[0], 17))
-        n = kernel.resolve(points.edofs, points.S, rows, broad.pairs, broad.count,
-                           self.coefficients, np.ascontiguousarray(q, float),
-                           np.ascontiguousarray(v, float), out)
+        n = 0 if broad.count[0] == 0 else kernel.resolve(
+            points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
+            np.ascontiguousarray(q, float), np.ascontiguousarray(v, float), out)
         out = out[:n]
         depth = float(out[:, 2].max(initial=0.0))
         power = float(np.einsum("mi,mi->", out[:, 9:12], out[:, 12:15]))
