@@ -39,7 +39,8 @@ The own tangent (``own`` 1 in the pack): of ``d(c_j f)/dP_k`` only the blocks wh
 points ``P_j`` and ``P_k`` are in one element enter the iteration matrix, so the term adds
 no entry the lines' own elements do not have (the E-sail's tethers stay band blocks of
 their own).  The residual is unchanged: Newton converges to the same state, linearly
-while two lines touch.
+while two lines touch, by the spectral radius of ``J_own^-1 (J - J_own)``, below 1 only
+where the penalty is below the touching points' mass term (``docs/contact.md``).
 """
 
 import math

@@ -26,8 +26,10 @@ exact tangents), over the candidate pairs of a broad phase refreshed once per ti
   (the exact tangent: contact may couple any element of one with any of the other), the
   default for two lines or one; ``"own"``, each element's own block (the entries that
   couple different elements, of one line or two, left out: the residual stays exact,
-  Newton converges linearly while lines touch), the default for more lines, which keeps
-  the pattern of a system such as the E-sail whose solver factors each cable apart.
+  Newton converges linearly while lines touch, and only at steps where the penalty is
+  below the touching points' mass term, ``docs/contact.md``), the default for more
+  lines, which keeps the pattern of a system such as the E-sail whose solver factors
+  each cable apart.
 * Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``), evaluated
   once per saved step from the step's converged state (the one its broad phase keeps).
 """
