@@ -111,3 +111,22 @@ def test_the_hub_exclusion_removes_the_root_pairs():
     assert len(found["all"]) == 6 and np.all(roots < scene.config.tether_length / 2)
     assert len(found["excluded"]) == 0
     assert np.all(np.isin(found["all"][:, 0] * len(rows) + found["all"][:, 1], excluded))
+
+
+def test_contact_over_many_lines_names_what_is_wrong():
+    """``system.contact(lines)``: a surface among the lines, lines of different radii, a
+    radius per line of the wrong length and an unknown tangent each raise an error
+    naming the parameter; the defaults: ``"full"`` for two lines, ``"own"`` for more."""
+    a, b, c = (sc.Cable.straight([0, k, 0], [1, k, 0], 2, sc.Section.circular(
+        0.01 if k < 2 else 0.02, 1e9, 1000.0), name=f"c{k}") for k in range(3))
+    system = sc.System([a, b, c])
+    with pytest.raises(TypeError, match=r"first\[1\]"):
+        system.contact([a, sc.Plane([0, 0, 0], [0, 0, 1])])
+    with pytest.raises(ValueError, match="radius"):
+        system.contact([a, b, c])
+    with pytest.raises(ValueError, match="radius must be one value or one per line"):
+        system.contact([a, b], radius=(0.01, 0.01, 0.01))
+    with pytest.raises(ValueError, match="tangent must be one of"):
+        system.contact([a, b], tangent="dense")
+    assert system.contact([a, b]).loads[-1].tangent == "full"
+    assert system.contact([a, b, c], radius=0.01).loads[-1].tangent == "own"

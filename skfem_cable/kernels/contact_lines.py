@@ -278,8 +278,9 @@ def kernel(pack, index, ev):
     contact: ``pack = (edofs, S, segments, pairs, count, coef, local, own)``, the
     candidate pairs ``pairs[:count[0]]`` of rows of ``segments`` (refreshed by the broad
     phase, ``loads.contact_lines``); ``index`` the dense block over ``local`` (``own``
-    0: the exact tangent) or the blocks (ne, 3 nf, 3 nf) of the lines' elements (``own``
-    1: the points' own elements only, module notes)."""
+    0: the exact tangent) or the blocks (ne, (3 nf)^2) of the lines' elements, row-major
+    (``own`` 1: the points' own elements only, module notes).  Both are 2-D: the two
+    patterns share one compiled signature."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
     edofs, S, segments, pairs, count, coef, local, own = pack
     if count[0] == 0:

@@ -203,7 +203,11 @@ class LineLineContact:
         if len(distinct) != len(lines) and not (self.self_contact and len(lines) == 2):
             raise ValueError("lines must be distinct (one body twice only for self-contact)")
         self.lines = tuple(distinct)
-        radii = np.broadcast_to(np.asarray(radius, dtype=object), (len(lines),))
+        radii = np.asarray(radius, dtype=object)
+        if radii.ndim and radii.shape != (len(lines),):
+            raise ValueError(f"radius must be one value or one per line ({len(lines)}), "
+                             f"got {radius!r}")
+        radii = np.broadcast_to(radii, (len(lines),))
         self.radii = tuple(_radius(body, r) for body, r in zip(checked, radii))
         if len(lines) > 2 and max(self.radii) > min(self.radii):
             raise ValueError(f"radius: more than two lines must have one radius, got "
@@ -277,8 +281,9 @@ class LineLineContact:
         local = np.full(system.n_dofs, -1, dtype=np.int64)
         local[dofs] = np.arange(len(dofs))
         own = self.tangent == "own"
-        block = (points.edofs[:, :, None], points.edofs[:, None, :]) if own \
-            else (dofs[:, None], dofs[None, :])
+        nde = points.edofs.shape[1]     # own: each element's block, flat per element
+        block = (np.repeat(points.edofs, nde, axis=1), np.tile(points.edofs, (1, nde))) \
+            if own else (dofs[:, None], dofs[None, :])
         pack = (points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
                 local, int(own))
         return Term(kernels=((kernel.kernel, pack),), rows=block[0], cols=block[1],
