@@ -14,7 +14,8 @@
    found, located (which tethers, where along each) and held: the penetration stays
    below the stated tolerance, the forces are equal and opposite.
 
-Run ``python demos/esail_tangle.py`` (about 25 s of CPU with the kernels compiled);
+Run ``python demos/esail_tangle.py`` (6 s of CPU with the kernels compiled, about 30 s
+with compiling);
 ``tests/test_esail_tangle.py`` checks the small sail (with 4 tethers).
 """
 
