@@ -123,6 +123,14 @@ ENTRIES = (
           "1 %", "tests/test_contact.py::test_capstan_slides_at_exp_mu_theta",
           "The rope on the drum with the drum's force on each element (arrows: normal and "
           "friction), and the tension along the arc."),
+    Entry("esail_tangle.py",
+          "penetration where tether 1 of a four-tether sail is pressed across tether 2 "
+          "(the contact over all the tethers, each element's own tangent), against the "
+          "stated tolerance `1e-2 d`",
+          "< 1e-4 m", "tests/test_esail_tangle.py::test_tether_stops_on_its_neighbour",
+          "A small sail whose tether 1 is pressed across tether 2: the contact force on "
+          "both (arrows); the contacts in time; the closest approach of the baseline "
+          "sail's tethers with one tether's voltage off and the spin halved (no contact)."),
     Entry("kapitza.py",
           "largest tilt of the rod with the pivot amplitude 5 % above the Floquet threshold "
           "(and 5 % below it: > 1 rad; the threshold against Kapitza's estimate: relative "

@@ -20,6 +20,8 @@ R, LIE, HANG, G = 0.05, 0.5, 0.6, 9.81
 ROPE = sc.Section(E=CAPSTAN_ROPE.E, A=CAPSTAN_ROPE.A, I=1e-5 / CAPSTAN_ROPE.E,
                   rho=CAPSTAN_ROPE.rho, gamma_axial=1e-4)
 RC = np.sqrt(ROPE.A / np.pi)                  # the rope's cross-section radius (5 mm)
+#: No pair excluded next to a joint (``candidates``' ``excluded``).
+NONE = np.zeros(0, dtype=np.int64)
 EDGE = sc.Edge([0, 0, 0], [0, 1, 0], [1, 0, 0], R)
 
 
@@ -126,7 +128,7 @@ def test_the_line_broad_phase_keeps_only_near_pairs():
     def found(margin, dt, speed):
         V = np.zeros_like(X)
         V[2:, 1] = speed
-        return candidates(X, V, ends, line, arc, -1.0, margin, dt, np.empty((2, 7)),
+        return candidates(X, V, ends, line, arc, -1.0, NONE, margin, dt, np.empty((2, 7)),
                           np.zeros((4, 2), dtype=np.int64))
 
     assert found(0.01, 0.0, 0.0) == 0                  # boxes overlap, segments apart
@@ -149,7 +151,7 @@ def test_the_grid_finds_what_all_pairs_find():
     line, arc = np.arange(400) // 10, np.zeros((400, 2))
     margin, dt, box = 0.2, 0.3, np.empty((400, 7))
     pairs = np.zeros((4000, 2), dtype=np.int64)
-    n = candidates(X, V, ends, line, arc, -1.0, margin, dt, box, pairs)
+    n = candidates(X, V, ends, line, arc, -1.0, NONE, margin, dt, box, pairs)
     reach = 2 * dt * np.linalg.norm(V, axis=1).reshape(2, 400).max(axis=0)
     P = np.empty((4, 3))
     expected = {(i, j) for i in range(400) for j in range(i + 1, 400)

@@ -34,6 +34,13 @@ booked as stored energy (``contract.AXIAL``); the friction as dissipation.
 A pair counts where each closest point is inside its segment or at an end of its line:
 a closest point at a joint of two segments of one line is the other segment's (no force
 counted twice where the contact crosses a joint).
+
+The own tangent (``own`` 1 in the pack): of ``d(c_j f)/dP_k`` only the blocks where the
+points ``P_j`` and ``P_k`` are in one element enter the iteration matrix, so the term adds
+no entry the lines' own elements do not have (the E-sail's tethers stay band blocks of
+their own).  The residual is unchanged: Newton converges to the same state, linearly
+while two lines touch, by the spectral radius of ``J_own^-1 (J - J_own)``, below 1 only
+where the penalty is below the touching points' mass term (``docs/contact.md``).
 """
 
 import math
@@ -235,37 +242,49 @@ def _scatter(edofs, S, sa, sb, vec, out, sign):
 
 
 @njit(cache=True)
-def _scatter_tangent(edofs, S, sa, sb, local, index, G, data):
-    """``data -= S_jA S_kB G[j i, k l]`` at the positions of the coordinates' pairs
-    (``index``, flat, of the dense block over ``local``)."""
-    nd = int(round(math.sqrt(index.size)))
-    nf = S.shape[2]
+def _scatter_tangent(edofs, S, sa, sb, local, own, index, G, data):
+    """``data -= S_jA S_kB G[j i, k l]`` at the positions ``index`` (flat) of the pairs of
+    coordinates: with ``own`` 0, of the dense block over ``local``; with ``own`` 1, of
+    the blocks of the lines' elements (``edofs``), leaving out the entries that couple
+    points of different elements (module notes)."""
+    nf, nde = S.shape[2], edofs.shape[1]
+    nd = 0 if own else int(round(math.sqrt(index.size)))
     for j in range(4):
         sj = sa if j < 2 else sb
         ej, gj = sj[2 * (j % 2)], sj[2 * (j % 2) + 1]
         for k in range(4):
             sk = sa if k < 2 else sb
             ek, gk = sk[2 * (k % 2)], sk[2 * (k % 2) + 1]
+            if own and ej != ek:
+                continue
             for A in range(nf):
                 for B in range(nf):
                     w = S[ej, gj, A] * S[ek, gk, B]
                     if w == 0.0:
                         continue
                     for i in range(3):
-                        row = local[edofs[ej, 3 * A + i]]
                         for m in range(3):
-                            col = local[edofs[ek, 3 * B + m]]
-                            data[index[row * nd + col]] -= w * G[3 * j + i, 3 * k + m]
+                            if own:
+                                at = (ej * nde + 3 * A + i) * nde + 3 * B + m
+                            else:
+                                at = local[edofs[ej, 3 * A + i]] * nd \
+                                    + local[edofs[ek, 3 * B + m]]
+                            data[index[at]] -= w * G[3 * j + i, 3 * k + m]
 
 
 @njit(cache=True)
 def kernel(pack, index, ev):
     """The hook of the evaluation contract (``contract.Term.kernels``) of a line-to-line
-    contact: ``pack = (edofs, S, segments, pairs, count, coef, local)``, the candidate
-    pairs ``pairs[:count[0]]`` of rows of ``segments`` (refreshed by the broad phase,
-    ``loads.contact_lines``); ``index`` the dense block over ``local``."""
+    contact: ``pack = (edofs, S, segments, pairs, count, coef, local, own)``, the
+    candidate pairs ``pairs[:count[0]]`` of rows of ``segments`` (refreshed by the broad
+    phase, ``loads.contact_lines``); ``index`` the dense block over ``local`` (``own``
+    0: the exact tangent) or the blocks (ne, (3 nf)^2) of the lines' elements, row-major
+    (``own`` 1: the points' own elements only, module notes).  Both are 2-D: the two
+    patterns share one compiled signature."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, S, segments, pairs, count, coef, local = pack
+    edofs, S, segments, pairs, count, coef, local, own = pack
+    if count[0] == 0:
+        return
     cK, cC, dynamic = s[1], s[2] if s[3] != 0.0 else 0.0, s[3] != 0.0
     want = data.size > 0
     flat = index.ravel()
@@ -299,15 +318,15 @@ def kernel(pack, index, ev):
                 G[i, j] = cK * K[i, j]
                 if friction:
                     G[i, j] += cK * Kd[i, j] + cC * Cd[i, j]
-        _scatter_tangent(edofs, S, sa, sb, local, flat, G, data)
+        _scatter_tangent(edofs, S, sa, sb, local, own, flat, G, data)
 
 
 @njit(cache=True)
 def resolve(edofs, S, segments, pairs, count, coef, q, v, out):
     """The active contacts at ``q``, ``v``: rows ``[pair, N, p, x_a (3), x_b (3),
-    f_t (3), v_t (3)]`` of ``out`` (capacity, 15), ``f_t`` the friction on line a and
-    ``v_t`` its slip on line b; returns how many (for outputs,
-    ``loads.contact_lines``)."""
+    f_t (3), v_t (3), s, t]`` of ``out`` (capacity, 17), ``f_t`` the friction on line a,
+    ``v_t`` its slip on line b and ``s``, ``t`` the closest points' parameters on the
+    segments; returns how many (for outputs, ``loads.contact_lines``)."""
     P, V = np.empty((4, 3)), np.zeros((4, 3))
     F, Fd = np.zeros(12), np.zeros(12)
     K = np.zeros((12, 12))
@@ -334,5 +353,6 @@ def resolve(edofs, S, segments, pairs, count, coef, q, v, out):
             row[6 + i] = P[2, i] + t * (P[3, i] - P[2, i])
             row[9 + i] = Fd[i] / (1.0 - s) if s < 1.0 else Fd[3 + i] / s
             row[12 + i] = work[16, 3 + i] if coef[FRICTION] > 0.0 else 0.0
+        row[15], row[16] = s, t
         active += 1
     return active

@@ -3,16 +3,16 @@ of segments of the lines' sampled centrelines that a time step may bring into to
 the narrow phase (``kernels.contact_lines``).
 
 Each segment's axis-aligned box is inflated by half the margin and by its reach (twice
-the distance its faster end travels over the step).  The boxes are binned on a uniform
-grid whose cell is the median of the boxes' largest sides (a typical box covers one or
-two cells along each axis), by a counting sort on a hash of the cells; the pairs of
-boxes sharing a cell are tested (box overlap, once: in the cell of the lower corner of
-their intersection).  A sweep and prune along one axis (the first version) is quadratic
-where the boxes are spread over a plane or a volume, as a radial star of tethers is.  Of
-the overlapping pairs it keeps those whose segments are within the margin and both
-reaches (``distance``): a segment is a convex combination of its ends, so the distance
-of two segments changes by at most the distances their ends move, and a dropped pair
-cannot touch within the step.
+the distance its faster end travels over the step). The boxes are binned on a uniform
+grid whose cell is twice the median of the boxes' largest sides (``CELL_SIDES``: a
+typical box covers one to three cells along each axis), by a counting sort on a hash of
+the cells; the pairs of boxes sharing a cell are tested (box overlap, once: in the cell
+of the lower corner of their intersection). A sweep and prune along one axis (the first
+version) is quadratic where the boxes are spread over a plane or a volume, as a radial
+star of tethers is. Of the overlapping pairs it keeps those whose segments are within
+the margin and both reaches (``distance``): a segment is a convex combination of its
+ends, so the distance of two segments changes by at most the distances their ends move,
+and a dropped pair cannot touch within the step.
 """
 
 import math
@@ -21,6 +21,13 @@ import numpy as np
 from numba import njit
 
 from .contact_lines import closest
+
+#: The grid's cell in medians of the boxes' largest sides: on the 12-tether sail (588
+#: segments, ``benchmarks/contact_cost.py``'s state) one refresh took 0.42 ms with one
+#: median (4441 box-cell entries), 0.19 ms with two (1813), 0.17 ms with four; on the
+#: full-size sail (4900 segments) 4.8, 4.5 and 4.8 ms (the hub's cells, where every
+#: tether's first segments meet, dominate).
+CELL_SIDES = 2.0
 
 #: The most cells along the grid's axes together (their product is a 64-bit key).
 MOST_CELLS = 2**60
@@ -60,15 +67,15 @@ def boxes(X, V, ends, margin, dt, box):
 @njit(cache=True)
 def grid(box):
     """``(low, cell, shape)``: the grid's lower corner (3,), its cell size and its number
-    of cells along each axis (3,): the cell is the median of the boxes' largest sides
-    (grown until the cells number at most ``MOST_CELLS``)."""
+    of cells along each axis (3,): the cell is ``CELL_SIDES`` medians of the boxes'
+    largest sides (grown until the cells number at most ``MOST_CELLS``)."""
     low, shape = np.empty(3), np.empty(3, dtype=np.int64)
     side = np.zeros(box.shape[0])
     for i in range(3):
         low[i] = box[:, i].min()
         for k in range(box.shape[0]):
             side[k] = max(side[k], box[k, 3 + i] - box[k, i])
-    cell = max(np.median(side), 1e-300)
+    cell = max(CELL_SIDES * np.median(side), 1e-300)
     while True:
         total = 1.0
         for i in range(3):
@@ -137,8 +144,15 @@ def first_shared(box, span, i, j, shape):
     return key
 
 
+@njit(cache=True, inline="always")
+def _listed(keys, key):
+    """True when ``key`` is in the sorted ``keys``."""
+    at = np.searchsorted(keys, key)
+    return at < keys.size and keys[at] == key
+
+
 @njit(cache=True)
-def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
+def candidates(X, V, ends, line, arc, exclusion, excluded, margin, dt, box, pairs):
     """The pairs of segments that the step of ``dt`` may bring into touch, into
     ``pairs``; returns how many there are (more than ``len(pairs)``: only the first were
     written).
@@ -147,12 +161,14 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
     whose boxes overlap (``boxes``, found on a grid: module notes) and whose segments are
     within ``margin`` and both reaches (``distance``).  Pairs of one line (``line``)
     closer than ``exclusion`` along it (``arc``, (nseg, 2)) are dropped;
-    ``exclusion < 0``: every pair of one line is.  ``box`` (nseg, 7) is scratch."""
+    ``exclusion < 0``: every pair of one line is.  The pairs whose keys ``i nseg + j``
+    (``i < j``) are in the sorted ``excluded`` are dropped too (next to a joint two lines
+    share, ``loads.contact_joints``).  ``box`` (nseg, 7) is scratch."""
     boxes(X, V, ends, margin, dt, box)
     low, cell, shape = grid(box)
     keys, owner, starts, span = binned(box, low, cell, shape)
     P = np.empty((4, 3))
-    count = 0
+    count, nseg = 0, ends.shape[0]
     for bucket in range(len(starts) - 1):
         for u in range(starts[bucket], starts[bucket + 1]):
             for w in range(u + 1, starts[bucket + 1]):
@@ -166,6 +182,8 @@ def candidates(X, V, ends, line, arc, exclusion, margin, dt, box, pairs):
                         continue
                     if max(arc[i, 0] - arc[j, 1], arc[j, 0] - arc[i, 1]) < exclusion:
                         continue
+                elif _listed(excluded, i * nseg + j):
+                    continue
                 if distance(X, ends, i, j, P) > margin + box[i, 6] + box[j, 6]:
                     continue
                 if count < pairs.shape[0]:

@@ -1,9 +1,9 @@
-"""Contact between two line bodies (two cables, rods) or of one with itself, with Coulomb
-friction: a penalty on the gap between the closest points of segments of their sampled
-centrelines (``kernels.contact_lines``: the narrow phase, with exact tangents), over the
-candidate pairs of a broad phase refreshed once per time step (``BroadPhase``: a compiled
-grid of the segments' bounding boxes, ``kernels.line_broad_phase``); ``docs/contact.md``
-states the method and its tolerances.
+"""Contact between line bodies (two cables or rods, many: the tethers of a sail) or of one
+with itself, with Coulomb friction: a penalty on the gap between the closest points of
+segments of their sampled centrelines (``kernels.contact_lines``: the narrow phase, with
+exact tangents), over the candidate pairs of a broad phase refreshed once per time step
+(``BroadPhase``: a compiled grid of the segments' bounding boxes,
+``kernels.line_broad_phase``); ``docs/contact.md`` states the method and its tolerances.
 
 * Segments: the lines' quadrature points (``lines.LinePoints``), joined in order along
   each line; a contact at a line's stubs before its first and after its last point is not
@@ -20,10 +20,16 @@ states the method and its tolerances.
 * Self-contact (``system.contact(cable, cable)``): segments of one line closer along its
   reference arc length than ``exclusion`` (default ``pi (r_a + r_b)``: the half turn of a
   line folded onto itself) are never a pair; neighbours are therefore excluded.
-* Tangent pattern: the dense block over the lines' coordinates (contact may couple any
-  element of one with any of the other).  It fits systems of a few lines; a system such as
-  the E-sail, whose solver factors each cable apart, needs a pattern refreshed with the
-  pairs (``docs/contact.md``, What remains).
+* Joints: pairs of segments of two lines next to a joint they share (the tethers' roots on
+  a hub) are never pairs (``loads.contact_joints``, within ``exclusion``).
+* Tangent pattern (``tangent``): ``"full"``, the dense block over the lines' coordinates
+  (the exact tangent: contact may couple any element of one with any of the other), the
+  default for two lines or one; ``"own"``, each element's own block (the entries that
+  couple different elements, of one line or two, left out: the residual stays exact,
+  Newton converges linearly while lines touch, and only at steps where the penalty is
+  below the touching points' mass term, ``docs/contact.md``), the default for more
+  lines, which keeps the pattern of a system such as the E-sail whose solver factors
+  each cable apart.
 * Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``), evaluated
   once per saved step from the step's converged state (the one its broad phase keeps).
 """
@@ -36,8 +42,10 @@ from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
 from ..kernels import contact_lines as kernel
 from ..kernels import line_broad_phase
+from ..kernels.line import points as line_points_kernel
 from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
+from .contact_joints import excluded_pairs
 
 #: The crossing force (in units of ``EA``) that penetrates ``tolerance d`` with the
 #: default stiffness: a line at 1 % strain deflected by 0.1 rad.
@@ -45,6 +53,9 @@ REFERENCE_FORCE = 1e-3
 
 #: Candidate pairs held per segment (``capacity`` default).
 PAIRS_PER_SEGMENT = 8
+
+#: The patterns of the tangent (``LineLineContact(tangent=...)``, module notes).
+TANGENTS = ("full", "own")
 
 #: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
 OUTPUTS = ("contacts", "normal", "max_penetration", "friction_power")
@@ -93,7 +104,7 @@ class BroadPhase(AcceptedState):
     (``kernels.line_broad_phase.candidates``) gives the pairs whose boxes overlap, and
     keeps those whose segments are within ``margin`` and both reaches of each other.
     Pairs of one line closer than ``exclusion`` along it are dropped; ``exclusion``
-    None (two lines): every pair within one line.
+    None (no self-contact): every pair within one line; so are the pairs ``excluded``.
 
     Parameters
     ----------
@@ -103,6 +114,8 @@ class BroadPhase(AcceptedState):
         The segments' rows and arc positions (``segments``) and their line's number.
     exclusion : float or None
         Self-contact's exclusion along the line (m), or None.
+    excluded : int64 ndarray
+        The sorted keys ``i nseg + j`` of pairs left out (``contact_joints``).
     margin : float
         The distance (m) below which two segments are candidates at rest.
     pairs, count : int64 ndarray (capacity, 2), (1,)
@@ -111,26 +124,32 @@ class BroadPhase(AcceptedState):
         The coordinates before a run's first step.
     """
 
-    def __init__(self, points, rows, arc, line, exclusion, margin, pairs, count, q0):
+    def __init__(self, points, rows, arc, line, exclusion, excluded, margin, pairs, count,
+                 q0):
         self.points, self.arc, self.line = points, np.ascontiguousarray(arc), line
+        self.excluded = np.ascontiguousarray(excluded, dtype=np.int64)
         nq = points.shape[1]
         self.ends = np.column_stack([rows[:, 0] * nq + rows[:, 1], rows[:, 2] * nq + rows[:, 3]])
         self.exclusion = -1.0 if exclusion is None else float(exclusion)
         self.margin, self.box = float(margin), np.empty((len(rows), 7))
+        self.scratch = tuple(np.empty(points.shape + (3,)) for _ in range(3))
         self.pairs, self.count = pairs, count
         self.accept(q0, np.zeros_like(q0), 0.0)
 
     def prepare(self, t):
         """The candidate pairs for the step to ``t`` into ``pairs[:count[0]]`` (once per
-        time; ``kernels.line_broad_phase.candidates``)."""
+        time; ``kernels.line_broad_phase.candidates``).  A time before the kept state's
+        (a new run's first evaluation, before its hooks start) reaches nothing."""
         t = float(t)
         if t == self.done:
             return
-        X, _, V = self.points.at(self.q, self.v)
+        X, A, V = self.scratch
+        points = self.points
+        line_points_kernel(points.edofs, points.S, points.Sx, self.q, self.v, X, A, V)
         found = line_broad_phase.candidates(X.reshape(-1, 3), V.reshape(-1, 3), self.ends,
                                             self.line, self.arc, self.exclusion,
-                                            self.margin, abs(t - self.t), self.box,
-                                            self.pairs)
+                                            self.excluded, self.margin, max(t - self.t, 0.0),
+                                            self.box, self.pairs)
         if found > len(self.pairs):
             raise RuntimeError(f"line contact: {found} candidate pairs exceed the "
                                f"capacity {len(self.pairs)}: give capacity= larger")
@@ -138,43 +157,62 @@ class BroadPhase(AcceptedState):
         self.done = t
 
 
-
 class LineLineContact:
-    """Contact of the line bodies ``first`` and ``second`` (or of one with itself: the same
+    """Contact of the line bodies ``lines`` with each other (or of one with itself: the same
     body twice), with Coulomb friction (module notes).
 
     Parameters
     ----------
-    first, second : Cable or line body
-        The lines (bodies with the hook ``line_points``); the same body for self-contact.
+    *lines : Cable or line body
+        The lines (bodies with the hook ``line_points``), at least two, distinct; or one
+        body twice for self-contact.
     friction : float
         Coulomb's coefficient ``mu`` >= 0 (default 0).
-    radius : float or (float, float), optional
-        The cross-section radii ``r_a``, ``r_b`` (m, > 0); default from each ``section``.
+    radius : float or sequence of float, optional
+        The cross-section radii (m, > 0), one for all or one per line; default from each
+        ``section``.  More than two lines must have one radius.
     stiffness : float, optional
         Penalty ``k`` (N/m, > 0); default ``REFERENCE_FORCE EA / (tolerance d)``.
     tolerance : float
-        The stated penetration relative to ``d = r_a + r_b`` (default 1e-2, > 0).
+        The stated penetration relative to ``d``, the sum of two radii (default 1e-2, > 0).
     slip_velocity : float
         The friction's regularisation ``eps`` (m/s, > 0; default 1e-3).
     exclusion : float, optional
-        Self-contact: the reference arc length (m, >= 0) within which segments of the line
-        are no pair (default ``pi d``).
+        The reference arc length (m, >= 0) within which segments of one line are no pair
+        (self-contact), and within which segments next to a joint two lines share are no
+        pair (``contact_joints``); default ``pi d``.
     capacity : int, optional
         Candidate pairs held (default ``PAIRS_PER_SEGMENT`` per segment).
+    tangent : {"full", "own"}, optional
+        The tangent's pattern (module notes); default ``"full"`` for two lines or one,
+        ``"own"`` for more.
     name : str, optional
         The prefix of its per-step outputs (``step_outputs``) and its name in messages;
-        default ``contact_<first>_<second>`` (``contact_<line>`` for self-contact).
+        default ``contact_<first>_<second>`` (``contact_<line>`` for self-contact,
+        ``contact_lines`` for more than two lines).
     """
 
-    def __init__(self, first, second, friction=0.0, radius=None, stiffness=None,
-                 tolerance=1e-2, slip_velocity=1e-3, exclusion=None, capacity=None,
-                 name=None):
-        self.lines = (check_line_body(first, "first"), check_line_body(second, "second"))
-        self.self_contact = first is second
-        radii = radius if np.ndim(radius) else (radius, radius)
-        self.radii = tuple(_radius(body, r) for body, r in zip(self.lines, radii))
-        d = sum(self.radii)
+    def __init__(self, *lines, friction=0.0, radius=None, stiffness=None, tolerance=1e-2,
+                 slip_velocity=1e-3, exclusion=None, capacity=None, tangent=None, name=None):
+        if len(lines) < 2:
+            raise ValueError(f"lines must be at least two line bodies (one twice for "
+                             f"self-contact), got {len(lines)}")
+        checked = [check_line_body(body, f"lines[{k}]") for k, body in enumerate(lines)]
+        distinct = list({id(body): body for body in checked}.values())
+        self.self_contact = len(distinct) == 1
+        if len(distinct) != len(lines) and not (self.self_contact and len(lines) == 2):
+            raise ValueError("lines must be distinct (one body twice only for self-contact)")
+        self.lines = tuple(distinct)
+        radii = np.asarray(radius, dtype=object)
+        if radii.ndim and radii.shape != (len(lines),):
+            raise ValueError(f"radius must be one value or one per line ({len(lines)}), "
+                             f"got {radius!r}")
+        radii = np.broadcast_to(radii, (len(lines),))
+        self.radii = tuple(_radius(body, r) for body, r in zip(checked, radii))
+        if len(lines) > 2 and max(self.radii) > min(self.radii):
+            raise ValueError(f"radius: more than two lines must have one radius, got "
+                             f"{min(self.radii):.3g} to {max(self.radii):.3g} m")
+        self.sum_radii = d = self.radii[0] + self.radii[-1]
         self.tolerance = positive("tolerance", tolerance)
         if stiffness is None:
             sections = [getattr(body, "section", None) for body in self.lines]
@@ -187,8 +225,12 @@ class LineLineContact:
         self.exclusion = nonnegative("exclusion", np.pi * d if exclusion is None
                                      else exclusion)
         self.capacity = capacity if capacity is None else int(positive("capacity", capacity))
-        self.name = ("contact_" + "_".join(dict.fromkeys(body.name for body in self.lines))
-                     if name is None else str(name))
+        self.tangent = ("full" if len(lines) <= 2 else "own") if tangent is None else tangent
+        if self.tangent not in TANGENTS:
+            raise ValueError(f"tangent must be one of {TANGENTS}, got {tangent!r}")
+        default = ("contact_" + "_".join(body.name for body in self.lines)
+                   if len(self.lines) <= 2 else "contact_lines")
+        self.name = default if name is None else str(name)
 
     step_outputs = property(lambda self: tuple(f"{self.name}_{key}" for key in OUTPUTS),
                             doc="Recorded per saved step (protocols.Load): ``summary``.")
@@ -200,51 +242,59 @@ class LineLineContact:
     @property
     def coefficients(self):
         """``coef`` of ``kernels.contact_lines``."""
-        d = sum(self.radii)
+        d = self.sum_radii
         return np.array([self.stiffness, self.friction, self.slip_velocity, d,
                          ONSET * self.tolerance * d])
 
     def tables(self, system):
-        """``(points, rows, arc, line)``: the joined points of the line(s), the segments'
-        rows, their arc positions and their line's number."""
+        """``(points, rows, arc, line, excluded)``: the joined points of the line(s), the
+        segments' rows, their arc positions, their line's number and the keys of the pairs
+        next to a joint two lines share (``contact_joints.excluded_pairs``)."""
         bodies = self.lines[:1] if self.self_contact else self.lines
         points = [line_points(body, system) for body in bodies]
         offsets = np.cumsum([0] + [p.shape[0] for p in points])
         parts = [segments(p, o) for p, o in zip(points, offsets)]
         line = np.concatenate([np.full(len(r), k) for k, (r, _) in enumerate(parts)])
-        return (joined(points), np.ascontiguousarray(np.vstack([r for r, _ in parts])),
-                np.vstack([a for _, a in parts]), line)
+        arc = np.vstack([a for _, a in parts])
+        excluded = excluded_pairs(system, bodies, points, arc, line, self.exclusion)
+        return (joined(points), np.ascontiguousarray(np.vstack([r for r, _ in parts])), arc,
+                line, excluded)
 
     def broad_phase(self, system, tables, q0):
         """The ``BroadPhase`` of the lines' ``tables`` (``tables``) from the state ``q0``."""
-        points, rows, arc, line = tables
+        points, rows, arc, line, excluded = tables
         capacity = self.capacity or PAIRS_PER_SEGMENT * len(rows)
         return BroadPhase(points, rows, arc, line,
-                          self.exclusion if self.self_contact else None,
-                          sum(self.radii) * (1.0 + self.tolerance),
+                          self.exclusion if self.self_contact else None, excluded,
+                          self.sum_radii * (1.0 + self.tolerance),
                           np.zeros((capacity, 2), dtype=np.int64),
                           np.zeros(1, dtype=np.int64), q0)
 
     def bind(self, system):
         """The compiled term (``kernels.contact_lines.kernel``) over the pairs of its
-        ``BroadPhase`` (its ``prepare`` and step hook), on the dense tangent block over the
-        lines' coordinates."""
+        ``BroadPhase`` (its ``prepare`` and step hook), on the tangent pattern of
+        ``tangent``: the dense block over the lines' coordinates, or each element's own."""
         tables = self.tables(system)
         points, rows = tables[:2]
         broad = self.broad_phase(system, tables, system.q0)
         dofs = np.unique(points.edofs)
         local = np.full(system.n_dofs, -1, dtype=np.int64)
         local[dofs] = np.arange(len(dofs))
+        own = self.tangent == "own"
+        nde = points.edofs.shape[1]     # own: each element's block, flat per element
+        block = (np.repeat(points.edofs, nde, axis=1), np.tile(points.edofs, (1, nde))) \
+            if own else (dofs[:, None], dofs[None, :])
         pack = (points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
-                local)
-        return Term(kernels=((kernel.kernel, pack),), rows=dofs[:, None], cols=dofs[None, :],
+                local, int(own))
+        return Term(kernels=((kernel.kernel, pack),), rows=block[0], cols=block[1],
                     prepare=broad.prepare, hooks=(broad,), name=self.name,
-                    outputs=lambda: self.step_values(system, tables, broad.q, broad.v))
+                    outputs=lambda: self.step_values(system, tables, broad))
 
-    def step_values(self, system, tables, q, v):
-        """The per-step outputs ``{step_outputs: summary}`` at ``q``, ``v`` of the lines'
-        ``tables`` (the term's: the converged state its broad phase keeps)."""
-        out = self.evaluate(system, tables, q, v)
+    def step_values(self, system, tables, broad):
+        """The per-step outputs ``{step_outputs: summary}`` of the lines' ``tables`` at the
+        converged state the term's ``broad`` phase keeps, over its pairs (those of the
+        step that ended there)."""
+        out = self.evaluate(system, tables, broad.q, broad.v, broad)
         return dict(zip(self.step_outputs, summary(out).values()))
 
     def contacts(self, system, q, v=None):
@@ -252,29 +302,36 @@ class LineLineContact:
         of their own at ``q``): a dict of ``normal`` (n,) the normal forces (N), ``penetration``
         (n,) (m), ``first``, ``second`` (n, 3) the closest points on each line,
         ``tangential`` (n, 3) the friction on the first line (the second gets the
-        opposite), ``friction_power`` (W, <= 0) and ``max_penetration`` (m).  Warns
+        opposite), ``lines`` (n, 2) the two lines' positions in ``lines``, ``arc`` (n, 2)
+        the reference arc lengths (m) of the contact along each, ``friction_power`` (W,
+        <= 0) and ``max_penetration`` (m).  Warns
         (``ContactToleranceWarning``) where the penetration exceeds ``tolerance d``."""
         out = self.evaluate(system, self.tables(system), q, v)
-        depth, limit = out["max_penetration"], self.tolerance * sum(self.radii)
+        depth, limit = out["max_penetration"], self.tolerance * self.sum_radii
         if depth > limit:
             warnings.warn(f"{self.name}: penetration {depth:.3g} m exceeds the stated "
                           f"tolerance {limit:.3g} m: raise the stiffness",
                           ContactToleranceWarning, stacklevel=2)
         return out
 
-    def evaluate(self, system, tables, q, v=None):
-        """``contacts`` over the lines' ``tables`` (``tables``), unchecked."""
-        points, rows = tables[:2]
+    def evaluate(self, system, tables, q, v=None, broad=None):
+        """``contacts`` over the lines' ``tables`` (``tables``), unchecked, over the pairs
+        of ``broad`` (default: a broad phase of their own at ``q``)."""
+        points, rows, arc, line = tables[:4]
         v = np.zeros_like(q) if v is None else v
-        broad = self.broad_phase(system, tables, q)
-        broad.prepare(0.0)
-        out = np.empty((broad.count[0], 15))
-        n = kernel.resolve(points.edofs, points.S, rows, broad.pairs, broad.count,
-                           self.coefficients, np.ascontiguousarray(q, float),
-                           np.ascontiguousarray(v, float), out)
+        if broad is None:
+            broad = self.broad_phase(system, tables, q)
+            broad.prepare(0.0)
+        out = np.empty((broad.count[0], 17))
+        n = 0 if broad.count[0] == 0 else kernel.resolve(
+            points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
+            np.ascontiguousarray(q, float), np.ascontiguousarray(v, float), out)
         out = out[:n]
         depth = float(out[:, 2].max(initial=0.0))
         power = float(np.einsum("mi,mi->", out[:, 9:12], out[:, 12:15]))
+        pairs = broad.pairs[out[:, 0].astype(np.int64)]
+        ends = arc[pairs]                               # (n, 2 segments, 2 ends)
+        along = ends[:, :, 0] + out[:, 15:17] * (ends[:, :, 1] - ends[:, :, 0])
         return {"normal": out[:, 1], "penetration": out[:, 2], "first": out[:, 3:6],
-                "second": out[:, 6:9], "tangential": out[:, 9:12], "friction_power": power,
-                "max_penetration": depth}
+                "second": out[:, 6:9], "tangential": out[:, 9:12], "lines": line[pairs],
+                "arc": along, "friction_power": power, "max_penetration": depth}

@@ -274,18 +274,19 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         self.loads.append(load)
         return self._changed()
 
-    def contact(self, first, second, friction=0.0, **options):
+    def contact(self, first, second=None, friction=0.0, **options):
         """Contact of a line body with a surface (``sc.Plane``, ``sc.Sphere``,
         ``sc.Cylinder``), in either order, with Coulomb's ``friction`` (``mu >= 0``):
         ``loads.contact.LineSurfaceContact`` and its ``options`` (``radius``,
         ``stiffness``, ``tolerance``, ``damping``, ``slip_velocity``; ``docs/contact.md``).
         A surface carried by a rigid body (``body.cylinder(...)``, ``body.plane``,
         ``body.sphere``): ``loads.contact_body.LineBodyContact``, coupling the body.
-        Two line bodies, or one twice (self-contact): ``loads.contact_lines.LineLineContact``
-        (``model.contact``).  Its per-step outputs (``docs/contact.md``) are prefixed by
-        its ``name`` (option; default ``contact_<line>``, numbered ``_2``, ... past the
-        names of the system's loads).  Returns the system; the contact is
-        ``system.loads[-1]``."""
+        Two line bodies, or one twice (self-contact), or a sequence of line bodies alone
+        (``system.contact(tethers)``: each with each, one broad phase):
+        ``loads.contact_lines.LineLineContact`` (``model.contact``).  Its per-step outputs
+        (``docs/contact.md``) are prefixed by its ``name`` (option; default
+        ``contact_<line>``, numbered ``_2``, ... past the names of the system's loads).
+        Returns the system; the contact is ``system.loads[-1]``."""
         taken = [getattr(load, "name", None) for load in self.loads]
         return self.add_load(contact(first, second, friction, taken, **options))
 
