@@ -210,13 +210,19 @@ def profile(tree, steps, repeats):
     return json.loads(proc.stdout.strip().splitlines()[-1])
 
 
+def label(name):
+    """A term's name, a merged term's (``"tether1 + tether2 + ..."``) shortened."""
+    names = name.split(" + ")
+    return name if len(names) < 3 else f"{names[0]} + ... + {names[-1]} ({len(names)} cables)"
+
+
 def rows(p):
     """``[(part, us per step)]`` of a profile ``p``: the compiled parts times their counts,
     the rest of the call, the Python of the step by group, the step."""
     c = p["counts"]
     out = []
     for k in p["kernels"]:
-        out.append((f"{k['term']}: residual", c["evaluations"] * k["residual_us"]))
+        out.append((f"{label(k['term'])}: residual", c["evaluations"] * k["residual_us"]))
     tangent = sum(k["tangent_us"] for k in p["kernels"])
     out += [("tangent evaluation (all terms)", c["factorizations"] * tangent),
             ("band factorization", c["factorizations"] * p["factor_us"]),
