@@ -28,6 +28,7 @@ exits 0 whatever the ratios.
 """
 
 import argparse
+import contextlib
 import json
 import os
 import subprocess
@@ -191,24 +192,32 @@ def compare(against, repeats=5, cases=None):
     ``cases`` (``{name: (Case, steps)}``, default ``CASES`` at their steps) in this tree
     and in a worktree of the commit ``against`` (see ``time_case``)."""
     cases = {k: (c, c.steps) for k, c in CASES.items()} if cases is None else cases
+    with worktree(against) as other:
+        rows = {}
+        for name, (case, steps) in cases.items():
+            ours, theirs = [], []
+            for _ in range(repeats):
+                ours.append(time_case(ROOT, case, steps))
+                theirs.append(time_case(other, case, steps))
+                if "error" in ours[-1] or "error" in theirs[-1]:
+                    break  # nothing to compare: one run of each tells
+            rows[name] = (fastest(ours), fastest(theirs))
+    return rows
+
+
+@contextlib.contextmanager
+def worktree(rev):
+    """A temporary ``git worktree`` of the commit ``rev`` of this repository (its path),
+    removed on leaving."""
     with tempfile.TemporaryDirectory() as tmp:
         other = Path(tmp) / "reference"
-        subprocess.run(["git", "worktree", "add", "--detach", str(other), against], cwd=ROOT,
+        subprocess.run(["git", "worktree", "add", "--detach", str(other), rev], cwd=ROOT,
                        check=True, capture_output=True)
         try:
-            rows = {}
-            for name, (case, steps) in cases.items():
-                ours, theirs = [], []
-                for _ in range(repeats):
-                    ours.append(time_case(ROOT, case, steps))
-                    theirs.append(time_case(other, case, steps))
-                    if "error" in ours[-1] or "error" in theirs[-1]:
-                        break  # nothing to compare: one run of each tells
-                rows[name] = (fastest(ours), fastest(theirs))
+            yield other
         finally:
             subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT,
                            check=False, capture_output=True)
-    return rows
 
 
 def ratio(ours, theirs):

@@ -48,6 +48,8 @@ NOT_QUICK = {
                   "times over 300 s",
     "esail_floor": "about 20 s quick: the machine's peaks in a fresh process, the E-sail "
                    "rig's parts each in a compiled loop",
+    "esail_profile": "about a minute quick: the E-sail rig's step profiled in fresh "
+                     "processes, here and in a git worktree of the reference commit",
     "esail_report": "about 2 minutes quick: E-sail runs over a spin period",
     "laws": "about 3 minutes quick: a git worktree, fresh processes with cold caches",
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",

@@ -9,30 +9,33 @@ from ..kernels.books import step_books
 
 
 class Books:
-    """``_booked`` (the books at the end of a step), ``energies`` (of the current state)
+    """``_booked`` (the books at the end of a step), ``_opened`` (at the current state),
+    ``energies`` (of the current state)
     and ``_energies`` (of a dict of books); read the integrator's state and layout."""
 
-    def _booked(self, info, q1, v1, t1, start=False):
-        """Energy books at the end ``(q1, v1, t1)`` of a step with the evaluation ``info``
-        there: the work of the damping and of the non-constant external forces over the
-        step, ``dq . (f_n + f_{n+1}) / 2`` (exact for the trapezoidal rule), the constraint
-        forces ``-C_q^T lambda`` counted as external (they work where a constraint is
-        driven, a moving pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), the work of the
-        explicit time dependence of stored energies (``System.energy_rate``: a deploying
-        cable's reel), ``h (P_n + P_{n+1}) / 2``, the work of the change of the terms'
-        data over the step (``System.energy_change``: a law parameter that varies in
-        time), and the kinetic and potential energy (``kernels.books``);
-        ``start`` opens the books at ``q1``."""
-        fd, fnc, fcon = info["f_damping"], info["f_nc"], info["f_con"]
-        if "sums" in info:  # computed by the compiled step
-            dissipated, external, kinetic, potential = info["sums"]
+    def _booked(self, forces, energy, q1, v1, t1, sums=None, start=False):
+        """Energy books at the end ``(q1, v1, t1)`` of a step whose last residual gave the
+        ``forces`` ``(f_damping, f_nc, f_con)`` and the elastic ``energy`` (2,): the work
+        of the damping and of the non-constant external forces over the step, ``dq . (f_n
+        + f_{n+1}) / 2`` (exact for the trapezoidal rule), the constraint forces ``-C_q^T
+        lambda`` counted as external (they work where a constraint is driven, a moving
+        pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), the work of the explicit time
+        dependence of stored energies (``System.energy_rate``: a deploying cable's reel),
+        ``h (P_n + P_{n+1}) / 2``, the work of the change of the terms' data over the step
+        (``System.energy_change``: a law parameter that varies in time), and the kinetic
+        and potential energy (``kernels.books``; ``sums``, (4,): the step's dissipated and
+        external work, kinetic and potential energy as the compiled step computed them);
+        ``start`` opens the books at ``q1``.  The forces are kept as given (the caller
+        copies what it must keep)."""
+        fd, fnc, fcon = forces
+        if sums is not None:  # computed by the compiled step
+            dissipated, external, kinetic, potential = sums.tolist()
         else:
             M = self.lay.mass
-            before = (fd, fnc, fcon) if start else (self.fd, self.fnc, self.fcon)
+            before = forces if start else (self.fd, self.fnc, self.fcon)
             dq = np.zeros_like(q1) if start else q1 - self.q
             dissipated, external, kinetic, potential = step_books(
-                dq, before, (fd, fnc, fcon), (M.indptr, M.indices, M.data),
-                self.lay.f_const, q1, v1)
+                dq, before, forces, (M.indptr, M.indices, M.data), self.lay.f_const, q1, v1)
         rate = self.system.energy_rate(q1, t1) if self.energy_depends_on_time else 0.0
         if not start:
             dissipated += self.dissipated
@@ -40,8 +43,14 @@ class Books:
             if self.energy_changes:
                 external += self.system.energy_change(self.q, q1, self.t, t1)
         return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
-                "external_work": external, "elastic": info["energy"].copy(),
+                "external_work": external, "elastic": energy.copy(),
                 "kinetic": kinetic, "potential": potential, "energy_rate": rate}
+
+    def _opened(self, info):
+        """The books opened at the current state, with the evaluation ``info`` there (of
+        ``System.evaluate``)."""
+        return self._booked((info["f_damping"], info["f_nc"], info["f_con"]), info["energy"],
+                            self.q, self.v, self.t, start=True)
 
     @staticmethod
     def _energies(books):

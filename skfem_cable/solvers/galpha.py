@@ -399,37 +399,36 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
             what = "non-finite residual" if status == codes.NON_FINITE else "no convergence"
             return False, self._diagnose(t1, h, list(arrays["history"][:it + 1]),
                                          arrays["r"], what)
-        info = {"f_damping": arrays["fd"].copy(), "f_nc": arrays["f_ext"].copy(),
-                "f_con": arrays["f_con"].copy(), "energy": arrays["energy"],
-                "abar": arrays["abar1"].copy(), "sums": arrays["books"].tolist()}
-        return self._accept(t1, h, arrays["q1"].copy(), arrays["v1"].copy(),
-                            arrays["a1"].copy(), arrays["lam1"].copy(), info, it,
-                            self.compiled.prm[codes.RATE])
+        return self._accept(t1, h, arrays, it, self.compiled.prm[codes.RATE])
 
-    def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations, rate):
-        """Book the energies of a converged step (with the evaluation ``info`` of its
-        last residual, and its pseudo-acceleration ``info["abar"]``), apply the
-        instability guard and, if it passes, make the step's end the current state;
-        ``rate`` is its Newton contraction estimate (``newton_rate``)."""
+    def _accept(self, t1, h, end, iterations, rate):
+        """Book the energies of a converged step (with the step's arrays ``end``,
+        ``CompiledNewton.arrays``: its end ``q1, v1, a1, lam1, abar1``, the forces of its
+        last residual, its elastic energy and the compiled books), apply the instability
+        guard and, if it passes, make the step's end the current state (copied: only an
+        accepted step's); ``rate`` is its Newton contraction estimate (``newton_rate``)."""
+        q1, v1 = end["q1"], end["v1"]
         if self.rtol is not None:
-            self.error_ratio = error_ratio(self.q, q1, info["abar"], self.abar,
+            self.error_ratio = error_ratio(self.q, q1, end["abar1"], self.abar,
                                            self.error_constant * h * h, self.system.vectors,
                                            self.scalars, self.atol_q, self.rtol_local)
             if not self.error_ratio <= 1.0:
                 return False, (f"t={t1:.6g}, h={h:.3g}: local error {self.error_ratio:.3g} "
                                "times the tolerance")
+        books = self._booked((end["fd"], end["f_ext"], end["f_con"]), end["energy"], q1, v1,
+                             t1, sums=end["books"])
         self.guard.set_scale(self.total_mass, self.L_ref, h)
-        books = self._booked(info, q1, v1, t1)
-        energies = self._energies(books)
-        grown = self.guard.check(energies)
+        grown = self.guard.check(self._energies(books))
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
-        self.t, self.q, self.v, self.lam = t1, q1, v1, lam1
-        self.abar = info["abar"]
+        books.update(fd=books["fd"].copy(), fnc=books["fnc"].copy(),
+                     fcon=books["fcon"].copy())
+        self.t, self.q, self.v, self.lam = t1, q1.copy(), v1.copy(), end["lam1"].copy()
+        self.abar = end["abar1"].copy()
         if self.a_prev is not None:
             self.da_prev, self.h_prev2 = self.a - self.a_prev, self.h_prev
         self.a_prev, self.h_prev = self.a, h
-        self.a = a1
+        self.a = end["a1"].copy()
         self.iterations, self.newton_rate = iterations, rate
         self.__dict__.update(books)
         self.guard.accept(t1)

@@ -35,7 +35,7 @@ class InitialState:
         # of its multipliers and the inertia terms at its accelerations
         _, info = system.evaluate(q, v, t, self.lam, scale=self.mbar, a=self.a,
                                   layout=self.lay)
-        self.__dict__.update(self._booked(info, self.q, self.v, self.t, start=True))
+        self.__dict__.update(self._opened(info))
         self.iterations, self.newton_rate = 0, 1.0
         self.guard.reset(self.t, self.energies())
 
@@ -59,7 +59,7 @@ class InitialState:
         self.h_factored = None
         _, info = self.system.evaluate(self.q, self.v, self.t, self.lam, scale=self.mbar,
                                        a=self.a, layout=self.lay)
-        books = self._booked(info, self.q, self.v, self.t, start=True)
+        books = self._opened(info)
         after = self._energies(books)
         jump = sum(after[k] - before[k] for k in ("kinetic", "axial", "bending", "potential"))
         books.update(dissipated=self.dissipated, external_work=self.external_work + jump)

@@ -23,18 +23,19 @@ class StepControl:
         of those likewise, ``max_halvings`` times at most; below that
         ``SimulationError``.  The halves wait on a stack (in the order of time), not in
         recursive calls: a run that stops at the smallest step raises from here, not ten
-        calls deep."""
-        pending = [(h, 0)]
-        while pending:
-            h, depth = pending.pop()
+        calls deep.  An accepted step makes no stack."""
+        depth, pending = 0, []
+        while True:
             ok, msg = self.step(h)
-            if ok:
-                continue
-            self.stats["rejected"] += 1
-            if depth >= max_halvings:
-                raise SimulationError(f"step failed at the smallest step size {h:.3g} "
-                                      f"(dt/2^{depth}): {msg}", None)
-            pending += [(0.5 * h, depth + 1)] * 2
+            if not ok:
+                self.stats["rejected"] += 1
+                if depth >= max_halvings:
+                    raise SimulationError(f"step failed at the smallest step size {h:.3g} "
+                                          f"(dt/2^{depth}): {msg}", None)
+                pending += [(0.5 * h, depth + 1)] * 2
+            if not pending:
+                return
+            h, depth = pending.pop()
 
     def adaptive_step(self, t_end, dt, max_halvings):
         """One accepted step toward ``t_end`` of the local-error control, from the size
