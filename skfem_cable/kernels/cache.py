@@ -8,8 +8,17 @@ generated modules).  ``install`` (run on importing ``skfem_cable``, before any k
 defined) puts ``PackageLocator`` first among numba's cache locators; it claims only those
 functions, so that numba caches nothing in the installed package and keeps the user's own
 functions where numba's settings (``NUMBA_CACHE_DIR``) put them.
+
+numba's own stamp of a cached function is its source file's alone, so a kernel whose callee
+in another module was edited would load its stale machine code (numba links the callee
+into it).  ``PackageLocator``'s stamp is the file's and those of the package modules it
+imports, transitively (``dependencies``): an edit recompiles every kernel that can call the
+edited code, and no other.
 """
 
+import ast
+import functools
+import hashlib
 import os
 import tempfile
 from pathlib import Path
@@ -69,6 +78,15 @@ class PackageLocator(caching._SourceFileBackedLocatorMixin, caching._CacheLocato
         """The folder of the function's index and compiled code."""
         return self._cache_path
 
+    def get_source_stamp(self):
+        """The digest of the sources of the function's file and of the package modules
+        it imports, transitively (``dependencies``): numba recompiles when it changes."""
+        digest = hashlib.sha256()
+        for path in sorted(dependencies(Path(self._py_file).resolve())):
+            stat = path.stat()
+            digest.update(caching._hash_source_file(str(path), stat.st_mtime, stat.st_size))
+        return digest.hexdigest()
+
     @classmethod
     def from_function(cls, py_func, py_file):
         """A locator for ``py_func`` of ``py_file`` if the package owns it, else None
@@ -83,3 +101,49 @@ def install():
     locators = caching.FunctionCache._impl_class._locator_classes
     if PackageLocator not in locators:
         locators.insert(0, PackageLocator)
+
+
+def dependencies(py_file):
+    """``py_file`` and the package's source files it imports, transitively (a set of
+    paths): its own imports (``imports``), theirs, and so on."""
+    seen, todo = set(), [Path(py_file)]
+    while todo:
+        path = todo.pop()
+        if path in seen:
+            continue
+        seen.add(path)
+        stat = path.stat()
+        todo.extend(imports(path, stat.st_mtime, stat.st_size))
+    return seen
+
+
+@functools.cache
+def imports(path, mtime, size):
+    """The package's source files that the module at ``path`` imports (relative imports,
+    and absolute ones of ``skfem_cable``), memoised per version (mtime, size) of the
+    file."""
+    inside = path.is_relative_to(PACKAGE)
+    package = path.relative_to(PACKAGE.parent).parent.parts if inside else ()
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found += [_source(alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level and not inside:
+                continue
+            base = package[:len(package) - node.level + 1] if node.level else ()
+            name = ".".join([*base, *([node.module] if node.module else [])])
+            found.append(_source(name))
+            found += [_source(f"{name}.{alias.name}") for alias in node.names]
+    return tuple(f for f in found if f is not None)
+
+
+def _source(name):
+    """The package's source file of the dotted module name ``name``, or None."""
+    if name.split(".")[0] != PACKAGE.name:
+        return None
+    path = PACKAGE.parent.joinpath(*name.split("."))
+    for candidate in (path.with_suffix(".py"), path / "__init__.py"):
+        if candidate.is_file():
+            return candidate.resolve()
+    return None
