@@ -24,10 +24,11 @@ and the offsets shifted accordingly.  The altitude is that of the osculating sem
 axis of the centre of mass, ``a - R_E``.  The current, power, EMF and force reported are
 those the run recorded at its saved steps (``Result.outputs``, the load's
 ``step_outputs``).  The integrator refactors its iteration matrix at every Newton
-iteration (``newton="full"``): the stale matrix of modified Newton, with the current's
-coupling left out of the tangent, diverged on a step in five at the dayside density (976
-of 5071 attempted steps refused over a day, against 28 of 3175).  Run ``python
-demos/ed_tether_deorbit.py`` (a day, 14.7 s CPU; its CPU time is printed).
+iteration (``newton="full"``): the stale matrix of modified Newton diverged on a step in
+five at the dayside density (976 of 5071 attempted steps refused over a day, against 28
+of 3175; with the current's coupling in the tangent, the default on these 4 elements,
+43 of 3162).  Run ``python demos/ed_tether_deorbit.py`` (a day, 15.5 s CPU; its CPU
+time is printed).
 """
 
 import numpy as np

@@ -135,10 +135,14 @@ def generalized(points, F):
 def test_tangent_holds_the_current_fixed(field):
     """``dF/dq`` against central differences: the difference is the current's coupling
     ``sum w S_A (a x B) dI/dq`` (``I`` at the points, differenced too) within 1e-7 of the
-    largest entry; the tangent is the one at fixed current, the coupling it leaves out
-    (a dense block of the cable) is measured, not vacuous."""
+    largest entry; the tangent with ``coupling=False`` is the one at fixed current, the
+    coupling it leaves out (a dense block of the cable, ``tests/test_oml_coupling.py``
+    checks it) is measured, not vacuous."""
     cable, system, q = inclined_tether()
-    force = oml_force(cable, field=field, voltage_drop=10.0, load=100.0)
+    force = sc.ElectrodynamicForce(cable, "oml", field, plasma=PLASMA,
+                                   cathode=sc.Cathode(10.0), load=100.0,
+                                   conductivity=SIGMA, perimeter=2 * (WIDTH + THICKNESS),
+                                   coupling=False)
     v = np.random.default_rng(4).normal(scale=3.0, size=system.n_dofs)
     t = 321.0
     F, K = force_and_tangent(force, system, q, v, t)

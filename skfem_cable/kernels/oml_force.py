@@ -11,13 +11,17 @@ field per unit reference length at every point
 (``u_p`` the plasma's velocity there, held over the step), the OML current and bias on the
 fixed mesh of the stations (``kernels.oml.solve``, warm-started from the previous
 evaluation), and the force ``f = I(s) a x B`` with its derivatives at fixed current
-(``kernels.electrodynamic.forces``), scattered by ``line.assemble``.
+(``kernels.electrodynamic.forces``), scattered by ``line.assemble``, and, unless the
+term leaves it out, the current's coupling (``kernels.oml_coupling``: a block dense over
+the line body's coordinates).  The term's tangent index is flat: the element blocks
+(ne, 3 nf, 3 nf) first, then the coupling's block (nc, nc).
 """
 
 import numpy as np
 from numba import njit
 
 from . import line
+from . import oml_coupling as coupled
 from .electrodynamic import dipole_points, forces, offset
 from .lapack import ADDRESSES
 from .oml import KL, KU, node_fields, solve
@@ -57,12 +61,13 @@ def motional_fields(X, A, U, B, Up, E):
 
 @njit(cache=True)
 def finish(pack, index, ev):
-    """The motional field (1), the OML profile, the force and its tangent at fixed
-    current; ``out = [I(0), EMF, motional power int I E ds, mean current, Newton
-    iterations, dV(L)]``.  When the profile's Newton iteration fails (twice, the second
-    from a cold start) the iterations are -1 and the force NaN: the integrator refuses
-    the step (a non-finite residual) and retries a shorter one."""
-    points, _, _, cache, mesh, circuit, work, scratch, out = pack
+    """The motional field (1), the OML profile, the force and its tangent: at fixed
+    current, plus the current's coupling when ``coupling``'s ``local`` is not empty
+    (``kernels.oml_coupling``); ``out = [I(0), EMF, motional power int I E ds, mean
+    current, Newton iterations, dV(L)]``.  When the profile's Newton iteration fails
+    (twice, the second from a cold start) the iterations are -1 and the force NaN: the
+    integrator refuses the step (a non-finite residual) and retries a shorter one."""
+    points, _, _, cache, mesh, circuit, work, scratch, coupling, out = pack
     edofs, S, Sx, w = points
     X, A, U, B, dB, F, Fx, Fa, Fv, I, V = scratch
     nodes, E_st, E_nodes, N_nodes = mesh
@@ -89,8 +94,20 @@ def finish(pack, index, ev):
             mean += w[e, g] * I[e, g]
     out[0], out[1], out[2] = x[0], emf, motional
     out[3], out[4], out[5] = mean / nodes[0][-1], iterations, x[-1]
-    forces(I, data.size > 0, A, B, dB, F, Fx, Fa)
-    line.assemble(edofs, S, Sx, w, F, Fx, Fa, Fv, s[1], 0.0, f_ext, data, index)
+    want = data.size > 0
+    forces(I, want, A, B, dB, F, Fx, Fa)
+    nd = edofs.shape[1]
+    blocks = ne * nd * nd if want else 0
+    line.assemble(edofs, S, Sx, w, F, Fx, Fa, Fv, s[1], 0.0, f_ext, data,
+                  index[:blocks].reshape((-1, nd, nd)))
+    local, dy, G, D, H = coupling
+    if want and local.shape[0] > 0:
+        coupled.node_sensitivities(nodes, E_nodes, N_nodes, circuit[0], work, dy)
+        coupled.station_sensitivities(nodes, dy, G)
+        coupled.field_derivatives(S, Sx, X, A, U, Up, B, dB, s[1], s[2], D)
+        nc = H.shape[1]
+        coupled.assemble(points, A, B, G, D, local, H, data,
+                         index[blocks:blocks + nc * nc].reshape((nc, nc)))
 
 
 @njit(cache=True)
@@ -109,11 +126,14 @@ def kernel_dipole(pack, index, ev):
     [B_0, m]``, ``kernels.electrodynamic.dipole``) evaluated at every iterate.
 
     ``pack = ((edofs, S, Sx, w), motion (2, 3), source (2, 3), cache, mesh, circuit,
-    work, scratch, out (6,))`` with ``cache = (X_0, B_0, dB_0, U_p, N (ne nq,), offsets
-    (ne, nq, 3))`` (``Term.prepare``), ``mesh = (nodes, E (ne nq,), E_nodes, N_nodes)``,
-    ``nodes = (z, i0, i1, wt, on, at)`` (``kernels.oml``), ``circuit = (c, bc)``,
+    work, scratch, coupling, out (6,))`` with ``cache = (X_0, B_0, dB_0, U_p, N (ne
+    nq,), offsets (ne, nq, 3))`` (``Term.prepare``), ``mesh = (nodes, E (ne nq,),
+    E_nodes, N_nodes)``, ``nodes = (z, i0, i1, wt, on, at)`` (``kernels.oml``),
+    ``circuit = (c, bc)``,
     ``work = (x, F, AB, dx, trial, flag, ipiv, ints, addresses)`` and ``scratch = (X,
-    A, U, B, dB, F, Fx, Fa, Fv, I, V)``."""
+    A, U, B, dB, F, Fx, Fa, Fv, I, V)``, ``coupling = (local (ne, 3 nf), dy (K + 1, 2 K +
+    2), G (ns, ns), D (ns, 3 nf), H (ns, nc))`` (``kernels.oml_coupling``; ``local``
+    empty: the coupling left out)."""
     gather(pack, ev)
     scratch = pack[7]
     dipole_points(pack[2], scratch[0], scratch[3], scratch[4])

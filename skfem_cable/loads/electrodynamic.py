@@ -237,21 +237,20 @@ class ElectrodynamicForce(AlongCable):
         s, ``docs/environment.md``), for long runs with expensive models.
         Models made without an epoch take the system's (``System.add_orbit(...,
         epoch=...)``).
+    coupling : bool or None
+        With ``current="oml"``: whether the tangent carries the current's coupling (a
+        block dense over the cable's coordinates: the exact tangent); None (default):
+        when the cable has at most ``oml_circuit.COUPLED`` (64) coordinates, 9 elements.
 
     Notes
     -----
-    The short-circuit current depends on the state of the whole cable; an exact tangent
-    would couple every coordinate of the cable to every other (a dense block breaking the
-    banded solver).  The kernel evaluates the current from each Newton iterate and the
-    tangent holds it fixed (``kernels.electrodynamic``): the converged force is exactly
-    ``E / R_c r_x x B``; Newton converges slightly slower, by the ratio of the omitted
-    magnetic damping ``(L B)^2 / R_c`` to the inertia.  In statics the offsets' velocity is
-    zero, but the EMF still counts the reference point's velocity.
-
-    The OML current is treated alike: solved from each iterate (``kernels.oml``, about 30
-    us on 50 stations, warm-started), held fixed in the tangent (``docs/environment.md`` gives
-    the Newton iterations per step measured with and without it).  ``current(state, s)``
-    and ``bias(state, s)`` give its profiles, ``evaluate`` its summaries.
+    The short-circuit current is evaluated from each Newton iterate and held fixed in
+    the tangent (``kernels.electrodynamic``: the rank-one coupling left out, Newton
+    slower by the ratio of the magnetic damping ``(L B)^2 / R_c`` to the inertia).  The
+    OML current (``kernels.oml``, about 30 us on 50 stations, warm-started) enters the
+    tangent with its coupling ``dI/dq``, ``dI/dv`` (``kernels.oml_coupling``, dense over
+    the cable: ``coupling``).  In statics the offsets' velocity is zero, but the EMF
+    still counts the reference point's velocity.
 
     Examples
     --------
@@ -290,10 +289,10 @@ class ElectrodynamicForce(AlongCable):
     def __init__(self, cable, current, field, resistance=None,
                  plasma_rotation=None, fd_step=FD_STEP, *, plasma=None, cathode=IDEAL,
                  load=0.0, conductivity=None, perimeter=None, insulated=(0.0, 0.0),
-                 supply_voltage=0.0, sample_every=None):
+                 supply_voltage=0.0, sample_every=None, coupling=None):
         self.cable = cable
         self.oml = circuit(cable, current, plasma, cathode, load, conductivity,
-                            perimeter, insulated, supply_voltage, sample_every)
+                            perimeter, insulated, supply_voltage, sample_every, coupling)
         if self.oml is not None and plasma_rotation is not None:
             raise ValueError("plasma_rotation is not used with current='oml': the plasma's "
                              "velocity(x, t) gives the motion of the plasma")

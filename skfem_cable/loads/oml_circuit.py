@@ -44,6 +44,13 @@ from .knots import OrbitKnots
 
 #: The numbers the OML force records at every saved step (``ElectrodynamicForce.
 #: step_outputs``, ``Term.outputs``): ``summary``'s, the force by component.
+#: The most coordinates of a line body whose OML force carries the current's coupling in
+#: its tangent by default (``OMLCircuit.coupled``): 9 cable elements (60).  The block
+#: then stays out of the linear solver's dense border (``model.layout.Layout.DENSE_ROW``,
+#: 64); the 10-element wire of ``benchmarks/oml_cost.py`` (66) with it cost 2.3 times
+#: the step without (``docs/environment.md``).
+COUPLED = 64
+
 OUTPUTS = ("current", "emf", "power", "mean_current", "anode_bias", "load_power", "ohmic",
            "force_x", "force_y", "force_z")
 
@@ -57,7 +64,8 @@ class OMLCircuit:
     the drag sense), the ``conductivity`` (S/m), the conducting ``area`` (m^2), the
     collecting ``perimeter`` (m) and the ``insulated`` interval ``(s0, s1)`` of arc
     length; ``sample_every``: None, the models once per step, or the spacing (s) of
-    the knots they are sampled at (``loads.knots``)."""
+    the knots they are sampled at (``loads.knots``); ``coupling``: whether the tangent
+    carries the current's coupling (``coupled``)."""
 
     plasma: object
     cathode: Cathode
@@ -68,6 +76,7 @@ class OMLCircuit:
     perimeter: float
     insulated: tuple
     sample_every: object = None
+    coupling: object = None
 
     def __post_init__(self):
         for name in ("density", "velocity"):
@@ -81,6 +90,15 @@ class OMLCircuit:
             raise ValueError(f"supply_voltage must be finite (V), got {self.supply_voltage!r}")
         if self.sample_every is not None:
             check_positive("sample_every", self.sample_every)
+        if self.coupling not in (None, True, False):
+            raise ValueError(f"coupling must be None (exact up to {COUPLED} coordinates), "
+                             f"True or False, got {self.coupling!r}")
+
+    def coupled(self, n_coordinates):
+        """Whether the tangent of a line body of ``n_coordinates`` coordinates carries
+        the current's coupling (``kernels.oml_coupling``, a block dense over them):
+        ``coupling`` when given, else up to ``COUPLED`` coordinates."""
+        return n_coordinates <= COUPLED if self.coupling is None else self.coupling
 
     def coefficients(self):
         """``(c, bc)``: ``c = (c_e, c_i, 1 / (sigma A))`` per unit density and ``bc =
@@ -92,13 +110,14 @@ class OMLCircuit:
 
 
 def circuit(cable, current, plasma, cathode, load, conductivity, perimeter, insulated,
-             supply_voltage, sample_every=None):
+             supply_voltage, sample_every=None, coupling=None):
     """The ``OMLCircuit`` of ``ElectrodynamicForce``'s arguments when ``current`` is
     ``"oml"`` (None otherwise, refusing its parameters)."""
     if not (isinstance(current, str) and current == "oml"):
-        if plasma is not None or conductivity is not None or sample_every is not None:
-            raise ValueError(f"plasma, conductivity and sample_every are used only with "
-                             f"current='oml', got current={current!r}")
+        if plasma is not None or conductivity is not None or sample_every is not None \
+                or coupling is not None:
+            raise ValueError(f"plasma, conductivity, sample_every and coupling are used "
+                             f"only with current='oml', got current={current!r}")
         return None
     if plasma is None or conductivity is None:
         raise ValueError("current='oml' needs plasma (density(x, t), velocity(x, t)) and "
@@ -110,7 +129,7 @@ def circuit(cable, current, plasma, cathode, load, conductivity, perimeter, insu
     perimeter = 2.0 * np.sqrt(np.pi * area) if perimeter is None else perimeter
     return OMLCircuit(plasma, cathode, float(load), float(supply_voltage),
                       float(conductivity), float(area), float(perimeter), tuple(insulated),
-                      sample_every)
+                      sample_every, coupling)
 
 
 def stations(points):
@@ -191,8 +210,11 @@ def bind_oml(force, system, orbit, q=None):
     mesh = (nodes, np.zeros(s.size), np.zeros(nodes[0].size), np.zeros(nodes[0].size))
     scratch = tuple(np.zeros(shape + extra) for extra in
                     [(3,)] * 4 + [(3, 3)] + [(3,)] + [(3, 3)] * 3 + [()] * 2)
+    coordinates = np.unique(points.edofs)
+    coupled = circuit.coupled(coordinates.size)
     pack = ((points.edofs, points.S, points.Sx, points.w), motion, source, cache, mesh,
             circuit.coefficients(), kernel.empty_work(nodes[0].size - 1), scratch,
+            coupling_work(points, coordinates if coupled else coordinates[:0], nodes),
             np.zeros(6))
 
     plasma = bound_model(circuit.plasma, system.epoch, "plasma")
@@ -228,11 +250,31 @@ def bind_oml(force, system, orbit, q=None):
                            np.asarray(system.q0 if q is None else q, dtype=float),
                            0.0 if orbit is None else orbit.t0)
     step.prepare(step.t)
-    rows, cols = points.tangent_pattern()
+    rows, cols = tangent_pattern(points, coordinates if coupled else coordinates[:0])
     hook = kernel.kernel_dipole if force.compiled is not None else kernel.kernel_cached
     return Term(kernels=((hook, pack),), rows=rows, cols=cols, prepare=step.prepare,
                 hooks=(step,), outputs=lambda: outputs(pack, circuit, force.step_outputs),
                 name=f"OML electrodynamic force {force.cable.name}"), pack
+
+
+def coupling_work(points, coordinates, nodes):
+    """The coupling's arrays of ``kernels.oml_force``'s pack over the line body's
+    ``coordinates`` (sorted; none: the coupling left out) for the solver's ``nodes``:
+    ``(local, dy, G, D, H)`` (``kernels.oml_coupling``)."""
+    ns, nd = points.w.size, points.edofs.shape[1]
+    k, n = (nodes[0].size, ns) if coordinates.size else (0, 0)
+    local = np.searchsorted(coordinates, points.edofs) if coordinates.size else \
+        np.zeros((0, nd), dtype=np.int64)
+    return (local.astype(np.int64), np.zeros((k, 2 * k)), np.zeros((n, n)),
+            np.zeros((n, nd)), np.zeros((n, coordinates.size)))
+
+
+def tangent_pattern(points, coordinates):
+    """``(rows, cols)``, flat, of the OML force's tangent: the element blocks of the
+    line body's points, then the block dense over ``coordinates`` (the coupling)."""
+    rows, cols = np.broadcast_arrays(*points.tangent_pattern())
+    return (np.concatenate([rows.ravel(), np.repeat(coordinates, coordinates.size)]),
+            np.concatenate([cols.ravel(), np.tile(coordinates, coordinates.size)]))
 
 
 def solved(pack):

@@ -29,8 +29,8 @@ from ..space.orbit import Orbit
 EPOCH = "2026-01-01T00:00:00"
 #: The integrator's Newton iteration: the matrix refactored at every iteration (with
 #: modified Newton's stale matrix a day of the demo refused 976 of 5071 attempted steps,
-#: with full Newton 28 of 3175: the tangent holds the OML current fixed,
-#: ``docs/environment.md``).
+#: with full Newton 28 of 3175, the OML current then held fixed in the tangent; with its
+#: coupling in the tangent, 43 of 3162: ``docs/environment.md``).
 NEWTON = "full"
 #: The tape, its circuit and its orbit (SI units); space weather F10.7 (sfu), Ap.
 TETHER = {"length": 5e3, "width": 0.02, "thickness": 5e-5, "E": 7e10, "density": 2700.0,
