@@ -18,7 +18,7 @@ bending, the solar wind's Coulomb force, a rigid hub with spherical joints; ``dt
 - **the work of each part**, counted from the loops of the kernels (``FLOPS``: the
   assumed-strain cable kernel per element and Gauss point, the Coulomb force per element
   and Gauss point, the rigid hub's constraints, the products of the mass matrix and the
-  linear constraints, and the two-level Schur LU from its storage, ``kernels.schur``) and
+  linear constraints, and the bordered band LU from its storage, ``kernels.bordered``) and
   the bytes it must touch at least (its tables, the state, the factor);
 - **the time of each part**, alone, in a compiled loop (minimum of repeats, CPU time).
 
@@ -41,7 +41,7 @@ from numba import njit
 
 import skfem_cable as sc
 from skfem_cable.cli.bench import arguments
-from skfem_cable.kernels import schur
+from skfem_cable.kernels import bordered
 from skfem_cable.scenes import esail
 from skfem_cable.solvers import compiled as compiled_step
 
@@ -146,20 +146,18 @@ def coulomb_flops(nf, nq, tangent):
 
 
 def band_flops(lu):
-    """Flops of the LU's factorization and of one solve, from its storage
-    (``kernels.schur``): per block of ``n`` band unknowns of half-width ``b`` touching
-    ``t`` border unknowns, ``dgbtrf`` (``2 n b (2 b)``), a band solve per row of its
-    cover, ``W`` and ``F W``; the border's dense LU (``k``: one level); a solve: a band
-    solve per block (``2 n (3 b)``), the border and the correction ``W x_D``."""
-    ab, band, starts, rows, cols, touch_ptr = lu[1], lu[3], lu[9], lu[11], lu[13], lu[16]
-    nb = ab.shape[0]
-    k = lu[5].size - nb
-    t = int(np.diff(touch_ptr).max(initial=0))
+    """Flops of the bordered band LU's factorization and of one solve, from its storage
+    (``kernels.bordered``): per block of ``n`` band unknowns of half-width ``b``,
+    ``dgbtrf`` (``2 n b (2 b)``), a band solve per coupling row, ``W`` and ``F W``; the
+    border's dense LU; a solve: a band solve per block (``2 n (3 b)``), the border and
+    the correction ``W x_D``."""
+    ab, band, starts, rows, cols = lu[1], lu[11], lu[14], lu[16], lu[18]
+    nb, k = ab.shape[0], lu[6].shape[0]
     sizes = np.diff(starts)
     substitute = 6 * band * nb
     factor = int(np.sum(4 * band * band * sizes)) + rows.size * 6 * band * sizes.max() \
-        + 2 * t * rows.size * sizes.max() + 2 * cols.size * t * t + 2 * k**3 // 3
-    solve = substitute + 2 * cols.size * t + 2 * k * k + 2 * t * nb
+        + 2 * k * rows.size * sizes.max() + 2 * cols.size * k * k + 2 * k**3 // 3
+    solve = substitute + 2 * cols.size * k + 2 * k * k + 2 * k * nb
     return factor, solve
 
 
@@ -171,7 +169,7 @@ def part_bytes(system, lu, nnz):
     element = 8 * (3 * nf + 5 * nf + 3 * nf + 3 + 1) + 8 * 3 * 3 * nf   # tables, q v f fd
     coulomb = 8 * (3 * nf + 2 * 5 * nf + 5 + 1) + 8 * 2 * 3 * nf
     matrix = 8 * 3 * ne * (3 * nf) ** 2                                  # index, data RMW
-    ab, W = lu[1], lu[21]
+    ab, W = lu[1], lu[5]
     factor = 8 * (3 * ab.size + 2 * W.size) + 8 * 2 * nnz
     solve = 8 * (ab.size + W.size + 4 * ab.shape[0])
     return {"cable": ne * element, "coulomb": ne * coulomb, "matrix": matrix,
@@ -264,9 +262,9 @@ def part_times(newton, repeats):
                 matrix, newton.out, float(newton.prm[8]), 1.0)
         times[("residual", tangent)] = cpu_each(module._residual, args, 400, repeats)
     a["data"][:] = data  # the factored matrix
-    times["factor"] = cpu_each(schur.factor, (newton.lu, a["data"]), 100, repeats)
+    times["factor"] = cpu_each(bordered.factor, (newton.lu, a["data"]), 100, repeats)
     rhs = np.linspace(-1.0, 1.0, a["r"].size)
-    times["solve"] = cpu_each(schur.solve, (newton.lu, rhs, a["dx"]), 400, repeats)
+    times["solve"] = cpu_each(bordered.solve, (newton.lu, rhs, a["dx"]), 400, repeats)
     return {k: 1e6 * t for k, t in times.items()}
 
 

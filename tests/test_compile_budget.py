@@ -1,6 +1,6 @@
 """What the suite compiles from a cold kernel cache (issue 47, must-show 5): a Newton-step
 module is generated per sequence of term kernels, not per system, so that systems which
-differ in their sizes and values share one compiled step; and on one thread the two-level
+differ in their sizes and values share one compiled step; and on one thread the bordered
 LU's threaded loops are neither compiled nor linked into the step.  No timing is
 asserted: these count what is compiled."""
 
@@ -11,7 +11,7 @@ from node_spring import NodeSpring
 
 import skfem_cable as sc
 from skfem_cable.core.linalg import PatternSolver
-from skfem_cable.kernels import schur
+from skfem_cable.kernels import bordered
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 
@@ -49,7 +49,7 @@ def test_one_thread_leaves_the_threaded_lu_out_of_the_compiled_code():
     rhs = np.arange(1.0, 7.0)
     assert np.allclose(one.solve(rhs), np.linalg.solve(matrix.toarray(), rhs), rtol=1e-14)
     assert any(signature[0][-1] == numba.types.none for signature in
-               schur.factor.signatures)
+               bordered.factor.signatures)
 
 
 class _Push:

@@ -6,8 +6,8 @@ import numpy as np
 import scipy.sparse as sp
 from test_benchmarks import BENCH, load
 
-from skfem_cable.core.linalg import ADDRESSES, band_ordering
-from skfem_cable.kernels import schur
+from skfem_cable.core.linalg import ADDRESSES
+from skfem_cable.kernels import bordered
 
 
 def test_exponent_is_fitted_to_the_minima_over_rounds():
@@ -37,8 +37,7 @@ def test_band_work_is_counted_from_the_storage():
     pattern = sp.diags([np.ones(n - abs(k)) for k in range(-band, band + 1)],
                        list(range(-band, band + 1)), format="csr")
     rows = np.repeat(np.arange(n), np.diff(pattern.indptr))
-    lu = schur.storage(ADDRESSES, rows, pattern.indices, np.arange(n), n, band,
-                       lambda s: band_ordering(s, np.zeros(0, dtype=np.int64)))
+    lu = bordered.storage(ADDRESSES, rows, pattern.indices, np.arange(n), n, band)
     assert floor.band_flops(lu) == (4 * n * band**2, 6 * n * band)
 
 

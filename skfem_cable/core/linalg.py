@@ -4,11 +4,11 @@ The pattern is reordered once by reverse Cuthill-McKee.  A single cable (with it
 multipliers interleaved by the ordering) is a band of half-width about 13, factored by
 LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
 uses the same factor) in O(n).  A hub joined to many cables (the E-sail's) is ordered last
-as a border eliminated by its Schur complement (``kernels.schur``), so the band stays
-that of one cable, and each cable is a block of its own, factored apart (on threads with
+as a dense border eliminated by its Schur complement (``kernels.bordered``), so the band
+stays that of one cable, and each cable is a block of its own, factored apart (on threads with
 ``SKFEM_CABLE_THREADS``); where cables are joined to each other too (the ring of an
 E-sail's tips) the junctions join the border, and the Schur complement, sparse, is
-factored as a band with the hub as its dense border (``kernels.bordered``): two levels.
+factored as a band with the hub as its dense border: two levels (``kernels.schur``).
 Patterns no band fits fall back to SuperLU.  All index maps from
 the CSR data array into the factor's storage, and the storage itself, are made once.
 """
@@ -98,7 +98,8 @@ class PatternSolver:
     method : {"auto", "banded", "sparse"}
         ``"banded"``: LAPACK's banded LU of the pattern reordered by reverse
         Cuthill-McKee, with the ``border`` unknowns (if any) last, eliminated by a Schur
-        complement (``kernels.schur``); ``"sparse"``: SuperLU; ``"auto"``: banded while
+        complement (``kernels.bordered``, or with ``junctions`` ``kernels.schur``);
+        ``"sparse"``: SuperLU; ``"auto"``: banded while
         the half-width stays within ``MAX_BANDWIDTH``.
     border : int array_like, optional
         Unknowns coupled to many others (a hub's coordinates and its own constraints'
@@ -106,7 +107,7 @@ class PatternSolver:
         narrow; used when they make the band narrower.
     threads : int, optional
         Threads on which the independent blocks of the band (an E-sail's tethers) are
-        factored and solved (``kernels.schur``; numba's, at most
+        factored and solved (``kernels.bordered``, ``kernels.schur``; numba's, at most
         ``NUMBA_NUM_THREADS``); the results are the same for any number.  Default: the
         environment variable ``SKFEM_CABLE_THREADS``, else 1.  Give a process more than
         one only where it has the cores to itself: numba's OpenMP threads wait by
@@ -126,8 +127,12 @@ class PatternSolver:
     border : int
         Number of border unknowns (0: a plain band).
     levels : int
-        1: the border is dense (or there is none); 2: the border's Schur complement is a
-        band with a dense border of its own.
+        1: the border is dense (or there is none), factored by ``kernels.bordered``; 2:
+        the border's Schur complement is a band with a dense border of its own
+        (``kernels.schur``).
+    kernels : module
+        ``kernels.bordered`` or ``kernels.schur``: the ``factor``, ``solve`` and storage
+        (``lu``) of the banded method; the compiled Newton step calls the same.
     """
 
     def __init__(self, indptr, indices, method="auto", border=None, threads=None,
@@ -146,10 +151,14 @@ class PatternSolver:
         self.perm, self.band, self.border = perm, band, n - nb
         hub = np.isin(perm[nb:], dense)
         self.levels = 1 + bool(not hub.all())
-        if method == "banded":
+        self.kernels = schur if self.levels == 2 else bordered_lu
+        if method == "banded" and self.levels == 2:
             self.lu = schur.storage(ADDRESSES, self._rows, self.pattern.indices, perm, nb,
                                     band, lambda s: band_ordering(s, np.flatnonzero(hub)),
                                     self.threads)
+        elif method == "banded":
+            self.lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm,
+                                          nb, band, self.threads)
         self.factorizations = 0
         self._lu = None
 
@@ -171,7 +180,7 @@ class PatternSolver:
         """LU-factor the matrix with CSR values ``data``."""
         self.factorizations += 1
         if self.method == "banded":
-            idx = int(schur.factor(self.lu, data))
+            idx = int(self.kernels.factor(self.lu, data))
             if idx >= 0:
                 raise SingularMatrixError(f"singular iteration matrix at unknown {idx}", idx)
         else:
@@ -203,7 +212,7 @@ class PatternSolver:
         for k in np.ndindex(rhs.shape[1:]):
             col = (slice(None), *k)
             column = np.empty(self.n)
-            schur.solve(self.lu, np.ascontiguousarray(rhs[col]), column)
+            self.kernels.solve(self.lu, np.ascontiguousarray(rhs[col]), column)
             out[col] = column
         return out
 
