@@ -115,9 +115,9 @@ class PatternSolver:
         same cores) each factorization can wait for a time slice.
     junctions : int array_like, optional
         Unknowns where bodies outside the ``border`` meet (``Layout.junctions``: the tips
-        of an E-sail's tethers joined by its ring): ordered last too when that makes the
-        band narrower still, they make the Schur complement's band, the ``border`` its
-        dense border (two levels, ``kernels.schur``).
+        of an E-sail's tethers joined by its ring): with a ``border``, ordered last too
+        when that makes the band narrower still, they make the Schur complement's band,
+        the ``border`` its dense border (two levels, ``kernels.schur``).
 
     Attributes
     ----------
@@ -164,12 +164,13 @@ class PatternSolver:
 
     def _choose(self, border, junctions):
         """``(perm, nb, band, dense)``: the narrowest band of the orderings with nothing,
-        the ``border``, and the ``border`` with the ``junctions`` last (each only if
-        strictly narrower), and the unknowns the Schur complement keeps dense (the
-        ``border``'s; the junctions make its own band)."""
+        the ``border``, and (if there is a border) the ``border`` with the ``junctions``
+        last (each only if strictly narrower), and the unknowns the Schur complement
+        keeps dense (the ``border``'s; the junctions make its own band)."""
         perm, nb, band = band_ordering(self.pattern, np.zeros(0, dtype=np.int64))
         dense = np.zeros(0, dtype=np.int64)
-        for last in [border] + ([np.union1d(border, junctions)] if junctions.size else []):
+        two = border.size and junctions.size  # under a hub only: the rest keep their LU
+        for last in [border] + ([np.union1d(border, junctions)] if two else []):
             if last.size:
                 candidate = band_ordering(self.pattern, last)
                 if candidate[2] < band:

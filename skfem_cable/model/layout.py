@@ -210,15 +210,20 @@ class Layout:
         """Coordinates where bodies other than hubs meet, which would join their blocks
         of the band into one (the E-sail's ring joins every tether to its neighbours):
         on every constraint joining such bodies, the coordinates of the one joined to
-        the most (the first of equals; a tether's tip, not its auxiliary tether's end).
-        Ordered last, with the hubs as their dense border, where that narrows the band
-        (``linalg.PatternSolver``: two levels)."""
+        the most (the first of equals; a tether's tip, not its auxiliary tether's end);
+        and the multipliers of the constraints on those coordinates alone (a rigid
+        body's own, which would otherwise be a block of zeros).  Ordered last, with the
+        hubs as their dense border, where that narrows the band (``linalg.PatternSolver``:
+        two levels)."""
         parts = [np.zeros(0, dtype=np.int64)]
         for d in self.cdofs:
             bodies = sorted(set(owner[d].tolist()))
             if len(bodies) > 1 and not hubs.intersection(bodies):
                 best = max(bodies, key=lambda b: count[b])
                 parts.append(d[owner[d] == best])
+        junctions = np.unique(np.concatenate(parts))
+        parts += [owner.size + rows for d, rows in zip(self.cdofs, self.crows)
+                  if d.size and np.isin(d, junctions).all()]
         return np.unique(np.concatenate(parts)).astype(np.int64)
 
     @staticmethod
