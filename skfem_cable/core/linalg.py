@@ -5,8 +5,11 @@ multipliers interleaved by the ordering) is a band of half-width about 13, facto
 LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
 uses the same factor) in O(n).  A hub joined to many cables (the E-sail's) is ordered last
 as a dense border eliminated by its Schur complement (``kernels.bordered``), so the band
-stays that of one cable, and each cable is a block of its own, factored apart (on threads
-with ``SKFEM_CABLE_THREADS``); patterns no band fits fall back to SuperLU.  All index maps from
+stays that of one cable, and each cable is a block of its own, factored apart (on threads with
+``SKFEM_CABLE_THREADS``); where cables are joined to each other too (the ring of an
+E-sail's tips) the junctions join the border, and the Schur complement, sparse, is
+factored as a band with the hub as its dense border: two levels (``kernels.schur``).
+Patterns no band fits fall back to SuperLU.  All index maps from
 the CSR data array into the factor's storage, and the storage itself, are made once.
 """
 
@@ -20,6 +23,7 @@ from scipy.sparse.csgraph import reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
 
 from ..kernels import bordered as bordered_lu
+from ..kernels import schur
 from ..kernels.lapack import ADDRESSES
 
 #: The environment variable of the number of threads of the bordered LU's blocks
@@ -53,6 +57,29 @@ def thread_count(threads=None):
     return count
 
 
+def _unknowns(indices):
+    """Sorted unique int64 unknowns of ``indices`` (None: none)."""
+    return np.unique(np.asarray([] if indices is None else indices, dtype=np.int64))
+
+
+def band_ordering(pattern, border):
+    """``(perm, nb, band)`` of the square CSR ``pattern``: reverse Cuthill-McKee of the
+    unknowns outside ``border``, then the ``border``; ``nb`` band unknowns of half-width
+    ``band``."""
+    n = pattern.shape[0]
+    rest = np.setdiff1d(np.arange(n), border)
+    sub = pattern[rest][:, rest] if border.size else pattern
+    order = reverse_cuthill_mckee(sub, symmetric_mode=True) if rest.size else rest
+    perm = np.concatenate([rest[order], border]).astype(np.int64)
+    iperm = np.empty_like(perm)
+    iperm[perm] = np.arange(n)
+    coo = pattern.tocoo()
+    pr, pc = iperm[coo.row], iperm[coo.col]
+    inside = (pr < rest.size) & (pc < rest.size)
+    band = int(np.max(np.abs(pr - pc)[inside], initial=0))
+    return perm, rest.size, band
+
+
 class SingularMatrixError(np.linalg.LinAlgError):
     """The iteration matrix is singular; ``index`` is the unknown where it was detected."""
 
@@ -71,7 +98,8 @@ class PatternSolver:
     method : {"auto", "banded", "sparse"}
         ``"banded"``: LAPACK's banded LU of the pattern reordered by reverse
         Cuthill-McKee, with the ``border`` unknowns (if any) last, eliminated by a Schur
-        complement (``kernels.bordered``); ``"sparse"``: SuperLU; ``"auto"``: banded while
+        complement (``kernels.bordered``, or with ``junctions`` ``kernels.schur``);
+        ``"sparse"``: SuperLU; ``"auto"``: banded while
         the half-width stays within ``MAX_BANDWIDTH``.
     border : int array_like, optional
         Unknowns coupled to many others (a hub's coordinates and its own constraints'
@@ -79,12 +107,17 @@ class PatternSolver:
         narrow; used when they make the band narrower.
     threads : int, optional
         Threads on which the independent blocks of the band (an E-sail's tethers) are
-        factored and solved (``kernels.bordered``; numba's, at most
+        factored and solved (``kernels.bordered``, ``kernels.schur``; numba's, at most
         ``NUMBA_NUM_THREADS``); the results are the same for any number.  Default: the
         environment variable ``SKFEM_CABLE_THREADS``, else 1.  Give a process more than
         one only where it has the cores to itself: numba's OpenMP threads wait by
         spinning, and beside other busy processes (test workers, a Dask cluster on the
         same cores) each factorization can wait for a time slice.
+    junctions : int array_like, optional
+        Unknowns where bodies outside the ``border`` meet (``Layout.junctions``: the tips
+        of an E-sail's tethers joined by its ring): with a ``border``, ordered last too
+        when that makes the band narrower still, they make the Schur complement's band,
+        the ``border`` its dense border (two levels, ``kernels.schur``).
 
     Attributes
     ----------
@@ -93,9 +126,17 @@ class PatternSolver:
         Half-width of the band (of the unknowns outside the border).
     border : int
         Number of border unknowns (0: a plain band).
+    levels : int
+        1: the border is dense (or there is none), factored by ``kernels.bordered``; 2:
+        the border's Schur complement is a band with a dense border of its own
+        (``kernels.schur``).
+    kernels : module
+        ``kernels.bordered`` or ``kernels.schur``: the ``factor``, ``solve`` and storage
+        (``lu``) of the banded method; the compiled Newton step calls the same.
     """
 
-    def __init__(self, indptr, indices, method="auto", border=None, threads=None):
+    def __init__(self, indptr, indices, method="auto", border=None, threads=None,
+                 junctions=None):
         if method not in ("auto", "banded", "sparse"):
             raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
         self.threads = thread_count(threads)
@@ -103,43 +144,44 @@ class PatternSolver:
         self.n = n
         self.pattern = sp.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))
         self._rows = np.repeat(np.arange(n), np.diff(indptr))
-        perm, nb, band = self._ordering(np.zeros(0, dtype=np.int64))
-        if border is not None and len(border):
-            bordered = self._ordering(np.unique(np.asarray(border, dtype=np.int64)))
-            if bordered[2] < band:
-                perm, nb, band = bordered
+        perm, nb, band, dense = self._choose(_unknowns(border), _unknowns(junctions))
         if method == "auto":
             method = "banded" if band <= MAX_BANDWIDTH else "sparse"
         self.method = method
         self.perm, self.band, self.border = perm, band, n - nb
-        if method == "banded":
+        hub = np.isin(perm[nb:], dense)
+        self.levels = 1 + bool(not hub.all())
+        self.kernels = schur if self.levels == 2 else bordered_lu
+        if method == "banded" and self.levels == 2:
+            self.lu = schur.storage(ADDRESSES, self._rows, self.pattern.indices, perm, nb,
+                                    band, lambda s: band_ordering(s, np.flatnonzero(hub)),
+                                    self.threads)
+        elif method == "banded":
             self.lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm,
                                           nb, band, self.threads)
         self.factorizations = 0
         self._lu = None
 
-    def _ordering(self, border):
-        """``(perm, nb, band)``: reverse Cuthill-McKee of the unknowns outside ``border``,
-        then the border; ``nb`` band unknowns of half-width ``band``."""
-        if border.size:
-            rest = np.setdiff1d(np.arange(self.n), border)
-            sub = self.pattern[rest][:, rest]
-        else:
-            rest, sub = np.arange(self.n), self.pattern
-        order = reverse_cuthill_mckee(sub, symmetric_mode=True) if rest.size else rest
-        perm = np.concatenate([rest[order], border]).astype(np.int64)
-        iperm = np.empty_like(perm)
-        iperm[perm] = np.arange(self.n)
-        pr, pc = iperm[self._rows], iperm[self.pattern.indices]
-        inside = (pr < rest.size) & (pc < rest.size)
-        band = int(np.max(np.abs(pr - pc)[inside], initial=0))
-        return perm, rest.size, band
+    def _choose(self, border, junctions):
+        """``(perm, nb, band, dense)``: the narrowest band of the orderings with nothing,
+        the ``border``, and (if there is a border) the ``border`` with the ``junctions``
+        last (each only if strictly narrower), and the unknowns the Schur complement
+        keeps dense (the ``border``'s; the junctions make its own band)."""
+        perm, nb, band = band_ordering(self.pattern, np.zeros(0, dtype=np.int64))
+        dense = np.zeros(0, dtype=np.int64)
+        two = border.size and junctions.size  # under a hub only: the rest keep their LU
+        for last in [border] + ([np.union1d(border, junctions)] if two else []):
+            if last.size:
+                candidate = band_ordering(self.pattern, last)
+                if candidate[2] < band:
+                    (perm, nb, band), dense = candidate, border
+        return perm, nb, band, dense
 
     def factor(self, data):
         """LU-factor the matrix with CSR values ``data``."""
         self.factorizations += 1
         if self.method == "banded":
-            idx = int(bordered_lu.factor(self.lu, data))
+            idx = int(self.kernels.factor(self.lu, data))
             if idx >= 0:
                 raise SingularMatrixError(f"singular iteration matrix at unknown {idx}", idx)
         else:
@@ -156,7 +198,7 @@ class PatternSolver:
         """The unknown where a singular matrix with CSR values ``data`` loses rank, found
         by a banded LU of its bandwidth-reduced form (as the banded method does); -1 if
         that band would exceed ``MAX_LOCATE_ENTRIES`` (too large to locate)."""
-        perm, nb, band = self._ordering(np.zeros(0, dtype=np.int64))
+        perm, nb, band = band_ordering(self.pattern, np.zeros(0, dtype=np.int64))
         if self.n * (3 * band + 1) > MAX_LOCATE_ENTRIES:
             return -1
         lu = bordered_lu.storage(ADDRESSES, self._rows, self.pattern.indices, perm, nb, band)
@@ -171,7 +213,7 @@ class PatternSolver:
         for k in np.ndindex(rhs.shape[1:]):
             col = (slice(None), *k)
             column = np.empty(self.n)
-            bordered_lu.solve(self.lu, np.ascontiguousarray(rhs[col]), column)
+            self.kernels.solve(self.lu, np.ascontiguousarray(rhs[col]), column)
             out[col] = column
         return out
 

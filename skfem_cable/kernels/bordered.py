@@ -12,8 +12,10 @@ with ``threads > 1``: ``prange``),
 
 * LAPACK's banded LU of ``B_j`` (``dgbtrf``),
 * ``X_j = B_j^{-1} P_j`` for the unit columns ``P_j`` of its coupling rows (a few band
-  solves, not one per border column),
-* ``W_j = B_j^{-1} E_j = X_j E[R_j]`` and the block's part ``F_j W_j`` of the Schur
+  solves, not one per border column), ``W_j = B_j^{-1} E_j = X_j E[R_j]``; or, where
+  the coupling rows outnumber the border (the ring of tips of ``kernels.schur``'s second
+  level, every tip joined to the hub), ``W_j`` by a band solve per border column,
+* and the block's part ``F_j W_j`` of the Schur
   complement, from the coupling columns alone;
 
 then, in the order of the blocks (so that the sum, and every result, is the same whatever
@@ -134,19 +136,13 @@ def _factor_block(addresses, ab, ipiv, E, F, W, band, ints, start, end, rows, co
     if info > 0 or rows.size == 0:
         return info
     k = E.shape[0]
-    x = X.reshape((rows.size, n))
-    for b in range(rows.size):  # X = B_j^{-1} P_j: unit columns at the coupling rows
-        x[b, :] = 0.0
-        x[b, rows[b] - start] = 1.0
-        band_substitute(block, band, pivots, x[b])
-    for c in range(k):  # W = X E[R_j]
-        w = W[c, start:end]
-        w[:] = 0.0
-        for b in range(rows.size):
-            e = E[c, rows[b]]
-            if e != 0.0:
-                for p in range(n):
-                    w[p] += x[b, p] * e
+    if rows.size > k:  # W = B_j^{-1} E_j: fewer band solves on the columns of E
+        for c in range(k):
+            W[c, start:end] = E[c, start:end]
+            band_substitute(block, band, pivots, W[c, start:end])
+    else:
+        _coupling_solves(block, band, pivots, rows, start, X.reshape((rows.size, n)),
+                         E[:, start:end], W[:, start:end])
     for c in range(k):  # F_j W_j over the coupling columns
         for i in range(cols.size):
             p = cols[i]
@@ -154,6 +150,27 @@ def _factor_block(addresses, ab, ipiv, E, F, W, band, ints, start, end, rows, co
             for r in range(k):
                 part[c, r] += F[p, r] * wp
     return info
+
+
+@njit(cache=True)
+def _coupling_solves(block, band, pivots, rows, first, x, e, w):
+    """``w = B^{-1} e`` (rows: border unknowns) from the banded LU of ``B`` (``block``,
+    its first unknown ``first``) where ``e`` has entries in a few ``rows`` only:
+    ``x = B^{-1} P`` for their unit columns ``P`` (one band solve each, into ``x``),
+    then ``w = x e[:, rows - first]``."""
+    n = block.shape[0]
+    for b in range(rows.size):
+        x[b, :] = 0.0
+        x[b, rows[b] - first] = 1.0
+        band_substitute(block, band, pivots, x[b])
+    for c in range(e.shape[0]):
+        wc = w[c]
+        wc[:] = 0.0
+        for b in range(rows.size):
+            value = e[c, rows[b] - first]
+            if value != 0.0:
+                for p in range(n):
+                    wc[p] += x[b, p] * value
 
 
 @njit(cache=True)
@@ -290,7 +307,8 @@ def storage(addresses, rows, cols, perm, nb, band, threads=1):
     starts = blocks(pr, pc, nb)
     rows_ptr, coupling_rows = _grouped(pr[(target == 1)], starts)
     cols_ptr, coupling_cols = _grouped(pc[(target == 2)], starts)
-    sizes = np.diff(rows_ptr) * np.diff(starts)
+    coupling = np.diff(rows_ptr)
+    sizes = np.where(coupling > k, 0, coupling) * np.diff(starts)
     x_ptr = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
     nblocks = starts.size - 1
     return (addresses, np.zeros((nb, ldab)), np.zeros(nb, dtype=np.int32),

@@ -134,7 +134,7 @@ def _iterate(terms, model, lu, state, out, prm):
         the positions of the diagonal, the coordinate scales, the linear constraints'
         Jacobian and its transpose (CSR), their multiplier rows and offsets at ``t1``.
     lu : tuple
-        The bordered band LU of ``linalg.PatternSolver`` (``kernels.bordered``; its
+        The two-level Schur LU of ``linalg.PatternSolver`` (``kernels.schur``; its
         storage: a factor made there is used here and the reverse).
     state : tuple ``(q, v, a, abar, lam, a_prev, da_prev, f_damping, f_nc, f_con)``
         The state at ``t_n``, the accelerations at ``t_(n-1)`` and their change over the

@@ -72,6 +72,9 @@ class Layout:
         Coordinates and multiplier rows of each constraint.
     border
         Unknowns of the hubs, ordered last by the linear solver (``_border``).
+    junctions
+        Coordinates where bodies other than hubs meet (``_junctions``): ordered last
+        too where that narrows the band, before the hubs (two levels).
     description : dict
         ``io.fingerprint.describe_system`` of the system once bound: a later one that
         differs means the system was edited (``System.current_layout``).
@@ -124,7 +127,9 @@ class Layout:
             d, r, j, jt, NO_INDEX if h is None else h)) for d, r, j, jt, h in zip(
             self.cdofs, self.crows, self.jac_index, self.jacT_index, self.hess_index)]
         self._mass(M)
-        self.border = self._border(system)
+        owner, count, hubs = self._hubs(system)
+        self.border = self._border(system, owner, hubs)
+        self.junctions = self._junctions(owner, count, hubs)
         self._linear_constraints(system)
         self.f_const = self._constant_force(system, loads)
         self._scales(system)
@@ -172,14 +177,10 @@ class Layout:
     #: every coordinate of its cable) are ordered last too.
     DENSE_ROW = 64
 
-    def _border(self, system):
-        """Unknowns of the hubs (bodies joined to ``HUB_PARTNERS`` or more others, such
-        as the E-sail's hub) and coordinates with more than ``DENSE_ROW`` entries in their
-        row (a reel's length; a rigid body whose surface a line touches,
-        ``loads.contact_body``), with the multipliers of the constraints on those
-        coordinates alone (a pivot-free elimination of the rest needs them last).
-        Ordered last by the linear solver, they keep the band narrow
-        (``linalg.PatternSolver``)."""
+    def _hubs(self, system):
+        """The body owning each coordinate, each body's number of partners (bodies joined
+        to it by a constraint) and the hubs: bodies joined to ``HUB_PARTNERS`` or more
+        others, and to no fewer than any of them is (the E-sail's hub)."""
         owner = np.empty(system.n_dofs, dtype=np.int64)
         for b, body in enumerate(system.bodies):
             owner[system.dofs(body)] = b
@@ -191,12 +192,41 @@ class Layout:
         count = [len(p) for p in partners]
         hubs = {b for b, p in enumerate(partners)
                 if count[b] >= self.HUB_PARTNERS and all(count[o] <= count[b] for o in p)}
+        return owner, count, hubs
+
+    def _border(self, system, owner, hubs):
+        """Unknowns of the ``hubs`` (``_hubs``) and coordinates with more than
+        ``DENSE_ROW`` entries in their row (a reel's length; a rigid body whose surface a
+        line touches, ``loads.contact_body``), with the multipliers of the constraints on
+        those coordinates alone (a pivot-free elimination of the rest needs them last).
+        Ordered last by the linear solver, they keep the band narrow
+        (``linalg.PatternSolver``)."""
         counts = np.diff(self.indptr)[:system.n_dofs]
         parts = [system.dofs(system.bodies[b]) for b in sorted(hubs)]
         parts.append(np.flatnonzero(counts > self.DENSE_ROW))
         coordinates = np.unique(np.concatenate(parts))
         parts += [system.n_dofs + rows for d, rows in zip(self.cdofs, self.crows)
                   if d.size and np.isin(d, coordinates).all()]
+        return np.unique(np.concatenate(parts)).astype(np.int64)
+
+    def _junctions(self, owner, count, hubs):
+        """Coordinates where bodies other than hubs meet, which would join their blocks
+        of the band into one (the E-sail's ring joins every tether to its neighbours):
+        on every constraint joining such bodies, the coordinates of the one joined to
+        the most (the first of equals; a tether's tip, not its auxiliary tether's end);
+        and the multipliers of the constraints on those coordinates alone (a rigid
+        body's own, which would otherwise be a block of zeros).  Ordered last, with the
+        hubs as their dense border, where that narrows the band (``linalg.PatternSolver``:
+        two levels)."""
+        parts = [np.zeros(0, dtype=np.int64)]
+        for d in self.cdofs:
+            bodies = sorted(set(owner[d].tolist()))
+            if len(bodies) > 1 and not hubs.intersection(bodies):
+                best = max(bodies, key=lambda b: count[b])
+                parts.append(d[owner[d] == best])
+        junctions = np.unique(np.concatenate(parts))
+        parts += [owner.size + rows for d, rows in zip(self.cdofs, self.crows)
+                  if d.size and np.isin(d, junctions).all()]
         return np.unique(np.concatenate(parts)).astype(np.int64)
 
     @staticmethod

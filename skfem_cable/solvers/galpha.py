@@ -170,7 +170,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         lay = system.current_layout()
         self.lay = lay
         self.n = system.n_dofs
-        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
+        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border,
+                                    junctions=lay.junctions)
         self.mbar = float(np.mean(lay.mass_diagonal))
         if not self.mbar > 0:
             raise ValueError("the system has no mass")

@@ -64,7 +64,7 @@ def modes(system: IntegrableSystem, state=None, k=6, sigma=None, spin=None):
         diag = lay.matrix(data).diagonal()[:n]
         mdiag = lay.matrix(mass).diagonal()[:n]
         sigma = -1e-8 * float(np.mean(np.abs(diag)) / np.mean(mdiag))
-    solver = PatternSolver(lay.indptr, lay.indices, border=lay.border)
+    solver = PatternSolver(lay.indptr, lay.indices, border=lay.border, junctions=lay.junctions)
     solver.factor(data - sigma * mass)
     B = lay.matrix(mass)
     N = lay.N

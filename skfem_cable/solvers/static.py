@@ -220,7 +220,8 @@ class _Newton:
         self.line_search, self.motion = line_search, motion
         lay = system.current_layout()
         self.lay, self.n = lay, system.n_dofs
-        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border)
+        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border,
+                                    junctions=lay.junctions)
         pos = system.q0[system.vectors[system.vector_is_position]]
         self.L_ref = max(float(np.ptp(pos, axis=0).max()), 1e-300) if pos.size else 1.0
         self.q0 = hanging_start(system, system.q0, tol * self.L_ref) if initial is None \

@@ -275,6 +275,7 @@ def solve_steady(system: IntegrableSystem, omega, center=(0.0, 0.0, 0.0), initia
         # the gauge rows join every body, which would make each a hub of the bordered
         # band ordering (``Layout.border``): no band fits, the linear solver is SuperLU
         frame.layout.border = np.zeros(0, dtype=np.int64)
+        frame.layout.junctions = np.zeros(0, dtype=np.int64)
     motion = RigidRotation(system, omega, center)
     axis = omega / np.linalg.norm(omega)
     equivariance = check_equivariance(frame, motion, q0, axis, center)
