@@ -28,7 +28,7 @@ from .books import Books
 from .checkpoint import Checkpoint
 from .compiled import CompiledNewton, python_parts
 from .diagnosis import Diagnosis
-from .guard import EnergyGuard
+from .guard import EnergyGuard, refusal
 from .initial_state import InitialState
 from .step_control import StepControl
 
@@ -203,6 +203,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
         self.hooks: list[StepHook] = []  # simulate's (their state joins the snapshot)
+        self.checks = tuple(term.check for term, _ in lay.body_terms + lay.load_terms
+                            if term.check is not None)  # guard.refusal
         self.compiled = self._compiled_newton(compiled)
 
     def _error_control(self, rtol, atol):
@@ -409,8 +411,12 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     def _accept(self, t1, h, q1, v1, a1, lam1, info, iterations, rate):
         """Book the energies of a converged step (with the evaluation ``info`` of its
         last residual, and its pseudo-acceleration ``info["abar"]``), apply the
-        instability guard and, if it passes, make the step's end the current state;
-        ``rate`` is its Newton contraction estimate (``newton_rate``)."""
+        terms' checks (``guard.refusal``) and the instability guard and, if they pass,
+        make the step's end the current state; ``rate`` is its Newton contraction
+        estimate (``newton_rate``)."""
+        refused = refusal(self.checks, self.q, q1)
+        if refused is not None:
+            return False, f"t={t1:.6g}, h={h:.3g}: {refused}"
         if self.rtol is not None:
             self.error_ratio = error_ratio(self.q, q1, info["abar"], self.abar,
                                            self.error_constant * h * h, self.system.vectors,
