@@ -75,20 +75,19 @@ def pieces(c, cuts):
     """The ends of the monotone pieces of the cubic ``c`` on ``[0, 1]`` into ``cuts``
     (4,): 0, the roots of ``V'`` inside, 1; returns how many ends."""
     a, b, e = 3.0 * c[3], 2.0 * c[2], c[1]
-    roots = np.empty(2)
-    n = 0
+    r0 = r1 = -1.0                     # outside: no cut
     if a == 0.0:
         if b != 0.0:
-            roots[0], n = -e / b, 1
+            r0 = -e / b
     else:
         disc = b * b - 4.0 * a * e
         if disc > 0.0:
             h = -0.5 * (b + math.copysign(math.sqrt(disc), b))
-            roots[0], n = h / a, 1
+            r0 = h / a
             if h != 0.0:
-                roots[1], n = e / h, 2
+                r1 = e / h
     cuts[0], m = 0.0, 1
-    for x in np.sort(roots[:n]):
+    for x in (min(r0, r1), max(r0, r1)):
         if 0.0 < x < 1.0:
             cuts[m], m = x, m + 1
     cuts[m] = 1.0
