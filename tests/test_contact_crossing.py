@@ -80,14 +80,15 @@ def test_the_swept_test_fires_either_side_of_a_crossing(tethers):
 
 
 def test_the_kernel_on_two_segments():
-    """Segment b across a (along y over x), 1 above it, moving to 1 below: crossing at
-    the middle of the move and of both; b beside a's end (the lines' intersection off a),
-    parallel to a and passing over it, or moving in parallel without crossing: none."""
+    """Segment b across a (a along x, b along y), 1 above it, moving to 1 below: the
+    crossing at the middle of the move and of both.  None where b moves down beside a's
+    end (the lines' intersection off a), where b is parallel to a, 0.5 beside it, and
+    moves down past it, or where b slides along a above it."""
     a = np.array([[-1.0, 0, 0], [1, 0, 0]])
     P, c, cuts = np.empty((4, 3)), np.empty(4), np.empty(4)
 
-    def tau(b0, b1, a1=a):
-        return kernel.crossing_time(np.vstack([a, b0]), np.vstack([a1, b1]), 1e-5, P, c,
+    def tau(b0, b1):
+        return kernel.crossing_time(np.vstack([a, b0]), np.vstack([a, b1]), 1e-5, P, c,
                                     cuts)
     across = np.array([[0.0, -1, 1], [0, 1, 1]])
     assert tau(across, across - [0, 0, 2]) == pytest.approx(0.5, abs=1e-12)
