@@ -10,6 +10,8 @@ tangent so that the bordered band LU still solves the sail), run side by side:
   the windless spin), the minimum over the repeats, the two runs alternating;
 * ``pairs``: the broad phase's candidate pairs at the last step, ``contacts`` the
   contacts there (none: the tethers stay thousands of metres apart);
+* ``check us``: the crossing guard's call (the term's ``check``, once per attempted step,
+  ``loads.contact_crossing``; inside ``with``) on the last step's states, CPU per call;
 * ``ratio`` = with / without.  Goal: at most 1.2 (12 tethers) and 1.3 (100 tethers).
 
 CPU time (``time.process_time``), after a run of each that compiles.
@@ -61,16 +63,26 @@ def measure(config, steps, repeats):
             if k == 1:
                 last = result
     contact = touching.system.loads[-1]
-    broad = last_broad(touching.system, contact)
+    term = last_term(touching.system, contact)
     state = last.state(-1)
     found = contact.contacts(touching.system, state.q, state.v)
-    return best[0], best[1], int(broad.count[0]), len(found["normal"]), last.stats["solver"]
+    return (best[0], best[1], int(term.hooks[0].count[0]), len(found["normal"]),
+            last.stats["solver"], check_cost(term, last.state(-2).q, state.q))
 
 
-def last_broad(system, contact):
-    """The broad phase of ``contact`` in the system's current layout (its step hook)."""
-    terms = [term for term, _ in system.layout.load_terms if term.name == contact.name]
-    return terms[0].hooks[0]
+def last_term(system, contact):
+    """The term of ``contact`` in the system's current layout (its step hook, the broad
+    phase, holds the last step's pairs)."""
+    return [term for term, _ in system.layout.load_terms if term.name == contact.name][0]
+
+
+def check_cost(term, q0, q1, calls=10000):
+    """CPU per call (s) of the crossing guard of ``term`` on the step from ``q0`` to
+    ``q1`` over its broad phase's pairs."""
+    start = time.process_time()
+    for _ in range(calls):
+        term.check(q0, q1)
+    return (time.process_time() - start) / calls
 
 
 def main(argv=None):
@@ -78,14 +90,14 @@ def main(argv=None):
     args = SETTINGS["quick" if arguments(__doc__, "fewer steps and repeats", argv).quick
                     else "full"]
     print(f"{'tethers':>8} {'without ms':>11} {'with ms':>9} {'ratio':>6} {'goal':>5} "
-          f"{'pairs':>6} {'contacts':>9} {'solver':>7}")
+          f"{'pairs':>6} {'contacts':>9} {'solver':>7} {'check us':>9}")
     for config in (esail.BaselineConfig(), esail.FULL_SIZE):
-        without, with_contact, pairs, contacts, solver = measure(config, args["steps"],
-                                                                 args["repeats"])
+        without, with_contact, pairs, contacts, solver, check = measure(
+            config, args["steps"], args["repeats"])
         n = config.n_tethers
         print(f"{n:>8} {1e3 * without:11.2f} {1e3 * with_contact:9.2f} "
               f"{with_contact / without:6.3f} {GOALS[n]:5.1f} {pairs:>6} {contacts:>9} "
-              f"{solver:>7}")
+              f"{solver:>7} {1e6 * check:9.3f}")
 
 
 if __name__ == "__main__":

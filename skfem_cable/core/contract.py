@@ -244,6 +244,13 @@ class Term:
         the names its load declares (``protocols.Load``'s ``step_outputs``); ``simulate``
         records them at every saved step (``Step.outputs``: the store's ``output_<name>``,
         ``Result.outputs``), from the step's last Newton iterate.
+    check : callable or None
+        ``check(q0, q1)``: None, or the reason (a str naming the term and what it saw)
+        the step from the accepted coordinates ``q0`` to the converged candidate ``q1``
+        must be refused; the integrator calls it once per attempted step, before its
+        instability guard (``solvers.guard.refusal``), and a refused step is retried
+        smaller like one that failed to converge.  E.g. line-to-line contact refuses a
+        step that carried two lines through each other (``loads.contact_crossing``).
     """
 
     add: Callable[..., None] | None = None
@@ -260,6 +267,7 @@ class Term:
     energy_change: Callable[[Any, Any, float, float], float] | None = None
     hooks: tuple = ()
     outputs: Callable[[], dict] | None = None
+    check: Callable[[Any, Any], str | None] | None = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:

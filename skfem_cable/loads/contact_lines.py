@@ -30,6 +30,9 @@ exact tangents), over the candidate pairs of a broad phase refreshed once per ti
   below the touching points' mass term, ``docs/contact.md``), the default for more
   lines, which keeps the pattern of a system such as the E-sail whose solver factors
   each cable apart.
+* Crossings: a step whose converged state has carried two lines (or two parts of one)
+  through each other is refused, naming them (``contact_crossing``: the term's
+  ``check``, once per attempted step over the step's candidate pairs).
 * Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``), evaluated
   once per saved step from the step's converged state (the one its broad phase keeps).
 """
@@ -45,6 +48,7 @@ from ..kernels import line_broad_phase
 from ..kernels.line import points as line_points_kernel
 from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
+from .contact_crossing import crossing_check
 from .contact_joints import excluded_pairs
 
 #: The crossing force (in units of ``EA``) that penetrates ``tolerance d`` with the
@@ -273,7 +277,9 @@ class LineLineContact:
     def bind(self, system):
         """The compiled term (``kernels.contact_lines.kernel``) over the pairs of its
         ``BroadPhase`` (its ``prepare`` and step hook), on the tangent pattern of
-        ``tangent``: the dense block over the lines' coordinates, or each element's own."""
+        ``tangent``: the dense block over the lines' coordinates, or each element's own;
+        its ``check`` refuses a step that carried two lines through each other
+        (``contact_crossing``)."""
         tables = self.tables(system)
         points, rows = tables[:2]
         broad = self.broad_phase(system, tables, system.q0)
@@ -288,7 +294,8 @@ class LineLineContact:
                 local, int(own))
         return Term(kernels=((kernel.kernel, pack),), rows=block[0], cols=block[1],
                     prepare=broad.prepare, hooks=(broad,), name=self.name,
-                    outputs=lambda: self.step_values(system, tables, broad))
+                    outputs=lambda: self.step_values(system, tables, broad),
+                    check=crossing_check(self, tables, broad))
 
     def step_values(self, system, tables, broad):
         """The per-step outputs ``{step_outputs: summary}`` of the lines' ``tables`` at the

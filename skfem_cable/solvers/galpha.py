@@ -28,7 +28,7 @@ from .books import Books
 from .checkpoint import Checkpoint
 from .compiled import CompiledNewton, python_parts
 from .diagnosis import Diagnosis
-from .guard import EnergyGuard
+from .guard import EnergyGuard, refusal
 from .initial_state import InitialState
 from .step_control import StepControl
 
@@ -204,6 +204,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.stats = {"steps": 0, "rejected": 0, "newton": 0, "factorizations": 0}
         self._error_control(rtol, atol)
         self.hooks: list[StepHook] = []  # simulate's (their state joins the snapshot)
+        self.checks = tuple(term.check for term, _ in lay.body_terms + lay.load_terms
+                            if term.check is not None)  # guard.refusal
         self.compiled = self._compiled_newton(compiled)
 
     def _error_control(self, rtol, atol):
@@ -405,10 +407,14 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     def _accept(self, t1, h, end, iterations, rate):
         """Book the energies of a converged step (with the step's arrays ``end``,
         ``CompiledNewton.arrays``: its end ``q1, v1, a1, lam1, abar1``, the forces of its
-        last residual, its elastic energy and the compiled books), apply the instability
-        guard and, if it passes, make the step's end the current state (copied: only an
-        accepted step's); ``rate`` is its Newton contraction estimate (``newton_rate``)."""
+        last residual, its elastic energy and the compiled books), apply the terms'
+        checks (``guard.refusal``) and the instability guard and, if they pass, make the
+        step's end the current state (copied: only an accepted step's); ``rate`` is its
+        Newton contraction estimate (``newton_rate``)."""
         q1, v1 = end["q1"], end["v1"]
+        refused = refusal(self.checks, self.q, q1)
+        if refused is not None:
+            return False, f"t={t1:.6g}, h={h:.3g}: {refused}"
         if self.rtol is not None:
             self.error_ratio = error_ratio(self.q, q1, end["abar1"], self.abar,
                                            self.error_constant * h * h, self.system.vectors,

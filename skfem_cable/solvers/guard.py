@@ -8,7 +8,8 @@ that raises ``B`` above its lowest value so far by more than ``tol`` times the e
 content of the run (the largest ``kinetic + elastic + |potential - potential_0| +
 dissipated + |external work|`` seen, the candidate state included) is a numerical
 instability, or a Newton iteration that "converged" to a runaway state: it is rejected,
-and the step is retried smaller.
+and the step is retried smaller.  So is a step that a term's own ``check`` refuses
+(``refusal``: two lines carried through each other, ``loads.contact_crossing``).
 
 The content is floored at ``FLOOR`` times the kinetic energy of the whole mass moving by
 the system's size per (first) step, ``m (L / h)^2``: round-off in a system at rest is not
@@ -23,6 +24,7 @@ import numpy as np
 #: Energy content below which nothing is judged, relative to ``m (L / h)^2``.
 FLOOR = 1e-12
 
+
 def balance(energies):
     """``kinetic + elastic + potential + dissipated - external work`` (J)."""
     e = energies
@@ -35,6 +37,16 @@ def content(energies, potential0):
     return (float(energies["kinetic"] + energies["axial"] + energies["bending"])
             + abs(float(energies["potential"]) - potential0)
             + abs(float(energies["dissipated"])) + abs(float(energies["external_work"])))
+
+
+def refusal(checks, q0, q1):
+    """The first reason one of the terms' ``checks`` (``contract.Term.check``) gives to
+    refuse the step from ``q0`` to the converged candidate ``q1``, or None."""
+    for check in checks:
+        reason = check(q0, q1)
+        if reason is not None:
+            return reason
+    return None
 
 
 class EnergyGuard:
