@@ -122,15 +122,19 @@ LAW_AXIAL, LAW_BENDING, LAW_BENDING_HESSIAN = 20, 60, 200
 
 def cable_flops(nf, ns, ng, tangent):
     """Flops of one element of the assumed-strain kernel (``kernels.assumed_strain.span``,
-    damped, with bending), its loops counted one by one (a multiply-add is 2)."""
+    damped, with bending), its loops counted one by one (a multiply-add is 2).  A residual
+    without tangent sums the axial and damping forces over the samples (``n_j``,
+    ``nsd_j``) and makes none of the tangent's products ``beta``, ``gamma``, ``sb`` and
+    the damping rows ``Bdj`` (since ``64849ad`` and ``6b5c13e``)."""
     nd = 3 * nf
-    raw = ns * (3 * (8 * nf + 4) + 2 + 2 * nd)         # slopes, rates, strains, B rows
-    axial = ng * (4 * ns + 4 * ns * nd + LAW_AXIAL + 4 * nd + 2 * nd + 3 * ns + 4)
-    force = 2 * ns * nd
+    raw = ns * (3 * (4 * nf + 4) + 2 + nd)              # slopes, rates, strains, B rows
+    axial = ng * (4 * ns + LAW_AXIAL + 6 * ns + 4)      # eps, the point, n_j and nsd_j
+    force = 4 * ns * nd                                 # fe and fde from n_j and nsd_j
     bend = ng * (12 * nf + LAW_BENDING + 10 * nd + 2)   # r_xx, the point, fe and fde
     scatter = 2 * nd
     flops = raw + axial + force + bend + scatter
     if tangent:
+        flops += ns * nd + ng * (4 * ns * nd + 5 * nd)               # Bdj, beta, gamma, sb
         flops += 2 * ng * nd * nd + nf * nf * (3 * ns + 4)           # axial K, geometric
         flops += ng * (LAW_BENDING_HESSIAN + 6 * nd * 8 + 4 * nd * nd)  # bending B^T H B
         flops += nd * nd                                             # scatter
@@ -138,8 +142,10 @@ def cable_flops(nf, ns, ng, tangent):
 
 
 def coulomb_flops(nf, nq, tangent):
-    """Flops of one element of the Coulomb force (``kernels.coulomb._span``) on ``nq``
-    Gauss points (a square root and a power counted as 20 flops each)."""
+    """Flops of one element of the Coulomb force (the point function
+    ``kernels.coulomb.point`` in ``kernels.line``'s loop: the interpolation of ``x`` and
+    ``a``, the force, its sum into the element's) on ``nq`` Gauss points (a square root
+    and a power counted as 20 flops each)."""
     nd = 3 * nf
     point = 12 * nf + 3 + 2 * (20 + 5) + 6 + 5 + 2 + 40 + 3 * (5 + 2 * nd // 3 * 2)
     flops = nq * point + nd

@@ -2,12 +2,15 @@
 limit"): its parts run on a 2-tether rig against the step as it is compiled today.  The
 script had looked up the kernels of a per-system step module (``k0``, ``k1``) after the
 step came to be compiled once per machine: ``AttributeError`` at its first timed part.
-No timing is asserted."""
+And its quick run.  No timing is asserted."""
+
+import json
 
 import numpy as np
 import pytest
 from test_benchmarks import BENCH, load
 
+from skfem_cable.cli import command as cli
 from skfem_cable.scenes import esail
 
 
@@ -55,3 +58,16 @@ def test_rows_of_the_table(rig, floor):
     assert [per_step for _, per_step, *_ in rows] == [counts["evaluations"]] * 3 + \
         [counts["factorizations"]] * 2 + [counts["corrections"]]
 
+
+
+def test_bench_quick_runs_the_floor(tmp_path, capsys):
+    """``skfem-cable bench --quick esail_floor`` (about 12 s warm: the machine's peaks in a
+    fresh process, 120 steps of the 12-tether rig, its parts): the table printed, the
+    record holds the six parts and a step above its floor."""
+    assert cli.main(["bench", "--quick", "--json", str(tmp_path), "esail_floor"]) == 0
+    assert "times its scalar floor" in capsys.readouterr().out
+    (path,) = tmp_path.glob("*-esail_floor.json")
+    figures = json.loads(path.read_text())["figures"]
+    assert len(figures["rows"]) == 6
+    step = figures["step"]
+    assert step["measured_us"] > step["scalar_floor_us"] > step["floor_us"] > 0.0
