@@ -35,15 +35,18 @@ import os
 import subprocess
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
-from numba import njit
 
 import skfem_cable as sc
 from skfem_cable.cli.bench import arguments
-from skfem_cable.kernels import bordered
+from skfem_cable.kernels import step as step_template
 from skfem_cable.scenes import esail
 from skfem_cable.solvers import compiled as compiled_step
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "lib"))
+from step_parts import Probe, compiled_parts, cpu_us  # noqa: E402
 
 SETTINGS = {"full": {"steps": 600, "repeats": 7}, "quick": {"steps": 120, "repeats": 2}}
 
@@ -119,15 +122,19 @@ LAW_AXIAL, LAW_BENDING, LAW_BENDING_HESSIAN = 20, 60, 200
 
 def cable_flops(nf, ns, ng, tangent):
     """Flops of one element of the assumed-strain kernel (``kernels.assumed_strain.span``,
-    damped, with bending), its loops counted one by one (a multiply-add is 2)."""
+    damped, with bending), its loops counted one by one (a multiply-add is 2).  A residual
+    without tangent sums the axial and damping forces over the samples (``n_j``,
+    ``nsd_j``) and makes none of the tangent's products ``beta``, ``gamma``, ``sb`` and
+    the damping rows ``Bdj`` (since ``64849ad`` and ``6b5c13e``)."""
     nd = 3 * nf
-    raw = ns * (3 * (8 * nf + 4) + 2 + 2 * nd)         # slopes, rates, strains, B rows
-    axial = ng * (4 * ns + 4 * ns * nd + LAW_AXIAL + 4 * nd + 2 * nd + 3 * ns + 4)
-    force = 2 * ns * nd
+    raw = ns * (3 * (4 * nf + 4) + 2 + nd)              # slopes, rates, strains, B rows
+    axial = ng * (4 * ns + LAW_AXIAL + 6 * ns + 4)      # eps, the point, n_j and nsd_j
+    force = 4 * ns * nd                                 # fe and fde from n_j and nsd_j
     bend = ng * (12 * nf + LAW_BENDING + 10 * nd + 2)   # r_xx, the point, fe and fde
     scatter = 2 * nd
     flops = raw + axial + force + bend + scatter
     if tangent:
+        flops += ns * nd + ng * (4 * ns * nd + 5 * nd)               # Bdj, beta, gamma, sb
         flops += 2 * ng * nd * nd + nf * nf * (3 * ns + 4)           # axial K, geometric
         flops += ng * (LAW_BENDING_HESSIAN + 6 * nd * 8 + 4 * nd * nd)  # bending B^T H B
         flops += nd * nd                                             # scatter
@@ -135,8 +142,10 @@ def cable_flops(nf, ns, ng, tangent):
 
 
 def coulomb_flops(nf, nq, tangent):
-    """Flops of one element of the Coulomb force (``kernels.coulomb._span``) on ``nq``
-    Gauss points (a square root and a power counted as 20 flops each)."""
+    """Flops of one element of the Coulomb force (the point function
+    ``kernels.coulomb.point`` in ``kernels.line``'s loop: the interpolation of ``x`` and
+    ``a``, the force, its sum into the element's) on ``nq`` Gauss points (a square root
+    and a power counted as 20 flops each)."""
     nd = 3 * nf
     point = 12 * nf + 3 + 2 * (20 + 5) + 6 + 5 + 2 + 40 + 3 * (5 + 2 * nd // 3 * 2)
     flops = nq * point + nd
@@ -161,11 +170,11 @@ def band_flops(lu):
     return factor, solve
 
 
-def part_bytes(system, lu, nnz):
+def part_bytes(ne, lu, nnz):
     """Least bytes each part touches (8 per float or index): the element tables, the
     state it reads and the forces it writes, the matrix values and their positions with a
     tangent, the factor."""
-    ne, nf = 60, 4
+    nf = 4
     element = 8 * (3 * nf + 5 * nf + 3 * nf + 3 + 1) + 8 * 3 * 3 * nf   # tables, q v f fd
     coulomb = 8 * (3 * nf + 2 * 5 * nf + 5 + 1) + 8 * 2 * 3 * nf
     matrix = 8 * 3 * ne * (3 * nf) ** 2                                  # index, data RMW
@@ -176,53 +185,10 @@ def part_bytes(system, lu, nnz):
             "factor": factor, "solve": solve}
 
 
-@njit
-def _repeat(function, args, reps):
-    for _ in range(reps):
-        function(*args)
-
-
-def cpu_each(function, args, reps, repeats):
-    """CPU s of one call of the compiled ``function(*args)``, in a compiled loop of
-    ``reps`` calls (minimum over ``repeats``)."""
-    _repeat(function, args, 1)
-    best = np.inf
-    for _ in range(repeats):
-        start = time.process_time()
-        _repeat(function, args, reps)
-        best = min(best, time.process_time() - start)
-    return best / reps
-
-
-class Counter:
-    """Counts the residual evaluations of the compiled Newton calls (their history rows)
-    and keeps the last call's integrator, while installed."""
-
-    def __init__(self):
-        self.evaluations, self.step, self.integrator = 0, None, None
-        self.original = compiled_step.CompiledNewton.iterate
-
-    def __enter__(self):
-        original, counter = self.original, self
-
-        def iterate(newton, g, h, t1, need, full):
-            newton.history[:] = -1.0
-            result = original(newton, g, h, t1, need, full)
-            counter.evaluations += int((newton.history >= 0.0).sum())
-            counter.step = newton
-            return result
-
-        compiled_step.CompiledNewton.iterate = iterate
-        return self
-
-    def __exit__(self, *exc):
-        compiled_step.CompiledNewton.iterate = self.original
-
-
 def run_counts(scene, steps, repeats):
     """CPU ms per step (difference of runs of ``steps`` and ``steps // 6`` steps, minimum
     of ``repeats``), and per step: evaluations, corrections, factorizations; the
-    ``CompiledNewton`` of the run."""
+    ``CompiledNewton`` of the run and its integrator (``step_parts.Probe``)."""
     run = {"dt": 0.1, "rho_inf": 0.25, "initial": scene.initial}
     sc.simulate(scene.system, t_end=0.2, **run)  # compile, layout
     best = {}
@@ -231,41 +197,45 @@ def run_counts(scene, steps, repeats):
             start = time.process_time()
             sc.simulate(scene.system, t_end=k * 0.1, every=k, **run)
             best[k] = min(best.get(k, np.inf), time.process_time() - start)
-    with Counter() as counter:
+    with Probe() as probe:
         result = sc.simulate(scene.system, t_end=steps * 0.1, every=steps, **run)
     n = result.stats["steps"]
     return {"ms_per_step": 1e3 * (best[steps] - best[steps // 6]) / (steps - steps // 6),
-            "evaluations": counter.evaluations / n,
+            "evaluations": probe.evaluations / n,
             "corrections": result.stats["newton"] / n,
-            "factorizations": result.stats["factorizations"] / n}, counter.step
+            "factorizations": result.stats["factorizations"] / n}, probe.newton, \
+        probe.integrator
 
 
-def part_times(newton, repeats):
+#: The kernels of the rig's step whose work ``counted`` counts, in the step's order.
+KERNELS = ("cable", "coulomb")
+
+
+def elements(integrator):
+    """The cable elements of the step: the rows of the index of its first term."""
+    return integrator.lay.body_terms[0][1].shape[0]
+
+
+def part_times(newton, integrator, repeats):
     """CPU us of the parts of a Newton iteration, each alone in a compiled loop: each term
-    kernel without and with the tangent, the whole residual (kernels, constraints,
-    products) without and with it, the factorization and a solve."""
-    a, (packs, indices) = newton.arrays, newton.terms[:2]
-    module = sys.modules[newton.newton.py_func.__module__]
-
-    def ev(data):
-        return (a["q1"], a["v1"], a["s"], a["f"], a["f_ext"], a["fd"], data, a["energy"],
-                a["power"])
-
-    times = {}
-    data = a["data"].copy()
+    kernel without and with the tangent, the factorization and a solve
+    (``step_parts.compiled_parts``), and the whole residual (``kernels.step._residual``:
+    kernels, constraints, products) without and with the tangent."""
+    measured = compiled_parts(newton, integrator, repeats)
+    terms = [k["term"] for k in measured["kernels"]]
+    if len(terms) != len(KERNELS):
+        raise ValueError(f"the step has the kernels of {terms}: esail_floor counts the work "
+                         f"of {len(KERNELS)}, {KERNELS} (a cable term and the solar wind)")
+    times = {"factor": measured["factor_us"], "solve": measured["solve_us"]}
+    for name, kernel in zip(KERNELS, measured["kernels"]):
+        times[(name, False)], times[(name, True)] = kernel["residual_us"], kernel["tangent_us"]
+    a, residual = newton.arrays, compiled_step.module()._residual
     for tangent, matrix in ((False, a["nodata"]), (True, a["data"])):
-        for k, (name, pack, index) in enumerate(zip(("cable", "coulomb"), packs, indices)):
-            function = getattr(module, f"k{k}")
-            times[(name, tangent)] = cpu_each(function, (pack, index, ev(matrix)), 400,
-                                              repeats)
         args = (newton.terms, newton.model, a["q1"], a["v1"], a["a1"], a["lam1"], a["r"],
-                matrix, newton.out, float(newton.prm[8]), 1.0)
-        times[("residual", tangent)] = cpu_each(module._residual, args, 400, repeats)
-    a["data"][:] = data  # the factored matrix
-    times["factor"] = cpu_each(bordered.factor, (newton.lu, a["data"]), 100, repeats)
-    rhs = np.linspace(-1.0, 1.0, a["r"].size)
-    times["solve"] = cpu_each(bordered.solve, (newton.lu, rhs, a["dx"]), 400, repeats)
-    return {k: 1e6 * t for k, t in times.items()}
+                matrix, newton.out, float(newton.prm[step_template.MBAR]), 1.0)
+        times[("residual", tangent)] = cpu_us(residual, args, 200 if tangent else 400,
+                                              repeats)
+    return times
 
 
 def parts(counts, times, flops, nbytes):
@@ -288,19 +258,19 @@ def parts(counts, times, flops, nbytes):
             ("bordered band solve", co, flops["solve"], nbytes["solve"], times["solve"])]
 
 
-def counted(newton):
+def counted(newton, integrator):
     """Flops of each part (``cable_flops``, ``coulomb_flops``, ``band_flops``, the rigid
     hub's 6 quadratic constraints on 12 coordinates, the mass and constraint products)
     and its bytes (``part_bytes``)."""
     model, lu, a = newton.model, newton.lu, newton.arrays
-    ne = 60
+    ne = elements(integrator)
     factor, solve = band_flops(lu)
     rest = 6 * 12 * (2 * 12 + 4) + 2 * model[0][-1] + 4 * model[8][-1] + 6 * a["q1"].size
     tangent = ne * (cable_flops(4, 5, 3, True) + coulomb_flops(4, 5, True)) + rest \
         + 6 * 12 * 12 * 3 + a["data"].size
     flops = {"cable": ne * cable_flops(4, 5, 3, False), "coulomb": ne * coulomb_flops(4, 5, False),
              "rest": rest, "tangent": tangent, "factor": factor, "solve": solve}
-    nbytes = part_bytes(None, lu, a["data"].size)
+    nbytes = part_bytes(ne, lu, a["data"].size)
     nbytes["rest"] = 8 * (3 * model[0][-1] + 6 * 12 * 12 + 6 * a["q1"].size)
     nbytes["matrix"] += nbytes["cable"] + nbytes["coulomb"] + nbytes["rest"]
     return flops, nbytes
@@ -322,12 +292,12 @@ def table(steps=600, repeats=7, quick=False):
           f"{peak['scalar_gflops']:.1f} GFLOP/s, triad {peak['cache_gbs']:.0f} GB/s in L2 "
           f"and {peak['memory_gbs']:.1f} GB/s from memory")
     scene = esail.build(esail.BaselineConfig(), 10.0, 5)
-    counts, newton = run_counts(scene, steps, repeats)
+    counts, newton, integrator = run_counts(scene, steps, repeats)
     print(f"per step: {counts['ms_per_step'] * 1e3:.1f} us CPU, {counts['evaluations']:.2f} "
           f"evaluations, {counts['corrections']:.2f} corrections, "
           f"{counts['factorizations']:.4f} factorizations ({steps} steps)")
-    times = part_times(newton, repeats)
-    flops, nbytes = counted(newton)
+    times = part_times(newton, integrator, repeats)
+    flops, nbytes = counted(newton, integrator)
     rows, floor, scalar_floor, inside = [], 0.0, 0.0, 0.0
     print(f"{'part':<42} {'per step':>8} {'kflop':>7} {'kB':>6} {'floor us':>9} "
           f"{'scalar us':>9} {'measured us':>11} {'/ scalar':>8}")

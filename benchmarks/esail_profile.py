@@ -48,61 +48,35 @@ from commit_compare import REFERENCE, ROOT, short_commit, worktree  # noqa: E402
 SETTINGS = {"full": {"steps": 600, "repeats": 5}, "quick": {"steps": 120, "repeats": 2}}
 
 #: Run in a fresh process with ``PYTHONPATH`` on the tree under test: ``argv[1:3]`` the
-#: steps and repeats; prints one JSON line (per step, microseconds).
+#: steps and repeats, ``argv[3]`` the folder of the timing of the parts
+#: (``lib/step_parts.py``); prints one JSON line (per step, microseconds).
 PROFILE = r"""
 import cProfile, json, pstats, sys, time
 import numpy as np
-from numba import njit
 import skfem_cable as sc
-from skfem_cable.kernels import bordered
 from skfem_cable.scenes import esail
-from skfem_cable.solvers import compiled as cs
 
 steps, repeats = int(sys.argv[1]), int(sys.argv[2])
+sys.path.insert(0, sys.argv[3])  # this tree's timing, whichever tree is measured
+import step_parts
+from step_parts import NO_INDEX, Probe, compiled_parts, cpu_us, evaluation
+
 short = steps // 6
 scene = esail.build(esail.BaselineConfig(), 10.0, 5)
 run = dict(dt=0.1, rho_inf=0.25, initial=scene.initial)
 sc.simulate(scene.system, t_end=0.2, **run)  # compile, layout
-
-
-class Probe:
-    # the compiled call's CPU time and the evaluations, and the last integrator
-    call_ns = evaluations = 0
-    newton = integrator = None
-
-
-def timed(function):
-    def compiled_call(*args):
-        start = time.process_time_ns()
-        out = function(*args)
-        Probe.call_ns += time.process_time_ns() - start
-        return out
-    return compiled_call
-
-
-original = cs.CompiledNewton.iterate
-
-
-def iterate(newton, g, *args):
-    newton.history[:] = -1.0
-    out = original(newton, g, *args)
-    Probe.evaluations += int((newton.history >= 0.0).sum())
-    if Probe.newton is not newton:  # after its first call: the entry point is set
-        name = "entry" if getattr(newton, "entry", None) is not None else "newton"
-        setattr(newton, name, timed(getattr(newton, name)))
-    Probe.newton, Probe.integrator = newton, g
-    return out
+probe = Probe(timed=True)  # the compiled call's CPU time and the evaluations
 
 
 def simulate(k, profile=None):
-    Probe.call_ns = Probe.evaluations = 0
+    probe.reset()
     start = time.process_time_ns()
     if profile is not None:
         profile.enable()
     result = sc.simulate(scene.system, t_end=k * 0.1, every=k, **run)
     if profile is not None:
         profile.disable()
-    return time.process_time_ns() - start, Probe.call_ns, Probe.evaluations, result
+    return time.process_time_ns() - start, probe.call_ns, probe.evaluations, result
 
 
 best = {}
@@ -110,7 +84,7 @@ for _ in range(repeats):
     for k in (short, steps):
         best[k] = min(best.get(k, np.inf), simulate(k)[0])
 step_us = 1e-3 * (best[steps] - best[short]) / (steps - short)
-cs.CompiledNewton.iterate = iterate
+probe.__enter__()  # for the rest of the process
 calls = {}
 for _ in range(repeats):
     for k in (short, steps):
@@ -132,7 +106,7 @@ for k, sign in ((steps, 1.0), (short, -1.0)):
     profile = cProfile.Profile()
     simulate(k, profile)
     for (path, line, name), row in pstats.Stats(profile).stats.items():
-        if path == "<string>":
+        if path in ("<string>", step_parts.__file__):
             continue  # the probe's own wrappers
         key = f"{path}:{name}"
         per_function[key] = per_function.get(key, 0.0) + sign * row[2]
@@ -146,39 +120,8 @@ python_us = step_us - call_us
 python = {g: python_us * s / total for g, s in shares.items()}
 
 
-@njit
-def _repeat(function, args, reps):
-    for _ in range(reps):
-        function(*args)
-
-
-def cpu_us(function, args, reps=200):
-    _repeat(function, args, 1)
-    times = []
-    for _ in range(max(repeats, 3)):
-        start = time.process_time_ns()
-        _repeat(function, args, reps)
-        times.append(time.process_time_ns() - start)
-    return 1e-3 * min(times) / reps
-
-
-a, g = Probe.newton.arrays, Probe.integrator
-matrix = a["data"].copy()
-no_index = np.zeros((0, 1, 1), dtype=np.int64)
-
-
-def ev(data):
-    return (a["q1"], a["v1"], a["s"], a["f"], a["f_ext"], a["fd"], data, a["energy"],
-            a["power"])
-
-
-kernels = []
-for term, index in g.lay.body_terms + g.lay.load_terms:
-    for function, pack in term.kernels or ():
-        index = no_index if index is None else index
-        kernels.append({"term": term.name,
-                        "residual_us": cpu_us(function, (pack, index, ev(a["nodata"]))),
-                        "tangent_us": cpu_us(function, (pack, index, ev(a["data"])), 20)})
+parts = compiled_parts(probe.newton, probe.integrator, repeats)
+a = probe.newton.arrays
 extra = {}
 try:  # the solar wind without the distance scaling, on the same tethers
     cfg = scene.config
@@ -186,15 +129,10 @@ try:  # the solar wind without the distance scaling, on the same tethers
                                 sun_position=-np.asarray(scene.R0), exponent=0.0)
     (function, pack), = uniform.bind(scene.system).kernels
     extra["solar wind, exponent 0, residual"] = cpu_us(
-        function, (pack, no_index, ev(a["nodata"])))
+        function, (pack, NO_INDEX, evaluation(a, a["nodata"])), repeats=repeats)
 except Exception as err:  # a tree without the exponent
     extra["error"] = f"{type(err).__name__}: {err}"
-a["data"][:] = matrix
-factor_us = cpu_us(bordered.factor, (Probe.newton.lu, a["data"]), 20)
-rhs = np.linspace(-1.0, 1.0, a["r"].size)
-solve_us = cpu_us(bordered.solve, (Probe.newton.lu, rhs, a["dx"]))
-print(json.dumps({"step_us": step_us, "call_us": call_us, "counts": counts,
-                  "kernels": kernels, "factor_us": factor_us, "solve_us": solve_us,
+print(json.dumps({"step_us": step_us, "call_us": call_us, "counts": counts, **parts,
                   "python": python, "extra": extra}))
 """
 
@@ -203,7 +141,8 @@ def profile(tree, steps, repeats):
     """The figures of ``PROFILE`` in a fresh process on ``tree`` (one thread)."""
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1",
                SKFEM_CABLE_THREADS="1")
-    proc = subprocess.run([sys.executable, "-c", PROFILE, str(steps), str(repeats)],
+    proc = subprocess.run([sys.executable, "-c", PROFILE, str(steps), str(repeats),
+                           str(Path(__file__).resolve().parent / "lib")],
                           env=env, cwd=tree, capture_output=True, text=True)
     if proc.returncode != 0:
         raise RuntimeError(f"the profile in {tree} failed: {proc.stderr.strip()[-400:]}")
