@@ -19,7 +19,11 @@ class Books:
         of the damping and of the non-constant external forces over the step, ``dq . (f_n
         + f_{n+1}) / 2`` (exact for the trapezoidal rule), the constraint forces ``-C_q^T
         lambda`` counted as external (they work where a constraint is driven, a moving
-        pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``), the work of the explicit time
+        pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``; those of the accepted multipliers
+        also when Newton ends on a correction without evaluating it,
+        ``kernels.step._constraints``: a change of the multipliers that the mean nodal mass
+        of a heavy hub hid from the convergence test left the books of a damped rope on
+        the hub open to first order in the step), the work of the explicit time
         dependence of stored energies (``System.energy_rate``: a deploying cable's reel),
         ``h (P_n + P_{n+1}) / 2``, the work of the change of the terms' data over the step
         (``System.energy_change``: a law parameter that varies in time), and the kinetic

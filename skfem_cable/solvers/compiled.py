@@ -51,8 +51,8 @@ from ..kernels import step as template
 GENERATOR = "10"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "keep", "drop", "newton", "_finish", "_iterate",
-                       "_residual", "_factor", "pseudo_acceleration", "first_error_factor",
-                       "error_factor")
+                       "_residual", "_constraints", "_factor", "pseudo_acceleration",
+                       "first_error_factor", "error_factor")
 
 
 #: The slot of a Python part in the sequences of kernels given to ``module``.
