@@ -26,17 +26,20 @@ elements each, 6612 coordinates), and what adaptive steps buy over an hour.
     cd benchmarks && OPENBLAS_NUM_THREADS=1 python -c "import esail_full as b; b.month()"
 """
 
-import os
+import sys
 import time
-from contextlib import contextmanager
+from pathlib import Path
 
 import numba
 import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.cli.bench import RESULTS, arguments, largest_differences, timings
-from skfem_cable.core.linalg import THREADS, PatternSolver
+from skfem_cable.core.linalg import PatternSolver
 from skfem_cable.scenes import esail
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "lib"))
+from threads import thread_count  # noqa: E402
 
 SETTINGS = {"full": {"t_end": 3600.0, "repeats": 10}, "quick": {"t_end": 300.0, "repeats": 5}}
 
@@ -78,19 +81,6 @@ def parts(scene, repeats, threads=1):
             "evaluate": 1e3 * fastest(evaluate, repeats),
             "unknowns": lay.N, "band": solver.band, "border": solver.border}
 
-
-@contextmanager
-def thread_count(count):
-    """``SKFEM_CABLE_THREADS`` set to ``count`` inside the block, as it was after it."""
-    previous = os.environ.get(THREADS)
-    os.environ[THREADS] = str(count)
-    try:
-        yield
-    finally:
-        if previous is None:
-            os.environ.pop(THREADS)
-        else:
-            os.environ[THREADS] = previous
 
 
 def threads(t_end, repeats):

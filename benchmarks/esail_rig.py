@@ -23,19 +23,22 @@ items 2 and 6).
     OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/esail_rig.py [--quick]
 """
 
-import os
+import sys
 import time
-from contextlib import contextmanager
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.cli.bench import arguments
-from skfem_cable.core.linalg import THREADS, PatternSolver
+from skfem_cable.core.linalg import PatternSolver
 from skfem_cable.scenes import esail
 from skfem_cable.scenes.esail.modulation import spacing_under_modulation
 from skfem_cable.scenes.esail.rig import steady_facing
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "lib"))
+from threads import thread_count  # noqa: E402
 
 #: Steps of a simulated day of the full-size sail at ``esail.MISSION_RTOL`` from its
 #: state under the wind (``docs/benchmarks.md``, "Mission-length runs").
@@ -46,19 +49,6 @@ SETTINGS = {"full": {"elements": 10, "steps": 60, "repeats": 5, "per_spin": 180,
             "quick": {"elements": 3, "steps": 6, "repeats": 2, "per_spin": 30,
                       "tethers": 24, "day": 600.0}}
 
-
-@contextmanager
-def thread_count(count):
-    """``SKFEM_CABLE_THREADS`` set to ``count`` inside the block, as it was after it."""
-    previous = os.environ.get(THREADS)
-    os.environ[THREADS] = str(count)
-    try:
-        yield
-    finally:
-        if previous is None:
-            os.environ.pop(THREADS)
-        else:
-            os.environ[THREADS] = previous
 
 
 def solver(scene):
