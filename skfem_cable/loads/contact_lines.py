@@ -29,7 +29,11 @@ exact tangents), over the candidate pairs of a broad phase refreshed once per ti
   Newton converges linearly while lines touch, and only at steps where the penalty is
   below the touching points' mass term, ``docs/contact.md``), the default for more
   lines, which keeps the pattern of a system such as the E-sail whose solver factors
-  each cable apart.
+  each cable apart; ``"woodbury"``, the own pattern with the entries it leaves out added
+  back to the factored matrix by the compiled step, pair by pair in contact, as a
+  low-rank correction (``kernels.woodbury``): the exact Newton step on the own pattern,
+  for up to ``active_pairs`` pairs in contact (beyond that, the rest's coupling is left
+  out as with ``"own"``, and the run warns once, naming the contact).
 * Crossings: a step whose converged state has carried two lines (or two parts of one)
   through each other is refused, naming them (``contact_crossing``: the term's
   ``check``, once per attempted step over the step's candidate pairs).
@@ -44,7 +48,7 @@ import numpy as np
 from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
 from ..kernels import contact_lines as kernel
-from ..kernels import line_broad_phase
+from ..kernels import line_broad_phase, woodbury
 from ..kernels.line import points as line_points_kernel
 from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
@@ -59,7 +63,11 @@ REFERENCE_FORCE = 1e-3
 PAIRS_PER_SEGMENT = 8
 
 #: The patterns of the tangent (``LineLineContact(tangent=...)``, module notes).
-TANGENTS = ("full", "own")
+TANGENTS = ("full", "own", "woodbury")
+
+#: Pairs in contact whose coupling the ``"woodbury"`` tangent adds back (``active_pairs``
+#: default).
+ACTIVE_PAIRS = 8
 
 #: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
 OUTPUTS = ("contacts", "normal", "max_penetration", "friction_power")
@@ -187,9 +195,13 @@ class LineLineContact:
         pair (``contact_joints``); default ``pi d``.
     capacity : int, optional
         Candidate pairs held (default ``PAIRS_PER_SEGMENT`` per segment).
-    tangent : {"full", "own"}, optional
+    tangent : {"full", "own", "woodbury"}, optional
         The tangent's pattern (module notes); default ``"full"`` for two lines or one,
         ``"own"`` for more.
+    active_pairs : int, optional
+        With ``tangent="woodbury"``: the pairs in contact at one time whose coupling the
+        step adds back (>= 1, default ``ACTIVE_PAIRS``); the step's correction costs 12
+        solves with the band factor per pair at every factorization.
     name : str, optional
         The prefix of its per-step outputs (``step_outputs``) and its name in messages;
         default ``contact_<first>_<second>`` (``contact_<line>`` for self-contact,
@@ -197,7 +209,8 @@ class LineLineContact:
     """
 
     def __init__(self, *lines, friction=0.0, radius=None, stiffness=None, tolerance=1e-2,
-                 slip_velocity=1e-3, exclusion=None, capacity=None, tangent=None, name=None):
+                 slip_velocity=1e-3, exclusion=None, capacity=None, tangent=None,
+                 active_pairs=ACTIVE_PAIRS, name=None):
         if len(lines) < 2:
             raise ValueError(f"lines must be at least two line bodies (one twice for "
                              f"self-contact), got {len(lines)}")
@@ -232,6 +245,9 @@ class LineLineContact:
         self.tangent = ("full" if len(lines) <= 2 else "own") if tangent is None else tangent
         if self.tangent not in TANGENTS:
             raise ValueError(f"tangent must be one of {TANGENTS}, got {tangent!r}")
+        self.active_pairs = int(positive("active_pairs", active_pairs))
+        if self.active_pairs != active_pairs:
+            raise ValueError(f"active_pairs must be a whole number >= 1, got {active_pairs!r}")
         default = ("contact_" + "_".join(body.name for body in self.lines)
                    if len(self.lines) <= 2 else "contact_lines")
         self.name = default if name is None else str(name)
@@ -286,16 +302,36 @@ class LineLineContact:
         dofs = np.unique(points.edofs)
         local = np.full(system.n_dofs, -1, dtype=np.int64)
         local[dofs] = np.arange(len(dofs))
-        own = self.tangent == "own"
+        own = self.tangent != "full"
         nde = points.edofs.shape[1]     # own: each element's block, flat per element
         block = (np.repeat(points.edofs, nde, axis=1), np.tile(points.edofs, (1, nde))) \
             if own else (dofs[:, None], dofs[None, :])
+        exact = self.tangent == "woodbury"
+        record = woodbury.new_record(self.active_pairs if exact else 0)
         pack = (points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
-                local, int(own))
+                local, int(own), record)
         return Term(kernels=((kernel.kernel, pack),), rows=block[0], cols=block[1],
-                    prepare=broad.prepare, hooks=(broad,), name=self.name,
+                    prepare=self._watching(broad.prepare, record[0]) if exact
+                    else broad.prepare, hooks=(broad,), name=self.name,
                     outputs=lambda: self.step_values(system, tables, broad),
-                    check=crossing_check(self, tables, broad))
+                    check=crossing_check(self, tables, broad),
+                    correction=(points.edofs, points.S, *record) if exact else None)
+
+    def _watching(self, prepare, count):
+        """``prepare``, then a warning, once, where more pairs were in contact at one
+        evaluation than the ``"woodbury"`` tangent holds (``count`` of its record)."""
+        warned = []
+
+        def watched(t):
+            prepare(t)
+            if count[1] > self.active_pairs and not warned:
+                warned.append(t)
+                warnings.warn(f"{self.name}: {count[1]} pairs in contact, more than "
+                              f"active_pairs={self.active_pairs}: the coupling of the rest "
+                              "is left out of Newton's matrix (as tangent='own'; it may "
+                              "converge slowly): give active_pairs= larger",
+                              RuntimeWarning, stacklevel=2)
+        return watched
 
     def step_values(self, system, tables, broad):
         """The per-step outputs ``{step_outputs: summary}`` of the lines' ``tables`` at the
