@@ -58,14 +58,16 @@ def sails():
 
 
 @pytest.fixture(scope="module")
-def crossings():
+def crossings(tmp_path_factory):
     """The two tethers of ``test_contact_lines``, b lowered onto a, at 1e-2 s steps on
-    the corrected own pattern and on the exact tangent (SuperLU)."""
-    out = {}
+    the corrected own pattern (into a run store, ``out["store"]``) and on the exact
+    tangent (SuperLU)."""
+    out = {"store": tmp_path_factory.mktemp("crossing") / "run"}
     for tangent, method in (("woodbury", "auto"), ("full", "sparse")):
         system, a, b, contact = crossing(tangent=tangent)
-        out[tangent] = system, a, b, contact, sc.simulate(system, CROSS_END, CROSS_DT,
-                                                          every=5, method=method)
+        observers = [sc.io.RunStore(out["store"])] if tangent == "woodbury" else []
+        out[tangent] = system, a, b, contact, sc.simulate(
+            system, CROSS_END, CROSS_DT, every=5, method=method, observers=observers)
     return out
 
 
@@ -154,3 +156,31 @@ def test_the_options_name_what_is_wrong(crossings):
     two.contact(*first, tangent="woodbury", name="again")
     with pytest.raises(ValueError, match="tangent='woodbury'"):
         sc.simulate(two, 2 * CROSS_DT, CROSS_DT)
+
+
+def test_the_run_store_holds_the_pairs_in_contact(crossings):
+    """Every saved step records its pairs in contact (``step_arrays``:
+    ``<name>_pair_lines``, ``_pair_arc``, ``_pair_normal``, ``active_pairs`` rows,
+    NaN after the last): as many as ``<name>_contacts``, equal to ``contacts`` of the
+    saved state within 1e-9, read back from the Zarr store unchanged."""
+    system, a, b, contact, result = crossings["woodbury"]
+    lines, arc, normal = (result.outputs[f"{contact.name}_pair_{key}"]
+                          for key in ("lines", "arc", "normal"))
+    rows = contact.active_pairs
+    assert lines.shape == arc.shape == (len(result.t), rows, 2)
+    assert normal.shape == (len(result.t), rows)
+    count = result.outputs[f"{contact.name}_contacts"]
+    np.testing.assert_array_equal(np.isfinite(normal).sum(axis=1), np.minimum(count, rows))
+    assert count.max() >= 1
+    for i in np.flatnonzero(count)[::3]:
+        state = result.state(i)
+        found = contact.contacts(system, state.q, state.v)
+        n = len(found["normal"])
+        np.testing.assert_array_equal(lines[i, :n], found["lines"])
+        np.testing.assert_allclose(arc[i, :n], found["arc"], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(normal[i, :n], found["normal"], rtol=1e-9)
+        assert np.isnan(lines[i, n:]).all() and np.isnan(normal[i, n:]).all()
+    stored = sc.Result.load(crossings["store"], system).outputs
+    for key in ("lines", "arc", "normal", "contacts"):
+        name = f"{contact.name}_{'pair_' if key != 'contacts' else ''}{key}"
+        np.testing.assert_array_equal(stored[name], result.outputs[name], err_msg=name)

@@ -37,8 +37,10 @@ exact tangents), over the candidate pairs of a broad phase refreshed once per ti
 * Crossings: a step whose converged state has carried two lines (or two parts of one)
   through each other is refused, naming them (``contact_crossing``: the term's
   ``check``, once per attempted step over the step's candidate pairs).
-* Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``), evaluated
-  once per saved step from the step's converged state (the one its broad phase keeps).
+* Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``) and the
+  pairs in contact (``ARRAYS``, ``step_arrays``: at most ``active_pairs`` of them, NaN
+  after the last; ``<name>_contacts`` counts them all), evaluated once per saved step
+  from the step's converged state (the one its broad phase keeps).
 """
 
 import warnings
@@ -71,6 +73,12 @@ ACTIVE_PAIRS = 8
 
 #: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
 OUTPUTS = ("contacts", "normal", "max_penetration", "friction_power")
+
+#: The per-step arrays of a contact (``step_arrays``), recorded as ``<name>_pair_<key>``,
+#: a row per pair in contact (``active_pairs`` rows, NaN after the last; ``contacts``):
+#: the two lines' positions in ``lines``, the reference arc lengths (m) of the contact
+#: along each, its normal force (N).
+ARRAYS = ("lines", "arc", "normal")
 
 
 def summary(out):
@@ -255,6 +263,13 @@ class LineLineContact:
     step_outputs = property(lambda self: tuple(f"{self.name}_{key}" for key in OUTPUTS),
                             doc="Recorded per saved step (protocols.Load): ``summary``.")
 
+    def step_arrays(self, system):
+        """The per-step arrays (``protocols.Load``): ``{<name>_pair_<key>: shape}`` of
+        ``ARRAYS``, ``(active_pairs, 2)``, ``(active_pairs, 2)``, ``(active_pairs,)``."""
+        rows = self.active_pairs
+        return dict(zip((f"{self.name}_pair_{key}" for key in ARRAYS),
+                        ((rows, 2), (rows, 2), (rows,))))
+
     def __repr__(self):
         names = ", ".join(repr(body.name) for body in self.lines)
         return f"{type(self).__name__}({names}, friction={self.friction})"
@@ -334,11 +349,18 @@ class LineLineContact:
         return watched
 
     def step_values(self, system, tables, broad):
-        """The per-step outputs ``{step_outputs: summary}`` of the lines' ``tables`` at the
-        converged state the term's ``broad`` phase keeps, over its pairs (those of the
-        step that ended there)."""
+        """The per-step outputs ``{step_outputs: summary}`` and arrays (``step_arrays``:
+        the pairs in contact, NaN-padded) of the lines' ``tables`` at the converged state
+        the term's ``broad`` phase keeps, over its pairs (those of the step that ended
+        there)."""
         out = self.evaluate(system, tables, broad.q, broad.v, broad)
-        return dict(zip(self.step_outputs, summary(out).values()))
+        arrays = {}
+        for (name, shape), key in zip(self.step_arrays(system).items(), ARRAYS):
+            padded = np.full(shape, np.nan)
+            kept = out[key][:shape[0]]
+            padded[:len(kept)] = kept
+            arrays[name] = padded
+        return {**dict(zip(self.step_outputs, summary(out).values())), **arrays}
 
     def contacts(self, system, q, v=None):
         """The active contacts at ``q``, ``v`` (zero if None) of ``system`` (a broad phase
