@@ -10,10 +10,10 @@ one pair of segments (``(e_j, g_j)``: element and quadrature point, ``S`` and ``
 those of ``core.lines.LinePoints``) and the 12 x 12 block ``G`` over their coordinates.
 With ``U`` the ``N x 12 r`` matrix of the points' maps (``U^T x`` stacks the points of
 every record) and ``C`` the block diagonal of the ``G``, the iteration matrix is
-``A = K0 + U C U^T``, ``K0`` the matrix on the pattern, and (the push-through form of the
-Woodbury identity, Golub & Van Loan, *Matrix Computations*, 4th ed., 2013, Eq. 2.1.4;
-Hager, *Updating the inverse of a matrix*, SIAM Review 31, 1989, Eq. 1.1, with ``C``
-not required invertible)
+``A = K0 + U C U^T``, ``K0`` the matrix on the pattern, and, by the Sherman-Morrison-
+Woodbury formula ``(A + U V^T)^-1 = A^-1 - A^-1 U (I + V^T A^-1 U)^-1 V^T A^-1`` (Golub &
+Van Loan, *Matrix Computations*, 3rd ed., 1996, Sect. 2.1.3, p. 51) with ``V^T = C U^T``
+(``C`` need not be invertible),
 
     A^-1 r = y - Z (I + C U^T Z)^-1 C U^T y,    y = K0^-1 r,    Z = K0^-1 U.
 
