@@ -207,9 +207,10 @@ class LineLineContact:
         The tangent's pattern (module notes); default ``"full"`` for two lines or one,
         ``"own"`` for more.
     active_pairs : int, optional
-        With ``tangent="woodbury"``: the pairs in contact at one time whose coupling the
-        step adds back (>= 1, default ``ACTIVE_PAIRS``); the step's correction costs 12
-        solves with the band factor per pair at every factorization.
+        The pairs in contact at one time (>= 1, default ``ACTIVE_PAIRS``) whose coupling
+        the step adds back with ``tangent="woodbury"`` (12 solves with the band factor
+        per pair at every factorization), and the rows of the pairs recorded per saved
+        step (``step_arrays``).
     name : str, optional
         The prefix of its per-step outputs (``step_outputs``) and its name in messages;
         default ``contact_<first>_<second>`` (``contact_<line>`` for self-contact,
