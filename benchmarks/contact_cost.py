@@ -4,15 +4,19 @@ the full-size sail (``esail.FULL_SIZE``: 100 tethers of 20 km), 10 elements per 
 each built twice, without contact and with the contact over all its tethers
 (``system.contact(scene.tethers)``: one broad phase, refreshed once per step, the
 compiled narrow phase over its pairs at every Newton evaluation, each element's own
-tangent so that the bordered band LU still solves the sail), run side by side:
+tangent so that the bordered band LU still solves the sail), and a third time with the
+contact on the corrected own tangent (``tangent="woodbury"``: the step's Woodbury
+correction, empty without contact), run side by side:
 
-* ``without``, ``with``: CPU per step (fixed steps of ``DT`` s, ``rho_inf = 0.25``, from
-  the windless spin), the minimum over the repeats, the two runs alternating;
+* ``without``, ``with``, ``woodbury``: CPU per step (fixed steps of ``DT`` s,
+  ``rho_inf = 0.25``, from the windless spin), the minimum over the repeats, the runs
+  alternating;
 * ``pairs``: the broad phase's candidate pairs at the last step, ``contacts`` the
   contacts there (none: the tethers stay thousands of metres apart);
 * ``check us``: the crossing guard's call (the term's ``check``, once per attempted step,
   ``loads.contact_crossing``; inside ``with``) on the last step's states, CPU per call;
-* ``ratio`` = with / without.  Goal: at most 1.2 (12 tethers) and 1.3 (100 tethers).
+* ``ratio`` = with / without, ``w ratio`` = woodbury / without.  Goal: at most 1.2 (12
+  tethers) and 1.3 (100 tethers).
 
 CPU time (``time.process_time``), after a run of each that compiles.
 
@@ -34,10 +38,12 @@ N_ELEMENTS, DT = 10, 5.0
 
 
 def scenes(config):
-    """The sail of ``config`` without and with the contact over its tethers."""
-    plain, touching = (esail.build(config, 10.0, N_ELEMENTS) for _ in range(2))
+    """The sail of ``config`` without, with the contact over its tethers, and with it on
+    the corrected own tangent."""
+    plain, touching, exact = (esail.build(config, 10.0, N_ELEMENTS) for _ in range(3))
     touching.system.contact(touching.tethers)
-    return plain, touching
+    exact.system.contact(exact.tethers, tangent="woodbury")
+    return plain, touching, exact
 
 
 def per_step(scene, steps):
@@ -48,16 +54,16 @@ def per_step(scene, steps):
 
 
 def measure(config, steps, repeats):
-    """``(without, with, pairs, contacts, solvers)``: the CPU per step (s) of the sail of
-    ``config`` without and with contact (min of ``repeats``, alternating), the broad
-    phase's candidate pairs and the contacts at the last state, and the linear solvers
-    used."""
-    plain, touching = scenes(config)
-    for scene in (plain, touching):
+    """``(without, with, woodbury, pairs, contacts, solver, check)``: the CPU per step
+    (s) of the sail of ``config`` without contact, with it and with it on the corrected
+    tangent (min of ``repeats``, alternating), the broad phase's candidate pairs and the
+    contacts at the last state, the linear solver used and the crossing guard's cost."""
+    plain, touching, exact = scenes(config)
+    for scene in (plain, touching, exact):
         per_step(scene, 2)                                       # compiles
-    best = [float("inf"), float("inf")]
+    best = [float("inf")] * 3
     for _ in range(repeats):
-        for k, scene in enumerate((plain, touching)):
+        for k, scene in enumerate((plain, touching, exact)):
             cpu, result = per_step(scene, steps)
             best[k] = min(best[k], cpu)
             if k == 1:
@@ -66,7 +72,7 @@ def measure(config, steps, repeats):
     term = last_term(touching.system, contact)
     state = last.state(-1)
     found = contact.contacts(touching.system, state.q, state.v)
-    return (best[0], best[1], int(term.hooks[0].count[0]), len(found["normal"]),
+    return (*best, int(term.hooks[0].count[0]), len(found["normal"]),
             last.stats["solver"], check_cost(term, last.state(-2).q, state.q))
 
 
@@ -89,15 +95,16 @@ def main(argv=None):
     """Parse the arguments (``--quick``: fewer steps and repeats) and print the table."""
     args = SETTINGS["quick" if arguments(__doc__, "fewer steps and repeats", argv).quick
                     else "full"]
-    print(f"{'tethers':>8} {'without ms':>11} {'with ms':>9} {'ratio':>6} {'goal':>5} "
-          f"{'pairs':>6} {'contacts':>9} {'solver':>7} {'check us':>9}")
+    print(f"{'tethers':>8} {'without ms':>11} {'with ms':>9} {'ratio':>6} "
+          f"{'woodbury ms':>12} {'w ratio':>8} {'goal':>5} {'pairs':>6} {'contacts':>9} "
+          f"{'solver':>7} {'check us':>9}")
     for config in (esail.BaselineConfig(), esail.FULL_SIZE):
-        without, with_contact, pairs, contacts, solver, check = measure(
+        without, with_contact, exact, pairs, contacts, solver, check = measure(
             config, args["steps"], args["repeats"])
         n = config.n_tethers
         print(f"{n:>8} {1e3 * without:11.2f} {1e3 * with_contact:9.2f} "
-              f"{with_contact / without:6.3f} {GOALS[n]:5.1f} {pairs:>6} {contacts:>9} "
-              f"{solver:>7} {1e6 * check:9.3f}")
+              f"{with_contact / without:6.3f} {1e3 * exact:12.2f} {exact / without:8.3f} "
+              f"{GOALS[n]:5.1f} {pairs:>6} {contacts:>9} {solver:>7} {1e6 * check:9.3f}")
 
 
 if __name__ == "__main__":

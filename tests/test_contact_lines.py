@@ -38,10 +38,12 @@ def end(x0, z0, drop=0.0, press=0.4, slide=0.0):
     return target
 
 
-def crossing(height=0.0102, drop=0.03, slide=0.0, friction=0.0, elements=10, section=ROPE):
+def crossing(height=0.0102, drop=0.03, slide=0.0, friction=0.0, elements=10, section=ROPE,
+             tangent=None):
     """Tether a along x at z = 0 and tether b along y at ``height`` (both 2 m, the rope
     of the capstan by default: EA = 1e5 N, d = 1 cm), stretched by 1 %; b's ends are then
-    lowered by ``drop`` (0.4 s) onto a and slid by ``slide`` along x: ``(system, a, b,
+    lowered by ``drop`` (0.4 s) onto a and slid by ``slide`` along x; the contact on the
+    tangent pattern ``tangent`` (default: the exact ``"full"``): ``(system, a, b,
     contact)``."""
     a = sc.Cable.straight([-1, 0, 0], [1, 0, 0], elements, section, name="a")
     b = sc.Cable.straight([0, -1, height], [0, 1, height], elements, section, name="b")
@@ -49,7 +51,7 @@ def crossing(height=0.0102, drop=0.03, slide=0.0, friction=0.0, elements=10, sec
               .pin(a.node(-1), end([1, 0, 0], 0.0))
               .pin(b.node(0), end([0, -1, 0], height, height + drop, slide=slide))
               .pin(b.node(-1), end([0, 1, 0], height, height + drop, slide=slide))
-              .contact(a, b, friction=friction))
+              .contact(a, b, friction=friction, tangent=tangent))
     return system, a, b, system.loads[-1]
 
 

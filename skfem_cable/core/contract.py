@@ -251,6 +251,14 @@ class Term:
         instability guard (``solvers.guard.refusal``), and a refused step is retried
         smaller like one that failed to converge.  E.g. line-to-line contact refuses a
         step that carried two lines through each other (``loads.contact_crossing``).
+    correction : tuple or None
+        ``(edofs, S, count, points, values)``: entries of the term's exact tangent that its
+        pattern (``rows``, ``cols``) leaves out, which its kernels write at every
+        evaluation with the tangent as records of ``kernels.woodbury`` (four points
+        ``S[e, g] x[edofs[e]]`` and a 12 x 12 block each); the compiled Newton step adds
+        them back to its factored matrix (the Woodbury identity), so that Newton is exact
+        on the pattern.  E.g. line-to-line contact with ``tangent="woodbury"``.  At most
+        one term of a system.
     """
 
     add: Callable[..., None] | None = None
@@ -268,6 +276,7 @@ class Term:
     hooks: tuple = ()
     outputs: Callable[[], dict] | None = None
     check: Callable[[Any, Any], str | None] | None = None
+    correction: tuple | None = None
 
     def __post_init__(self):
         if self.add is not None and self.kernels:

@@ -40,7 +40,10 @@ points ``P_j`` and ``P_k`` are in one element enter the iteration matrix, so the
 no entry the lines' own elements do not have (the E-sail's tethers stay band blocks of
 their own).  The residual is unchanged: Newton converges to the same state, linearly
 while two lines touch, by the spectral radius of ``J_own^-1 (J - J_own)``, below 1 only
-where the penalty is below the touching points' mass term (``docs/contact.md``).
+where the penalty is below the touching points' mass term (``docs/contact.md``).  With a
+record (``tangent="woodbury"``) the kernel also writes ``J - J_own`` pair by pair, and the
+compiled step adds it back to the factored own matrix (``kernels.woodbury``): Newton is
+exact again on the own pattern.
 """
 
 import math
@@ -273,20 +276,48 @@ def _scatter_tangent(edofs, S, sa, sb, local, own, index, G, data):
 
 
 @njit(cache=True)
+def _record(sa, sb, G, record):
+    """The entries of the pair's tangent ``-G`` that the own pattern leaves out (points
+    of different elements) as the next record of ``kernels.woodbury`` (``record =
+    (count, points, values)``), if it has room; counts the pair either way."""
+    count, points, values = record
+    k = count[0]
+    count[0] = k + 1
+    if k >= points.shape[0]:
+        return
+    for j in range(4):
+        seg = sa if j < 2 else sb
+        points[k, j, 0], points[k, j, 1] = seg[2 * (j % 2)], seg[2 * (j % 2) + 1]
+    for j in range(4):
+        for m in range(4):
+            cross = points[k, j, 0] != points[k, m, 0]
+            for i in range(3):
+                for l in range(3):
+                    values[k, 3 * j + i, 3 * m + l] = -G[3 * j + i, 3 * m + l] if cross \
+                        else 0.0
+
+
+@njit(cache=True)
 def kernel(pack, index, ev):
     """The hook of the evaluation contract (``contract.Term.kernels``) of a line-to-line
-    contact: ``pack = (edofs, S, segments, pairs, count, coef, local, own)``, the
+    contact: ``pack = (edofs, S, segments, pairs, count, coef, local, own, record)``, the
     candidate pairs ``pairs[:count[0]]`` of rows of ``segments`` (refreshed by the broad
     phase, ``loads.contact_lines``); ``index`` the dense block over ``local`` (``own``
     0: the exact tangent) or the blocks (ne, (3 nf)^2) of the lines' elements, row-major
     (``own`` 1: the points' own elements only, module notes).  Both are 2-D: the two
-    patterns share one compiled signature."""
+    patterns share one compiled signature.  With the tangent, on the own pattern and a
+    ``record`` of ``kernels.woodbury`` with room (``tangent="woodbury"``), the entries
+    left out are written there for the step's correction; ``record[0] = [pairs
+    recorded, most pairs in contact at one evaluation]``."""
     q, v, s, f, f_ext, fd, data, energy, power = ev
-    edofs, S, segments, pairs, count, coef, local, own = pack
+    edofs, S, segments, pairs, count, coef, local, own, record = pack
+    want = data.size > 0
+    recording = want and own == 1 and record[1].shape[0] > 0
+    if recording:
+        record[0][0] = 0
     if count[0] == 0:
         return
     cK, cC, dynamic = s[1], s[2] if s[3] != 0.0 else 0.0, s[3] != 0.0
-    want = data.size > 0
     flat = index.ravel()
     P, V = np.empty((4, 3)), np.zeros((4, 3))
     F, Fd = np.zeros(12), np.zeros(12)
@@ -319,6 +350,10 @@ def kernel(pack, index, ev):
                 if friction:
                     G[i, j] += cK * Kd[i, j] + cC * Cd[i, j]
         _scatter_tangent(edofs, S, sa, sb, local, own, flat, G, data)
+        if recording:
+            _record(sa, sb, G, record)
+    if recording:
+        record[0][1] = max(record[0][1], record[0][0])
 
 
 @njit(cache=True)

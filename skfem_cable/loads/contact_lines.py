@@ -29,12 +29,18 @@ exact tangents), over the candidate pairs of a broad phase refreshed once per ti
   Newton converges linearly while lines touch, and only at steps where the penalty is
   below the touching points' mass term, ``docs/contact.md``), the default for more
   lines, which keeps the pattern of a system such as the E-sail whose solver factors
-  each cable apart.
+  each cable apart; ``"woodbury"``, the own pattern with the entries it leaves out added
+  back to the factored matrix by the compiled step, pair by pair in contact, as a
+  low-rank correction (``kernels.woodbury``): the exact Newton step on the own pattern,
+  for up to ``active_pairs`` pairs in contact (beyond that, the rest's coupling is left
+  out as with ``"own"``, and the run warns once, naming the contact).
 * Crossings: a step whose converged state has carried two lines (or two parts of one)
   through each other is refused, naming them (``contact_crossing``: the term's
   ``check``, once per attempted step over the step's candidate pairs).
-* Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``), evaluated
-  once per saved step from the step's converged state (the one its broad phase keeps).
+* Run store: the per-step outputs ``<name>_<key>`` (``OUTPUTS``, ``summary``) and the
+  pairs in contact (``ARRAYS``, ``step_arrays``: at most ``active_pairs`` of them, NaN
+  after the last; ``<name>_contacts`` counts them all), evaluated once per saved step
+  from the step's converged state (the one its broad phase keeps).
 """
 
 import warnings
@@ -44,7 +50,7 @@ import numpy as np
 from ..core.contract import Term
 from ..core.lines import check_line_body, joined, line_points
 from ..kernels import contact_lines as kernel
-from ..kernels import line_broad_phase
+from ..kernels import line_broad_phase, woodbury
 from ..kernels.line import points as line_points_kernel
 from .accepted import AcceptedState
 from .contact import ONSET, ContactToleranceWarning, nonnegative, positive
@@ -59,10 +65,20 @@ REFERENCE_FORCE = 1e-3
 PAIRS_PER_SEGMENT = 8
 
 #: The patterns of the tangent (``LineLineContact(tangent=...)``, module notes).
-TANGENTS = ("full", "own")
+TANGENTS = ("full", "own", "woodbury")
+
+#: Pairs in contact whose coupling the ``"woodbury"`` tangent adds back (``active_pairs``
+#: default).
+ACTIVE_PAIRS = 8
 
 #: The per-step outputs of a contact (``summary``), recorded as ``<name>_<key>``.
 OUTPUTS = ("contacts", "normal", "max_penetration", "friction_power")
+
+#: The per-step arrays of a contact (``step_arrays``), recorded as ``<name>_pair_<key>``,
+#: a row per pair in contact (``active_pairs`` rows, NaN after the last; ``contacts``):
+#: the two lines' positions in ``lines``, the reference arc lengths (m) of the contact
+#: along each, its normal force (N).
+ARRAYS = ("lines", "arc", "normal")
 
 
 def summary(out):
@@ -187,9 +203,14 @@ class LineLineContact:
         pair (``contact_joints``); default ``pi d``.
     capacity : int, optional
         Candidate pairs held (default ``PAIRS_PER_SEGMENT`` per segment).
-    tangent : {"full", "own"}, optional
+    tangent : {"full", "own", "woodbury"}, optional
         The tangent's pattern (module notes); default ``"full"`` for two lines or one,
         ``"own"`` for more.
+    active_pairs : int, optional
+        The pairs in contact at one time (>= 1, default ``ACTIVE_PAIRS``) whose coupling
+        the step adds back with ``tangent="woodbury"`` (12 solves with the band factor
+        per pair at every factorization), and the rows of the pairs recorded per saved
+        step (``step_arrays``).
     name : str, optional
         The prefix of its per-step outputs (``step_outputs``) and its name in messages;
         default ``contact_<first>_<second>`` (``contact_<line>`` for self-contact,
@@ -197,7 +218,8 @@ class LineLineContact:
     """
 
     def __init__(self, *lines, friction=0.0, radius=None, stiffness=None, tolerance=1e-2,
-                 slip_velocity=1e-3, exclusion=None, capacity=None, tangent=None, name=None):
+                 slip_velocity=1e-3, exclusion=None, capacity=None, tangent=None,
+                 active_pairs=ACTIVE_PAIRS, name=None):
         if len(lines) < 2:
             raise ValueError(f"lines must be at least two line bodies (one twice for "
                              f"self-contact), got {len(lines)}")
@@ -232,12 +254,22 @@ class LineLineContact:
         self.tangent = ("full" if len(lines) <= 2 else "own") if tangent is None else tangent
         if self.tangent not in TANGENTS:
             raise ValueError(f"tangent must be one of {TANGENTS}, got {tangent!r}")
+        self.active_pairs = int(positive("active_pairs", active_pairs))
+        if self.active_pairs != active_pairs:
+            raise ValueError(f"active_pairs must be a whole number >= 1, got {active_pairs!r}")
         default = ("contact_" + "_".join(body.name for body in self.lines)
                    if len(self.lines) <= 2 else "contact_lines")
         self.name = default if name is None else str(name)
 
     step_outputs = property(lambda self: tuple(f"{self.name}_{key}" for key in OUTPUTS),
                             doc="Recorded per saved step (protocols.Load): ``summary``.")
+
+    def step_arrays(self, system):
+        """The per-step arrays (``protocols.Load``): ``{<name>_pair_<key>: shape}`` of
+        ``ARRAYS``, ``(active_pairs, 2)``, ``(active_pairs, 2)``, ``(active_pairs,)``."""
+        rows = self.active_pairs
+        return dict(zip((f"{self.name}_pair_{key}" for key in ARRAYS),
+                        ((rows, 2), (rows, 2), (rows,))))
 
     def __repr__(self):
         names = ", ".join(repr(body.name) for body in self.lines)
@@ -286,23 +318,50 @@ class LineLineContact:
         dofs = np.unique(points.edofs)
         local = np.full(system.n_dofs, -1, dtype=np.int64)
         local[dofs] = np.arange(len(dofs))
-        own = self.tangent == "own"
+        own = self.tangent != "full"
         nde = points.edofs.shape[1]     # own: each element's block, flat per element
         block = (np.repeat(points.edofs, nde, axis=1), np.tile(points.edofs, (1, nde))) \
             if own else (dofs[:, None], dofs[None, :])
+        exact = self.tangent == "woodbury"
+        record = woodbury.new_record(self.active_pairs if exact else 0)
         pack = (points.edofs, points.S, rows, broad.pairs, broad.count, self.coefficients,
-                local, int(own))
+                local, int(own), record)
         return Term(kernels=((kernel.kernel, pack),), rows=block[0], cols=block[1],
-                    prepare=broad.prepare, hooks=(broad,), name=self.name,
+                    prepare=self._watching(broad.prepare, record[0]) if exact
+                    else broad.prepare, hooks=(broad,), name=self.name,
                     outputs=lambda: self.step_values(system, tables, broad),
-                    check=crossing_check(self, tables, broad))
+                    check=crossing_check(self, tables, broad),
+                    correction=(points.edofs, points.S, *record) if exact else None)
+
+    def _watching(self, prepare, count):
+        """``prepare``, then a warning, once, where more pairs were in contact at one
+        evaluation than the ``"woodbury"`` tangent holds (``count`` of its record)."""
+        warned = []
+
+        def watched(t):
+            prepare(t)
+            if count[1] > self.active_pairs and not warned:
+                warned.append(t)
+                warnings.warn(f"{self.name}: {count[1]} pairs in contact, more than "
+                              f"active_pairs={self.active_pairs}: the coupling of the rest "
+                              "is left out of Newton's matrix (as tangent='own'; it may "
+                              "converge slowly): give active_pairs= larger",
+                              RuntimeWarning, stacklevel=2)
+        return watched
 
     def step_values(self, system, tables, broad):
-        """The per-step outputs ``{step_outputs: summary}`` of the lines' ``tables`` at the
-        converged state the term's ``broad`` phase keeps, over its pairs (those of the
-        step that ended there)."""
+        """The per-step outputs ``{step_outputs: summary}`` and arrays (``step_arrays``:
+        the pairs in contact, NaN-padded) of the lines' ``tables`` at the converged state
+        the term's ``broad`` phase keeps, over its pairs (those of the step that ended
+        there)."""
         out = self.evaluate(system, tables, broad.q, broad.v, broad)
-        return dict(zip(self.step_outputs, summary(out).values()))
+        arrays = {}
+        for (name, shape), key in zip(self.step_arrays(system).items(), ARRAYS):
+            padded = np.full(shape, np.nan)
+            kept = out[key][:shape[0]]
+            padded[:len(kept)] = kept
+            arrays[name] = padded
+        return {**dict(zip(self.step_outputs, summary(out).values())), **arrays}
 
     def contacts(self, system, q, v=None):
         """The active contacts at ``q``, ``v`` (zero if None) of ``system`` (a broad phase

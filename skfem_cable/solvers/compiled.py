@@ -44,7 +44,7 @@ from numba.core.errors import NumbaExperimentalFeatureWarning
 from ..core.contract import NO_INDEX, Evaluation
 from ..core.linalg import SingularMatrixError
 from ..core.protocols import IntegrableSystem
-from ..kernels import books, bordered, callbacks, erased, generated, lapack, schur
+from ..kernels import books, bordered, callbacks, erased, generated, lapack, schur, woodbury
 from ..kernels import step as template
 
 #: Bump when the generated code changes meaning (part of every module's digest).
@@ -174,10 +174,11 @@ def system_source(kernels, constraint_kernels):
     return "\n\n\n".join(p for p in parts if p)
 
 
-def source(sparse, kernels="bordered"):
+def source(sparse, kernels="bordered", corrected=False):
     """Text of the generated module of the Newton step (``kernels.step``), with the sparse
     LU called back in Python if ``sparse``, else the banded one of the module ``kernels``
-    (``"bordered"``, ``"schur"``: ``linalg.PatternSolver.kernels``)."""
+    (``"bordered"``, ``"schur"``: ``linalg.PatternSolver.kernels``); if ``corrected``,
+    that LU corrected by a term's left-out tangent entries (``kernels.woodbury``)."""
     imports = "import numpy as np\nfrom numba import njit" + (", objmode" if sparse else "")
     imports += "\n\n" + ("from skfem_cable.solvers.compiled import python_part\n" if sparse
                           else f"from skfem_cable.kernels.{kernels} import factor as lu_factor, "
@@ -192,7 +193,7 @@ def source(sparse, kernels="bordered"):
         f"ETA_FIRST = {template.ETA_FIRST!r}\n"
         f"{', '.join(template.PRM_SLOTS)} = range({len(template.PRM_SLOTS)})",
     ]
-    parts += _callbacks(_LU_CALLS if sparse else ())
+    parts += _callbacks(_LU_CALLS if sparse else ()) + ([woodbury.source()] if corrected else [])
     parts += [_DECORATORS.get(name, _INLINED) + "\n"
               + inspect.getsource(getattr(template, name)) for name in _TEMPLATE_FUNCTIONS]
     return "\n\n\n".join(parts) + "\n"
@@ -200,7 +201,7 @@ def source(sparse, kernels="bordered"):
 
 #: Modules whose compiled functions the generated modules call: numba's cache of a module
 #: does not notice changes in the functions it calls, so their text is part of the digest.
-_CALLED_MODULES = (schur, bordered, books, lapack, callbacks, erased)
+_CALLED_MODULES = (schur, bordered, books, lapack, callbacks, erased, woodbury)
 
 
 @functools.cache
@@ -214,18 +215,20 @@ def _slot_id(function):
 
 
 @functools.cache
-def module(sparse=False, jit=True, kernels="bordered"):
+def module(sparse=False, jit=True, kernels="bordered", corrected=False):
     """The generated module of the Newton step, with the sparse LU if ``sparse``, else the
-    banded one of ``kernels`` (``source``; imported, generated and compiled when first
-    needed, then remembered); ``jit=False``: the same module interpreted."""
-    text = source(sparse, kernels)
+    banded one of ``kernels``, ``corrected`` or not (``source``; imported, generated and
+    compiled when first needed, then remembered); ``jit=False``: the same module
+    interpreted."""
+    text = source(sparse, kernels, corrected)
     name = "skfem_cable_step_" + generated.digest(GENERATOR, numba.__version__,
                                                   _template_id(), text)
     return generated.load("steps", name, lambda: text,
                           {"EVALUATE": numba.types.FunctionType(EVALUATE),
                            "CONSTRAIN": numba.types.FunctionType(CONSTRAIN)},
                           "the Newton step" + (" (sparse LU)" if sparse else "")
-                          + (" (two-level LU)" if kernels == "schur" else ""), jit=jit)
+                          + (" (two-level LU)" if kernels == "schur" else "")
+                          + (" (Woodbury)" if corrected else ""), jit=jit)
 
 
 @functools.cache
@@ -382,7 +385,12 @@ class CompiledNewton:
                                                                                key)
         sparse = g.solver.method != "banded"
         kernels = "bordered" if sparse else g.solver.kernels.__name__.rsplit(".", 1)[-1]
-        step = module(sparse, jit, kernels)
+        corrections = [term.correction for term, _ in lay.body_terms + lay.load_terms
+                       if term.correction is not None]
+        if len(corrections) > 1:
+            raise ValueError(f"{len(corrections)} terms with a correction of the tangent "
+                             "(tangent='woodbury'): the step takes one")
+        step = module(sparse, jit, kernels, bool(corrections))
         self.newton = step.newton_held
         self.entry = None  # entry_point, at the first call
         terms = (packs, indices, cpacks, cindices)
@@ -413,6 +421,8 @@ class CompiledNewton:
                       np.ascontiguousarray(g.diag_index, dtype=np.int64), g.xscale,
                       g.inv_xscale, *lin, self.lin_rows, self.c_t)
         self.lu = np.array([key]) if sparse else g.solver.lu
+        if corrections:
+            self.lu = (self.lu, woodbury.storage(corrections[0], N))
         self.history = np.zeros(g.max_iter + 1)
         names = ("q1", "v1", "a1", "lam1", "r", "data", "nodata", "f", "f_ext", "fd",
                  "f_con", "energy", "power", "res_weight", "history", "fq", "fv", "flam",
