@@ -5,7 +5,8 @@
    with tether 1's voltage switched off and the spin rate halved, for two of its spin
    periods (1.7 h), with the contact over all its tethers
    (``system.contact(scene.tethers)``: one broad phase, the pairs next to the hub left
-   out, each element's own tangent so that the bordered band LU still solves the sail).
+   out, each element's own tangent with the coupling of the pairs in contact added back
+   by the compiled step, so that the bordered band LU still solves the sail).
    No tether touches another: the centrifugal ratio is still 14.8 (59 at the nominal
    spin), and the tethers' closest approach, recorded at every saved step, stays above
    about 600 m.

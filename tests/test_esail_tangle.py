@@ -26,11 +26,11 @@ def sail(tangent=None):
 
 @pytest.fixture(scope="module")
 def runs():
-    """The sail run on each element's own tangent (its default for four tethers, on the
-    bordered band LU) and on the exact tangent (SuperLU)."""
+    """The sail run on each element's own tangent (on the bordered band LU) and on the
+    exact tangent (SuperLU)."""
     out = {}
     for tangent, method in (("own", "auto"), ("full", "sparse")):
-        system, hub, tethers, contact = sail(None if tangent == "own" else tangent)
+        system, hub, tethers, contact = sail(tangent)
         result = sc.simulate(system, T_END, DT, every=15, method=method)
         out[tangent] = system, hub, tethers, contact, result
     return out
@@ -47,9 +47,8 @@ def resultants(system, contact, q, v, bodies):
 
 
 def test_own_tangent_keeps_the_sails_pattern(runs):
-    """Four lines default to each element's own tangent: the layout's border is the hub
-    alone, and the bordered band LU solves the sail with the contact term in its step
-    (compiled)."""
+    """Four lines on each element's own tangent: the layout's border is the hub alone, and the
+    bordered band LU solves the sail with the contact term in its step (compiled)."""
     system, hub, tethers, contact, result = runs["own"]
     assert contact.tangent == "own" and contact.name == "contact_lines"
     assert result.stats["solver"] == "banded" and result.stats["path"] == "compiled"
@@ -116,7 +115,7 @@ def test_the_hub_exclusion_removes_the_root_pairs():
 def test_contact_over_many_lines_names_what_is_wrong():
     """``system.contact(lines)``: a surface among the lines, lines of different radii, a
     radius per line of the wrong length and an unknown tangent each raise an error
-    naming the parameter; the defaults: ``"full"`` for two lines, ``"own"`` for more."""
+    naming the parameter; the defaults: ``"full"`` for two lines, ``"woodbury"`` for more."""
     a, b, c = (sc.Cable.straight([0, k, 0], [1, k, 0], 2, sc.Section.circular(
         0.01 if k < 2 else 0.02, 1e9, 1000.0), name=f"c{k}") for k in range(3))
     system = sc.System([a, b, c])
@@ -129,4 +128,4 @@ def test_contact_over_many_lines_names_what_is_wrong():
     with pytest.raises(ValueError, match="tangent must be one of"):
         system.contact([a, b], tangent="dense")
     assert system.contact([a, b]).loads[-1].tangent == "full"
-    assert system.contact([a, b, c], radius=0.01).loads[-1].tangent == "own"
+    assert system.contact([a, b, c], radius=0.01).loads[-1].tangent == "woodbury"

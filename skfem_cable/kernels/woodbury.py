@@ -25,7 +25,7 @@ evaluation with the tangent that no factorization follows leaves them alone), ``
 ``12 r`` updates of length ``N``.  Without records both are the factor's own, and a
 vector's length.
 
-``lu_factor`` and ``lu_solve`` are templates: ``solvers.compiled`` copies their source
+``refresh``, ``lu_factor`` and ``lu_solve`` are templates: ``solvers.compiled`` copies their source
 into the generated module of the Newton step, after naming the factor and solve of
 ``K0`` (the banded, bordered, two-level or sparse LU) ``inner_factor`` and
 ``inner_solve``.  ``storage`` makes the arrays they work in, ``lu = (inner, (record,
@@ -46,11 +46,12 @@ RANK = 12
 def source():
     """Text for the generated module of the Newton step, after its ``lu_factor`` and
     ``lu_solve`` (those of ``K0``): renamed ``inner_factor`` and ``inner_solve``, and
-    replaced by the corrected ``lu_factor`` and ``lu_solve`` (module notes)."""
+    replaced by the corrected ``lu_factor`` and ``lu_solve``, with ``refresh`` (module
+    notes)."""
     return "\n\n\n".join(
         ["from skfem_cable.kernels.woodbury import capacitance, correct, place, take\n"
          "inner_factor, inner_solve = lu_factor, lu_solve  # noqa: F821"]
-        + ["@njit(cache=True)\n" + inspect.getsource(f) for f in (lu_factor, lu_solve)])
+        + ["@njit(cache=True)\n" + inspect.getsource(f) for f in (refresh, lu_factor, lu_solve)])
 
 
 def new_record(capacity):
@@ -179,21 +180,28 @@ def correct(record, factored, out):
                 out[i] -= zc * Zc[i]
 
 
-def lu_factor(lu, data):
-    """Factor ``K0`` (``inner_factor``, the pattern's values ``data``) and the correction
-    of the records of the last evaluation (module notes); returns the unknown of a zero
-    pivot of ``K0``, -2 for a singular capacitance, or -1."""
+def refresh(lu):
+    """The correction of the records of the last evaluation with the tangent, for ``K0``
+    just factored (module notes): ``Z`` and the capacitance's factor; returns -2 for a
+    singular capacitance, or -1.  Called by ``lu_factor``, and from Python after a
+    factorization the step did not make (``CompiledNewton.refresh``: a resumed run's
+    first factor)."""
     inner, (record, factored) = lu
-    singular = inner_factor(inner, data)  # noqa: F821 (names of the generated module)
-    if singular != -1:
-        return singular
     m = take(record, factored)
     Z = factored[3]
     for c in range(m):
         place(record, factored, c, 1.0)
-        inner_solve(inner, factored[9], Z[c])  # noqa: F821
+        inner_solve(inner, factored[9], Z[c])  # noqa: F821 (names of the generated module)
         place(record, factored, c, 0.0)
     return capacitance(record, factored, m)
+
+
+def lu_factor(lu, data):
+    """Factor ``K0`` (``inner_factor``, the pattern's values ``data``) and the correction
+    of the records of the last evaluation (``refresh``); returns the unknown of a zero
+    pivot of ``K0``, -2 for a singular capacitance, or -1."""
+    singular = inner_factor(lu[0], data)  # noqa: F821
+    return singular if singular != -1 else refresh(lu)
 
 
 def lu_solve(lu, rhs, out):

@@ -27,13 +27,13 @@ exact tangents), over the candidate pairs of a broad phase refreshed once per ti
   default for two lines or one; ``"own"``, each element's own block (the entries that
   couple different elements, of one line or two, left out: the residual stays exact,
   Newton converges linearly while lines touch, and only at steps where the penalty is
-  below the touching points' mass term, ``docs/contact.md``), the default for more
-  lines, which keeps the pattern of a system such as the E-sail whose solver factors
-  each cable apart; ``"woodbury"``, the own pattern with the entries it leaves out added
-  back to the factored matrix by the compiled step, pair by pair in contact, as a
-  low-rank correction (``kernels.woodbury``): the exact Newton step on the own pattern,
-  for up to ``active_pairs`` pairs in contact (beyond that, the rest's coupling is left
-  out as with ``"own"``, and the run warns once, naming the contact).
+  below the touching points' mass term, ``docs/contact.md``), which keeps the pattern of
+  a system such as the E-sail whose solver factors each cable apart; ``"woodbury"``,
+  the default for more lines, the own pattern with the entries it leaves out added back
+  to the factored matrix by the compiled step, pair by pair in contact, as a low-rank
+  correction (``kernels.woodbury``): the exact Newton step on the own pattern, for up to
+  ``active_pairs`` pairs in contact (beyond that, the rest's coupling is left out as
+  with ``"own"``, and the run warns once, naming the contact).
 * Crossings: a step whose converged state has carried two lines (or two parts of one)
   through each other is refused, naming them (``contact_crossing``: the term's
   ``check``, once per attempted step over the step's candidate pairs).
@@ -205,7 +205,7 @@ class LineLineContact:
         Candidate pairs held (default ``PAIRS_PER_SEGMENT`` per segment).
     tangent : {"full", "own", "woodbury"}, optional
         The tangent's pattern (module notes); default ``"full"`` for two lines or one,
-        ``"own"`` for more.
+        ``"woodbury"`` for more.
     active_pairs : int, optional
         The pairs in contact at one time (>= 1, default ``ACTIVE_PAIRS``) whose coupling
         the step adds back with ``tangent="woodbury"`` (12 solves with the band factor
@@ -251,7 +251,8 @@ class LineLineContact:
         self.exclusion = nonnegative("exclusion", np.pi * d if exclusion is None
                                      else exclusion)
         self.capacity = capacity if capacity is None else int(positive("capacity", capacity))
-        self.tangent = ("full" if len(lines) <= 2 else "own") if tangent is None else tangent
+        self.tangent = ("full" if len(lines) <= 2 else "woodbury") if tangent is None \
+            else tangent
         if self.tangent not in TANGENTS:
             raise ValueError(f"tangent must be one of {TANGENTS}, got {tangent!r}")
         self.active_pairs = int(positive("active_pairs", active_pairs))

@@ -421,6 +421,7 @@ class CompiledNewton:
                       np.ascontiguousarray(g.diag_index, dtype=np.int64), g.xscale,
                       g.inv_xscale, *lin, self.lin_rows, self.c_t)
         self.lu = np.array([key]) if sparse else g.solver.lu
+        self._refresh = step.refresh if corrections else None
         if corrections:
             self.lu = (self.lu, woodbury.storage(corrections[0], N))
         self.history = np.zeros(g.max_iter + 1)
@@ -450,6 +451,15 @@ class CompiledNewton:
         prm[template.CON_WEIGHT], prm[template.MAX_ITER] = g.con_weight, g.max_iter
         prm[template.TOL_LOCAL], prm[template.ERROR_CONSTANT] = g.tol_local or 0.0, \
             g.error_constant
+
+    def refresh(self):
+        """After a factorization the step did not make (``GeneralizedAlpha._factor``: a
+        resumed run's first), the correction of a term's left-out tangent entries for the
+        new factor (``kernels.woodbury.refresh``), so that the factor is the one the step
+        would have made; nothing without a correction."""
+        if self._refresh is not None and self._refresh(self.lu) != -1:
+            raise SingularMatrixError("singular capacitance of the tangent's correction "
+                                      "(tangent='woodbury')", -2)
 
     def __reduce__(self):
         """Refused: the step holds machine addresses and references of this process (its

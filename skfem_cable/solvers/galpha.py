@@ -250,6 +250,7 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
             self.system.evaluate(q, v, t, lam, cK=1.0 / bp, cC=gp / bp, scale=self.mbar,
                                  data=data, a=a, cM=1.0, layout=self.lay)
         self.solver.factor(data)
+        self.compiled.refresh()
         self.stats["factorizations"] += 1
         self.res_weight[:] = 1.0 / (np.abs(data[self.diag_index]) * self.xscale)
         self.h_factored = h
