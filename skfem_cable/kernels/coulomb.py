@@ -29,7 +29,7 @@ from numba import njit
 def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     """``f = s(rho) u_perp`` at the point ``x`` of slope ``a`` and, if ``want``, its
     derivatives ``Fx``, ``Fa`` (``Fv`` stays zero), with ``params = (sun, scaling)``: the
-    Sun's position (3,) and ``scaling`` (``SCALING`` numbers: ``(d0, p)`` and their
+    Sun's position (3,) and ``scaling`` (7 numbers: ``(d0, p)`` and their
     expansion about the origin's distance, ``expansion``) (``kernels.line`` for the
     signature; ``work[0, 0]``, ``work[0, 1]`` hold ``i_R`` and ``t``, ``work[1]``,
     ``work[2]`` the projections).  Inlined into the generated loop, as before the loop
@@ -47,17 +47,13 @@ def point_uniform(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     _wind(sun, scaling, False, x, a, want, f, Fx, Fa, work)
 
 
-#: The numbers of the kernel's ``scaling``: ``(d0, p, 1 / R, s(R), c1, c2, q_max)``
-#: (``expansion``).
-SCALING = 7
-
 #: The bound on the relative truncation error of the expansion (``expansion``): a
 #: hundredth of the rounding of a double.
 TRUNCATION = 1e-18
 
 
 def expansion(d0, power, sun):
-    """The kernel's ``scaling`` (``SCALING`` numbers) of the law ``s(rho) = (d0 /
+    """The kernel's ``scaling`` (7 numbers) of the law ``s(rho) = (d0 /
     rho)^p`` about the distance ``R = |sun|`` of the system's origin from the Sun:
     ``(d0, p, 1 / R, s(R), c1, c2, q_max)``, with which a point at the distance ``rho``,
     ``q = rho / R - 1``, has
@@ -73,7 +69,21 @@ def expansion(d0, power, sun):
     tethers of 20 km at 1 AU has ``|q| <= 1.4e-7`` against ``q_max = 9.1e-7`` of the
     paper's ``p = 7/6``: one power per time step instead of one per Gauss point; the
     series agrees with the power to the rounding of the two (``(1 + p)`` units of 2.2e-16
-    relative, ``tests/test_step_speed.py``)."""
+    relative, ``tests/test_step_speed.py``).
+
+    Parameters
+    ----------
+    d0, power : float
+        The law's reference distance (m) and exponent ``p``.
+    sun : sequence of 3 floats
+        The Sun's position in the system's coordinates (m); at the origin (``R = 0``)
+        the kernel takes the power everywhere (``q_max = -1``).
+
+    Returns
+    -------
+    tuple of 7 floats
+        ``(d0, p, 1 / R, s(R), c1, c2, q_max)``.
+    """
     R = math.hypot(*sun)
     c3 = abs(power * (power + 1.0) * (power + 2.0)) / 6.0
     q_max = min(1e-3, (TRUNCATION / c3) ** (1.0 / 3.0)) if c3 > 0.0 else 1e-3
