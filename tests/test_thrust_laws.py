@@ -286,7 +286,7 @@ def test_a_law_follows_the_series_and_the_moving_sun_once_per_step():
                                                          scaling[0]), rel=1e-12)
     paper = SolarWindForce(load.cables, 20e3, jump_series(), sun_position=recede)
     (_, pack), = paper.bind(system).kernels
-    assert pack[5][1].tolist() == [AU, 7 / 6]
+    assert pack[5][1][:2].tolist() == [AU, 7 / 6]  # then its series (coulomb.expansion)
 
 
 @pytest.mark.parametrize("module", [thrust_laws, solar_wind_series, coulomb_drag])

@@ -334,9 +334,12 @@ class SolarWindForce:
     def bind(self, system, reference=None, inputs=None):
         """The compiled term: the loop of ``kernels.line`` with the point function
         ``kernels.coulomb.point`` (``point_uniform`` for a wind that does not scale with
-        the distance: no power at every point) over the points of the cables' line-body hook
-        (``lines.line_points``), the per-element coefficient its ``scale`` (its
-        ``kernel_parallel`` on more than one thread, ``linalg.thread_count``).  A
+        the distance: no power at every point; ``scaling``, the law's distance and
+        exponent and their series about the origin's distance from the Sun,
+        ``kernels.coulomb.expansion``: a power per step, not per point) over the points of
+        the cables' line-body hook (``lines.line_points``), the per-element coefficient its
+        ``scale`` (its ``kernel_parallel`` on more than one thread,
+        ``linalg.thread_count``).  A
         time-modulated voltage, a deploying tether (the mesh stretch ``lam(t)`` multiplies
         the force per unit mesh length) or a moving Sun refreshes, once per time step
         (``Term.prepare``), only what moves: the per-element coefficients or the Sun's
@@ -348,7 +351,7 @@ class SolarWindForce:
         cable_of_element = np.repeat(np.arange(len(parts)), [p.shape[0] for p in parts])
         sun = self.sun_at(0.0, reference).copy()
         voltages = self.sources(inputs)
-        scaling = self.scaling(0.0, voltages, reference)
+        scaling = np.array(kernel.expansion(*self.scaling(0.0, voltages, reference), sun))
         pack = points.pack((sun, scaling),
                            self.coefficients(0.0, voltages, reference)[cable_of_element])
         refresh = self._refreshers(system, (pack[4], cable_of_element), (sun, scaling),
@@ -370,7 +373,9 @@ class SolarWindForce:
         """The functions of ``t`` refreshing, in place and in this order, the Sun's
         position ``sun`` of ``params = (sun, scaling)`` (a callable ``sun_position``, seen
         from ``reference``), the law's ``scaling`` (a law without an anchor, in a wind
-        or at a distance or voltages that vary) and the per-element coefficients ``coef``
+        or at a distance or voltages that vary), the scaling's series about the origin's
+        distance from the Sun (``kernels.coulomb.expansion``: when either of these
+        moves) and the per-element coefficients ``coef``
         of ``elements = (coef, cable_of_element)`` (with a voltage callable, a deploying
         tether or a varying wind; of the ``voltages`` sources)."""
         coef, cable_of_element = elements
@@ -386,7 +391,7 @@ class SolarWindForce:
             sun[:] = source(t)
 
         def scaling(t):
-            scale[:] = self.scaling(t, voltages, reference)
+            scale[:2] = self.scaling(t, voltages, reference)
 
         def coefficients(t):
             per_cable = self.coefficients(t, voltages, reference)
@@ -394,12 +399,17 @@ class SolarWindForce:
                 per_cable *= np.array([system.stretch(c, t) for c in self.cables])
             coef[:] = per_cable[cable_of_element]
 
+        def expansion(t):
+            scale[:] = kernel.expansion(scale[0], scale[1], sun)
+
         modulated = any(callable(v) for v in self.voltage)
         moves = self.law.anchor is None and callable(self.sun)
         varies = self.wind.varies or moves
+        rescales = self.law.anchor is None and (varies or modulated)
         return [part for part, needed in (
             (sun_position, callable(self.sun)),
-            (scaling, self.law.anchor is None and (varies or modulated)),
+            (scaling, rescales),
+            (expansion, callable(self.sun) or rescales),
             (coefficients, modulated or any(deploying) or varies))
             if needed]
 
