@@ -94,16 +94,27 @@ def costs(scenes, build, s):
     return cost, scenes
 
 
+#: Every how many steps the day run saves the state, for the ring's tension over the day.
+DAY_EVERY = 10
+
+
 def day(scene, t_end):
     """``scene`` (from its state under the wind) for ``t_end`` at ``esail.MISSION_RTOL``:
-    steps, CPU and wall seconds."""
+    steps, CPU and wall seconds, and the auxiliary tethers' tension (N) at every
+    ``DAY_EVERY``-th step (least, median, largest, and the share of them slack)."""
     clock = time.process_time(), time.perf_counter()
     result = sc.simulate(scene.system, t_end, 1.0, initial=scene.initial, rho_inf=0.25,
-                         rtol=esail.MISSION_RTOL, atol=1e-3, every=10**9)
+                         rtol=esail.MISSION_RTOL, atol=1e-3, every=DAY_EVERY)
     cpu, wall = time.process_time() - clock[0], time.perf_counter() - clock[1]
+    tension = np.array([esail.auxiliary_tension(scene, q) for q in result.q])
+    ring = {"least": tension.min(), "median": float(np.median(tension)),
+            "largest": tension.max(), "slack": float(np.mean(tension == 0.0))}
     print(f"{t_end:.0f} s of the rig at rtol {esail.MISSION_RTOL:g} on two threads: "
-          f"{result.stats['steps']} steps, CPU {cpu:.1f} s, wall {wall:.1f} s")
-    return {"steps": result.stats["steps"], "cpu": cpu, "wall": wall}
+          f"{result.stats['steps']} steps, CPU {cpu:.1f} s, wall {wall:.1f} s; the ring's "
+          f"tension at every {DAY_EVERY}th step: least {ring['least'] * 1e3:.2f} mN, median "
+          f"{ring['median'] * 1e3:.2f}, largest {ring['largest'] * 1e3:.2f}, slack "
+          f"{ring['slack']:.1%} of the samples")
+    return {"steps": result.stats["steps"], "cpu": cpu, "wall": wall, "ring": ring}
 
 
 def main(argv=None):

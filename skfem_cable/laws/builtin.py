@@ -50,9 +50,17 @@ def truss(a, b, EA):
 
 
 # --8<-- [start:tension_only]
-def slack_kelvin_voigt(a, b, ad, bd, EA, gamma_axial):
-    """``axial_kelvin_voigt`` while the tether is stretched, nothing while it is slack."""
-    return where(green_strain(a) >= 0, axial_kelvin_voigt(a, b, ad, bd, EA, gamma_axial), 0)
+def slack_kelvin_voigt(a, b, ad, bd, EA, gamma_axial, onset_strain=1e-5):
+    """``axial_kelvin_voigt`` that comes on over the strain ``onset_strain`` (``eps_o``):
+    ``D = s(eps) gamma_x EA eps_dot^2 / 2`` with ``s = min(max(eps, 0) / eps_o, 1)``, so
+    the damping force ``s gamma_x EA eps_dot`` is continuous where the tether goes slack
+    or taut (switched on at ``eps = 0`` it jumps by ``gamma_x EA eps_dot``: Newton cycles
+    across the jump, and the tether pushes while it slackens).  Stretched beyond
+    ``eps_o`` the section is the truss's; within it the damping is ``s`` of that and the
+    tether can push only by ``s gamma_x EA |eps_dot|`` less its elastic tension."""
+    e = green_strain(a)
+    onset = where(e >= onset_strain, 1, ramp(e) / onset_strain)
+    return onset * axial_kelvin_voigt(a, b, ad, bd, EA, gamma_axial)
 
 
 @cable_law(dissipation=slack_kelvin_voigt, name="tension-only")

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 from ...bodies.section import Section
 from .config import FULL_SIZE
-from .rig import build
+from .rig import AUXILIARY_SHARE, build
 from .ring import RemoteUnit
 
 
@@ -35,9 +35,10 @@ class Rig:
 #: here: the unit's inertia, 0.01 kg m^2 (a 1.5 kg box of 10 x 10 x 25 cm); its thrust,
 #: 100 uN (the sail's spin-up from rest in 4.7 days); the auxiliary tether, a polyimide
 #: tape 3 mm x 12.7 um (E = 2.5 GPa, rho = 1420 kg/m^3: EA = 95 N, 68 g per 1.26 km
-#: tether); and its design tension, the default 5 % of a unit's centrifugal force, 2.2 mN
-#: (the ring then pulls each unit inwards by 0.3 % of that force).
+#: tether); and its design tension, the default ``rig.AUXILIARY_SHARE`` (half) of a unit's
+#: centrifugal force, 21.6 mN, which keeps the ring taut while the sail sails (the ring
+#: then pulls each unit inwards by 3.1 % of that force).
 FULL_RIG = Rig(FULL_SIZE, RemoteUnit(mass=1.5, inertia=0.01, thrust_max=1e-4),
                Section(E=2.5e9, A=3e-3 * 12.7e-6, I=1e-20, rho=1420.0, gamma_axial=1.0,
                        gamma_bending=0.0),
-               0.05 * 1.5 * FULL_SIZE.spin_rate**2 * FULL_SIZE.tether_length)
+               AUXILIARY_SHARE * 1.5 * FULL_SIZE.spin_rate**2 * FULL_SIZE.tether_length)

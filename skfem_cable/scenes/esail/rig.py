@@ -21,8 +21,15 @@ from .report import _facing
 from .ring import auxiliary_tension as auxiliary_tension_of
 from .ring import check_ring, ring_cables, ring_length, ring_tension, ring_tip_mass, tip_spacing
 
-#: The ring's default design tension: this share of a remote unit's centrifugal force.
-AUXILIARY_SHARE = 0.05
+#: The ring's default design tension: this share of a remote unit's centrifugal force
+#: ``m_u omega^2 L`` (``FULL_RIG``: 21.6 mN, a strain of 2.3e-4).  Chosen so that the
+#: ring stays taut in the sailing sail: the tips' distance from the spin axis follows the
+#: coning (``d eps = -tan(coning) d coning``) and the lagging, and at 10 deg it swings the
+#: ring's strain by 1.4e-4 below the design's (measured, ``docs/esail.md``, the rig's
+#: day); at 5 % (2.3e-5) the ring went slack at every swing, its units rattling between
+#: snaps that held the day's steps at 2.7 s.  The ring then pulls each unit inwards by
+#: ``2 T sin(pi / p)``, 3.1 % of its centrifugal force.
+AUXILIARY_SHARE = 0.5
 #: Passes of the ring's design (``_ring_design``), each aiming its equivalent sail at the
 #: design tension scaled by the ratio the ringed sail missed it by: the first misses by
 #: the axial inertia left out (2.4 % for ``FULL_RIG``), the second by its square.
@@ -81,10 +88,10 @@ def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_
     ``config.remote_mass``) at the tips, and with ``auxiliary`` (a ``Section``) a ring of
     auxiliary tethers (law ``"tension-only"``) pinned to neighbouring tips, their
     reference length set so that the sail's steady spin under the wind holds them at
-    ``auxiliary_tension`` (N; default 5 % of a unit's centrifugal force ``m_u omega^2 L``;
-    ``_ring_design``, ``RING_PASSES``).  The tethers' stretch is then that of the windless
-    steady spin with the ring's pull on the tips (``ring.ring_tip_mass``), the start of
-    ``build``.
+    ``auxiliary_tension`` (N; default ``AUXILIARY_SHARE``, half of a unit's centrifugal
+    force ``m_u omega^2 L``; ``_ring_design``, ``RING_PASSES``).  The tethers' stretch is
+    then that of the windless steady spin with the ring's pull on the tips
+    (``ring.ring_tip_mass``), the start of ``build``.
     """
     if remote_units is not None:
         config = replace(config, remote_mass=remote_units.mass)
@@ -213,7 +220,7 @@ def _ring_design(cfg, alpha_deg, n_elements, kind, formulation, auxiliary, tensi
     There the ring pulls each unit towards the axis in the plane of the tips, a change of
     its centrifugal force: the sail without the ring, its units of ``ring_tip_mass``, has
     the same equilibrium but for the axial inertia of that change of mass (the ring's
-    pull is 0.3 % of a unit's centrifugal force in ``FULL_RIG``, on the sail's
+    pull is 3.1 % of a unit's centrifugal force in ``FULL_RIG``, on the sail's
     acceleration of about 1e-4 m/s^2).  The tips' distance from the axis is iterated
     (two passes hold it to 1e-12: the mass depends on it only through the pull).  Returns
     the length and the ringless sail with its equilibrium (``steady_facing``'s)."""
