@@ -298,15 +298,17 @@ def kernel_parallel(pack, index, ev):
 #: function again in every caller (``span`` was inlined into ``chunk``, itself into
 #: ``loop`` and ``loop_parallel``, and into ``close``; 17 s of a cold cache for the
 #: Morison drag's module); LLVM still inlines them where it pays, since numba links a
-#: callee's code into its caller's before optimising it.
-TEMPLATE = (("@njit(cache=True)", span),
-            ("@njit(cache=True)", chunk),
-            ("@njit(cache=True)", close),
-            ("@njit(cache=True)", loop),
-            ("@njit(cache=True, parallel=True)", loop_parallel),
+#: callee's code into its caller's before optimising it.  No C wrappers: the module's
+#: functions are called by numba (the system's ``evaluate``) or from Python, never through
+#: a C pointer (the wrapper of a function of ten tuples is a second function to compile).
+TEMPLATE = (("@njit(cache=True, no_cfunc_wrapper=True)", span),
+            ("@njit(cache=True, no_cfunc_wrapper=True)", chunk),
+            ("@njit(cache=True, no_cfunc_wrapper=True)", close),
+            ("@njit(cache=True, no_cfunc_wrapper=True)", loop),
+            ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)", loop_parallel),
             ('@njit(cache=True, inline="always")', arguments),
-            ("@njit(cache=True)", kernel),
-            ("@njit(cache=True)", kernel_parallel))
+            ("@njit(cache=True, no_cfunc_wrapper=True)", kernel),
+            ("@njit(cache=True, no_cfunc_wrapper=True)", kernel_parallel))
 
 
 def _source(point, nf, velocity, dissipative):

@@ -102,7 +102,7 @@ _ENTRY = "@njit(cache=True, no_cfunc_wrapper=True)"
 
 #: The decorators of the template's functions other than ``_INLINED``.
 _DECORATORS = {"newton_held": _ENTRY, "_residual": _ENTRY, "_constraints": _ENTRY,
-               "keep": "@njit(cache=True)", "drop": "@njit(cache=True)"}
+               "keep": _ENTRY, "drop": _ENTRY}
 
 
 #: The objmode calls (``kernels.callbacks``) a module needs for Python terms, Python
@@ -134,12 +134,12 @@ def constrain(blob, cev):
     constrain_slots(terms[2], terms[3], cev)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def keep(blob, terms):
     hold(blob, terms)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def drop(blob):
     release(blob, TERMS)  # noqa: F821
 '''
