@@ -49,7 +49,7 @@ from . import generated
 from .chunks import CHUNK
 
 #: Bump when the generated module changes meaning (part of its digest).
-GENERATOR = "5"
+GENERATOR = "6"
 
 
 @njit(cache=True, inline="always")
@@ -293,22 +293,23 @@ def kernel_parallel(pack, index, ev):
     loop_parallel(t, state, line, params, out, coef, NF, resultant)  # noqa: F821
 
 
-#: The template's functions and their decorators in the generated module.  ``span`` and
-#: ``chunk`` are compiled once each, not inlined: numba types and lowers an inlined
-#: function again in every caller (``span`` was inlined into ``chunk``, itself into
-#: ``loop`` and ``loop_parallel``, and into ``close``; 17 s of a cold cache for the
-#: Morison drag's module); LLVM still inlines them where it pays, since numba links a
-#: callee's code into its caller's before optimising it.  No C wrappers: the module's
-#: functions are called by numba (the system's ``evaluate``) or from Python, never through
-#: a C pointer (the wrapper of a function of ten tuples is a second function to compile).
-TEMPLATE = (("@njit(cache=True, no_cfunc_wrapper=True)", span),
-            ("@njit(cache=True, no_cfunc_wrapper=True)", chunk),
-            ("@njit(cache=True, no_cfunc_wrapper=True)", close),
-            ("@njit(cache=True, no_cfunc_wrapper=True)", loop),
+#: The decorator of the template's ``span`` and ``chunk``: typed and lowered once by numba,
+#: which does it again at every call of an ``inline="always"`` function (``span`` was
+#: inlined into ``chunk``, itself into ``loop`` and ``loop_parallel``, and into ``close``:
+#: 17 s of a cold cache for the Morison drag's module), and inlined by LLVM into each
+#: caller (``forceinline``: the machine code of the loops is that of the inlined
+#: functions).  No C wrappers here: the module's functions are called by numba (the
+#: system's ``evaluate``) or from Python, never through a C pointer.
+SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
+
+#: The decorator of the template's other functions compiled apart.
+COMPILED = "@njit(cache=True, no_cfunc_wrapper=True)"
+
+#: The template's functions and their decorators in the generated module.
+TEMPLATE = ((SHARED, span), (SHARED, chunk), (COMPILED, close), (COMPILED, loop),
             ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)", loop_parallel),
-            ('@njit(cache=True, inline="always")', arguments),
-            ("@njit(cache=True, no_cfunc_wrapper=True)", kernel),
-            ("@njit(cache=True, no_cfunc_wrapper=True)", kernel_parallel))
+            ('@njit(cache=True, inline="always")', arguments), (COMPILED, kernel),
+            (COMPILED, kernel_parallel))
 
 
 def _source(point, nf, velocity, dissipative):

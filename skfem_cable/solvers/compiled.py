@@ -48,7 +48,7 @@ from ..kernels import books, bordered, callbacks, erased, generated, lapack, sch
 from ..kernels import step as template
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "11"
+GENERATOR = "12"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "keep", "drop", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
@@ -87,21 +87,24 @@ def _names(prefix, slots):
 
 #: The decorator of the generated functions inlined into their one caller by numba (the
 #: terms module's ``evaluate_slots`` and ``constrain_slots``; the step's functions called
-#: once, and its scalar helpers): a function compiled apart is optimised by LLVM once alone
-#: and again in each caller, where numba links its code.
+#: once, and its scalar helpers): a function compiled apart is also optimised by LLVM
+#: alone, before numba links its code into its callers'.
 _INLINED = '@njit(cache=True, inline="always")'
 
-#: The decorator of the step's entry ``newton_held`` and of its functions with more than
-#: one caller (``_residual`` has two, ``_constraints`` three): compiled once each, not
-#: inlined by numba, which types and lowers an
-#: inlined function again at every call (its inlining pass took a third of the step's
-#: compilation); LLVM inlines them where it pays.  No C wrapper (numba's
+#: The decorator of the step's entry ``newton_held``: no C wrapper (numba's
 #: first-class-function entry, which the step never uses; 750 of the 23,000 lines of LLVM
 #: IR of the pendulum's step).
 _ENTRY = "@njit(cache=True, no_cfunc_wrapper=True)"
 
+#: The decorator of the step's functions with more than one caller (``_residual`` has two,
+#: ``_constraints`` three): typed and lowered once by numba, which does it again at every
+#: call of an ``inline="always"`` function (its inlining pass took a third of the step's
+#: compilation), and inlined by LLVM into each caller (``forceinline``: the step's machine
+#: code is that of the inlined functions).
+_SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
+
 #: The decorators of the template's functions other than ``_INLINED``.
-_DECORATORS = {"newton_held": _ENTRY, "_residual": _ENTRY, "_constraints": _ENTRY,
+_DECORATORS = {"newton_held": _ENTRY, "_residual": _SHARED, "_constraints": _SHARED,
                "keep": _ENTRY, "drop": _ENTRY}
 
 
