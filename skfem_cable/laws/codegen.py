@@ -244,8 +244,10 @@ def _point_functions(sym, damped):
 #: threaded loop only where a system runs on threads.
 LOOP = ((INLINED, chunks.chunk), (INLINED, chunks.close),
         (INLINED, chunks.force_tangent),
-        ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)", chunks.force_tangent_parallel),
-        (INLINED, chunks.arguments), (COMPILED, chunks.kernel), (COMPILED, chunks.kernel_parallel))
+        ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)",
+         chunks.force_tangent_parallel),
+        (INLINED, chunks.arguments), (COMPILED, chunks.kernel),
+        (COMPILED, chunks.kernel_parallel))
 
 #: The kinds of generated module of a law and the template each compiles: ``"gauss"``,
 #: the law on a Gauss (or any) rule (``kernels.cable``; the paper's and the Lobatto
