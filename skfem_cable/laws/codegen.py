@@ -43,18 +43,13 @@ from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "8"
+GENERATOR = "7"
 
 #: The decorator of the point functions and ``force_tangent``: numba inlines them into
 #: ``kernel``, so that their code is optimised and compiled once, there (a compiled
 #: function compiles again all the compiled functions it calls); called from Python, each
 #: is compiled alone.
 INLINED = '@njit(cache=True, inline="always")'
-
-#: The decorator of the functions compiled apart: ``span`` and the hooks.  No C wrapper
-#: (numba's entry for C pointers, which nothing uses here: the hooks are called by the
-#: system's ``evaluate``, ``solvers.compiled``, or from Python).
-COMPILED = "@njit(cache=True, no_cfunc_wrapper=True)"
 
 
 class _ScalarPrinter(PythonCodePrinter):
@@ -244,10 +239,9 @@ def _point_functions(sym, damped):
 #: threaded loop only where a system runs on threads.
 LOOP = ((INLINED, chunks.chunk), (INLINED, chunks.close),
         (INLINED, chunks.force_tangent),
-        ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)",
-         chunks.force_tangent_parallel),
-        (INLINED, chunks.arguments), (COMPILED, chunks.kernel),
-        (COMPILED, chunks.kernel_parallel))
+        ("@njit(cache=True, parallel=True)", chunks.force_tangent_parallel),
+        (INLINED, chunks.arguments), ("@njit(cache=True)", chunks.kernel),
+        ("@njit(cache=True)", chunks.kernel_parallel))
 
 #: The kinds of generated module of a law and the template each compiles: ``"gauss"``,
 #: the law on a Gauss (or any) rule (``kernels.cable``; the paper's and the Lobatto
@@ -291,7 +285,7 @@ def source(law, kind="gauss", orders=None):
         f"PARAMETERS = {law.parameters!r}",
         *points,
         *extra,
-        COMPILED + "\n" + inspect.getsource(module.span),
+        "@njit(cache=True)\n" + inspect.getsource(module.span),
         *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in LOOP),
     ]
     return "\n\n\n".join(parts) + "\n"
