@@ -49,7 +49,7 @@ from . import generated
 from .chunks import CHUNK
 
 #: Bump when the generated module changes meaning (part of its digest).
-GENERATOR = "4"
+GENERATOR = "6"
 
 
 @njit(cache=True, inline="always")
@@ -240,14 +240,15 @@ def chunk(c, t, state, line, params, out, coef, nf, acc):
     their resultant into ``acc[c]``."""
     first = c * CHUNK + (1 if c > 0 else 0)
     last = min(line[4].shape[0], (c + 1) * CHUNK)
-    span(first, last, 1, t, state, line, params, out, coef, nf, acc[c])  # noqa: F821
+    span(first, last, np.int64(1), t, state, line, params, out, coef, nf,  # noqa: F821
+         acc[c])
 
 
 def close(t, state, line, params, out, coef, nf, acc, resultant):
     """The first elements of the chunks after the first, then the chunks' resultants added
     to ``resultant`` in order (the same sums in the same order on any number of threads)."""
-    span(CHUNK, line[4].shape[0], CHUNK, t, state, line, params, out, coef, nf,  # noqa: F821
-         acc[-1])
+    span(np.int64(CHUNK), line[4].shape[0], np.int64(CHUNK), t, state, line, params,  # noqa: F821
+         out, coef, nf, acc[-1])
     for c in range(acc.shape[0]):
         for i in range(3):
             resultant[i] += acc[c, i]
@@ -292,16 +293,23 @@ def kernel_parallel(pack, index, ev):
     loop_parallel(t, state, line, params, out, coef, NF, resultant)  # noqa: F821
 
 
-#: The template's functions and their decorators in the generated module: the loop and its
-#: chunks are inlined into the two hooks.
-TEMPLATE = (('@njit(cache=True, inline="always")', span),
-            ('@njit(cache=True, inline="always")', chunk),
-            ("@njit(cache=True)", close),
-            ("@njit(cache=True)", loop),
-            ("@njit(cache=True, parallel=True)", loop_parallel),
-            ('@njit(cache=True, inline="always")', arguments),
-            ("@njit(cache=True)", kernel),
-            ("@njit(cache=True)", kernel_parallel))
+#: The decorator of the template's ``span`` and ``chunk``: typed and lowered once by numba,
+#: which does it again at every call of an ``inline="always"`` function (``span`` was
+#: inlined into ``chunk``, itself into ``loop`` and ``loop_parallel``, and into ``close``:
+#: 17 s of a cold cache for the Morison drag's module), and inlined by LLVM into each
+#: caller (``forceinline``: the machine code of the loops is that of the inlined
+#: functions).  No C wrappers here: the module's functions are called by numba (the
+#: system's ``evaluate``) or from Python, never through a C pointer.
+SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
+
+#: The decorator of the template's other functions compiled apart.
+COMPILED = "@njit(cache=True, no_cfunc_wrapper=True)"
+
+#: The template's functions and their decorators in the generated module.
+TEMPLATE = ((SHARED, span), (SHARED, chunk), (COMPILED, close), (COMPILED, loop),
+            ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)", loop_parallel),
+            ('@njit(cache=True, inline="always")', arguments), (COMPILED, kernel),
+            (COMPILED, kernel_parallel))
 
 
 def _source(point, nf, velocity, dissipative):

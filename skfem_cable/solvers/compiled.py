@@ -48,7 +48,7 @@ from ..kernels import books, bordered, callbacks, erased, generated, lapack, sch
 from ..kernels import step as template
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "10"
+GENERATOR = "12"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "keep", "drop", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
@@ -85,19 +85,28 @@ def _names(prefix, slots):
     return "".join("_, " if f is PYTHON else f"{prefix}{k}, " for k, f in enumerate(slots))
 
 
-#: The decorator of the generated functions that others call: inlined into them by numba,
-#: so that their code and the kernels' are optimised and compiled once, in the caller
-#: (each compiled function would compile again all that it calls).
+#: The decorator of the generated functions inlined into their one caller by numba (the
+#: terms module's ``evaluate_slots`` and ``constrain_slots``; the step's functions called
+#: once, and its scalar helpers): a function compiled apart is also optimised by LLVM
+#: alone, before numba links its code into its callers'.
 _INLINED = '@njit(cache=True, inline="always")'
 
 #: The decorator of the step's entry ``newton_held``: no C wrapper (numba's
 #: first-class-function entry, which the step never uses; 750 of the 23,000 lines of LLVM
-#: IR of the pendulum's step, 0.3 s of its 9 s of compilation).
+#: IR of the pendulum's step).
 _ENTRY = "@njit(cache=True, no_cfunc_wrapper=True)"
 
-#: The decorators of the template's functions other than ``_INLINED``: the entry, and the
-#: two calls that hold its run-long arguments and give them back.
-_DECORATORS = {"newton_held": _ENTRY, "keep": "@njit(cache=True)", "drop": "@njit(cache=True)"}
+#: The decorator of the step's functions with more than one caller (``_residual`` has two,
+#: ``_constraints`` three): typed and lowered once by numba, which does it again at every
+#: call of an ``inline="always"`` function (its inlining pass took a third of the step's
+#: compilation), and inlined by LLVM into each caller (``forceinline``: the step's machine
+#: code is that of the inlined functions).
+_SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
+
+#: The decorators of the template's functions other than ``_INLINED``.
+_DECORATORS = {"newton_held": _ENTRY, "_residual": _SHARED, "_constraints": _SHARED,
+               "keep": _ENTRY, "drop": _ENTRY}
+
 
 #: The objmode calls (``kernels.callbacks``) a module needs for Python terms, Python
 #: constraints and a sparse LU.
@@ -128,12 +137,12 @@ def constrain(blob, cev):
     constrain_slots(terms[2], terms[3], cev)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def keep(blob, terms):
     hold(blob, terms)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cfunc_wrapper=True)
 def drop(blob):
     release(blob, TERMS)  # noqa: F821
 '''
