@@ -80,8 +80,10 @@ def exponent(ns, ts, n_min):
     return np.polyfit(np.log([ns[i] for i in sel]), np.log([ts[i] for i in sel]), 1)[0]
 
 
-def solve_table(ns):
-    """Print the table of the solvers of ``M x = b``.
+def solve_table(ns, budget=1.0):
+    """Print the table of the solvers of ``M x = b``, each timed over ``budget`` times
+    its share of the timing loops' seconds (0: each solve run once per repeat, for the
+    figures other than the times).
 
     Returns
     -------
@@ -98,12 +100,12 @@ def solve_table(ns):
     for n in ns:
         chain = RodChain(rng.uniform(0.5, 2.0, n), np.ones(n), np.ones(n))
         b = rng.standard_normal((n, 3))
-        t_fast = best_time(lambda chain=chain, b=b: chain.solve_mass(b))
+        t_fast = best_time(lambda chain=chain, b=b: chain.solve_mass(b), budget * 0.2)
         G = g_matrix(chain.masses)
         lu_g = splu(G)
-        t_splu = best_time(lambda lu_g=lu_g, b=b: factored_solve(lu_g.solve, b))
+        t_splu = best_time(lambda lu_g=lu_g, b=b: factored_solve(lu_g.solve, b), budget * 0.2)
         t_spsolve = best_time(lambda G=G, b=b: factored_solve(lambda y: spsolve(G, y), b),
-                              budget=0.1, repeats=3)
+                              budget=budget * 0.1, repeats=3)
         x_ref = factored_solve(lu_g.solve, b)
         assert np.allclose(chain.solve_mass(b), x_ref, rtol=1e-9, atol=1e-12 * np.abs(x_ref).max())
         t_lu = t_chol = diff = np.nan
@@ -111,9 +113,11 @@ def solve_table(ns):
             M = chain.mass_matrix()
             x_lu = np.linalg.solve(M, b)
             diff = np.linalg.norm(chain.solve_mass(b) - x_lu) / np.linalg.norm(x_lu)
-            t_lu = best_time(lambda M=M, b=b: np.linalg.solve(M, b), budget=0.3, repeats=3)
+            t_lu = best_time(lambda M=M, b=b: np.linalg.solve(M, b), budget=budget * 0.3,
+                             repeats=3)
             cf = cho_factor(M)
-            t_chol = best_time(lambda cf=cf, b=b: cho_solve(cf, b), budget=0.2, repeats=3)
+            t_chol = best_time(lambda cf=cf, b=b: cho_solve(cf, b), budget=budget * 0.2,
+                               repeats=3)
         rows.append({"n": n, "o_n": t_fast, "lu": t_lu, "chol": t_chol, "splu": t_splu,
                      "spsolve": t_spsolve, "diff_to_lu": diff})
         row = [t_fast, 1e6 * t_fast / n, t_lu, t_chol, t_splu, t_spsolve,

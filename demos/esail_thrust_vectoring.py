@@ -47,11 +47,12 @@ def flat_sail_angle(alpha_deg, mode="constant", width=None, n=3600):
 
 
 def main(angles=(0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0), out="runs/esail_thrust_vectoring",
-         figure=True):
-    """Thrust angles (deg) of the sail and of the flat-sail model for each case and
-    sailing angle in ``angles`` (deg); writes the figure into ``out``."""
+         figure=True, cases=CASES):
+    """Thrust angles (deg) of the sail and of the flat-sail model for each of ``cases``
+    (``CASES`` or some of them) and sailing angle in ``angles`` (deg); writes the figure
+    into ``out``."""
     table = {}
-    for label, mode, width in CASES:
+    for label, mode, width in cases:
         rows = []
         for alpha in angles:
             run = thrust_vectoring(alpha, mode, half_width_deg=width or 45.0)

@@ -13,9 +13,13 @@ DAYS = 0.3
 
 
 def test_the_free_sail_drifts_with_the_orbit_and_the_controlled_one_holds():
-    free = hold_sail_angle(30.0, DAYS, controlled=False)
-    turn = np.degrees(np.sqrt(MU_SUN / AU**3) * DAYS * 86400.0)
-    assert 30.0 - free["sail_angle"][-1] == pytest.approx(turn, rel=0.05)
+    """The free sail over half of ``DAYS`` (its drift the orbit's turn to 1.1 % there,
+    1.6 % over ``DAYS``); the controlled one over ``DAYS`` (its largest error 0.14 of the
+    turn; over half, 0.24 of the half turn: the hold's transient needs the whole span)."""
+    rate = np.degrees(np.sqrt(MU_SUN / AU**3)) * 86400.0  # deg per day
+    free = hold_sail_angle(30.0, DAYS / 2, controlled=False)
+    assert 30.0 - free["sail_angle"][-1] == pytest.approx(rate * DAYS / 2, rel=0.05)
+    turn = rate * DAYS
     held = hold_sail_angle(30.0, DAYS, controlled=True)
     assert held["result"].stats["path"] == "compiled"
     assert np.abs(held["sail_angle"] - 30.0).max() < 0.2 * turn

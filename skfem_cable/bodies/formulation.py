@@ -34,6 +34,8 @@ calls of its elastic forces: a law or a part of it, the kind of its generated mo
 s, stretch)`` (the recovered fields at arc lengths ``s``).
 """
 
+import functools
+
 import numpy as np
 
 from ..kernels import assumed_strain
@@ -48,6 +50,15 @@ LOBATTO = (np.array([0.0, 0.5, 1.0]), np.array([1.0, 4.0, 1.0]) / 6.0)
 #: elastica and a third cheaper), the one the assumed strain of the cubic element takes
 #: the strain's means with (``kernels.assumed_strain.Rule``).
 BENDING_RULE = (assumed_strain.GAUSS_XI, assumed_strain.GAUSS_W)
+
+
+@functools.cache
+def _points_map(orders, points):
+    """``Rule.assumed_map`` of the element type with the nodal fields ``orders`` at the
+    reference coordinates ``points`` (a tuple), computed once: the map integrates its
+    moments in exact arithmetic (sympy, a third of a second), which every sampled step
+    of a cable paid before."""
+    return assumed_strain.rule(orders).assumed_map(points)
 
 
 class Paper:
@@ -160,10 +171,10 @@ class AssumedStrain:
         """The assumed strain at the start, the midpoint and the end of every element
         (three arrays (..., n_elements)): the element's ``Rule.assumed_map``
         (``kernels.assumed_strain``) of the raw strains at its samples."""
-        assumed = assumed_strain.rule(cable.element.orders)
-        a = cable.slopes_at(q, assumed.samples, stretch)
+        orders = cable.element.orders
+        a = cable.slopes_at(q, assumed_strain.rule(orders).samples, stretch)
         raw = 0.5 * (np.einsum("...i,...i", a, a) - 1.0)
-        return tuple(np.moveaxis(raw @ assumed.assumed_map(self.POINTS).T, -1, 0))
+        return tuple(np.moveaxis(raw @ _points_map(orders, self.POINTS).T, -1, 0))
 
     @staticmethod
     def axial_force(cable, eps, e, stretch=1.0, t=0.0):
