@@ -462,13 +462,10 @@ class CompiledNewton:
             g.error_constant
 
     def refresh(self):
-        """After a factorization the step did not make (``GeneralizedAlpha._factor``: a
-        resumed run's first), the correction of a term's left-out tangent entries for the
-        new factor (``kernels.woodbury.refresh``), so that the factor is the one the step
-        would have made; nothing without a correction."""
+        """Correct a factor the step did not make (``GeneralizedAlpha._factor``: a resumed
+        run's first) as the step would have (``kernels.woodbury.refresh``), if a term asks."""
         if self._refresh is not None and self._refresh(self.lu) != -1:
-            raise SingularMatrixError("singular capacitance of the tangent's correction "
-                                      "(tangent='woodbury')", -2)
+            raise SingularMatrixError("singular capacitance (tangent='woodbury')", -2)
 
     def __reduce__(self):
         """Refused: the step holds machine addresses and references of this process (its
