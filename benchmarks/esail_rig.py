@@ -32,6 +32,7 @@ import numpy as np
 
 import skfem_cable as sc
 from skfem_cable.cli.bench import arguments
+from skfem_cable.core import linalg
 from skfem_cable.core.linalg import PatternSolver
 from skfem_cable.scenes import esail
 from skfem_cable.scenes.esail.modulation import spacing_under_modulation
@@ -109,7 +110,8 @@ def day(scene, t_end):
     tension = np.array([esail.auxiliary_tension(scene, q) for q in result.q])
     ring = {"least": tension.min(), "median": float(np.median(tension)),
             "largest": tension.max(), "slack": float(np.mean(tension == 0.0))}
-    print(f"{t_end:.0f} s of the rig at rtol {esail.MISSION_RTOL:g} on two threads: "
+    print(f"{t_end:.0f} s of the rig at rtol {esail.MISSION_RTOL:g} on "
+          f"{linalg.thread_count()} thread(s): "
           f"{result.stats['steps']} steps, CPU {cpu:.1f} s, wall {wall:.1f} s; the ring's "
           f"tension at every {DAY_EVERY}th step: least {ring['least'] * 1e3:.2f} mN, median "
           f"{ring['median'] * 1e3:.2f}, largest {ring['largest'] * 1e3:.2f}, slack "
