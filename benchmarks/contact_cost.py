@@ -2,11 +2,12 @@
 must-show 6), measured inside the step: the 12-tether sail (``esail.BaselineConfig``) and
 the full-size sail (``esail.FULL_SIZE``: 100 tethers of 20 km), 10 elements per tether,
 each built twice, without contact and with the contact over all its tethers
-(``system.contact(scene.tethers)``: one broad phase, refreshed once per step, the
-compiled narrow phase over its pairs at every Newton evaluation, each element's own
-tangent so that the bordered band LU still solves the sail), and a third time with the
-contact on the corrected own tangent (``tangent="woodbury"``: the step's Woodbury
-correction, empty without contact), run side by side:
+(``system.contact(scene.tethers, tangent="own")``: one broad phase, refreshed once per
+step, the compiled narrow phase over its pairs at every Newton evaluation, each element's
+own tangent so that the bordered band LU still solves the sail), and a third time with
+the contact on the corrected own tangent (``tangent="woodbury"``, the default for more
+than two lines: the step's Woodbury correction, empty without contact), run side by
+side:
 
 * ``without``, ``with``, ``woodbury``: CPU per step (fixed steps of ``DT`` s,
   ``rho_inf = 0.25``, from the windless spin), the minimum over the repeats, the runs
@@ -38,10 +39,10 @@ N_ELEMENTS, DT = 10, 5.0
 
 
 def scenes(config):
-    """The sail of ``config`` without, with the contact over its tethers, and with it on
-    the corrected own tangent."""
+    """The sail of ``config`` without, with the contact over its tethers on the own
+    tangent, and with it on the corrected own tangent."""
     plain, touching, exact = (esail.build(config, 10.0, N_ELEMENTS) for _ in range(3))
-    touching.system.contact(touching.tethers)
+    touching.system.contact(touching.tethers, tangent="own")
     exact.system.contact(exact.tethers, tangent="woodbury")
     return plain, touching, exact
 
