@@ -113,24 +113,34 @@ def _coulomb_resultants(scene, result, C_I_B):
 
 def _resultants(scene, result, C_I_B, table):
     """``_coulomb_resultants`` with the inputs of ``table`` (an ``inputs.InputTable``)
-    set, at each saved step, to the values the result recorded."""
+    set, at each saved step, to the values the result recorded.  The force of a saved
+    step is evaluated once over the points of all tethers (``line_force``'s Sun, scaling
+    and voltages once per step, not once per tether)."""
     wf, system = scene.wind_force, scene.system
     sources = wf.sources(table)
     nt, p = len(result.t), len(scene.tethers)
+    dofs = [system.dofs(cable) for cable in scene.tethers]
+    weights = np.concatenate([cable.weights.ravel() for cable in scene.tethers])
+    owner = np.concatenate([np.full(cable.weights.size, i)
+                            for i, cable in enumerate(scene.tethers)])
     force = np.zeros((nt, p, 3))
     moment = np.zeros((nt, p, 3))
     for k, t in enumerate(result.t):
         for name in table.values:
             table.set(name, result.inputs[name][k])
         coef = wf.coefficients(t, sources)
-        for i, cable in enumerate(scene.tethers):
-            qc = result.q[k, system.dofs(cable)]
+        r, a, anchor = [], [], []
+        for cable, d in zip(scene.tethers, dofs):
+            qc = result.q[k, d]
             qe = cable.element_vectors(qc)
-            r = np.einsum("egA,eAi->egi", cable.S, qe)
-            a = np.einsum("egA,eAi->egi", cable.Sx, qe)
-            f = wf.line_force(r, a, coef[i, None, None], t, result.reference)
-            fw = f * cable.weights[..., None]
-            force[k, i] = fw.sum(axis=(0, 1))
-            moment[k, i] = np.cross(r - qc[:3], fw).sum(axis=(0, 1))
+            r.append(np.einsum("egA,eAi->egi", cable.S, qe).reshape(-1, 3))
+            a.append(np.einsum("egA,eAi->egi", cable.Sx, qe).reshape(-1, 3))
+            anchor.append(qc[:3])
+        r, a = np.concatenate(r), np.concatenate(a)
+        fw = wf.line_force(r, a, coef[owner], t, result.reference) * weights[:, None]
+        arm = np.cross(r - np.asarray(anchor)[owner], fw)
+        for i in range(3):
+            force[k, :, i] = np.bincount(owner, fw[:, i], minlength=p)
+            moment[k, :, i] = np.bincount(owner, arm[:, i], minlength=p)
     RT = np.swapaxes(C_I_B, -1, -2)
     return np.einsum("tij,tpj->tpi", RT, force), np.einsum("tij,tpj->tpi", RT, moment)
