@@ -6,9 +6,9 @@ exclusion of the pairs next to the hub."""
 
 import numpy as np
 import pytest
+from test_contact_lines import resultants
 
 import skfem_cable as sc
-from skfem_cable.core.contract import Evaluation
 from skfem_cable.loads.contact_lines import PAIRS_PER_SEGMENT, BroadPhase
 from skfem_cable.scenes import esail
 from skfem_cable.scenes.esail_tangle import CrossingRig, crossing_sail
@@ -34,16 +34,6 @@ def runs():
         result = sc.simulate(system, T_END, DT, every=15, method=method)
         out[tangent] = system, hub, tethers, contact, result
     return out
-
-
-def resultants(system, contact, q, v, bodies):
-    """The contact's resultant forces (N) on ``bodies`` at ``q``, ``v``."""
-    term = contact.bind(system)
-    term.hooks[0].accept(q, v, 0.0)
-    ev = Evaluation(system, 0.0, q, v, np.zeros(0))
-    term.evaluate(ev, None)
-    force = ev.f_ext - ev.f
-    return [force[system.dofs(body)].reshape(-1, 2, 3)[:, 0].sum(axis=0) for body in bodies]
 
 
 def test_own_tangent_keeps_the_sails_pattern(runs):
