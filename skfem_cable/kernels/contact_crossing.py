@@ -37,7 +37,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .contact_lines import closest, gather
+from .contact_lines import closest, gather_pair
 
 #: Bisections of a root of ``V`` (the interval ``[0, 1]`` halved to 2^-60).
 BISECTIONS = 60
@@ -143,10 +143,8 @@ def crossed(edofs, S, segments, pairs, count, gap, q0, q1, found):
     n = 0
     for m in range(count[0]):
         sa, sb = segments[pairs[m, 0]], segments[pairs[m, 1]]
-        gather(edofs, S, sa, q0, P0[:2])
-        gather(edofs, S, sb, q0, P0[2:])
-        gather(edofs, S, sa, q1, P1[:2])
-        gather(edofs, S, sb, q1, P1[2:])
+        gather_pair(edofs, S, sa, sb, q0, P0)
+        gather_pair(edofs, S, sa, sb, q1, P1)
         tau = crossing_time(P0, P1, gap, P, c, cuts)
         if tau < 0.0:
             continue

@@ -224,6 +224,14 @@ def gather(edofs, S, seg, x, P):
 
 
 @njit(cache=True)
+def gather_pair(edofs, S, sa, sb, x, P):
+    """The four points (4, 3) of the segments ``sa`` and ``sb`` of a pair (``gather``) of
+    the global vector ``x`` into ``P``: ``sa``'s ends, then ``sb``'s."""
+    gather(edofs, S, sa, x, P[:2])
+    gather(edofs, S, sb, x, P[2:])
+
+
+@njit(cache=True)
 def _ends_count(seg_a, seg_b, s, t):
     """False where a closest point sits at a joint of two segments (module notes)."""
     if (s == 0.0 and seg_a[4] == 0) or (s == 1.0 and seg_a[5] == 0):
@@ -327,11 +335,9 @@ def kernel(pack, index, ev):
     friction = coef[FRICTION] > 0.0 and dynamic
     for m in range(count[0]):
         sa, sb = segments[pairs[m, 0]], segments[pairs[m, 1]]
-        gather(edofs, S, sa, q, P[:2])
-        gather(edofs, S, sb, q, P[2:])
+        gather_pair(edofs, S, sa, sb, q, P)
         if friction:
-            gather(edofs, S, sa, v, V[:2])
-            gather(edofs, S, sb, v, V[2:])
+            gather_pair(edofs, S, sa, sb, v, V)
         st = closest(P)
         if not _ends_count(sa, sb, st[0], st[1]):
             continue
@@ -369,10 +375,8 @@ def resolve(edofs, S, segments, pairs, count, coef, q, v, out):
     active = 0
     for m in range(count[0]):
         sa, sb = segments[pairs[m, 0]], segments[pairs[m, 1]]
-        gather(edofs, S, sa, q, P[:2])
-        gather(edofs, S, sb, q, P[2:])
-        gather(edofs, S, sa, v, V[:2])
-        gather(edofs, S, sb, v, V[2:])
+        gather_pair(edofs, S, sa, sb, q, P)
+        gather_pair(edofs, S, sa, sb, v, V)
         st = closest(P)
         if not _ends_count(sa, sb, st[0], st[1]):
             continue
