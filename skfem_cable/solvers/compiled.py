@@ -371,10 +371,14 @@ def _give_back(drop, blob, *args):
     drop(*args)
 
 
+#: ``kernels.erased.size_of``, once per numba type (LLVM's layout of the type).
+_size_of = functools.cache(erased.size_of)
+
+
 def _hold(own, kind, value):
     """A buffer holding ``value`` (of numba type ``kind``) for the compiled functions of
     the module ``own`` (its ``keep``); returns the buffer and its address."""
-    blob = np.zeros(max(erased.size_of(kind), 8), dtype=np.uint8)
+    blob = np.zeros(max(_size_of(kind), 8), dtype=np.uint8)
     address = blob.ctypes.data
     own.keep(address, value)
     return blob, np.int64(address)
@@ -445,8 +449,12 @@ class CompiledNewton:
         self.no_change = np.zeros(n)  # da_prev before there is one (its factor c0 is 0)
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
-        # the arguments that stay through the run, held once (``kernels.step.newton_held``)
-        self.kind = numba.typeof((self.model, self.lu, self.out))
+        # the arguments that stay through the run, held once (``kernels.step.newton_held``);
+        # their types follow from the layout, the solver's kind and its threads (typed
+        # once per layout: 0.7 ms of a run's start on the E-sail rig)
+        self.kind = lay.derived(("newton arguments", kernels, sparse, bool(corrections),
+                                 g.solver.threads),
+                                lambda: numba.typeof((self.model, self.lu, self.out)))
         self.held, self.address = _hold(step, self.kind, (self.model, self.lu, self.out))
         weakref.finalize(self, _give_back, step.drop, self.held, self.address,
                          self.kind).atexit = False
