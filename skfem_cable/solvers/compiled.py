@@ -407,7 +407,7 @@ class CompiledNewton:
         self.newton = step.newton_held
         self.entry = None  # entry_point, at the first call
         terms = (packs, indices, cpacks, cindices)
-        kind = numba.typeof(terms)
+        kind = lay.derived("terms' type", lambda: numba.typeof(terms))
         with global_compiler_lock:  # what it compiles, said on one line (compile_log)
             own = system_module(functions, cfunctions, kind, jit)
             self.blob, address = _hold(own, kind, terms)
@@ -452,8 +452,9 @@ class CompiledNewton:
         # the arguments that stay through the run, held once (``kernels.step.newton_held``);
         # their types follow from the layout, the solver's kind and its threads (typed
         # once per layout: 0.7 ms of a run's start on the E-sail rig)
-        self.kind = lay.derived(("newton arguments", kernels, sparse, bool(corrections),
-                                 g.solver.threads),
+        self.arguments = ("newton arguments", kernels, sparse, bool(corrections),
+                          g.solver.threads, jit)
+        self.kind = lay.derived(self.arguments,
                                 lambda: numba.typeof((self.model, self.lu, self.out)))
         self.held, self.address = _hold(step, self.kind, (self.model, self.lu, self.out))
         weakref.finalize(self, _give_back, step.drop, self.held, self.address,
@@ -503,6 +504,7 @@ class CompiledNewton:
         da_prev = self.no_change if g.da_prev is None else g.da_prev
         state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, da_prev, g.fd, g.fnc, g.fcon)
         args = (self.terms, self.address, self.kind, state, self.prm)
-        if self.entry is None:
-            self.entry = entry_point(self.newton, args)
+        if self.entry is None:  # the same for every step of this layout's kind
+            self.entry = lay.derived(self.arguments + ("entry",),
+                                     lambda: entry_point(self.newton, args))
         return self.entry(*args)
