@@ -352,10 +352,9 @@ def entry_point(function, args):
     """The machine code of the compiled ``function`` (a numba dispatcher) for the types of
     ``args`` (compiled for them, or read from the cache, first), behind the unboxing of
     its arguments alone; ``function`` itself if it is Python (the interpreted step).  A
-    dispatcher types every argument at every call: for the hundred arrays of the Newton
-    step's arguments, 7 us of the E-sail rig's 130 us per step, of which the entry point
-    saves 3.  The caller keeps the types of ``args`` (``CompiledNewton``: the arrays are
-    its own or the integrator's, float64 and contiguous throughout a run)."""
+    dispatcher types every argument at every call (the Newton step's: 7 us of the E-sail
+    rig's 130 us per step; 3 saved).  The caller keeps the types of ``args`` (the
+    ``CompiledNewton``'s and its integrator's arrays, float64 and contiguous)."""
     if getattr(function, "overloads", None) is None:
         return function
     signature = tuple(function.typeof_pyval(a) for a in args)
@@ -371,14 +370,10 @@ def _give_back(drop, blob, *args):
     drop(*args)
 
 
-#: ``kernels.erased.size_of``, once per numba type (LLVM's layout of the type).
-_size_of = functools.cache(erased.size_of)
-
-
 def _hold(own, kind, value):
     """A buffer holding ``value`` (of numba type ``kind``) for the compiled functions of
     the module ``own`` (its ``keep``); returns the buffer and its address."""
-    blob = np.zeros(max(_size_of(kind), 8), dtype=np.uint8)
+    blob = np.zeros(max(erased.size_of(kind), 8), dtype=np.uint8)
     address = blob.ctypes.data
     own.keep(address, value)
     return blob, np.int64(address)
@@ -449,14 +444,10 @@ class CompiledNewton:
         self.no_change = np.zeros(n)  # da_prev before there is one (its factor c0 is 0)
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
-        # the arguments that stay through the run, held once (``kernels.step.newton_held``);
-        # their types follow from the layout, the solver's kind and its threads (typed
-        # once per layout: 0.7 ms of a run's start on the E-sail rig)
-        self.arguments = ("newton arguments", kernels, sparse, bool(corrections),
-                          g.solver.threads, jit)
-        self.kind = lay.derived(self.arguments,
-                                lambda: numba.typeof((self.model, self.lu, self.out)))
-        self.held, self.address = _hold(step, self.kind, (self.model, self.lu, self.out))
+        self.typed = ("arguments", kernels, sparse, bool(corrections), g.solver.threads, jit)
+        held = (self.model, self.lu, self.out)  # the run's own, held once (step.newton_held)
+        self.kind = lay.derived(self.typed, lambda: numba.typeof(held))  # once per layout
+        self.held, self.address = _hold(step, self.kind, held)
         weakref.finalize(self, _give_back, step.drop, self.held, self.address,
                          self.kind).atexit = False
         if python_terms or python_constraints or sparse:
@@ -504,7 +495,6 @@ class CompiledNewton:
         da_prev = self.no_change if g.da_prev is None else g.da_prev
         state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, da_prev, g.fd, g.fnc, g.fcon)
         args = (self.terms, self.address, self.kind, state, self.prm)
-        if self.entry is None:  # the same for every step of this layout's kind
-            self.entry = lay.derived(self.arguments + ("entry",),
-                                     lambda: entry_point(self.newton, args))
+        if self.entry is None:  # one per layout and kind of step
+            self.entry = lay.derived((*self.typed, "entry"), lambda: entry_point(self.newton, args))
         return self.entry(*args)
