@@ -51,6 +51,8 @@ NOT_QUICK = {
     "esail_profile": "about a minute quick: the E-sail rig's step profiled in fresh "
                      "processes, here and in a git worktree of the reference commit",
     "esail_report": "about 2 minutes quick: E-sail runs over a spin period",
+    "rig_profile": "about 30 s quick: the windless E-sail rig's run and step profiled in "
+                   "a fresh process",
     "laws": "about 3 minutes quick: a git worktree, fresh processes with cold caches",
     "locking": "about 2.5 minutes quick: 512-element references, E-sail runs",
     "mooring_moordyn": "a peer code (optional extra), transient runs of both codes",

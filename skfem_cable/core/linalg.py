@@ -80,6 +80,35 @@ def band_ordering(pattern, border):
     return perm, rest.size, band
 
 
+def _pattern(indptr, indices):
+    """The square CSR matrix of ones on the pattern ``(indptr, indices)``."""
+    n = len(indptr) - 1
+    return sp.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))
+
+
+def choose_ordering(pattern, border, junctions):
+    """``(perm, nb, band, dense)`` of the square CSR ``pattern``: the narrowest band of
+    the orderings with nothing, the ``border``, and (if there is a border) the
+    ``border`` with the ``junctions`` last (each only if strictly narrower), and the
+    unknowns the Schur complement keeps dense (the ``border``'s; the junctions make its
+    own band) (``PatternSolver.ordering``)."""
+    perm, nb, band = band_ordering(pattern, np.zeros(0, dtype=np.int64))
+    dense = np.zeros(0, dtype=np.int64)
+    two = border.size and junctions.size  # under a hub only: the rest keep their LU
+    for last in [border] + ([np.union1d(border, junctions)] if two else []):
+        if last.size:
+            candidate = band_ordering(pattern, last)
+            if candidate[2] < band:
+                (perm, nb, band), dense = candidate, border
+    return perm, nb, band, dense
+
+
+def ordering_of(indptr, indices, border=None, junctions=None):
+    """``PatternSolver(indptr, indices, border=border, junctions=junctions).ordering``,
+    without the solver's storage."""
+    return choose_ordering(_pattern(indptr, indices), _unknowns(border), _unknowns(junctions))
+
+
 class SingularMatrixError(np.linalg.LinAlgError):
     """The iteration matrix is singular; ``index`` is the unknown where it was detected."""
 
@@ -118,6 +147,9 @@ class PatternSolver:
         of an E-sail's tethers joined by its ring): with a ``border``, ordered last too
         when that makes the band narrower still, they make the Schur complement's band,
         the ``border`` its dense border (two levels, ``kernels.schur``).
+    ordering : tuple, optional
+        The ``ordering`` of another solver of the same pattern, ``border`` and
+        ``junctions`` (computed when None).
 
     Attributes
     ----------
@@ -133,18 +165,24 @@ class PatternSolver:
     kernels : module
         ``kernels.bordered`` or ``kernels.schur``: the ``factor``, ``solve`` and storage
         (``lu``) of the banded method; the compiled Newton step calls the same.
+    ordering : tuple
+        ``(perm, nb, band, dense)`` of ``choose_ordering``: the reordering of the pattern (its
+        reverse Cuthill-McKee orderings take most of a solver's making).
     """
 
     def __init__(self, indptr, indices, method="auto", border=None, threads=None,
-                 junctions=None):
+                 junctions=None, ordering=None):
         if method not in ("auto", "banded", "sparse"):
             raise ValueError(f"method must be 'auto', 'banded' or 'sparse', got {method!r}")
         self.threads = thread_count(threads)
         n = len(indptr) - 1
         self.n = n
-        self.pattern = sp.csr_matrix((np.ones(len(indices)), indices, indptr), shape=(n, n))
+        self.pattern = _pattern(indptr, indices)
         self._rows = np.repeat(np.arange(n), np.diff(indptr))
-        perm, nb, band, dense = self._choose(_unknowns(border), _unknowns(junctions))
+        if ordering is None:
+            ordering = choose_ordering(self.pattern, _unknowns(border), _unknowns(junctions))
+        self.ordering = ordering
+        perm, nb, band, dense = ordering
         if method == "auto":
             method = "banded" if band <= MAX_BANDWIDTH else "sparse"
         self.method = method
@@ -161,21 +199,6 @@ class PatternSolver:
                                           nb, band, self.threads)
         self.factorizations = 0
         self._lu = None
-
-    def _choose(self, border, junctions):
-        """``(perm, nb, band, dense)``: the narrowest band of the orderings with nothing,
-        the ``border``, and (if there is a border) the ``border`` with the ``junctions``
-        last (each only if strictly narrower), and the unknowns the Schur complement
-        keeps dense (the ``border``'s; the junctions make its own band)."""
-        perm, nb, band = band_ordering(self.pattern, np.zeros(0, dtype=np.int64))
-        dense = np.zeros(0, dtype=np.int64)
-        two = border.size and junctions.size  # under a hub only: the rest keep their LU
-        for last in [border] + ([np.union1d(border, junctions)] if two else []):
-            if last.size:
-                candidate = band_ordering(self.pattern, last)
-                if candidate[2] < band:
-                    (perm, nb, band), dense = candidate, border
-        return perm, nb, band, dense
 
     def factor(self, data):
         """LU-factor the matrix with CSR values ``data``."""

@@ -182,8 +182,12 @@ class PointMass:
             raise ValueError(f"mass must be a finite number > 0, got {mass!r}")
         self.mass = float(mass)
 
-    def bind(self, system):
+    def entries(self, system):
+        """``(rows, cols, values)`` of the mass ``m G^T G`` in ``system``'s coordinates
+        (row by row)."""
         dofs, G = system.position_map(self.point)
-        rows, cols = np.meshgrid(dofs, dofs, indexing="ij")
-        return Term(mass=(rows.ravel(), cols.ravel(), self.mass * (G.T @ G).ravel()),
-                    name=f"point mass {self.point!r}")
+        return (np.repeat(dofs, dofs.size), np.tile(dofs, dofs.size),
+                self.mass * (G.T @ G).ravel())
+
+    def bind(self, system):
+        return Term(mass=self.entries(system), name=f"point mass {self.point!r}")

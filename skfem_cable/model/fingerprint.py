@@ -34,6 +34,7 @@ machine with the same code.
 """
 
 import dataclasses
+import functools
 import hashlib
 import json
 import re
@@ -89,9 +90,11 @@ def _qualname(cls):
     return f"{getattr(cls, '__module__', '?')}.{getattr(cls, '__qualname__', repr(cls))}"
 
 
+@functools.cache
 def _code(code):
     """Byte code, constants and names of a code object (recursively), without addresses
-    or line numbers."""
+    or line numbers (once per code object: it is immutable; the description is read,
+    never changed)."""
     consts = []
     for c in code.co_consts:
         if isinstance(c, types.CodeType):
@@ -176,7 +179,7 @@ class _Describer:
         if f.__closure__:
             out["closure"] = {name: self(_cell(cell), depth, path)
                               for name, cell in zip(f.__code__.co_freevars, f.__closure__)}
-        read = sorted(_global_names(f.__code__) & set(f.__globals__))
+        read = [name for name in _global_names(f.__code__) if name in f.__globals__]
         if read:
             out["globals"] = {name: self(f.__globals__[name], depth, path) for name in read}
         return out
@@ -190,13 +193,15 @@ def _cell(cell):
         return "<empty cell>"
 
 
+@functools.cache
 def _global_names(code):
-    """The names a code object (and the code it defines) may read from its globals."""
+    """The names a code object (and the code it defines) may read from its globals,
+    sorted."""
     names = set(code.co_names)
     for c in code.co_consts:
         if isinstance(c, types.CodeType):
-            names |= _global_names(c)
-    return names
+            names.update(_global_names(c))
+    return tuple(sorted(names))
 
 
 def _attributes(obj):

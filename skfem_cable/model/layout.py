@@ -134,6 +134,16 @@ class Layout:
         self.f_const = self._constant_force(system, loads)
         self._scales(system)
         self.description = describe_system(system)
+        self._derived = {}
+
+    def derived(self, key, make):
+        """``make()``, made at the first call with ``key`` and then kept: what a solver
+        derives from this layout alone (the band ordering of its iteration matrix, the
+        types of its compiled step's arguments), made once for all its runs on the
+        unchanged system (``System.current_layout``) instead of at every start."""
+        if key not in self._derived:
+            self._derived[key] = make()
+        return self._derived[key]
 
     def _bind(self, part, system):
         """The term of ``part`` (a body or a load): one declaring ``reads_reference`` (it

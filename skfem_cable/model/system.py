@@ -429,16 +429,32 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         return self.current_layout().f_const
 
     def mass_matrix(self):
-        """Global constant mass matrix (Eq. 11) including point masses."""
-        M = sp.block_diag([b.mass_matrix() for b in self.bodies], format="coo")
-        rows, cols, vals = [M.row], [M.col], [M.data]
+        """Global constant mass matrix (Eq. 11) including point masses: the bodies'
+        blocks on the diagonal (the entries of ``scipy.sparse.block_diag``, in its order;
+        a CSR block's read from its arrays, without scipy's conversions: a solver's
+        start describes the system twice, ``describe_system``), then the point masses'
+        ``m G^T G`` (``PointMass.entries``), summed where they meet."""
+        rows, cols, vals, offset = [], [], [], 0
+        for body in self.bodies:
+            block = body.mass_matrix()
+            if getattr(block, "format", None) != "csr":
+                block = sp.coo_matrix(block)
+                rows.append(block.row + offset)
+                cols.append(block.col + offset)
+            else:
+                rows.append(np.repeat(np.arange(offset, offset + block.shape[0]),
+                                      np.diff(block.indptr)))
+                cols.append(block.indices + offset)
+            vals.append(block.data)
+            offset += block.shape[0]
         for point_mass in self.point_masses:
-            r, c, m = point_mass.bind(self).mass
+            r, c, m = point_mass.entries(self)
             rows.append(r)
             cols.append(c)
             vals.append(m)
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
-                                                     np.concatenate(cols))), shape=M.shape)
+                                                     np.concatenate(cols))),
+                             shape=(offset, offset))
 
     def cables(self):
         """The bodies with fields along a line (``contract.Line``: ``interpolate``,

@@ -352,10 +352,9 @@ def entry_point(function, args):
     """The machine code of the compiled ``function`` (a numba dispatcher) for the types of
     ``args`` (compiled for them, or read from the cache, first), behind the unboxing of
     its arguments alone; ``function`` itself if it is Python (the interpreted step).  A
-    dispatcher types every argument at every call: for the hundred arrays of the Newton
-    step's arguments, 7 us of the E-sail rig's 130 us per step, of which the entry point
-    saves 3.  The caller keeps the types of ``args`` (``CompiledNewton``: the arrays are
-    its own or the integrator's, float64 and contiguous throughout a run)."""
+    dispatcher types every argument at every call (the Newton step's: 7 us of the E-sail
+    rig's 130 us per step; 3 saved).  The caller keeps the types of ``args`` (the
+    ``CompiledNewton``'s and its integrator's arrays, float64 and contiguous)."""
     if getattr(function, "overloads", None) is None:
         return function
     signature = tuple(function.typeof_pyval(a) for a in args)
@@ -403,7 +402,7 @@ class CompiledNewton:
         self.newton = step.newton_held
         self.entry = None  # entry_point, at the first call
         terms = (packs, indices, cpacks, cindices)
-        kind = numba.typeof(terms)
+        kind = lay.derived("terms' type", lambda: numba.typeof(terms))
         with global_compiler_lock:  # what it compiles, said on one line (compile_log)
             own = system_module(functions, cfunctions, kind, jit)
             self.blob, address = _hold(own, kind, terms)
@@ -445,9 +444,10 @@ class CompiledNewton:
         self.no_change = np.zeros(n)  # da_prev before there is one (its factor c0 is 0)
         self.arrays.update(res_weight=g.res_weight, history=self.history)
         self.out = tuple(self.arrays[k] for k in names)
-        # the arguments that stay through the run, held once (``kernels.step.newton_held``)
-        self.kind = numba.typeof((self.model, self.lu, self.out))
-        self.held, self.address = _hold(step, self.kind, (self.model, self.lu, self.out))
+        self.typed = ("arguments", kernels, sparse, bool(corrections), g.solver.threads, jit)
+        held = (self.model, self.lu, self.out)  # the run's own, held once (step.newton_held)
+        self.kind = lay.derived(self.typed, lambda: numba.typeof(held))  # once per layout
+        self.held, self.address = _hold(step, self.kind, held)
         weakref.finalize(self, _give_back, step.drop, self.held, self.address,
                          self.kind).atexit = False
         if python_terms or python_constraints or sparse:
@@ -495,6 +495,6 @@ class CompiledNewton:
         da_prev = self.no_change if g.da_prev is None else g.da_prev
         state = (g.q, g.v, g.a, g.abar, g.lam, a_prev, da_prev, g.fd, g.fnc, g.fcon)
         args = (self.terms, self.address, self.kind, state, self.prm)
-        if self.entry is None:
-            self.entry = entry_point(self.newton, args)
+        if self.entry is None:  # one per layout and kind of step
+            self.entry = lay.derived((*self.typed, "entry"), lambda: entry_point(self.newton, args))
         return self.entry(*args)
