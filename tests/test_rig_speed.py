@@ -5,8 +5,8 @@ step (a quarter of its 400 steps' time in ``benchmarks/peers.py``): the band ord
 the iteration matrix, the numba types of the compiled step's arguments and its entry
 point, made again at every run, and the system described twice. What a solver derives
 from the layout alone is now made once per layout (``Layout.derived``), the mass matrix
-without scipy's ``block_diag``, and a run without observers or controllers does not
-describe the system again at its end. One small rig (a hub and three tethers of two
+without scipy's ``block_diag``, and a run in which no Python could edit the system (no
+observers, no step hooks, no Python in the step) does not describe it again at its end. One small rig (a hub and three tethers of two
 elements with tip masses, the E-sail's section), built once."""
 
 import numpy as np
@@ -121,7 +121,9 @@ def test_mass_matrix_is_block_diag_bit_for_bit(hub_block):
 
 def test_a_run_describes_the_system_again_only_after_the_users_code(rig, monkeypatch):
     """Without observers or controllers a run describes the system once (at its start,
-    ``current_layout``); with an observer also at its end, where an edit is refused."""
+    ``current_layout``); with an observer, or Python in its step (``compiled=False``
+    here; a term's Python ``add`` hook likewise), also at its end, where an edit is
+    refused."""
     system, _, initial = rig
     system.current_layout()
     calls = []
@@ -141,4 +143,8 @@ def test_a_run_describes_the_system_again_only_after_the_users_code(rig, monkeyp
 
     calls.clear()
     sc.simulate(system, initial=initial, observers=[Watcher()], **RUN)
+    assert len(calls) == 2
+
+    calls.clear()
+    sc.simulate(system, initial=initial, compiled=False, t_end=0.2, dt=0.1, rho_inf=0.25)
     assert len(calls) == 2

@@ -275,8 +275,11 @@ def simulate(system: IntegrableSystem, t_end, dt, rho_inf=0.8, initial=None, t_s
         a section, a constraint): the run takes the system as it is at its start
         (``System.current_layout``) and cannot take an edit midway; the message names
         what changed, the ``result`` holds the saved steps.  Checked at the end of a run
-        with observers or controllers (a run without them runs none of the user's code
-        between its steps: the check, a description of the system, is left out).
+        in which Python code could have edited the system: observers, step hooks
+        (controllers, rectification, terms' hooks) or a step with Python parts (terms'
+        ``add`` hooks, constraints without a kernel; ``compiled=False``).  A fully
+        compiled run without them runs none of it, and the check, a description of the
+        system, is left out.
     """
     for name, value in (("t_end", t_end), ("dt", dt), ("t_start", t_start)):
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
@@ -373,8 +376,8 @@ def simulate(system: IntegrableSystem, t_end, dt, rho_inf=0.8, initial=None, t_s
     with watch:  # whatever stops the run, the steps computed so far travel with the error
         stop = save(0) if start_index == 0 else None
         stop = (adaptive_steps if adaptive else fixed_steps)(start_index, stop)
-        if observers or controllers:  # the user's code ran between steps: its edit is
-            system.check_unchanged(integ.lay, "during the run")  # refused
+        if observers or hooks or integ.step_path != "compiled":  # code that can edit
+            system.check_unchanged(integ.lay, "during the run")  # ran: its edit refused
         run.stop_reason = stop
     return Result(system, recorder.arrays(), _stats(integ, clock, run.stop_reason),
                   integ.lay.description, _reference(integ))
