@@ -6,8 +6,9 @@ the iteration matrix, the numba types of the compiled step's arguments and its e
 point, made again at every run, and the system described twice. What a solver derives
 from the layout alone is now made once per layout (``Layout.derived``), the mass matrix
 without scipy's ``block_diag``, and a run in which no Python could edit the system (no
-observers, no step hooks, no Python in the step) does not describe it again at its end. One small rig (a hub and three tethers of two
-elements with tip masses, the E-sail's section), built once."""
+observers, no step hooks, no Python in the step) does not describe it again at its end.
+One small rig (a hub and three tethers of two elements with tip masses, the E-sail's
+section), built once."""
 
 import numpy as np
 import pytest
