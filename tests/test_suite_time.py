@@ -80,3 +80,15 @@ def test_a_worktree_is_made_and_removed(compare):
     assert not tree.exists()
     listed = compare.git("worktree", "list", "--porcelain")
     assert str(tree) not in listed
+
+
+def test_the_schedule_says_when_each_worker_ended(tmp_path, capsys):
+    """``compile_cost.py --suite``'s schedule: each worker's end from the records' ``wall``
+    (``tests/compile_recorder.py``), from the earliest, with its CPU and its children's."""
+    cost = load(ROOT / "benchmarks" / "compile_cost.py")
+    for worker, wall, cpu in (("gw0", 1000.0, 50.0), ("gw1", 1012.5, 40.0)):
+        record = {"test": "t", "cpu": cpu, "children": 3.0, "wall": wall, "compiles": []}
+        (tmp_path / f"compile-{worker}.jsonl").write_text(json.dumps(record) + "\n")
+    cost.schedule(cost.read_suite(tmp_path))
+    out = capsys.readouterr().out
+    assert "| gw0 | 0.0 | 50.0 | 3.0 |" in out and "| gw1 | 12.5 | 40.0 | 3.0 |" in out
