@@ -78,8 +78,8 @@ def test_forms_equal_kernel(name, element, n):
         assert C.nnz == 0 or abs(C).max() == 0
 
 
-def energy(cable, q):
-    system = sc.System([cable])
+def energy(system, q):
+    """The elastic energy of ``system`` at ``q``."""
     _, info = system.evaluate(q, None, 0.0, np.zeros(0))
     return info["energy"].sum()
 
@@ -116,7 +116,7 @@ def test_generated_tangents_match_finite_differences(name, element, formulation)
     _, C = system.assemble(q, v, cK=0.0, cC=1.0)
     h = 1e-6
     E = np.eye(cable.n_dofs)
-    fd_f = np.array([(energy(cable, q + h * e) - energy(cable, q - h * e)) / (2 * h)
+    fd_f = np.array([(energy(system, q + h * e) - energy(system, q - h * e)) / (2 * h)
                      for e in E])
     fd_K = np.array([(system.assemble(q + h * e, v)[0] - system.assemble(q - h * e, v)[0])
                      / (2 * h) for e in E]).T
