@@ -214,9 +214,10 @@ def git(*args, cwd=ROOT):
 
 def same_sources(rev, root=ROOT):
     """Whether the checkout ``root`` holds the sources of the commit ``rev``: checked out
-    at ``rev``, without a change or an untracked file (git's ignored files aside)."""
+    at ``rev``, without a change to a tracked file (the record's ``dirty``, ``git_commit``;
+    an untracked file, a log or a result, changes no tracked module's imports)."""
     return (git("rev-parse", f"{rev}^{{commit}}", cwd=root) == git("rev-parse", "HEAD", cwd=root)
-            and not git("status", "--porcelain", cwd=root))
+            and not git("status", "--porcelain", "--untracked-files=no", cwd=root))
 
 
 @contextlib.contextmanager
