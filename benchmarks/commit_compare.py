@@ -4,19 +4,20 @@ case, side by side in one run: the guard against regressions.
 The tracked cases (``CASES``: the flexible pendulum, the E-sail rig, the full-size sail,
 the orbiting sail, a 10,000-element catenary and a controller run) are timed alternately
 with the working tree and with a ``git worktree`` of ``--against`` (default:
-``REFERENCE``), each in a fresh Python process (its first ``simulate`` call, untimed,
-compiles and lays out), ``--repeats`` times; the table gives the minimum ms per step of
-each tree, the ratio (this tree / reference) and ``SLOWER`` where the ratio exceeds
-``THRESHOLD`` (1.05).  The cost per step is the difference of a run of the case's full
-number of steps and one of a sixth of them, over the difference of their steps: the setup
-of a ``simulate`` call (a few ms, which varies from run to run) is not in it.  It is
-counted in the process's CPU time, not in wall time: on a shared machine the time a
-process waits for a core is not its cost (two runs at a load of 6 on 2 cores gave wall
-time ratios of 1.15 and 1.70 for the E-sail rig); on a quiet machine the two agree (one
-thread), and the JSON rows keep the wall time too (``wall_ms_per_step``).  Each case
-is built by a snippet of the API both trees are expected to share; where a tree lacks it
-(orbits and controllers came after ``REFERENCE``), the case reads ``n/a`` there and its
-error is printed under the table.  Every process runs on one thread
+``REFERENCE``; the working tree itself where it holds that commit's sources unchanged,
+``--against HEAD`` in a clean checkout), each in a fresh Python process (its first
+``simulate`` call, untimed, compiles and lays out), ``--repeats`` times; the table gives
+the minimum ms per step of each tree, the ratio (this tree / reference) and ``SLOWER``
+where the ratio exceeds ``THRESHOLD`` (1.05).  The cost per step is the difference of a
+run of the case's full number of steps and one of a sixth of them, over the difference of
+their steps: the setup of a ``simulate`` call (a few ms, which varies from run to run) is
+not in it.  It is counted in the process's CPU time, not in wall time: on a shared
+machine the time a process waits for a core is not its cost (two runs at a load of 6 on 2
+cores gave wall time ratios of 1.15 and 1.70 for the E-sail rig); on a quiet machine the
+two agree (one thread), and the JSON rows keep the wall time too (``wall_ms_per_step``).
+Each case is built by a snippet of the API both trees are expected to share; where a tree
+lacks it (orbits and controllers came after ``REFERENCE``), the case reads ``n/a`` there
+and its error is printed under the table.  Every process runs on one thread
 (``OPENBLAS_NUM_THREADS=1``, ``SKFEM_CABLE_THREADS=1``).  Machines are noisy: read the
 ratio, not the absolute times, and quote the load (printed above and below the table).
 
@@ -190,9 +191,9 @@ def fastest(runs):
 def compare(against, repeats=5, cases=None):
     """``{name: (ours, theirs)}``: the fastest of ``repeats`` alternating runs of each of
     ``cases`` (``{name: (Case, steps)}``, default ``CASES`` at their steps) in this tree
-    and in a worktree of the commit ``against`` (see ``time_case``)."""
+    and in a tree of the commit ``against`` (``checkout``; see ``time_case``)."""
     cases = {k: (c, c.steps) for k, c in CASES.items()} if cases is None else cases
-    with worktree(against) as other:
+    with checkout(against) as other:
         rows = {}
         for name, (case, steps) in cases.items():
             ours, theirs = [], []
@@ -203,6 +204,33 @@ def compare(against, repeats=5, cases=None):
                     break  # nothing to compare: one run of each tells
             rows[name] = (fastest(ours), fastest(theirs))
     return rows
+
+
+def git(*args, cwd=ROOT):
+    """The standard output of ``git *args`` in ``cwd``, stripped."""
+    return subprocess.run(["git", *args], cwd=cwd, check=True, capture_output=True,
+                          text=True).stdout.strip()
+
+
+def same_sources(rev, root=ROOT):
+    """Whether the checkout ``root`` holds the sources of the commit ``rev``: checked out
+    at ``rev``, without a change to a tracked file (the record's ``dirty``, ``git_commit``;
+    an untracked file, a log or a result, changes no tracked module's imports)."""
+    return (git("rev-parse", f"{rev}^{{commit}}", cwd=root) == git("rev-parse", "HEAD", cwd=root)
+            and not git("status", "--porcelain", "--untracked-files=no", cwd=root))
+
+
+@contextlib.contextmanager
+def checkout(rev):
+    """The folder of a tree of the commit ``rev``: this checkout where it holds the same
+    sources (``same_sources``: its kernels are compiled already, while a worktree in a new
+    folder compiles them all again, about 40 s of CPU for the pendulum), else a temporary
+    worktree (``worktree``)."""
+    if same_sources(rev):
+        yield ROOT
+        return
+    with worktree(rev) as other:
+        yield other
 
 
 @contextlib.contextmanager
@@ -249,8 +277,7 @@ def table_row(title, steps, ours, theirs, against):
 
 def short_commit(rev, cwd=ROOT):
     """The abbreviated hash of ``rev`` in the repository of ``cwd``."""
-    return subprocess.run(["git", "rev-parse", "--short", rev], cwd=cwd, check=True,
-                          capture_output=True, text=True).stdout.strip()
+    return git("rev-parse", "--short", rev, cwd=cwd)
 
 
 def print_table(rows, cases, against):
@@ -299,8 +326,9 @@ def main(argv=None):
     cases = {k: (CASES[k], max(6, int(CASES[k].steps * scale))) for k in args.cases}
     against = short_commit(args.against)
     head = short_commit("HEAD") + (" (modified)" if git_commit(ROOT)["dirty"] else "")
-    print(f"this tree: {head}, reference: {against}; minimum of {repeats} alternating "
-          f"runs; load average {os.getloadavg()[0]:.2f}")
+    where = " (this checkout: the same sources)" if same_sources(args.against) else ""
+    print(f"this tree: {head}, reference: {against}{where}; minimum of {repeats} "
+          f"alternating runs; load average {os.getloadavg()[0]:.2f}")
     rows = compare(args.against, repeats, cases)
     print_table(rows, cases, against)
     print(f"load average after: {os.getloadavg()[0]:.2f}")

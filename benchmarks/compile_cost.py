@@ -125,7 +125,22 @@ def suite(folder, top=20):
     print(f"\n| test (top {top} by compile s) | compile s |\n|---|---|")
     for seconds, test in tests[:top]:
         print(f"| {test} | {seconds:.1f} |")
+    schedule(workers)
     return [dict(row, modules=modules, duplicated=twice)]
+
+
+def schedule(workers):
+    """Print when each worker ended (its last record's ``wall``, from the earliest end)
+    with its CPU and its children's: the schedule is balanced when they end together
+    (records without ``wall``, from before it was recorded, print nothing)."""
+    ends = {name: records[-1] for name, records in workers.items()
+            if records and "wall" in records[-1]}
+    if not ends:
+        return
+    first = min(r["wall"] for r in ends.values())
+    print("\n| worker | ends after the first (s) | CPU s | children's CPU s |\n|---|---|---|---|")
+    for name, r in ends.items():
+        print(f"| {name} | {r['wall'] - first:.1f} | {r['cpu']:.1f} | {r['children']:.1f} |")
 
 
 def main(argv):

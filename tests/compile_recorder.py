@@ -4,9 +4,12 @@
 Every compilation of a dispatcher is charged to the test running it
 (``kernels.compile_log.Recorder``: CPU seconds of the compiling thread, less nested
 compilations, and of those the seconds under numba's LLVM lock).  Each worker appends one
-JSON line per test to ``DIR/compile-<worker>.jsonl``: ``{"test", "cpu", "compiles":
-[[function, seconds, llvm seconds], ...]}`` (``cpu``: the worker's process CPU seconds at
-the test's end).  ``python benchmarks/compile_cost.py --suite DIR`` sums them up.
+JSON line per test to ``DIR/compile-<worker>.jsonl``: ``{"test", "cpu", "children",
+"wall", "compiles": [[function, seconds, llvm seconds], ...]}`` (at the test's end:
+``cpu``, the worker's process CPU seconds; ``children``, those of the child processes it
+waited for, the CLI and dask runs the workers' count misses; ``wall``, the clock's
+seconds since the epoch, of which the workers' last records tell whether they ended
+together).  ``python benchmarks/compile_cost.py --suite DIR`` sums them up.
 """
 
 import json
@@ -35,7 +38,10 @@ def pytest_runtest_teardown(item, nextitem):
     if not folder:
         return
     worker = os.environ.get("PYTEST_XDIST_WORKER", "main")
-    line = {"test": item.nodeid, "cpu": time.process_time(), "compiles": _recorder.take()}
+    times = os.times()
+    line = {"test": item.nodeid, "cpu": time.process_time(),
+            "children": times.children_user + times.children_system, "wall": time.time(),
+            "compiles": _recorder.take()}
     Path(folder).mkdir(parents=True, exist_ok=True)
     with open(Path(folder) / f"compile-{worker}.jsonl", "a") as out:
         out.write(json.dumps(line) + "\n")

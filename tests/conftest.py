@@ -26,17 +26,23 @@ pytest_plugins = ["compile_recorder"]
 ROOT = Path(__file__).resolve().parents[1]
 
 #: The test files that took longest on a cold kernel cache, longest first (CPU seconds of
-#: their worker, ``SKFEM_CABLE_COMPILE_LOG``'s records of a run from an empty cache; the
-#: sweep's, whose work is in its dask workers, after them).
+#: their worker, ``SKFEM_CABLE_COMPILE_LOG``'s records of a run from an empty cache, and
+#: of the processes they start; the sweep's, whose work is in its dask workers, after
+#: them).  ``python benchmarks/compile_cost.py --suite DIR`` prints when each worker
+#: ended: they should end together.
 LONGEST = (
     "test_laws.py", "test_contact.py", "test_esail_orbit.py", "test_elements.py",
-    "test_peer_suites.py", "test_benchmarks.py", "test_mission.py", "test_esail_baseline.py",
+    "test_peer_suites.py", "test_benchmarks.py", "test_mission.py",
+    "test_contact_woodbury.py", "test_esail_baseline.py", "test_faults_records.py",
     "test_demos.py", "test_extending.py", "test_faults_round_three_cli.py",
-    "test_contact_lines.py", "test_ed_deorbit.py", "test_faults_round_two.py",
-    "test_line_bodies.py", "test_rods_coupling.py", "test_esail_rig.py", "test_faults.py",
-    "test_reel.py", "test_deploy.py", "test_esail_vectoring.py", "test_rod_scenes.py",
-    "test_kernels.py", "test_line_bodies_space.py", "test_orbit_scenes.py",
-    "test_esail_attitude.py", "test_sweep.py",
+    "test_contact_lines.py", "test_ed_deorbit.py", "test_two_level_schur.py",
+    "test_esail_floor.py", "test_faults_round_two.py", "test_bench_guard.py",
+    "test_body_surfaces.py", "test_line_bodies.py", "test_rods_coupling.py",
+    "test_esail_rig.py", "test_faults.py", "test_reel.py", "test_deploy.py",
+    "test_esail_vectoring.py", "test_rod_scenes.py", "test_kernels.py",
+    "test_line_bodies_space.py", "test_orbit_scenes.py", "test_esail_attitude.py",
+    "test_spin_control.py", "test_oml_force.py", "test_bare_tether_deorbit.py",
+    "test_rodchain.py", "test_tss_deployment.py", "test_sweep.py",
 )
 
 

@@ -36,12 +36,22 @@ def states(cable):
     }
 
 
-def numba_eval(cable, q):
-    """Energy, force and tangent (dense) through the system's evaluation contract."""
-    system = System([cable])
+def numba_eval(cable, q, system=None):
+    """Energy, force and tangent (dense) through the evaluation contract of ``system``
+    (default: a new ``System([cable])``; the same numbers, bit for bit)."""
+    system = System([cable]) if system is None else system
     data = np.zeros(system.layout.nnz)
     f, info = system.evaluate(q, None, 0.0, np.zeros(0), data=data)
     return info["energy"].sum(), f, system.layout.matrix(data).toarray()
+
+
+def central(function, x, h=1e-6):
+    """Central differences of every output of ``function`` at ``x``: per output, the
+    rows ``(out(x + h e_i) - out(x - h e_i)) / (2 h)`` over the unit vectors ``e_i`` (each
+    perturbed state evaluated once for all outputs)."""
+    pairs = [(function(x + h * e), function(x - h * e)) for e in np.eye(x.size)]
+    return [np.array([(plus[k] - minus[k]) / (2 * h) for plus, minus in pairs])
+            for k in range(len(pairs[0][0]))]
 
 
 def numpy_eval(cable, q):
@@ -103,14 +113,12 @@ def test_assumed_strain_energy_is_its_definition():
 @pytest.mark.parametrize("kind", ["cable", "truss"])
 def test_force_and_tangent_match_finite_differences(kind, formulation):
     cable = make_cable(kind, formulation=formulation)
+    system = System([cable])
     for name, q in states(cable).items():
         U, f, K = numba_eval(cable, q)
         h = 1e-6
-        E = np.eye(cable.n_dofs)
-        fd_f = np.array([(numba_eval(cable, q + h * e)[0] - numba_eval(cable, q - h * e)[0])
-                         / (2 * h) for e in E])
-        fd_K = np.array([(numba_eval(cable, q + h * e)[1] - numba_eval(cable, q - h * e)[1])
-                         / (2 * h) for e in E]).T
+        fd_f, fd_K, _ = central(lambda x: numba_eval(cable, x, system), q, h)
+        fd_K = fd_K.T
         fscale = max(np.abs(f).max(), h * np.abs(K).max())  # f = 0 when unstressed
         assert np.abs(fd_f - f).max() <= 1e-6 * fscale, name
         assert np.abs(fd_K - K).max() <= 1e-6 * np.abs(K).max(), name
@@ -121,16 +129,16 @@ def test_bending_force_and_tangent_alone_match_finite_differences(formulation):
     """The bending part is many orders smaller than the axial part: check it separately."""
     cable = make_cable("cable", formulation=formulation)
     truss = make_cable("truss", formulation=formulation)
+    systems = System([cable]), System([truss])
     for name, q in states(cable).items():
         def bending(q):
-            U1, f1, K1 = numba_eval(cable, q)
-            U2, f2, K2 = numba_eval(truss, q)
+            U1, f1, K1 = numba_eval(cable, q, systems[0])
+            U2, f2, K2 = numba_eval(truss, q, systems[1])
             return U1 - U2, f1 - f2, K1 - K2
         U, f, K = bending(q)
         h = 1e-6
-        E = np.eye(cable.n_dofs)
-        fd_f = np.array([(bending(q + h * e)[0] - bending(q - h * e)[0]) / (2 * h) for e in E])
-        fd_K = np.array([(bending(q + h * e)[1] - bending(q - h * e)[1]) / (2 * h) for e in E]).T
+        fd_f, fd_K, _ = central(bending, q, h)
+        fd_K = fd_K.T
         if name in ("straight", "compressed"):  # straight: no bending
             assert U == 0 and np.abs(f).max() < 1e-20
             assert np.all(np.isfinite(K)) and np.abs(K).max() > 0
@@ -178,9 +186,10 @@ def test_cable_input_validation():
 DAMPED = Section(E=7e10, A=3e-6, I=1e-12, rho=2700.0, gamma_axial=0.3, gamma_bending=0.7)
 
 
-def damped_eval(cable, q, v):
-    """Force, dF/dq and dF/dv (global dense), dissipated power and damping force."""
-    system = System([cable])
+def damped_eval(cable, q, v, system=None):
+    """Force, dF/dq and dF/dv (global dense), dissipated power and damping force, through
+    ``system`` (default: a new ``System([cable])``; the same numbers, bit for bit)."""
+    system = System([cable]) if system is None else system
     lay = system.layout
     dK, dC = np.zeros(lay.nnz), np.zeros(lay.nnz)
     f, info = system.evaluate(q, v, 0.0, np.zeros(0), cK=1.0, cC=0.0, data=dK)
@@ -197,17 +206,15 @@ def test_damping_force_and_tangents_match_finite_differences(kind, formulation):
     cable = Cable.straight([0.0, 0.0, 0.0], [2.0, 0.0, 0.0], 4, DAMPED, law=kind,
                            formulation=formulation)
     rng = np.random.default_rng(7)
+    system = System([cable])
     for name, q in states(cable).items():
         if kind == "cable" and name not in ("curved", "random"):
             continue
         v = rng.standard_normal(cable.n_dofs)
         f, K, C, power, fd = damped_eval(cable, q, v)
         h = 1e-6
-        E = np.eye(cable.n_dofs)
-        fd_K = np.array([(damped_eval(cable, q + h * e, v)[0]
-                          - damped_eval(cable, q - h * e, v)[0]) / (2 * h) for e in E]).T
-        fd_C = np.array([(damped_eval(cable, q, v + h * e)[0]
-                          - damped_eval(cable, q, v - h * e)[0]) / (2 * h) for e in E]).T
+        fd_K = central(lambda x, v=v: damped_eval(cable, x, v, system)[:1], q, h)[0].T
+        fd_C = central(lambda x, q=q: damped_eval(cable, q, x, system)[:1], v, h)[0].T
         assert np.abs(fd_K - K).max() <= 1e-6 * np.abs(K).max(), name
         assert np.abs(fd_C - C).max() <= 1e-6 * np.abs(C).max(), name
         # the damping force is the derivative of the Rayleigh function D with P = 2 D:

@@ -21,8 +21,9 @@ len(orders)`` coordinates per node, fields in ``orders``' order, scikit-fem's nu
 recovery of fields and the export.
 """
 
+import functools
+
 import numpy as np
-import sympy as sp
 from skfem.element import Element
 from skfem.element.discrete_field import DiscreteField
 from skfem.refdom import RefLine
@@ -36,13 +37,31 @@ def hermite_coefficients(orders):
     the nodal derivatives ``orders`` at ``xi = 0`` then ``xi = 1`` (``n = 2 len(orders)``):
     row ``i`` is the polynomial whose ``orders[k]``-th derivative is 1 at the end and
     degree of freedom ``i`` and whose other nodal derivatives vanish.  Exact (rational
-    arithmetic), then rounded to floats once."""
+    arithmetic), then rounded to floats once per ``orders`` (a read-only array)."""
+    return _hermite_coefficients(tuple(orders))
+
+
+@functools.cache
+def _hermite_coefficients(orders):
+    import sympy as sp  # here: sympy's exact inverse costs 0.2 s for the quintic
+
     n = 2 * len(orders)
     xi = sp.Symbol("xi")
     monomials = [xi**j for j in range(n)]
     V = sp.Matrix([[sp.diff(m, xi, k).subs(xi, end) for m in monomials]
                    for end in (0, 1) for k in orders])
-    return np.array(V.inv().T.tolist(), dtype=float)
+    coefficients = np.array(V.inv().T.tolist(), dtype=float)
+    coefficients.flags.writeable = False  # shared: one array per ``orders``
+    return coefficients
+
+
+class _Coefficients:
+    """The class attribute ``coefficients`` of an element type: its
+    ``hermite_coefficients(orders)``, derived when first read (not when the type is
+    defined: importing the package defines them all)."""
+
+    def __get__(self, element, cls):
+        return hermite_coefficients(cls.orders)
 
 
 class CableElement(Element):
@@ -73,13 +92,13 @@ class CableElement(Element):
     fields = ("r_x",)
     formulations = ("paper",)
     intorder = 1
+    coefficients = _Coefficients()
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         cls.nodal_dofs = len(cls.orders)
         cls.dofnames = ["u" + "_x" * k for k in cls.orders]
         cls.doflocs = np.array([[0.0]] * cls.nodal_dofs + [[1.0]] * cls.nodal_dofs)
-        cls.coefficients = hermite_coefficients(cls.orders)
         cls.n_functions = 2 * cls.nodal_dofs
         cls.maxdeg = cls.n_functions - 1
         cls.scaling = np.tile(cls.orders, 2)

@@ -78,7 +78,6 @@ References
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.integrate import solve_bvp
 
 from ..bodies.section import check_positive
 from .plasma import OXYGEN_ION_MASS
@@ -310,6 +309,8 @@ class OMLProblem:
         mesh and values of the profile ``start`` of the same tether (a warm start, e.g.
         the previous step's); raises ``RuntimeError`` when the collocation does not
         converge."""
+        from scipy.integrate import solve_bvp  # here, not at import (0.2 s)
+
         if start is not None:
             tau = start.solution.x
             guess = start.solution(tau)

@@ -22,7 +22,6 @@ from dataclasses import dataclass, replace
 from typing import ClassVar
 
 import numpy as np
-from scipy.signal import lfilter
 
 #: Columns of a CSV series (SI units: s, 1/m^3, m/s; optional field ``Bx, By, Bz`` in T).
 COLUMNS = ("time", "density", "speed")
@@ -171,6 +170,8 @@ class WindStatistics:
 def _ar1(rng, n, step, correlation, sigma):
     """An AR(1) series of ``n`` samples ``step`` apart, stationary standard deviation
     ``sigma`` and correlation time ``correlation``."""
+    from scipy.signal import lfilter  # here, not at import: scipy.signal costs 0.6 s
+
     phi = np.exp(-step / correlation)
     noise = rng.normal(0.0, sigma * np.sqrt(1 - phi * phi), n)
     noise[0] = rng.normal(0.0, sigma)

@@ -28,7 +28,6 @@ import functools
 import time
 
 import numpy as np
-from scipy.integrate import DOP853, RK45
 
 from ..core.contract import Run, Step
 from ..core.records import ENERGIES
@@ -44,7 +43,6 @@ METHODS = ("rk4", "RK45", "DOP853")
 RK4_STABILITY = 2.0 * np.sqrt(2.0)  # RK4 is stable on the imaginary axis for |h w| <= 2 sqrt 2
 _BLOCK_STEPS = 1 << 15  # RK4 steps per compiled call (bounds the anchor-field table)
 _BLOCK_WORK = 1 << 22  # rod-steps per compiled call (observers hear of every block)
-_ADAPTIVE = {"RK45": RK45, "DOP853": DOP853}
 #: The state of a scipy Runge-Kutta stepper after a step (``K_extended``: DOP853's
 #: stages, of which ``K`` is a view; RK45 has ``K`` only).
 _STEPPER = ("t", "y", "f", "h_abs", "h_previous", "t_old", "y_old", "nfev")
@@ -263,8 +261,10 @@ class Integration:
 
         y0 = np.concatenate([Q[start].ravel(), V[start].ravel()])
         limit = (1 + p.max_strain) * c.lengths
+        import scipy.integrate  # here, not at import (0.2 s)
+
         with np.errstate(all="ignore"):  # trial stages may overflow; the result is checked
-            solver = _ADAPTIVE[self.method](rhs, times[start], y0, times[-1],
+            solver = getattr(scipy.integrate, self.method)(rhs, times[start], y0, times[-1],
                                             rtol=self.rtol, atol=self.atol)
         if self._stepper_state is not None:
             _set_stepper(solver, self._stepper_state)

@@ -22,7 +22,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analysis.analytic import elastica_tip_load
 from ..runner.drive import RunScene, run_static
 from ..runner.options import OPT_IN
 from ..solvers.static import solve_static
@@ -102,6 +101,8 @@ def elastica_row(cable, k, state):
     """Tip displacements ``u`` (along the cable), ``w`` (along the load) of the cantilever
     ``cable`` (``classics.cantilever``, unit length) at ``state``, against the exact
     elastica of the load parameter ``k``, and their largest relative error."""
+    from ..analysis.analytic import elastica_tip_load  # here: scipy.integrate costs 0.2 s
+
     tip = state.position(cable, 1.0)
     u, w = 1.0 - tip[0], -tip[1]
     u_ref, w_ref = elastica_tip_load(k)
