@@ -107,3 +107,26 @@ def test_interpreted_terms_module_calls_the_same_kernels(systems):
     assert runs[1].stats["path"] == "python (compiled=False)"
     for field in ("q", "v", "a", "lam"):
         assert np.array_equal(getattr(runs[0], field), getattr(runs[1], field)), field
+
+
+def test_keep_and_drop_hold_a_value_leaf_by_leaf():
+    """``kernels.erased.keep`` (from Python, no function compiled for the tuple's type)
+    holds a nested tuple that compiled code reads back whole (``held``); ``drop`` gives
+    back every reference it took."""
+    shared = np.arange(4.0)
+    value = (shared, (np.full(3, 2.5), np.arange(2), 3.5, (shared, np.int64(7))), (), True)
+    kind = numba.typeof(value)
+
+    @njit
+    def total(address):
+        v = erased.held(address, kind)
+        return v[0].sum() + v[1][0].sum() + v[1][1].sum() + v[1][2] + v[1][3][0].sum() \
+            + v[1][3][1] + v[3]
+
+    blob = np.zeros(erased.size_of(kind), dtype=np.uint8)
+    before = sys.getrefcount(shared)
+    erased.keep(blob.ctypes.data, value, kind)
+    assert sys.getrefcount(shared) == before + 2
+    assert total(blob.ctypes.data) == 6.0 + 7.5 + 1.0 + 3.5 + 6.0 + 7.0 + 1.0
+    erased.drop(blob.ctypes.data, kind)
+    assert sys.getrefcount(shared) == before

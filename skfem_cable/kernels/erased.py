@@ -18,13 +18,20 @@ Python at every call of the step (tens of microseconds).
 
 ``hold`` keeps a reference to every array of the value (numba's reference counts), so the
 buffer stays valid whatever Python does with its own references; ``release`` gives them
-back.  Interpreted (``numba.config.DISABLE_JIT``, ``GeneralizedAlpha(compiled=False)``),
-the same three calls keep the value in a dictionary under the address, and ``function``
-gives back the compiled function of an address (the kernels stay compiled) or the Python
-function given in its place.
+back.  From Python, ``keep`` and ``drop`` do the same leaf by leaf (an array or a scalar
+at its offset in the buffer), each leaf by a function compiled once per leaf type: no
+function is compiled for the type of each system's tuple (numba's unboxing of a tuple of
+arrays is about half a second of compilation per type).  Interpreted
+(``numba.config.DISABLE_JIT``, ``GeneralizedAlpha(compiled=False)``), the calls keep the
+value in a dictionary under the address too, and ``function`` gives back the compiled
+function of an address (the kernels stay compiled) or the Python function given in its
+place.
 """
 
-from numba import types
+import functools
+
+from llvmlite import ir
+from numba import njit, types
 from numba.core import cgutils
 from numba.core.registry import cpu_target
 from numba.experimental.function_type import _get_jit_address
@@ -58,6 +65,57 @@ def held(address, kind):
 def release(address, kind):
     """Give back what ``hold`` kept of the value of type ``kind`` at ``address``."""
     _HELD.pop(address, None)
+
+
+@functools.cache
+def _leaves(kind):
+    """``(offset, type)`` of the leaves of a value of the numba type ``kind`` (its members
+    that are not tuples, depth first) in its buffer, as LLVM lays out numba's value."""
+    if not isinstance(kind, types.BaseTuple):
+        return ((0, kind),)
+    context = cpu_target.target_context
+    layout, data = context.get_value_type(kind), context.target_data
+    found = []
+    for k, member in enumerate(kind):
+        at = (k * layout.element.get_abi_size(data) if isinstance(layout, ir.ArrayType)
+              else layout.get_element_offset(data, k))
+        found += [(at + offset, leaf) for offset, leaf in _leaves(member)]
+    return tuple(found)
+
+
+def _values(kind, value):
+    """The leaves of ``value``, of the numba type ``kind``, in the order of ``_leaves``."""
+    if not isinstance(kind, types.BaseTuple):
+        return [value]
+    return [leaf for member, item in zip(kind, value) for leaf in _values(member, item)]
+
+
+@njit(cache=True)
+def _put(address, leaf):
+    hold(address, leaf)
+
+
+@njit(cache=True)
+def _take(address, kind):
+    release(address, kind)
+
+
+def keep(address, value, kind):
+    """From Python: ``hold`` ``value`` of the numba type ``kind`` at ``address`` (a buffer
+    of ``size_of(kind)``), leaf by leaf; ``drop`` gives it back."""
+    for (offset, _), leaf in zip(_leaves(kind), _values(kind, value)):
+        _put(address + offset, leaf)
+    hold(address, value)
+
+
+def drop(address, kind):
+    """From Python: ``release`` the value of the numba type ``kind`` that ``keep`` held at
+    ``address``, leaf by leaf (those with references: the arrays)."""
+    models = cpu_target.target_context.data_model_manager
+    for offset, leaf in _leaves(kind):
+        if models[leaf].contains_nrt_meminfo():
+            _take(address + offset, leaf)
+    release(address, kind)
 
 
 def address(function, signature):
