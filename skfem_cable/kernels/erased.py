@@ -83,6 +83,13 @@ def _leaves(kind):
     return tuple(found)
 
 
+@functools.cache
+def _counted(kind):
+    """The leaves of ``_leaves(kind)`` that hold references (the arrays)."""
+    models = cpu_target.target_context.data_model_manager
+    return tuple((at, leaf) for at, leaf in _leaves(kind) if models[leaf].contains_nrt_meminfo())
+
+
 def _values(kind, value):
     """The leaves of ``value``, of the numba type ``kind``, in the order of ``_leaves``."""
     if not isinstance(kind, types.BaseTuple):
@@ -111,10 +118,8 @@ def keep(address, value, kind):
 def drop(address, kind):
     """From Python: ``release`` the value of the numba type ``kind`` that ``keep`` held at
     ``address``, leaf by leaf (those with references: the arrays)."""
-    models = cpu_target.target_context.data_model_manager
-    for offset, leaf in _leaves(kind):
-        if models[leaf].contains_nrt_meminfo():
-            _take(address + offset, leaf)
+    for offset, leaf in _counted(kind):
+        _take(address + offset, leaf)
     release(address, kind)
 
 
