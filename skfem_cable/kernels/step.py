@@ -75,22 +75,11 @@ def newton(terms, model, lu, state, out, prm):
 def newton_held(terms, blob, kind, state, prm):
     """``newton`` with the arguments that stay the same through a run, ``(model, lu,
     out)``, held at the address ``blob`` as a value of the numba type ``kind``
-    (``keep``, ``kernels.erased``): the call unboxes the state and ``prm`` alone.  The
+    (``kernels.erased.keep``): the call unboxes the state and ``prm`` alone.  The
     74 arrays of the E-sail rig's arguments took 9 of the 11 us its call spent unboxing
     (``benchmarks/esail_profile.py``)."""
     model, lu, out = held(blob, kind)  # noqa: F821 (names of the generated module)
     return newton(terms, model, lu, state, out, prm)
-
-
-def keep(blob, value):
-    """Hold ``value`` (``(model, lu, out)``) at the address ``blob`` for
-    ``newton_held``."""
-    hold(blob, value)  # noqa: F821
-
-
-def drop(blob, kind):
-    """Give back the value of type ``kind`` that ``keep`` held at ``blob``."""
-    release(blob, kind)  # noqa: F821
 
 
 def _finish(model, state, out, prm):

@@ -7,15 +7,18 @@ compiled once per machine:
   back in Python): ``newton``, the template ``kernels.step``, predicts, evaluates,
   assembles into the fixed pattern, factors, solves, updates and tests convergence in one
   compiled call, for every system.
-* **A system's terms** (``system_module``, per sequence of *slots*): ``evaluate`` calls
-  the terms' compiled ``kernels`` (``contract.Term``) in order, ``constrain`` the
-  nonlinear constraints' ``kernel`` (the rigid body's, ``kernels.rigid``; linear
-  constraints, pins to fixed or moving points, body points and joints of natural
-  coordinates, are a sparse product in the template, a moving point's offset evaluated
-  once per step).  Both have one signature for all systems (``EVALUATE``, ``CONSTRAIN``)
-  and read the terms' data from an address (``kernels.erased``); the step calls them
-  through their machine addresses.  A new system compiles this small module alone (about
-  2 s, against about 10 s for a step module of its own, ``benchmarks/compile_cost.py``).
+* **A system's terms** (``system_module``, per sequence of the *slots'* types,
+  ``solvers.slots``): ``evaluate`` calls the terms' compiled ``kernels``
+  (``contract.Term``) in order, ``constrain`` the nonlinear constraints' ``kernel`` (the
+  rigid body's, ``kernels.rigid``; linear constraints, pins to fixed or moving points,
+  body points and joints of natural coordinates, are a sparse product in the template, a
+  moving point's offset evaluated once per step), each kernel at its machine address,
+  held with the packs (its code is not linked in: LLVM would optimise it again in every
+  system's module).  Both have one signature for all systems (``EVALUATE``,
+  ``CONSTRAIN``) and read the terms' data from an address (``kernels.erased``); the step
+  calls them through their machine addresses.  A new system compiles this small module
+  alone (a few tenths of a second, against about 10 s for a step module of its own,
+  ``benchmarks/compile_cost.py``).
 
 What is Python in a system takes part from inside the compiled call through
 ``numba.objmode`` blocks, emitted only where the system has such parts
@@ -41,22 +44,20 @@ import numpy as np
 from numba.core.compiler_lock import global_compiler_lock
 from numba.core.errors import NumbaExperimentalFeatureWarning
 
-from ..core.contract import NO_INDEX, Evaluation
+from ..core.contract import Evaluation
 from ..core.linalg import SingularMatrixError
 from ..core.protocols import IntegrableSystem
 from ..kernels import books, bordered, callbacks, erased, generated, lapack, schur, woodbury
 from ..kernels import step as template
+from . import slots
+from .slots import PYTHON
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "12"
+GENERATOR = "13"
 
-_TEMPLATE_FUNCTIONS = ("newton_held", "keep", "drop", "newton", "_finish", "_iterate",
+_TEMPLATE_FUNCTIONS = ("newton_held", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
                        "first_error_factor", "error_factor")
-
-
-#: The slot of a Python part in the sequences of kernels given to ``module``.
-PYTHON = "python"
 
 
 def python_parts(system: IntegrableSystem, solver):
@@ -73,11 +74,12 @@ def python_parts(system: IntegrableSystem, solver):
     return parts
 
 
-def _calls(prefix, slots, pack, index, ev, python):
-    """The lines calling ``slots`` in order: a compiled function ``{prefix}{k}``, or the
-    objmode call ``python`` (formatted with the slot ``k``) for a ``PYTHON`` slot."""
+def _calls(prefix, slots, ev, python):
+    """The lines calling ``slots`` in order: the compiled function at the address
+    ``references[k]``, of the function type ``{prefix}{k}``, or the objmode call ``python``
+    (formatted with the slot ``k``) for a ``PYTHON`` slot."""
     return ["    " + python.format(k=k) if f is PYTHON
-            else f"    {prefix}{k}({pack}[{k}], {index}[{k}], {ev})"
+            else f"    function(references[{k}], {prefix}{k})(packs[{k}], indices[{k}], {ev})"
             for k, f in enumerate(slots)] or ["    pass"]
 
 
@@ -104,8 +106,7 @@ _ENTRY = "@njit(cache=True, no_cfunc_wrapper=True)"
 _SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
 
 #: The decorators of the template's functions other than ``_INLINED``.
-_DECORATORS = {"newton_held": _ENTRY, "_residual": _SHARED, "_constraints": _SHARED,
-               "keep": _ENTRY, "drop": _ENTRY}
+_DECORATORS = {"newton_held": _ENTRY, "_residual": _SHARED, "_constraints": _SHARED}
 
 
 #: The objmode calls (``kernels.callbacks``) a module needs for Python terms, Python
@@ -123,28 +124,21 @@ EVALUATE = numba.types.void(numba.types.int64, numba.types.UniTuple(_VECTOR, 9))
 CONSTRAIN = numba.types.void(numba.types.int64, numba.types.UniTuple(_VECTOR, 6))
 
 #: The functions of a system's module around its slots: its two entries of one signature,
-#: reading the terms' data at the address ``blob`` (``kernels.erased``), and the two calls
-#: that put the data there and give it back.
-_SYSTEM_ENTRIES = '''@njit(EVALUATE, cache=True)  # noqa: F821 (EVALUATE, CONSTRAIN, TERMS injected)
+#: reading the terms' data at the address ``blob`` (``kernels.erased``: ``(packs, indices,
+#: references, cpacks, cindices, creferences)``, the slots' packs, tangent positions and
+#: kernels' addresses, put there by ``kernels.erased.keep``), called at their addresses
+#: alone (neither a C nor a Python wrapper).
+_SYSTEM_ENTRIES = '''# EVALUATE, CONSTRAIN, TERMS: injected by the loader
+@njit(EVALUATE, cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # noqa: F821
 def evaluate(blob, ev):
     terms = held(blob, TERMS)  # noqa: F821
-    evaluate_slots(terms[0], terms[1], ev)
+    evaluate_slots(terms[0], terms[1], terms[2], ev)
 
 
-@njit(CONSTRAIN, cache=True)  # noqa: F821
+@njit(CONSTRAIN, cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # noqa: F821
 def constrain(blob, cev):
     terms = held(blob, TERMS)  # noqa: F821
-    constrain_slots(terms[2], terms[3], cev)
-
-
-@njit(cache=True, no_cfunc_wrapper=True)
-def keep(blob, terms):
-    hold(blob, terms)
-
-
-@njit(cache=True, no_cfunc_wrapper=True)
-def drop(blob):
-    release(blob, TERMS)  # noqa: F821
+    constrain_slots(terms[3], terms[4], terms[5], cev)
 '''
 
 
@@ -154,15 +148,15 @@ def _callbacks(names):
 
 
 def system_source(kernels, constraint_kernels):
-    """Text of the generated module of a system's slots ``kernels`` (term kernels ``k0
-    ...``, taken from the injected tuple ``KERNELS``, or ``PYTHON``) and
-    ``constraint_kernels`` (``c0 ...``, from ``CONSTRAINT_KERNELS``): its ``evaluate`` and
-    ``constrain`` (``EVALUATE``, ``CONSTRAIN``), which call them in order on the terms of
-    the injected type ``TERMS``."""
+    """Text of the generated module of a system's slots ``kernels`` (the function types
+    ``k0 ...`` of its term kernels, taken from the injected tuple ``KERNELS``, or
+    ``PYTHON``) and ``constraint_kernels`` (``c0 ...``, from ``CONSTRAINT_KERNELS``): its
+    ``evaluate`` and ``constrain`` (``EVALUATE``, ``CONSTRAIN``), which call them in order,
+    at the addresses held with the terms of the injected type ``TERMS``."""
     calls = ((_TERM_CALLS if PYTHON in kernels else ())
              + (_CONSTRAINT_CALLS if PYTHON in constraint_kernels else ()))
     imports = ("from numba import njit" + (", objmode" if calls else "")
-               + "\n\nfrom skfem_cable.kernels.erased import held, hold, release\n"
+               + "\n\nfrom skfem_cable.kernels.erased import function, held\n"
                + ("from skfem_cable.solvers.compiled import python_part\n" if calls else ""))
     parts = [
         '"""Generated by skfem_cable.solvers.compiled: the terms of one sequence of kernels, '
@@ -172,11 +166,11 @@ def system_source(kernels, constraint_kernels):
         if kernels else "",
         f"({_names('c', constraint_kernels)}) = CONSTRAINT_KERNELS  # noqa: F821"
         if constraint_kernels else "",
-        f"{_INLINED}\ndef evaluate_slots(packs, indices, ev):\n"
-        + "\n".join(_calls("k", kernels, "packs", "indices", "ev",
+        f"{_INLINED}\ndef evaluate_slots(packs, indices, references, ev):\n"
+        + "\n".join(_calls("k", kernels, "ev",
                             "python_term(packs[{k}], {k}, ev[6].size > 0)")),
-        f"{_INLINED}\ndef constrain_slots(packs, indices, cev):\n"
-        + "\n".join(_calls("c", constraint_kernels, "packs", "indices", "cev",
+        f"{_INLINED}\ndef constrain_slots(packs, indices, references, cev):\n"
+        + "\n".join(_calls("c", constraint_kernels, "cev",
                             "python_constraint(packs[{k}], {k}, cev[3], cev[5].size > 0)")),
     ]
     parts += _callbacks(calls) + [_SYSTEM_ENTRIES]
@@ -196,7 +190,7 @@ def source(sparse, kernels="bordered", corrected=False):
         '"""Generated by skfem_cable.solvers.compiled: the compiled Newton step.  Do not '
         'edit."""',
         imports + "from skfem_cable.kernels.books import correct_elastic, step_books\n"
-        "from skfem_cable.kernels.erased import function, held, hold, release",
+        "from skfem_cable.kernels.erased import function, held",
         f"CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = {template.CONVERGED}, "
         f"{template.NON_FINITE}, {template.NO_CONVERGENCE}, {template.SINGULAR}\n"
         f"ETA_FIRST = {template.ETA_FIRST!r}\n"
@@ -219,10 +213,6 @@ def _template_id():
                    + [inspect.getsource(m) for m in _CALLED_MODULES])
 
 
-def _slot_id(function):
-    return PYTHON if function is PYTHON else generated.source_id(function)
-
-
 @functools.cache
 def module(sparse=False, jit=True, kernels="bordered", corrected=False):
     """The generated module of the Newton step, with the sparse LU if ``sparse``, else the
@@ -242,14 +232,15 @@ def module(sparse=False, jit=True, kernels="bordered", corrected=False):
 
 @functools.cache
 def system_module(kernels, constraint_kernels, kind, jit=True):
-    """The generated module of the term and constraint slots (tuples of kernel functions
-    or ``PYTHON``) on terms of the numba type ``kind`` (imported, generated and compiled
-    when first needed, then remembered); ``jit=False``: the same module interpreted."""
+    """The generated module of the term and constraint slots (tuples of the kernels' numba
+    ``FunctionType``s, or ``PYTHON``) on terms of the numba type ``kind`` (imported,
+    generated and compiled when first needed, then remembered); ``jit=False``: the same
+    module interpreted.  The kernels are called at their addresses, not linked: the module
+    depends on their types alone, and systems whose slots have the same types share it."""
     text = system_source(kernels, constraint_kernels)
     name = "skfem_cable_terms_" + generated.digest(
         GENERATOR, numba.__version__, _template_id(), text, str(kind), repr(kind),
-        *(_slot_id(k) for k in kernels), "constraints",
-        *(_slot_id(k) for k in constraint_kernels))
+        *map(str, kernels), "constraints", *map(str, constraint_kernels))
     return generated.load("steps", name, lambda: text,
                           {"KERNELS": kernels, "CONSTRAINT_KERNELS": constraint_kernels,
                            "TERMS": kind, "EVALUATE": EVALUATE, "CONSTRAIN": CONSTRAIN},
@@ -319,35 +310,6 @@ class PythonParts:
         dx[:] = self.solver.solve(rhs)
 
 
-def _term_slots(lay, key):
-    """``(functions, packs, indices)`` of the slots of the terms of ``lay`` in order (a
-    term's kernels, or one ``PYTHON`` slot for an ``add`` hook, its pack the ``key`` of
-    the ``PythonParts``, its index ``NO_INDEX``: the compiled code does not read it, and
-    a term's own index, an array of any shape, would give the step a signature, and a
-    compilation, per shape), and the Python terms ``{slot: (term, index)}``."""
-    slots, python = [], {}
-    for term, index in lay.body_terms + lay.load_terms:
-        if term.add is not None:
-            python[len(slots)] = (term, index)
-        index = NO_INDEX if index is None or term.add is not None else index
-        kernels = ((PYTHON, np.int64(key)),) if term.add is not None else term.kernels
-        slots += [(function, pack, index) for function, pack in kernels]
-    return tuple(zip(*slots)) if slots else ((), (), ()), python
-
-
-def _constraint_slots(system, lay, key):
-    """The same for the nonlinear constraints of ``lay`` (a compiled ``kernel`` or a
-    ``PYTHON`` slot), and the Python constraints ``{slot: k}``."""
-    slots, python = [], {}
-    for k in lay.nonlinear:
-        kernel = getattr(system.constraints[k], "kernel", None)
-        if kernel is None:
-            python[len(slots)] = k
-        function, pack = (PYTHON, np.int64(key)) if kernel is None else kernel
-        slots.append((function, pack, lay.cindex[k]))
-    return tuple(zip(*slots)) if slots else ((), (), ()), python
-
-
 def entry_point(function, args):
     """The machine code of the compiled ``function`` (a numba dispatcher) for the types of
     ``args`` (compiled for them, or read from the cache, first), behind the unboxing of
@@ -370,12 +332,12 @@ def _give_back(drop, blob, *args):
     drop(*args)
 
 
-def _hold(own, kind, value):
-    """A buffer holding ``value`` (of numba type ``kind``) for the compiled functions of
-    the module ``own`` (its ``keep``); returns the buffer and its address."""
+def _hold(kind, value):
+    """A buffer holding ``value`` (of numba type ``kind``) for the compiled functions
+    (``kernels.erased.keep``); returns the buffer and its address."""
     blob = np.zeros(max(erased.size_of(kind), 8), dtype=np.uint8)
     address = blob.ctypes.data
-    own.keep(address, value)
+    erased.keep(address, value, kind)
     return blob, np.int64(address)
 
 
@@ -388,9 +350,9 @@ class CompiledNewton:
         g = integrator
         lay, n, N = g.lay, g.n, g.lay.N
         key = next(_KEYS)
-        (functions, packs, indices), python_terms = _term_slots(lay, key)
-        (cfunctions, cpacks, cindices), python_constraints = _constraint_slots(g.system, lay,
-                                                                               key)
+        (functions, packs, indices), python_terms = slots.term_slots(lay, key)
+        (cfunctions, cpacks, cindices), python_constraints = slots.constraint_slots(
+            g.system, lay, key)
         sparse = g.solver.method != "banded"
         kernels = "bordered" if sparse else g.solver.kernels.__name__.rsplit(".", 1)[-1]
         corrections = [term.correction for term, _ in lay.body_terms + lay.load_terms
@@ -401,12 +363,17 @@ class CompiledNewton:
         step = module(sparse, jit, kernels, bool(corrections))
         self.newton = step.newton_held
         self.entry = None  # entry_point, at the first call
-        terms = (packs, indices, cpacks, cindices)
-        kind = lay.derived("terms' type", lambda: numba.typeof(terms))
+        types = lay.derived("slots' types",  # once per layout
+                            lambda: numba.typeof((packs, indices, cpacks, cindices)))
         with global_compiler_lock:  # what it compiles, said on one line (compile_log)
-            own = system_module(functions, cfunctions, kind, jit)
-            self.blob, address = _hold(own, kind, terms)
-        weakref.finalize(self, _give_back, own.drop, self.blob, address).atexit = False
+            (kinds, ckinds), terms = slots.addressed(
+                (functions, packs, indices, EVALUATE.args[1]),
+                (cfunctions, cpacks, cindices, CONSTRAIN.args[1]), types)
+            kind = lay.derived(("terms' type", jit), lambda: numba.typeof(terms))
+            own = system_module(kinds, ckinds, kind, jit)
+            self.blob, address = _hold(kind, terms)
+        weakref.finalize(self, _give_back, erased.drop, self.blob, address,
+                         kind).atexit = False
         self.terms = (erased.address(own.evaluate, EVALUATE),
                       erased.address(own.constrain, CONSTRAIN), address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
@@ -447,8 +414,8 @@ class CompiledNewton:
         self.typed = ("arguments", kernels, sparse, bool(corrections), g.solver.threads, jit)
         held = (self.model, self.lu, self.out)  # the run's own, held once (step.newton_held)
         self.kind = lay.derived(self.typed, lambda: numba.typeof(held))  # once per layout
-        self.held, self.address = _hold(step, self.kind, held)
-        weakref.finalize(self, _give_back, step.drop, self.held, self.address,
+        self.held, self.address = _hold(self.kind, held)
+        weakref.finalize(self, _give_back, erased.drop, self.held, self.address,
                          self.kind).atexit = False
         if python_terms or python_constraints or sparse:
             _PARTS[key] = PythonParts(g, self.arrays, python_terms, python_constraints)
