@@ -1,6 +1,8 @@
 """The working set of a Newton iteration (issue 47, linear cost at scale): the band
-solves read a compact copy of the factor (``kernels.bordered.compact``), with the same
-results bit for bit as from LAPACK's storage."""
+solves read the factor split into ``L`` and ``U`` (``kernels.bordered.split``), with
+the same results bit for bit as from LAPACK's storage; the mass matrix in the compact
+form of the step (``FastCSR.strided``); the exponent's measure
+(``benchmarks/step_exponent.py``)."""
 
 import numpy as np
 import pytest
@@ -35,13 +37,12 @@ def factored(request):
     return A, lu, request.param
 
 
-def test_compact_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
-    """A solve from the compact copy gives the same bits as ``band_substitute`` on
-    LAPACK's storage, and solves the system; the fill of the pivoting is found in the
-    first columns only (none without interchanges)."""
+def test_split_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
+    """A solve from the split factor gives the same bits as ``band_substitute`` on
+    LAPACK's storage, and solves the system; with interchanges (fill in ``U``) too."""
     A, lu, pivoting = factored
-    ab, ipiv, band, fills = lu[1], lu[2], lu[11], lu[26]
-    assert (fills[0] > 0) == pivoting and fills[0] < A.shape[0] // 2
+    ab, ipiv, band = lu[1], lu[2], lu[11]
+    assert np.any(ipiv != np.arange(1, A.shape[0] + 1)) == pivoting
     rhs = np.linspace(-1.0, 2.0, A.shape[0])
     expected = rhs.copy()
     bordered.band_substitute(ab, band, ipiv, expected)
@@ -51,10 +52,51 @@ def test_compact_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
     assert np.allclose(A @ x, rhs, rtol=0, atol=1e-10)
 
 
-def test_compact_copy_holds_the_factor_without_the_fill(factored):
-    """``lower`` holds the multipliers and ``upper`` the diagonal and ``band``
-    superdiagonals of every column of LAPACK's storage."""
+def test_split_holds_the_factor(factored):
+    """``lower`` holds the multipliers and ``upper`` the rest of every column of LAPACK's
+    storage."""
     _, lu, _ = factored
-    ab, band, lower, upper = lu[1], lu[11], lu[24], lu[25]
+    ab, band, lower, upper = lu[1], lu[11], lu[23], lu[24]
     assert np.array_equal(lower, ab[:, 2 * band + 1:])
-    assert np.array_equal(upper, ab[:, band:2 * band + 1])
+    assert np.array_equal(upper, ab[:, :2 * band + 1])
+
+
+def test_mass_of_cables_is_strided_and_the_same_product():
+    """A pendulum's mass is ``M_s ⊗ I_3`` value for value (int32 indices, a third of the
+    rows); a mass with a coupling across components stays itself (``k = 1``); the step's
+    row products (``kernels.books.mass_row``) are ``M x`` bit for bit."""
+    from skfem_cable.core.linalg import FastCSR
+    from skfem_cable.kernels.books import step_books
+    from skfem_cable.scenes import classics
+
+    M = classics.pendulum(n_elements=6).system.current_layout().mass
+    indptr, indices, data, k = M.strided
+    assert k == 3 and indices.dtype == np.int32 and indptr.size - 1 == M.shape[0] // 3
+    v = np.linspace(-1.0, 1.0, M.shape[0])
+    zero = np.zeros_like(v)
+    kinetic = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, v, v)[2]
+    reference = step_books(zero, (zero,) * 3, (zero,) * 3,
+                           (M.indptr, M.indices, M.data, 1), zero, v, v)[2]
+    assert kinetic == reference
+    assert kinetic == pytest.approx(0.5 * float(v @ (M @ v)), rel=1e-12)
+    skew = M.scipy.tolil()
+    skew[0, 1] = 1e-3
+    assert FastCSR(skew).strided[3] == 1
+
+
+def test_exponent_halves_are_the_minima_of_even_and_odd_rounds():
+    """``step_exponent.exponents``: the slopes of the minima over the even and over the
+    odd rounds; equal on an exact power law, apart where only the even rounds were
+    slowed at the largest size all along (a spell no minimum removes)."""
+    from test_benchmarks import BENCH, load
+
+    exponent = load(BENCH / "step_exponent.py")
+    sizes = np.array([1000, 3200, 10000])
+    steps, chunk = 40, 20
+    times = np.empty((4, sizes.size, steps // chunk))
+    times[:] = (chunk * 1e-3 * (sizes / 1000) ** 1.01)[:, None]
+    even, odd = exponent.exponents(sizes, times, np.full(3, 2.4 * steps), steps)["halves"]
+    assert abs(even - 1.01) < 1e-12 and abs(odd - 1.01) < 1e-12
+    times[0::2, -1] *= 1.2
+    even, odd = exponent.exponents(sizes, times, np.full(3, 2.4 * steps), steps)["halves"]
+    assert abs(odd - 1.01) < 1e-12 and even > odd + 0.05

@@ -16,8 +16,8 @@ def step_books(dq, before, after, mass, f_const, q, v):
     before, after : tuple ``(f_damping, f_nc, f_con)``
         Damping force, non-constant external force and ``C_q^T lambda`` at the step's
         start and end.
-    mass : tuple ``(indptr, indices, data)``
-        The mass matrix (CSR).
+    mass : tuple ``(indptr, indices, data, k)``
+        The mass matrix ``M = M_s ⊗ I_k`` (``linalg.FastCSR.strided``: ``M_s`` in CSR).
     f_const : ndarray (n,)
         Constant external force (its potential is ``-f_const . q``).
     q, v : ndarray (n,)
@@ -31,17 +31,28 @@ def step_books(dq, before, after, mass, f_const, q, v):
     """
     fd0, fnc0, fcon0 = before
     fd1, fnc1, fcon1 = after
-    indptr, indices, data = mass
+    stride = mass[3]
     dissipated = external = kinetic = potential = 0.0
-    for i in range(dq.size):
-        dissipated += dq[i] * (fd0[i] + fd1[i])
-        external += dq[i] * (fnc0[i] + fnc1[i] - fcon0[i] - fcon1[i])
-        mv = 0.0
-        for k in range(indptr[i], indptr[i + 1]):
-            mv += data[k] * v[indices[k]]
-        kinetic += v[i] * mv
-        potential -= f_const[i] * q[i]
+    for row in range(mass[0].size - 1):
+        for c in range(stride):
+            i = row * stride + c
+            dissipated += dq[i] * (fd0[i] + fd1[i])
+            external += dq[i] * (fnc0[i] + fnc1[i] - fcon0[i] - fcon1[i])
+            kinetic += v[i] * mass_row(mass, v, row, c)
+            potential -= f_const[i] * q[i]
     return 0.5 * dissipated, 0.5 * external, 0.5 * kinetic, potential
+
+
+@njit(cache=True, forceinline=True)
+def mass_row(mass, x, row, c):
+    """``(M x)_i``, ``i = k row + c``, of the mass ``M = M_s ⊗ I_k`` given as ``mass =
+    (indptr, indices, data, k)`` (``linalg.FastCSR.strided``): the entries of ``M``'s row
+    ``i`` in the order of its columns."""
+    indptr, indices, data, stride = mass
+    acc = 0.0
+    for k in range(indptr[row], indptr[row + 1]):
+        acc += data[k] * x[stride * indices[k] + c]
+    return acc
 
 
 @njit(cache=True)

@@ -27,33 +27,33 @@ solve per block, the border's dense solve, and ``x_B' = y - W x_D'``:
 With ``k = 0`` it is the banded LU of the blocks alone. All storage is made once
 (``storage``, for ``linalg``): ``lu = (addresses, ab, ipiv, E, F, W, S, ipiv_s, target,
 position, perm, band, ints, work, starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr,
-parts, infos, parallel, lower, upper, fills)``: LAPACK addresses; the band
-(``kernels.lapack`` layout) and its pivots (1-based within each block); ``E`` and ``F``
-as ``(k, nb)`` and ``(nb, k)`` arrays whose rows are the blocks' columns; ``W`` like
-``E``; ``S`` column-major ``(k, k)`` and its pivots; for every CSR value of the matrix
-its block (int8; 0: band, 1: E, 2: F, 3: D) and flat position there; the ordering; the
-half-width; int32 scratch, a row per block and one for ``S``; float scratch (n); the
-blocks' first band unknowns (``nblocks + 1``); the coupling rows and columns of each
-block (CSR-like, band indices); the ``X_j``, each ``(|R_j|, n_j)``, flat at ``x_ptr``;
-each block's part of ``F W`` ``(nblocks, k, k)``; each block's LAPACK ``info``; ``True``
-if the blocks run on threads, else ``None``: numba prunes a branch on ``None`` when it
-compiles, so that on one thread the threaded loops (``prange``, seconds to compile) are
-neither compiled nor linked into the Newton step; the factor's compact copy for the
-solves (``compact``): the multipliers of ``L`` ``(nb, band)``, ``U``'s band without the
-fill of the pivoting ``(nb, band + 1)``, and per block the first column past the fill.
+parts, infos, lower, upper, parallel)``: LAPACK addresses; the band (``kernels.lapack``
+layout) and its pivots (1-based within each block); ``E`` and ``F`` as ``(k, nb)`` and
+``(nb, k)`` arrays whose rows are the blocks' columns; ``W`` like ``E``; ``S``
+column-major ``(k, k)`` and its pivots; for every CSR value of the matrix its block
+(int8; 0: band, 1: E, 2: F, 3: D) and flat position there; the ordering; the half-width;
+int32 scratch, a row per block and one for ``S``; float scratch (n); the blocks' first
+band unknowns (``nblocks + 1``); the coupling rows and columns of each block (CSR-like,
+band indices); the ``X_j``, each ``(|R_j|, n_j)``, flat at ``x_ptr``; each block's part
+of ``F W`` ``(nblocks, k, k)``; each block's LAPACK ``info``; the factor split for the
+solves (``split``): the multipliers of ``L`` ``(nb, band)`` and ``U`` ``(nb, 2 band +
+1)``; ``True`` if the blocks run on threads, else ``None``: numba prunes a branch on
+``None`` when it compiles, so that on one thread the threaded loops (``prange``, seconds
+to compile) are neither compiled nor linked into the Newton step.
 
-**The solves read a compact copy of the factor.**  LAPACK's band storage of half-width
-``b`` holds ``3 b + 1`` values per column: ``b`` multipliers of ``L``, the diagonal,
-``b`` superdiagonals of ``U`` and ``b`` more that row interchanges may fill.  A
-cable's iteration matrix interchanges rows only at its pins' multipliers, so ``U`` has
-fill only in the first columns of a block.  After a factorization ``compact`` copies the
-multipliers and ``U``'s ``b + 1`` diagonals into arrays of their own and finds the
-block's last column with fill; a solve (``compact_substitute``) reads ``L`` and ``U``
-there, each sweep its own array, and LAPACK's storage only for the columns with fill:
-``2 b + 1`` values per column instead of ``3 b + 1`` in the working set of a Newton
-iteration, read by two sweeps that each stream their own ``b`` or ``b + 1`` (19.2 against
-12.5 MB at 10,000 cable elements of half-width 13).  The same operations as
-``band_substitute`` on every value that is not an exact zero of the fill.
+**The solves read the factor in two arrays of their own.**  LAPACK's band storage of
+half-width ``b`` holds a column of the factor in a row of ``3 b + 1`` values: ``2 b + 1``
+of ``U`` (with the fill of the row interchanges, which a cable's iteration matrix makes
+at most of its columns) then the ``b`` multipliers of ``L``. A solve's forward sweep
+reads the multipliers, its backward sweep ``U``, each strided through the rows, so that
+both touch most of the storage's cache lines. After a factorization ``split`` copies
+``L`` and ``U`` into arrays of their own, which the solves (``split_substitute``) stream
+each in one sweep: on a random band of 60,009 unknowns of half-width 13 (a 10,000-element
+cable's, 19.2 MB) with interchanges at 90 % of its columns, a solve after a 40 MB stream
+(out of the cache) took 1.42 ms from LAPACK's storage and 1.19 ms from the split arrays;
+in the step at 10,000 elements see docs/benchmarks.md. The price: a copy of the factor
+per factorization and its memory twice (LAPACK's storage is not read between
+factorizations). The same operations as ``band_substitute``, bit for bit.
 """
 
 import numpy as np
@@ -70,7 +70,8 @@ def factor(lu, data):
     """Factor the matrix with CSR values ``data``; returns the (original) unknown of a
     zero pivot (the first block's, in the ordering), or -1."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu[:24]
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, lower, upper,
+     parallel) = lu
     k = S.shape[0]
     nblocks = starts.size - 1
     _scatter(data, target, position, ab, E, F, S, parallel)
@@ -192,7 +193,8 @@ def _coupling_solves(block, band, pivots, rows, first, x, e, w):
 def solve(lu, rhs, out):
     """``out = A^{-1} rhs`` with the last factorisation (original ordering)."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu[:24]
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, lower, upper,
+     parallel) = lu
     nb, k = ab.shape[0], S.shape[0]
     for i in range(perm.size):
         work[i] = rhs[perm[i]]
@@ -233,8 +235,8 @@ def _block(lu, j, stage):
     ``infos[j]``), ``SUBSTITUTE`` (a solve's ``y_j = B_j^{-1} x_j``) or ``CORRECT``
     (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``)."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel, lower, upper,
-     fills) = lu
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, lower, upper,
+     parallel) = lu
     start, end = starts[j], starts[j + 1]
     if stage == FACTOR:
         infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], start, end,
@@ -242,10 +244,10 @@ def _block(lu, j, stage):
                                  cols[cols_ptr[j]:cols_ptr[j + 1]], X[x_ptr[j]:x_ptr[j + 1]],
                                  parts[j])
         if infos[j] == 0:
-            fills[j] = compact(ab[start:end], band, lower[start:end], upper[start:end])
+            split(ab[start:end], band, lower[start:end], upper[start:end])
     elif stage == SUBSTITUTE:
-        compact_substitute(ab[start:end], lower[start:end], upper[start:end], band,
-                           ipiv[start:end], fills[j], work[start:end])
+        split_substitute(lower[start:end], upper[start:end], band, ipiv[start:end],
+                         work[start:end])
     else:
         nb = ab.shape[0]
         for c in range(S.shape[0]):
@@ -267,14 +269,10 @@ def band_substitute(ab, band, ipiv, b):
 
 
 @njit(cache=True)
-def compact_substitute(ab, lower, upper, band, ipiv, fill, b):
-    """``band_substitute`` from the compact copy of the factor (``compact``): ``L`` from
-    ``lower``, ``U`` from ``upper`` for the columns from ``fill`` on and from LAPACK's
-    storage ``ab`` for those before (with the pivoting's fill): the same operations on
-    every value but the exact zeros of the fill."""
+def split_substitute(lower, upper, band, ipiv, b):
+    """``band_substitute`` from the factor split by ``split``: the same operations."""
     _lower_sweep(lower, 0, band, ipiv, b)
-    _upper_sweep(upper, band, b, fill, lower.shape[0])
-    _upper_sweep(ab, 2 * band, b, 0, fill)
+    _upper_sweep(upper, 2 * band, b, 0, upper.shape[0])
 
 
 @njit(cache=True)
@@ -311,23 +309,17 @@ def _upper_sweep(store, width, b, first, last):
 
 
 @njit(cache=True)
-def compact(ab, band, lower, upper):
+def split(ab, band, lower, upper):
     """Copy the banded LU ``ab`` (``band_factor``'s, half-widths ``band``) into ``lower``
-    (the multipliers of each column) and ``upper`` (``U``'s diagonal and ``band``
-    superdiagonals); returns the first column from which ``U`` has no fill (no nonzero
-    beyond ``band`` superdiagonals)."""
+    (the multipliers of each column) and ``upper`` (``U``'s ``2 band`` superdiagonals,
+    with the fill of the row interchanges, and its diagonal)."""
     kv = 2 * band
-    fill = 0
     for j in range(ab.shape[0]):
         column = ab[j]
-        for i in range(band):
-            if column[i] != 0.0:
-                fill = j + 1
-        for i in range(band + 1):
-            upper[j, i] = column[band + i]
+        for i in range(kv + 1):
+            upper[j, i] = column[i]
         for i in range(band):
             lower[j, i] = column[kv + 1 + i]
-    return fill
 
 
 def blocks(pr, pc, nb):
@@ -382,6 +374,5 @@ def storage(addresses, rows, cols, perm, nb, band, threads=1):
             perm.astype(np.int64), int(band), np.zeros((nblocks + 1, 8), dtype=np.int32),
             np.zeros(n), starts, rows_ptr, coupling_rows, cols_ptr, coupling_cols,
             np.zeros(x_ptr[-1]), x_ptr, np.zeros((nblocks, k, k)),
-            np.zeros(nblocks, dtype=np.int64),
-            True if threads > 1 and nblocks > 1 else None, np.zeros((nb, band)),
-            np.zeros((nb, band + 1)), np.zeros(nblocks, dtype=np.int64))
+            np.zeros(nblocks, dtype=np.int64), np.zeros((nb, band)),
+            np.zeros((nb, 2 * band + 1)), True if threads > 1 and nblocks > 1 else None)
