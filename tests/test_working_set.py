@@ -64,7 +64,7 @@ def test_split_holds_the_factor(factored):
 def test_mass_of_cables_is_strided_and_the_same_product():
     """A pendulum's mass is ``M_s ⊗ I_3`` value for value (int32 indices, a third of the
     rows); a mass with a coupling across components stays itself (``k = 1``); the step's
-    row products (``kernels.books.mass_row``) are ``M x`` bit for bit."""
+    row products (``kernels.books.mass_rows``) are ``M x`` bit for bit."""
     from skfem_cable.core.linalg import FastCSR
     from skfem_cable.kernels.books import step_books
     from skfem_cable.scenes import classics

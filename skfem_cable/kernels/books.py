@@ -34,25 +34,36 @@ def step_books(dq, before, after, mass, f_const, q, v):
     stride = mass[3]
     dissipated = external = kinetic = potential = 0.0
     for row in range(mass[0].size - 1):
+        mv = mass_rows(mass, v, row)
         for c in range(stride):
             i = row * stride + c
             dissipated += dq[i] * (fd0[i] + fd1[i])
             external += dq[i] * (fnc0[i] + fnc1[i] - fcon0[i] - fcon1[i])
-            kinetic += v[i] * mass_row(mass, v, row, c)
+            kinetic += v[i] * mv[c]
             potential -= f_const[i] * q[i]
     return 0.5 * dissipated, 0.5 * external, 0.5 * kinetic, potential
 
 
 @njit(cache=True, forceinline=True)
-def mass_row(mass, x, row, c):
-    """``(M x)_i``, ``i = k row + c``, of the mass ``M = M_s ⊗ I_k`` given as ``mass =
-    (indptr, indices, data, k)`` (``linalg.FastCSR.strided``): the entries of ``M``'s row
-    ``i`` in the order of its columns."""
+def mass_rows(mass, x, row):
+    """``(M x)_i`` for ``i = k row + c``, ``c < k``, of the mass ``M = M_s ⊗ I_k`` given as
+    ``mass = (indptr, indices, data, k)``, ``k`` 3 or 1 (``linalg.FastCSR.strided``): a
+    tuple of three, the last two 0 for ``k = 1``.  Each is the sum over the entries of
+    ``M``'s row ``i`` in the order of its columns; the three of a row of ``M_s`` are
+    summed in one pass over it (its values and indices read once, not once per
+    component)."""
     indptr, indices, data, stride = mass
-    acc = 0.0
-    for k in range(indptr[row], indptr[row + 1]):
-        acc += data[k] * x[stride * indices[k] + c]
-    return acc
+    m0 = m1 = m2 = 0.0
+    if stride == 3:
+        for k in range(indptr[row], indptr[row + 1]):
+            d, j = data[k], 3 * indices[k]
+            m0 += d * x[j]
+            m1 += d * x[j + 1]
+            m2 += d * x[j + 2]
+    else:
+        for k in range(indptr[row], indptr[row + 1]):
+            m0 += data[k] * x[indices[k]]
+    return m0, m1, m2
 
 
 @njit(cache=True)

@@ -15,7 +15,7 @@ the step control in Python, once per step.
 
 import numpy as np
 
-from .books import correct_elastic, mass_row, step_books
+from .books import correct_elastic, mass_rows, step_books
 
 #: Return codes of ``newton``.
 CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
@@ -130,7 +130,7 @@ def _iterate(terms, model, lu, state, out, prm):
     model : tuple
         ``(mass, base, f_const, diag_index, xscale, inv_xscale, c_indptr, c_indices, c_data,
         ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the mass matrix
-        (``linalg.FastCSR.strided``, read by ``kernels.books.mass_row``), the constant part
+        (``linalg.FastCSR.strided``, read by ``kernels.books.mass_rows``), the constant part
         of the iteration matrix, the constant force, the positions of the diagonal, the
         coordinate scales, the linear constraints' Jacobian and its transpose (CSR), their
         multiplier rows and offsets at ``t1``.
@@ -284,10 +284,10 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     _constraints(terms, model, q1, lam1, r, data, f_con, out[21], mbar)
     stride = mass[3]
     for row in range(mass[0].size - 1):
+        ma = mass_rows(mass, a1, row)
         for c in range(stride):
             i = row * stride + c
-            ma = mass_row(mass, a1, row, c)
-            r[i] = (ma + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
+            r[i] = (ma[c] + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
 
 
 def _constraints(terms, model, q1, lam1, r, data, f_con, cs, mbar):
