@@ -7,47 +7,44 @@ form of the step (``FastCSR.strided``); the exponent's measure
 import numpy as np
 import pytest
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
-from skfem_cable.core.linalg import ADDRESSES
+from skfem_cable.core.linalg import FastCSR
 from skfem_cable.kernels import bordered
-
-
-def _band_matrix(n, band, pivoting, seed=0):
-    """A random band matrix of half-width ``band``; with ``pivoting`` its first rows
-    have tiny diagonals (LAPACK interchanges rows there), else it is diagonally
-    dominant (no interchanges)."""
-    rng = np.random.default_rng(seed)
-    diagonals = [rng.standard_normal(n - abs(k)) for k in range(-band, band + 1)]
-    A = sp.diags(diagonals, list(range(-band, band + 1)), format="lil")
-    A.setdiag(A.diagonal() + 4.0 * band)
-    if pivoting:
-        for i in range(3):
-            A[i, i] = 1e-3
-    return A.tocsr()
+from skfem_cable.kernels.books import step_books
 
 
 @pytest.fixture(scope="module", params=[False, True], ids=["no interchanges", "pivoting"])
 def factored(request):
-    """A factored bordered storage of a band of 40 unknowns, half-width 3, no border."""
+    """LAPACK's banded LU (``dgbtrf``, in ``kernels.lapack``'s layout: a row per column)
+    of a random band of 40 unknowns and half-width 3: diagonally dominant (no row
+    interchanges), or with tiny first diagonals (interchanges there), and its split."""
     n, band = 40, 3
-    A = _band_matrix(n, band, request.param)
-    rows = np.repeat(np.arange(n), np.diff(A.indptr))
-    lu = bordered.storage(ADDRESSES, rows, A.indices, np.arange(n), n, band)
-    assert bordered.factor(lu, A.data) == -1
-    return A, lu, request.param
+    rng = np.random.default_rng(0)
+    storage = np.zeros((3 * band + 1, n), order="F")
+    storage[band:] = rng.standard_normal((2 * band + 1, n))
+    storage[2 * band] += 0.0 if request.param else 4.0 * band
+    if request.param:
+        storage[2 * band, :3] = 1e-3
+    A = sp.dia_matrix((storage[band:], np.arange(band, -band - 1, -1)), shape=(n, n))
+    lu, pivots, info = lapack.dgbtrf(storage, band, band)
+    assert info == 0
+    ab, ipiv = np.ascontiguousarray(lu.T), (pivots + 1).astype(np.int32)
+    lower, upper = np.zeros((n, band)), np.zeros((n, 2 * band + 1))
+    bordered.split(ab, band, lower, upper)
+    return A.tocsr(), ab, ipiv, band, lower, upper, request.param
 
 
 def test_split_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
-    """A solve from the split factor gives the same bits as ``band_substitute`` on
-    LAPACK's storage, and solves the system; with interchanges (fill in ``U``) too."""
-    A, lu, pivoting = factored
-    ab, ipiv, band = lu[1], lu[2], lu[11]
+    """A solve from the split factor (``split_substitute``, what ``bordered.solve`` runs
+    per block) gives the same bits as ``band_substitute`` on LAPACK's storage, and
+    solves the system; with row interchanges (fill in ``U``) too."""
+    A, ab, ipiv, band, lower, upper, pivoting = factored
     assert np.any(ipiv != np.arange(1, A.shape[0] + 1)) == pivoting
     rhs = np.linspace(-1.0, 2.0, A.shape[0])
-    expected = rhs.copy()
+    expected, x = rhs.copy(), rhs.copy()
     bordered.band_substitute(ab, band, ipiv, expected)
-    x = np.empty_like(rhs)
-    bordered.solve(lu, rhs, x)
+    bordered.split_substitute(lower, upper, band, ipiv, x)
     assert np.array_equal(x, expected)
     assert np.allclose(A @ x, rhs, rtol=0, atol=1e-10)
 
@@ -55,21 +52,19 @@ def test_split_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
 def test_split_holds_the_factor(factored):
     """``lower`` holds the multipliers and ``upper`` the rest of every column of LAPACK's
     storage."""
-    _, lu, _ = factored
-    ab, band, lower, upper = lu[1], lu[11], lu[23], lu[24]
+    _, ab, _, band, lower, upper, _ = factored
     assert np.array_equal(lower, ab[:, 2 * band + 1:])
     assert np.array_equal(upper, ab[:, :2 * band + 1])
 
 
-def test_mass_of_cables_is_strided_and_the_same_product():
-    """A pendulum's mass is ``M_s ⊗ I_3`` value for value (int32 indices, a third of the
-    rows); a mass with a coupling across components stays itself (``k = 1``); the step's
-    row products (``kernels.books.mass_rows``) are ``M x`` bit for bit."""
-    from skfem_cable.core.linalg import FastCSR
-    from skfem_cable.kernels.books import step_books
-    from skfem_cable.scenes import classics
-
-    M = classics.pendulum(n_elements=6).system.current_layout().mass
+def test_mass_of_three_alike_components_is_strided_and_the_same_product():
+    """A mass ``M_s ⊗ I_3`` (a cable's: its nodes' vectors' components coupled alike) is
+    found value for value (int32 indices, a third of the rows); a coupling across
+    components keeps ``M`` itself (``k = 1``); the books' ``v . M v`` from the strided
+    form (``kernels.books.mass_rows``) is the CSR's bit for bit."""
+    rng = np.random.default_rng(1)
+    coarse = sp.random(8, 8, density=0.4, random_state=rng) + sp.eye(8)
+    M = FastCSR(sp.kron(coarse + coarse.T, sp.eye(3)))
     indptr, indices, data, k = M.strided
     assert k == 3 and indices.dtype == np.int32 and indptr.size - 1 == M.shape[0] // 3
     v = np.linspace(-1.0, 1.0, M.shape[0])
