@@ -61,7 +61,7 @@ def test_mass_of_three_alike_components_is_strided_and_the_same_product():
     """A mass ``M_s ⊗ I_3`` (a cable's: its nodes' vectors' components coupled alike) is
     found value for value (int32 indices, a third of the rows); a coupling across
     components keeps ``M`` itself (``k = 1``); the books' ``v . M v`` from the strided
-    form (``kernels.books.mass_rows``) is the CSR's bit for bit."""
+    form (``kernels.books.mass_product``) is the CSR's bit for bit."""
     rng = np.random.default_rng(1)
     coarse = sp.random(8, 8, density=0.4, random_state=rng) + sp.eye(8)
     M = FastCSR(sp.kron(coarse + coarse.T, sp.eye(3)))
@@ -69,9 +69,9 @@ def test_mass_of_three_alike_components_is_strided_and_the_same_product():
     assert k == 3 and indices.dtype == np.int32 and indptr.size - 1 == M.shape[0] // 3
     v = np.linspace(-1.0, 1.0, M.shape[0])
     zero = np.zeros_like(v)
-    kinetic = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, v, v)[2]
+    kinetic = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, v, v, zero.copy())[2]
     reference = step_books(zero, (zero,) * 3, (zero,) * 3,
-                           (M.indptr, M.indices, M.data, 1), zero, v, v)[2]
+                           (M.indptr, M.indices, M.data, 1), zero, v, v, zero.copy())[2]
     assert kinetic == reference
     assert kinetic == pytest.approx(0.5 * float(v @ (M @ v)), rel=1e-12)
     skew = M.scipy.tolil()

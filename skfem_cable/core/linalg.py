@@ -245,7 +245,7 @@ class FastCSR:
     @functools.cached_property
     def strided(self):
         """The matrix in the form the compiled step and its books read
-        (``kernels.books.mass_rows``): ``(indptr, indices, data, k)`` of the CSR matrix
+        (``kernels.books.mass_product``): ``(indptr, indices, data, k)`` of the CSR matrix
         ``M_s`` (int32 indices) with ``M = M_s ⊗ I_k`` value for value, ``k = 3`` where
         that holds (a cable's mass: a node's position and slope vectors, their three
         components coupled alike), else ``M`` itself and ``k = 1``.  At 10,000 cable

@@ -15,7 +15,7 @@ the step control in Python, once per step.
 
 import numpy as np
 
-from .books import correct_elastic, mass_rows, step_books
+from .books import correct_elastic, mass_product, step_books
 
 #: Return codes of ``newton``.
 CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
@@ -98,13 +98,13 @@ def _finish(model, state, out, prm):
     and the sums of its energy books (``kernels.books.step_books``) into ``books``."""
     q, a, abar, before = state[0], state[2], state[3], (state[7], state[8], state[9])
     q1, v1, a1, after = out[0], out[1], out[2], (out[9], out[8], out[10])
-    abar1, books, dq = out[22], out[23], out[24]
+    abar1, books, dq, mv = out[22], out[23], out[24], out[19]
     am, af = prm[ALPHA_M], prm[ALPHA_F]
     for i in range(q.size):
         abar1[i] = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         dq[i] = q1[i] - q[i]
     books[0], books[1], books[2], books[3] = step_books(
-        dq, before, after, model[0], model[2], q1, v1)
+        dq, before, after, model[0], model[2], q1, v1, mv)
 
 
 def _iterate(terms, model, lu, state, out, prm):
@@ -130,7 +130,7 @@ def _iterate(terms, model, lu, state, out, prm):
     model : tuple
         ``(mass, base, f_const, diag_index, xscale, inv_xscale, c_indptr, c_indices, c_data,
         ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the mass matrix
-        (``linalg.FastCSR.strided``, read by ``kernels.books.mass_rows``), the constant part
+        (``linalg.FastCSR.strided``, read by ``kernels.books.mass_product``), the constant part
         of the iteration matrix, the constant force, the positions of the diagonal, the
         coordinate scales, the linear constraints' Jacobian and its transpose (CSR), their
         multiplier rows and offsets at ``t1``.
@@ -282,12 +282,9 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     evaluate = function(terms[0], EVALUATE)  # noqa: F821
     evaluate(terms[2], (q1, v1, s, f, f_ext, fd, data, energy, power))
     _constraints(terms, model, q1, lam1, r, data, f_con, out[21], mbar)
-    stride = mass[3]
-    for row in range(mass[0].size - 1):
-        ma = mass_rows(mass, a1, row)
-        for c in range(stride):
-            i = row * stride + c
-            r[i] = (ma[c] + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
+    mass_product(mass, a1, r)  # M a1 into the dynamic rows, then the forces
+    for i in range(q1.size):
+        r[i] = (r[i] + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
 
 
 def _constraints(terms, model, q1, lam1, r, data, f_con, cs, mbar):
