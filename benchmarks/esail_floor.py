@@ -265,13 +265,14 @@ def counted(newton, integrator):
     model, lu, a = newton.model, newton.lu, newton.arrays
     ne = elements(integrator)
     factor, solve = band_flops(lu)
-    rest = 6 * 12 * (2 * 12 + 4) + 2 * model[0][-1] + 4 * model[8][-1] + 6 * a["q1"].size
+    mass_nnz = model[0][0][-1] * model[0][3]  # M = M_s ⊗ I_k (linalg.FastCSR.strided)
+    rest = 6 * 12 * (2 * 12 + 4) + 2 * mass_nnz + 4 * model[6][-1] + 6 * a["q1"].size
     tangent = ne * (cable_flops(4, 5, 3, True) + coulomb_flops(4, 5, True)) + rest \
         + 6 * 12 * 12 * 3 + a["data"].size
     flops = {"cable": ne * cable_flops(4, 5, 3, False), "coulomb": ne * coulomb_flops(4, 5, False),
              "rest": rest, "tangent": tangent, "factor": factor, "solve": solve}
     nbytes = part_bytes(ne, lu, a["data"].size)
-    nbytes["rest"] = 8 * (3 * model[0][-1] + 6 * 12 * 12 + 6 * a["q1"].size)
+    nbytes["rest"] = 8 * (3 * mass_nnz + 6 * 12 * 12 + 6 * a["q1"].size)
     nbytes["matrix"] += nbytes["cable"] + nbytes["coulomb"] + nbytes["rest"]
     return flops, nbytes
 

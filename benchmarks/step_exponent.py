@@ -19,7 +19,14 @@ elements).  How the measure is made stable:
   a whole run), the chunks' minima add up to the window's cost;
 - **the slope fitted over all five sizes** (least squares of ``log cost`` on
   ``log elements``) with its standard error, and the **spread**: the slopes fitted to each
-  round alone (their range), a measure of what one round would have said.
+  round alone (their range), a measure of what one round would have said, and the slopes
+  of the minima over the even and over the odd rounds (the **halves**: two measures of
+  half the length, taken in the same time window; their difference says how far two runs
+  of the measure would differ, the issue's stability to 0.02).
+
+Eight rounds (five before): the other jobs' memory traffic, which slows the largest
+sizes (out of the L3 cache) and not the smallest, comes in spells of seconds to minutes;
+more rounds spread over a longer window give each chunk more chances of a quiet spell.
 
 Prints a row per size (CPU ms per step, Newton iterations per step, ms per iteration) and
 the exponents per step and per Newton iteration.  Run ``python benchmarks/step_exponent.py
@@ -36,7 +43,7 @@ from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import classics
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
-SETTINGS = {"full": {"sizes": (1000, 1800, 3200, 5600, 10000), "steps": 200, "rounds": 5},
+SETTINGS = {"full": {"sizes": (1000, 1800, 3200, 5600, 10000), "steps": 200, "rounds": 8},
             "quick": {"sizes": (300, 1000, 3000), "steps": 20, "rounds": 2}}
 
 #: Goal of the exponent per step (linear cost).
@@ -124,18 +131,25 @@ def exponents(sizes, times, newton, steps):
     -------
     dict
         ``per_step`` and ``per_iteration`` (``(slope, standard error)`` of the minima),
-        ``rounds_range`` (least and largest slope per step of a single round), and
-        ``ms_per_step`` (per size, of the minima).
+        ``rounds_range`` (least and largest slope per step of a single round),
+        ``halves`` (the slopes per step of the minima over the even rounds and over the
+        odd ones; the even ones alone for a single round) and ``ms_per_step`` (per size,
+        of the minima).
     """
-    per_step = times.min(axis=0).sum(axis=1) / steps
+    def minima(t):
+        return t.min(axis=0).sum(axis=1) / steps
+
+    per_step = minima(times)
     per_round = [slope(sizes, t.sum(axis=1) / steps)[0] for t in times]
+    halves = tuple(slope(sizes, minima(t))[0] for t in (times[0::2], times[1::2]) if len(t))
     return {"per_step": slope(sizes, per_step),
             "per_iteration": slope(sizes, per_step * steps / newton),
             "rounds_range": (min(per_round), max(per_round)),
+            "halves": halves,
             "ms_per_step": 1e3 * per_step}
 
 
-def table(sizes, steps=200, rounds=5, quick=False):
+def table(sizes, steps=200, rounds=8, quick=False):
     """Measure, print the rows and the exponents, and return their figures.
 
     Parameters
@@ -169,8 +183,10 @@ def table(sizes, steps=200, rounds=5, quick=False):
     low, high = fit["rounds_range"]
     note = " (quick: indicative only)" if quick else (
         "" if s <= GOAL else " ABOVE THE GOAL")
+    halves = " and ".join(f"{h:.3f}" for h in fit["halves"])
     print(f"exponent per step {s:.3f} +- {err:.3f} (goal <= {GOAL}){note}; single rounds "
-          f"{low:.3f} to {high:.3f}; per Newton iteration {si:.3f} +- {erri:.3f}")
+          f"{low:.3f} to {high:.3f}; even and odd rounds {halves}; per Newton iteration "
+          f"{si:.3f} +- {erri:.3f}")
     print(f"({steps} steps after the release, CPU time, minimum of {rounds} rounds chunk by "
           f"chunk of {CHUNK} steps, sizes alternated; load average {load:.1f} before, "
           f"{os.getloadavg()[0]:.1f} after)")

@@ -5,7 +5,7 @@ from numba import njit
 
 
 @njit(cache=True)
-def step_books(dq, before, after, mass, f_const, q, v):
+def step_books(dq, before, after, mass, f_const, q, v, mv):
     """Work of the damping and of the external and constraint forces over a step ``dq``
     by the trapezoidal rule, and the kinetic and potential energy at its end.
 
@@ -16,12 +16,14 @@ def step_books(dq, before, after, mass, f_const, q, v):
     before, after : tuple ``(f_damping, f_nc, f_con)``
         Damping force, non-constant external force and ``C_q^T lambda`` at the step's
         start and end.
-    mass : tuple ``(indptr, indices, data)``
-        The mass matrix (CSR).
+    mass : tuple ``(indptr, indices, data, k)``
+        The mass matrix ``M = M_s ⊗ I_k`` (``linalg.FastCSR.strided``: ``M_s`` in CSR).
     f_const : ndarray (n,)
         Constant external force (its potential is ``-f_const . q``).
     q, v : ndarray (n,)
         Coordinates and velocities at the step's end.
+    mv : ndarray (n,)
+        Scratch: ``M v``.
 
     Returns
     -------
@@ -31,17 +33,38 @@ def step_books(dq, before, after, mass, f_const, q, v):
     """
     fd0, fnc0, fcon0 = before
     fd1, fnc1, fcon1 = after
-    indptr, indices, data = mass
+    mass_product(mass, v, mv)
     dissipated = external = kinetic = potential = 0.0
     for i in range(dq.size):
         dissipated += dq[i] * (fd0[i] + fd1[i])
         external += dq[i] * (fnc0[i] + fnc1[i] - fcon0[i] - fcon1[i])
-        mv = 0.0
-        for k in range(indptr[i], indptr[i + 1]):
-            mv += data[k] * v[indices[k]]
-        kinetic += v[i] * mv
+        kinetic += v[i] * mv[i]
         potential -= f_const[i] * q[i]
     return 0.5 * dissipated, 0.5 * external, 0.5 * kinetic, potential
+
+
+@njit(cache=True, forceinline=True)
+def mass_product(mass, x, out):
+    """``out[:n] = M x`` for the mass ``M = M_s ⊗ I_k`` given as ``mass = (indptr,
+    indices, data, k)``, ``k`` 3 or 1 (``linalg.FastCSR.strided``): each entry the sum
+    over ``M``'s row in the order of its columns; for ``k = 3`` the three components of
+    a row of ``M_s`` in one pass over it (its values and indices read once)."""
+    indptr, indices, data, stride = mass
+    if stride == 3:
+        for row in range(indptr.size - 1):
+            m0 = m1 = m2 = 0.0
+            for k in range(indptr[row], indptr[row + 1]):
+                d, j = data[k], 3 * indices[k]
+                m0 += d * x[j]
+                m1 += d * x[j + 1]
+                m2 += d * x[j + 2]
+            out[3 * row], out[3 * row + 1], out[3 * row + 2] = m0, m1, m2
+    else:
+        for row in range(indptr.size - 1):
+            m = 0.0
+            for k in range(indptr[row], indptr[row + 1]):
+                m += data[k] * x[indices[k]]
+            out[row] = m
 
 
 @njit(cache=True)

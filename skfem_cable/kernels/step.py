@@ -15,7 +15,7 @@ the step control in Python, once per step.
 
 import numpy as np
 
-from .books import correct_elastic, step_books
+from .books import correct_elastic, mass_product, step_books
 
 #: Return codes of ``newton``.
 CONVERGED, NON_FINITE, NO_CONVERGENCE, SINGULAR = 0, 1, 2, 3
@@ -87,13 +87,13 @@ def _finish(model, state, out, prm):
     and the sums of its energy books (``kernels.books.step_books``) into ``books``."""
     q, a, abar, before = state[0], state[2], state[3], (state[7], state[8], state[9])
     q1, v1, a1, after = out[0], out[1], out[2], (out[9], out[8], out[10])
-    abar1, books, dq = out[22], out[23], out[24]
+    abar1, books, dq, mv = out[22], out[23], out[24], out[19]
     am, af = prm[ALPHA_M], prm[ALPHA_F]
     for i in range(q.size):
         abar1[i] = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
         dq[i] = q1[i] - q[i]
     books[0], books[1], books[2], books[3] = step_books(
-        dq, before, after, (model[0], model[1], model[2]), model[4], q1, v1)
+        dq, before, after, model[0], model[2], q1, v1, mv)
 
 
 def _iterate(terms, model, lu, state, out, prm):
@@ -117,11 +117,12 @@ def _iterate(terms, model, lu, state, out, prm):
         (and tangents) into ``ev``, ``constrain(blob, cev)`` its nonlinear constraints'
         rows.
     model : tuple
-        ``(m_indptr, m_indices, m_data, base, f_const, diag_index, xscale, inv_xscale,
-        c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the
-        mass matrix (CSR), the constant part of the iteration matrix, the constant force,
-        the positions of the diagonal, the coordinate scales, the linear constraints'
-        Jacobian and its transpose (CSR), their multiplier rows and offsets at ``t1``.
+        ``(mass, base, f_const, diag_index, xscale, inv_xscale, c_indptr, c_indices, c_data,
+        ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the mass matrix
+        (``linalg.FastCSR.strided``, read by ``kernels.books.mass_product``), the constant part
+        of the iteration matrix, the constant force, the positions of the diagonal, the
+        coordinate scales, the linear constraints' Jacobian and its transpose (CSR), their
+        multiplier rows and offsets at ``t1``.
     lu : tuple
         The two-level Schur LU of ``linalg.PatternSolver`` (``kernels.schur``; its
         storage: a factor made there is used here and the reverse).
@@ -153,7 +154,7 @@ def _iterate(terms, model, lu, state, out, prm):
     q, v, a, abar, lam, a_prev, da_prev = state[:7]
     (q1, v1, a1, lam1, r, data, nodata, f, f_ext, fd, f_con, energy, power, res_weight,
      history, fq, fv, flam, dx, rhs, s, cs) = out[:22]
-    xscale, inv_xscale = model[6], model[7]
+    xscale, inv_xscale = model[4], model[5]
     t1, h, am, af = prm[T1], prm[H], prm[ALPHA_M], prm[ALPHA_F]
     gm, bt, bp, gp = prm[GAMMA], prm[BETA], prm[BETA_P], prm[GAMMA_P]
     mbar, tol_floor, con_weight = prm[MBAR], prm[TOL], prm[CON_WEIGHT]
@@ -214,7 +215,7 @@ def _iterate(terms, model, lu, state, out, prm):
         if need:
             if not tangent:  # tangent requested after this evaluation: rebuild it
                 _residual(terms, model, q1, v1, a1, lam1, rhs, data, out, mbar, bp)
-            singular = _factor(lu, data, model[5], xscale, res_weight)
+            singular = _factor(lu, data, model[3], xscale, res_weight)
             if singular != -1:
                 return SINGULAR, it, factorizations, corrections, singular
             factorizations += 1
@@ -257,10 +258,9 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     empty, the iteration matrix) and write the scaled residual into ``r``: dynamic rows
     ``(M a1 + f - f_const - f_ext + C_q^T lam1) / beta'``, constraint rows
     ``mbar (C q1 - c(t1))`` (as ``System.evaluate`` writes them)."""
-    m_indptr, m_indices, m_data, base, f_const = model[:5]
+    mass, base, f_const = model[:3]
     f, f_ext, fd, f_con, energy, power, s = out[7], out[8], out[9], out[10], out[11], \
         out[12], out[20]
-    n = q1.size
     f[:] = 0.0
     f_ext[:] = 0.0
     fd[:] = 0.0
@@ -271,11 +271,9 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     evaluate = function(terms[0], EVALUATE)  # noqa: F821
     evaluate(terms[2], (q1, v1, s, f, f_ext, fd, data, energy, power))
     _constraints(terms, model, q1, lam1, r, data, f_con, out[21], mbar)
-    for i in range(n):
-        ma = 0.0
-        for j in range(m_indptr[i], m_indptr[i + 1]):
-            ma += m_data[j] * a1[m_indices[j]]
-        r[i] = (ma + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
+    mass_product(mass, a1, r)  # M a1 into the dynamic rows, then the forces
+    for i in range(q1.size):
+        r[i] = (r[i] + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
 
 
 def _constraints(terms, model, q1, lam1, r, data, f_con, cs, mbar):
@@ -295,7 +293,7 @@ def _constraints(terms, model, q1, lam1, r, data, f_con, cs, mbar):
     work, first order in the step (``tests/test_books_hub.py``).  The damping and
     external forces of the books are those before the correction: it moves them by
     ``O(dq)``, held below the tolerance in the coordinates."""
-    (c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t) = model[8:]
+    (c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t) = model[6:]
     n = q1.size
     for k in range(lin_rows.size):
         acc = 0.0

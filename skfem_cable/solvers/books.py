@@ -39,7 +39,7 @@ class Books:
             before = forces if start else (self.fd, self.fnc, self.fcon)
             dq = np.zeros_like(q1) if start else q1 - self.q
             dissipated, external, kinetic, potential = step_books(
-                dq, before, forces, (M.indptr, M.indices, M.data), self.lay.f_const, q1, v1)
+                dq, before, forces, M.strided, self.lay.f_const, q1, v1, np.empty(q1.size))
         rate = self.system.energy_rate(q1, t1) if self.energy_depends_on_time else 0.0
         if not start:
             dissipated += self.dissipated

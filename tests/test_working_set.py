@@ -1,0 +1,97 @@
+"""The working set of a Newton iteration (issue 47, linear cost at scale): the band
+solves read the factor split into ``L`` and ``U`` (``kernels.bordered.split``), with
+the same results bit for bit as from LAPACK's storage; the mass matrix in the compact
+form of the step (``FastCSR.strided``); the exponent's measure
+(``benchmarks/step_exponent.py``)."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from scipy.linalg import lapack
+
+from skfem_cable.core.linalg import FastCSR
+from skfem_cable.kernels import bordered
+from skfem_cable.kernels.books import step_books
+
+
+@pytest.fixture(scope="module", params=[False, True], ids=["no interchanges", "pivoting"])
+def factored(request):
+    """LAPACK's banded LU (``dgbtrf``, in ``kernels.lapack``'s layout: a row per column)
+    of a random band of 40 unknowns and half-width 3: diagonally dominant (no row
+    interchanges), or with tiny first diagonals (interchanges there), and its split."""
+    n, band = 40, 3
+    rng = np.random.default_rng(0)
+    storage = np.zeros((3 * band + 1, n), order="F")
+    storage[band:] = rng.standard_normal((2 * band + 1, n))
+    storage[2 * band] += 0.0 if request.param else 4.0 * band
+    if request.param:
+        storage[2 * band, :3] = 1e-3
+    A = sp.dia_matrix((storage[band:], np.arange(band, -band - 1, -1)), shape=(n, n))
+    lu, pivots, info = lapack.dgbtrf(storage, band, band)
+    assert info == 0
+    ab, ipiv = np.ascontiguousarray(lu.T), (pivots + 1).astype(np.int32)
+    lower, upper = np.zeros((n, band)), np.zeros((n, 2 * band + 1))
+    bordered.split(ab, band, lower, upper)
+    return A.tocsr(), ab, ipiv, band, lower, upper, request.param
+
+
+def test_split_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
+    """A solve from the split factor (``split_substitute``, what ``bordered.solve`` runs
+    per block) gives the same bits as ``band_substitute`` on LAPACK's storage, and
+    solves the system; with row interchanges (fill in ``U``) too."""
+    A, ab, ipiv, band, lower, upper, pivoting = factored
+    assert np.any(ipiv != np.arange(1, A.shape[0] + 1)) == pivoting
+    rhs = np.linspace(-1.0, 2.0, A.shape[0])
+    expected, x = rhs.copy(), rhs.copy()
+    bordered.band_substitute(ab, band, ipiv, expected)
+    bordered.split_substitute(lower, upper, band, ipiv, x)
+    assert np.array_equal(x, expected)
+    assert np.allclose(A @ x, rhs, rtol=0, atol=1e-10)
+
+
+def test_split_holds_the_factor(factored):
+    """``lower`` holds the multipliers and ``upper`` the rest of every column of LAPACK's
+    storage."""
+    _, ab, _, band, lower, upper, _ = factored
+    assert np.array_equal(lower, ab[:, 2 * band + 1:])
+    assert np.array_equal(upper, ab[:, :2 * band + 1])
+
+
+def test_mass_of_three_alike_components_is_strided_and_the_same_product():
+    """A mass ``M_s ⊗ I_3`` (a cable's: its nodes' vectors' components coupled alike) is
+    found value for value (int32 indices, a third of the rows); a coupling across
+    components keeps ``M`` itself (``k = 1``); the books' ``v . M v`` from the strided
+    form (``kernels.books.mass_product``) is the CSR's bit for bit."""
+    rng = np.random.default_rng(1)
+    coarse = sp.random(8, 8, density=0.4, random_state=rng) + sp.eye(8)
+    M = FastCSR(sp.kron(coarse + coarse.T, sp.eye(3)))
+    indptr, indices, data, k = M.strided
+    assert k == 3 and indices.dtype == np.int32 and indptr.size - 1 == M.shape[0] // 3
+    v = np.linspace(-1.0, 1.0, M.shape[0])
+    zero = np.zeros_like(v)
+    kinetic = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, v, v, zero.copy())[2]
+    reference = step_books(zero, (zero,) * 3, (zero,) * 3,
+                           (M.indptr, M.indices, M.data, 1), zero, v, v, zero.copy())[2]
+    assert kinetic == reference
+    assert kinetic == pytest.approx(0.5 * float(v @ (M @ v)), rel=1e-12)
+    skew = M.scipy.tolil()
+    skew[0, 1] = 1e-3
+    assert FastCSR(skew).strided[3] == 1
+
+
+def test_exponent_halves_are_the_minima_of_even_and_odd_rounds():
+    """``step_exponent.exponents``: the slopes of the minima over the even and over the
+    odd rounds; equal on an exact power law, apart where only the even rounds were
+    slowed at the largest size all along (a spell no minimum removes)."""
+    from test_benchmarks import BENCH, load
+
+    exponent = load(BENCH / "step_exponent.py")
+    sizes = np.array([1000, 3200, 10000])
+    steps, chunk = 40, 20
+    times = np.empty((4, sizes.size, steps // chunk))
+    times[:] = (chunk * 1e-3 * (sizes / 1000) ** 1.01)[:, None]
+    even, odd = exponent.exponents(sizes, times, np.full(3, 2.4 * steps), steps)["halves"]
+    assert abs(even - 1.01) < 1e-12 and abs(odd - 1.01) < 1e-12
+    times[0::2, -1] *= 1.2
+    even, odd = exponent.exponents(sizes, times, np.full(3, 2.4 * steps), steps)["halves"]
+    assert abs(odd - 1.01) < 1e-12 and even > odd + 0.05
