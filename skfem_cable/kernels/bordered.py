@@ -46,8 +46,10 @@ from numba import njit, prange
 
 from .lapack import band_factor, dense_factor, dense_solve
 
-#: The stages of a block (``_block``).
-FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
+#: The stages of a block (``_block``): ``np.int64``, not int, so that numba types them as
+#: int64 and compiles ``_block`` and its callers once, not once per stage (a global
+#: int is typed as its literal value, a signature of its own).
+FACTOR, SUBSTITUTE, CORRECT = np.int64(0), np.int64(1), np.int64(2)
 
 
 @njit(cache=True)
@@ -58,7 +60,7 @@ def factor(lu, data):
      starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
     k = S.shape[0]
     nblocks = starts.size - 1
-    _scatter(data, target, position, ab, E, F, S, parallel)
+    _scatter(data, target, position, ab, E.ravel(), F.ravel(), S.ravel(), parallel)
     _blocks(lu, FACTOR, parallel)
     for j in range(nblocks):
         if infos[j] > 0:
@@ -79,18 +81,21 @@ def factor(lu, data):
 def _scatter(data, target, position, ab, E, F, S, parallel):
     """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``), every
     other entry zero; on numba's threads unless ``parallel`` is None (assignments to distinct
-    places: the same on any thread count)."""
-    flat = (ab.ravel(), E.ravel(), F.ravel(), S.ravel())
+    places: the same on any thread count).  ``E``, ``F``, ``S`` flat (1-D views), as
+    ``kernels.schur`` passes its own: one signature for both."""
+    flat = (ab.ravel(), E, F, S)
     if parallel is not None:
         _scatter_parallel(data, target, position, flat)
         return
     for k in range(4):
-        _fill(flat[k], 0, flat[k].size)
-    _place(data, target, position, flat, 0, data.size)
+        _fill(flat[k], FIRST, flat[k].size)
+    _place(data, target, position, flat, FIRST, data.size)
 
 
 #: Entries per piece of the threaded scatter.
 PIECE = 16384
+#: The first entry, int64 as the pieces' (a literal 0 would be a signature of its own).
+FIRST = np.int64(0)
 
 
 @njit(cache=True, parallel=True)
@@ -203,22 +208,23 @@ def _blocks(lu, stage, parallel):
         _blocks_parallel(lu, stage)
     else:
         for j in range(lu[14].size - 1):
-            _block(lu, j, stage)
+            _block(lu[:-1], j, stage)
 
 
 @njit(cache=True, parallel=True)
 def _blocks_parallel(lu, stage):
     for j in prange(lu[14].size - 1):
-        _block(lu, j, stage)
+        _block(lu[:-1], np.int64(j), stage)  # prange's index is unsigned: one signature
 
 
 @njit(cache=True)
 def _block(lu, j, stage):
     """Block ``j`` at ``stage``: ``FACTOR`` (``_factor_block``, its ``info`` into
     ``infos[j]``), ``SUBSTITUTE`` (a solve's ``y_j = B_j^{-1} x_j``) or ``CORRECT``
-    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``)."""
+    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``); ``lu`` without its
+    last member, ``parallel`` (None or True: one signature for both)."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos) = lu
     start, end = starts[j], starts[j + 1]
     if stage == FACTOR:
         infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], start, end,

@@ -60,8 +60,10 @@ from . import bordered
 from .bordered import band_substitute
 from .lapack import band_factor
 
-#: The stages of a block (``_block``).
-FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
+#: The stages of a block (``_block``): ``np.int64``, not int, so that numba types them as
+#: int64 and compiles ``_block`` and its callers once, not once per stage (a global
+#: int is typed as its literal value, a signature of its own).
+FACTOR, SUBSTITUTE, CORRECT = np.int64(0), np.int64(1), np.int64(2)
 
 
 @njit(cache=True)
@@ -175,7 +177,7 @@ def _blocks(blocks, stage, parallel):
 @njit(cache=True, parallel=True)
 def _blocks_parallel(blocks, stage):
     for j in prange(blocks[6].size - 1):
-        _block(blocks, j, stage)
+        _block(blocks, np.int64(j), stage)  # prange's index is unsigned: one signature
 
 
 @njit(cache=True)
