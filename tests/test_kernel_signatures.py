@@ -1,10 +1,11 @@
 """One compiled signature per package kernel where the variants are not needed (issue 47,
 item 5: the test command in five minutes).  numba compiles a kernel again for every new
-tuple of argument types: a global int passed as an argument is typed as its literal value
-(a signature per stage of a block), ``prange``'s index is unsigned, an array of another
-dimension or layout is another type.  The bordered band LU of two different systems, one
-of them on threads, holds one signature of each block kernel; only its threaded loop,
-pruned on one thread (``parallel`` None or True), is a variant."""
+tuple of argument types: a global int passed as an argument is typed as its literal value,
+``prange``'s index is unsigned, an array of another dimension or layout is another type.
+The bordered band LU of two different systems, one of them on threads, holds one
+signature of each kernel per stage of a block (literal: the other stages pruned) and per
+``parallel`` flag (None or True: the threaded loop pruned on one thread), the variants
+that are needed."""
 
 import numpy as np
 import pytest
@@ -63,20 +64,25 @@ def test_the_bordered_lu_solves_both(solved):
     assert max(solved) < 1e-12
 
 
-@pytest.mark.parametrize("kernel", ["_block", "_fill", "_place", "_blocks_parallel"])
-def test_one_signature_for_every_stage_system_and_thread_count(solved, kernel):
-    """A block's stages, its index from a loop or a ``prange`` and the ``lu`` of either
-    thread count (its ``parallel`` member is not passed down)."""
-    assert len(compiled(getattr(bordered, kernel))) == 1
+def test_a_block_is_compiled_per_stage_and_thread_flag_alone(solved):
+    """``_block``: one signature per stage (a literal: the other stages pruned, a needed
+    variant, faster) and per ``parallel`` flag; its index int64 from a loop and from a
+    ``prange`` (unsigned, cast) alike."""
+    signatures = compiled(bordered._block)
+    assert all(", int64, Literal[int](" in s for s in signatures)
+    assert len(signatures) == 6
 
 
-@pytest.mark.parametrize("kernel", ["_blocks", "_scatter", "factor", "solve"])
-def test_the_threaded_variant_alone(solved, kernel):
-    """None or True for ``parallel``: the threaded loop compiled only where it runs."""
-    assert len(compiled(getattr(bordered, kernel))) == 2
+def test_the_scatter_takes_flat_arrays_from_either_lu(solved):
+    """``_scatter``: ``E``, ``F``, ``S`` flat, as ``kernels.schur`` passes them; one
+    signature per ``parallel`` flag."""
+    signatures = compiled(bordered._scatter)
+    assert len(signatures) == 2
+    assert all(s.count("Array(float64, 1, 'C'") == 4 for s in signatures)
 
 
 def test_the_band_lu_of_lapack_takes_int64_half_widths(solved):
+    """Not a literal 2 (``kernels.oml``'s ``KL``, ``KU``)."""
     assert compiled(lapack.band_factor) and all(
         "Literal" not in s for s in compiled(lapack.band_factor))
 

@@ -46,10 +46,12 @@ from numba import njit, prange
 
 from .lapack import band_factor, dense_factor, dense_solve
 
-#: The stages of a block (``_block``): ``np.int64``, not int, so that numba types them as
-#: int64 and compiles ``_block`` and its callers once, not once per stage (a global
-#: int is typed as its literal value, a signature of its own).
-FACTOR, SUBSTITUTE, CORRECT = np.int64(0), np.int64(1), np.int64(2)
+#: The stages of a block (``_block``).  Plain ints: numba types a global int as its
+#: literal value, so ``_block`` and ``_blocks`` are compiled once per stage, each with
+#: the other stages' branches pruned; one int64 stage for all three compiled once, but
+#: made the bordered LU of the full-size sail 1.2 to 1.3 times slower (its factor and
+#: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
+FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
 
 @njit(cache=True)
@@ -88,14 +90,12 @@ def _scatter(data, target, position, ab, E, F, S, parallel):
         _scatter_parallel(data, target, position, flat)
         return
     for k in range(4):
-        _fill(flat[k], FIRST, flat[k].size)
-    _place(data, target, position, flat, FIRST, data.size)
+        _fill(flat[k], 0, flat[k].size)
+    _place(data, target, position, flat, 0, data.size)
 
 
 #: Entries per piece of the threaded scatter.
 PIECE = 16384
-#: The first entry, int64 as the pieces' (a literal 0 would be a signature of its own).
-FIRST = np.int64(0)
 
 
 @njit(cache=True, parallel=True)
@@ -208,23 +208,22 @@ def _blocks(lu, stage, parallel):
         _blocks_parallel(lu, stage)
     else:
         for j in range(lu[14].size - 1):
-            _block(lu[:-1], j, stage)
+            _block(lu, j, stage)
 
 
 @njit(cache=True, parallel=True)
 def _blocks_parallel(lu, stage):
     for j in prange(lu[14].size - 1):
-        _block(lu[:-1], np.int64(j), stage)  # prange's index is unsigned: one signature
+        _block(lu, np.int64(j), stage)  # prange's index is unsigned: one signature
 
 
 @njit(cache=True)
 def _block(lu, j, stage):
     """Block ``j`` at ``stage``: ``FACTOR`` (``_factor_block``, its ``info`` into
     ``infos[j]``), ``SUBSTITUTE`` (a solve's ``y_j = B_j^{-1} x_j``) or ``CORRECT``
-    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``); ``lu`` without its
-    last member, ``parallel`` (None or True: one signature for both)."""
+    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``)."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos) = lu
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, parallel) = lu
     start, end = starts[j], starts[j + 1]
     if stage == FACTOR:
         infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], start, end,

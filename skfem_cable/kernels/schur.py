@@ -60,10 +60,12 @@ from . import bordered
 from .bordered import band_substitute
 from .lapack import band_factor
 
-#: The stages of a block (``_block``): ``np.int64``, not int, so that numba types them as
-#: int64 and compiles ``_block`` and its callers once, not once per stage (a global
-#: int is typed as its literal value, a signature of its own).
-FACTOR, SUBSTITUTE, CORRECT = np.int64(0), np.int64(1), np.int64(2)
+#: The stages of a block (``_block``).  Plain ints: numba types a global int as its
+#: literal value, so ``_block`` and ``_blocks`` are compiled once per stage, each with
+#: the other stages' branches pruned; one int64 stage for all three compiled once, but
+#: made the bordered LU of the full-size sail 1.2 to 1.3 times slower (its factor and
+#: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
+FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
 
 @njit(cache=True)
