@@ -131,7 +131,7 @@ class Rod(Cable):
         the smallest rotation: the reference of a static state (a run's own frames are
         transported step by step, ``rod_frames``)."""
         t0, d0 = self.initial_frames()
-        slopes = np.arange(self.n_centreline).reshape(-1, 6)[:, 3:]
+        slopes = np.ascontiguousarray(np.arange(self.n_centreline).reshape(-1, 6)[:, 3:])
         kernel.rebase(np.ascontiguousarray(q, dtype=float), slopes, t0, d0)
         return t0, d0
 

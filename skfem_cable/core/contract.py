@@ -291,6 +291,15 @@ class Term:
         """True when the term adds forces at every evaluation."""
         return self.add is not None or bool(self.kernels)
 
+    def no_index(self):
+        """An empty index of the dimensions of the term's own (``rows`` and ``cols``
+        broadcast): its kernels, compiled for that index, are not compiled again for a
+        call without the tangent."""
+        if self.rows is None:
+            return NO_INDEX
+        shape = np.broadcast_shapes(np.shape(self.rows), np.shape(self.cols))
+        return NO_INDEX.reshape((0,) + shape[1:])
+
     def evaluate(self, ev, index):
         """Add this term's forces (and tangents) to the ``Evaluation`` ``ev``."""
         if self.add is not None:
@@ -299,7 +308,7 @@ class Term:
         if self.prepare is not None:
             self.prepare(ev.t)
         packed = ev.packed()
-        index = NO_INDEX if index is None else index
+        index = self.no_index() if index is None else index
         for function, pack in self.kernels:
             function(pack, index, packed)
 

@@ -61,7 +61,11 @@ from numba import njit, prange
 
 from .lapack import band_factor, dense_factor, dense_solve
 
-#: The stages of a block (``_block``).
+#: The stages of a block (``_block``).  Plain ints: numba types a global int as its
+#: literal value, so ``_block`` and ``_blocks`` are compiled once per stage, each with
+#: the other stages' branches pruned; one int64 stage for all three compiled once, but
+#: made the bordered LU of the full-size sail 1.2 to 1.3 times slower (its factor and
+#: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
 FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
 
@@ -74,7 +78,7 @@ def factor(lu, data):
      parallel) = lu
     k = S.shape[0]
     nblocks = starts.size - 1
-    _scatter(data, target, position, ab, E, F, S, parallel)
+    _scatter(data, target, position, ab, E.ravel(), F.ravel(), S.ravel(), parallel)
     _blocks(lu, FACTOR, parallel)
     for j in range(nblocks):
         if infos[j] > 0:
@@ -95,8 +99,9 @@ def factor(lu, data):
 def _scatter(data, target, position, ab, E, F, S, parallel):
     """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``), every
     other entry zero; on numba's threads unless ``parallel`` is None (assignments to distinct
-    places: the same on any thread count)."""
-    flat = (ab.ravel(), E.ravel(), F.ravel(), S.ravel())
+    places: the same on any thread count).  ``E``, ``F``, ``S`` flat (1-D views), as
+    ``kernels.schur`` passes its own: one signature for both."""
+    flat = (ab.ravel(), E, F, S)
     if parallel is not None:
         _scatter_parallel(data, target, position, flat)
         return
@@ -226,7 +231,7 @@ def _blocks(lu, stage, parallel):
 @njit(cache=True, parallel=True)
 def _blocks_parallel(lu, stage):
     for j in prange(lu[14].size - 1):
-        _block(lu, j, stage)
+        _block(lu, np.int64(j), stage)  # prange's index is unsigned: one signature
 
 
 @njit(cache=True)

@@ -382,7 +382,8 @@ def resolve(edofs, S, segments, pairs, count, coef, q, v, out):
             continue
         Fd[:] = 0.0
         s, t = st
-        p = pair(P, V, s, t, coef, True, False, F, Fd, K, K, K, work)
+        # flags as bool values, not literals: ``kernel``'s signature of ``pair``
+        p = pair(P, V, s, t, coef, np.bool_(True), np.bool_(False), F, Fd, K, K, K, work)
         if p <= 0.0:
             continue
         row = out[active]

@@ -36,10 +36,12 @@ TOL = 1e-11
 """Newton stops when its step is below ``TOL`` times the scales of current and bias."""
 MAX_ITER = 60
 """Newton iterations before the solver reports failure (``iterations = -1``)."""
-KL = 2
+KL = np.int64(2)
 """Sub-diagonals of the Newton matrix (``KU`` super-diagonals; LAPACK's band storage
-keeps ``KL`` more rows for the fill of the row exchanges)."""
-KU = 2
+keeps ``KL`` more rows for the fill of the row exchanges).  ``np.int64``: numba types a
+global int as its literal value, and ``kernels.lapack``'s band LU would be compiled
+again for it (``kernels.bordered`` passes an int64)."""
+KU = np.int64(2)
 
 
 @njit(cache=True)
@@ -96,10 +98,13 @@ def node_fields(stations, nodes, E, N):
 
 
 @njit(cache=True)
-def residual(x, z, on, E, N, c, bc, F, AB, want):
+def residual(x, z, on, E, N, c, bc, F, AB):
     """The residual ``F`` (2 K + 2,) at the unknowns ``x = (I_0, dV_0, I_1, ...)`` and,
-    if ``want``, the Newton matrix in LAPACK's band storage ``AB`` (``kernels.lapack``:
-    ``A[i, j]`` at ``AB[j, KL + KU + i - j]``); ``bc = (V_C, R_L, V_s)``."""
+    unless ``AB`` is empty, the Newton matrix in LAPACK's band storage ``AB``
+    (``kernels.lapack``: ``A[i, j]`` at ``AB[j, KL + KU + i - j]``); ``bc = (V_C, R_L,
+    V_s)``.  (A flag passed as ``True`` or ``False`` would be typed as its literal value:
+    two signatures.)"""
+    want = AB.shape[0] > 0
     K = z.shape[0] - 1
     y, R, J = np.empty(4), np.empty(2), np.empty((2, 4))
     Ek, Nk = np.empty(2), np.empty(2)
@@ -165,7 +170,7 @@ def solve(nodes, E, N, c, bc, work):
     I_scale = max(E_max, 1e-30) / c[2]
     V_scale = E_max * z[-1] + abs(bc[0]) + abs(bc[2]) + 1.0
     for it in range(MAX_ITER):
-        residual(x, z, on, E, N, c, bc, F, AB, True)
+        residual(x, z, on, E, N, c, bc, F, AB)
         norm = scaled_norm(F, I_scale, V_scale)
         for i in range(F.shape[0]):
             dx[i] = -F[i]
@@ -183,7 +188,7 @@ def solve(nodes, E, N, c, bc, work):
         for _ in range(30):
             for i in range(x.shape[0]):
                 trial[i] = x[i] + lam * dx[i]
-            residual(trial, z, on, E, N, c, bc, F, AB[:0], False)
+            residual(trial, z, on, E, N, c, bc, F, AB[:0])
             if scaled_norm(F, I_scale, V_scale) <= norm or step * lam < TOL:
                 break
             lam *= 0.5

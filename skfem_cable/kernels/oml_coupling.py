@@ -58,7 +58,7 @@ def node_sensitivities(nodes, E, N, c, work, dy):
         dy[k + 1, row] -= h * h * dm / 12.0
         dy[k, row + 1] += 0.5 * h
         dy[k + 1, row + 1] += 0.5 * h
-    lapack.band_solve(addresses, AB, KL, KU, ipiv, dy, ints)
+    lapack.band_solve(addresses, AB, KL, KU, ipiv, dy.ravel(), ints)  # 1-D: one signature
 
 
 @njit(cache=True)

@@ -14,6 +14,10 @@ from numba import njit
 
 from .central import differential_acceleration
 
+#: ``load_vector``'s ``elastic`` from the kernels: a bool as the Python callers' (a
+#: literal ``True`` is typed as its value, a second signature).
+ELASTIC = np.bool_(True)
+
 
 @njit(cache=True, error_model="numpy")
 def factor_mass(m, p):
@@ -101,7 +105,7 @@ def load_vector(q, masses, l0, EA, compression, elastic, geff, w, tip, Fx, Fxs, 
 def derivative(q, masses, l0, EA, compression, a, b, geff, w, tip, Fx, Fxs, max_strain,
                work, out):
     """Rod-vector accelerations ``M^{-1} (Q - K q)`` (Eq. 21); returns ``load_vector``'s flag."""
-    bad = load_vector(q, masses, l0, EA, compression, True, geff, w, tip, Fx, Fxs, max_strain,
+    bad = load_vector(q, masses, l0, EA, compression, ELASTIC, geff, w, tip, Fx, Fxs, max_strain,
                       work)
     solve_mass(a, b, work, out)
     return bad
@@ -167,7 +171,7 @@ def rk4_block(q, v, dt, nsteps, stride, masses, l0, EA, compression, a, b, gtab,
             j = (s + 1) // stride - 1
             out_q[j] = q
             out_v[j] = v
-    bad = load_vector(q, masses, l0, EA, compression, True, gtab[2 * nsteps], w, tip, zero,
+    bad = load_vector(q, masses, l0, EA, compression, ELASTIC, gtab[2 * nsteps], w, tip, zero,
                       zero, max_strain, work)
     if bad >= 0:
         return nsteps, bad
@@ -229,7 +233,7 @@ def orbit_derivative(x, masses, l0, EA, compression, ends, a, b, R, mu, xi, wq, 
     (a rod index ``0 .. n-1``, or -1).
     """
     orbit_loads(x, masses, ends, R, mu, xi, wq, F, Fs)
-    bad = load_vector(x[1:], masses, l0, EA, compression, True, zero, zero, zero, F[1:],
+    bad = load_vector(x[1:], masses, l0, EA, compression, ELASTIC, zero, zero, zero, F[1:],
                       Fs[1:], max_strain, work[1:])
     for d in range(3):
         total = F[0, d]

@@ -60,7 +60,11 @@ from . import bordered
 from .bordered import band_substitute
 from .lapack import band_factor
 
-#: The stages of a block (``_block``).
+#: The stages of a block (``_block``).  Plain ints: numba types a global int as its
+#: literal value, so ``_block`` and ``_blocks`` are compiled once per stage, each with
+#: the other stages' branches pruned; one int64 stage for all three compiled once, but
+#: made the bordered LU of the full-size sail 1.2 to 1.3 times slower (its factor and
+#: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
 FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
 
@@ -175,7 +179,7 @@ def _blocks(blocks, stage, parallel):
 @njit(cache=True, parallel=True)
 def _blocks_parallel(blocks, stage):
     for j in prange(blocks[6].size - 1):
-        _block(blocks, j, stage)
+        _block(blocks, np.int64(j), stage)  # prange's index is unsigned: one signature
 
 
 @njit(cache=True)

@@ -150,9 +150,10 @@ def _compiled_field(sources, x):
     X = np.ascontiguousarray(np.asarray(x, dtype=float))
     if X.shape[-1:] != (3,):
         raise ValueError(f"positions must have shape (..., 3), got {X.shape}")
-    B, dB = np.empty(X.shape), np.empty(X.shape + (3,))
-    kernel.dipole_points(np.ascontiguousarray(sources), X, B, dB)
-    return B, dB
+    points = X.reshape(-1, 1, 3)  # as the kernels' (ne, nq, 3): one compiled signature
+    B, dB = np.empty(points.shape), np.empty(points.shape + (3,))
+    kernel.dipole_points(np.ascontiguousarray(sources), points, B, dB)
+    return B.reshape(X.shape), dB.reshape(X.shape + (3,))
 
 
 def _drive(current, resistance):

@@ -1,0 +1,97 @@
+"""One compiled signature per package kernel where the variants are not needed (issue 47,
+item 5: the test command in five minutes).  numba compiles a kernel again for every new
+tuple of argument types: a global int passed as an argument is typed as its literal value,
+``prange``'s index is unsigned, an array of another dimension or layout is another type.
+The bordered band LU of two different systems, one of them on threads, holds one
+signature of each kernel per stage of a block (literal: the other stages pruned) and per
+``parallel`` flag (None or True: the threaded loop pruned on one thread), the variants
+that are needed."""
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+
+from skfem_cable.core.contract import NO_INDEX, Term
+from skfem_cable.kernels import bordered, lapack
+
+
+def arrowhead(sizes, k, seed):
+    """A diagonally dominant matrix of tridiagonal blocks of ``sizes`` and ``k`` border
+    unknowns joined to every block's first and last unknowns (CSR, the border last)."""
+    nb = sum(sizes)
+    n = nb + k
+    dense = np.zeros((n, n))
+    start = 0
+    for size in sizes:
+        for i in range(start, start + size):
+            dense[i, max(i - 1, start):min(i + 2, start + size)] = 1.0
+        for b in range(nb, n):
+            dense[[start, start + size - 1], b] = dense[b, [start, start + size - 1]] = 1.0
+        start += size
+    dense[nb:, nb:] = 1.0
+    rng = np.random.default_rng(seed)
+    dense *= rng.uniform(0.5, 1.0, dense.shape)
+    dense[np.diag_indices(n)] = 10.0
+    return sp.csr_matrix(dense), nb
+
+
+def compiled(kernel):
+    """The signatures ``kernel`` was compiled for: this process's and those in numba's
+    cache index (a kernel linked into a caller loaded from the cache is not compiled
+    again, and holds none in ``signatures``)."""
+    cached = kernel._cache._cache_file._load_index()
+    return {str(key[0]) for key in cached} | {str(s) for s in kernel.signatures}
+
+
+@pytest.fixture(scope="module")
+def solved():
+    """The solution errors of two arrowheads, one factored and solved on threads."""
+    errors = []
+    for sizes, k, threads in (((5, 6), 2, 1), ((4, 5, 6), 3, 2)):
+        A, nb = arrowhead(sizes, k, seed=len(sizes))
+        coo = A.tocoo()
+        lu = bordered.storage(lapack.ADDRESSES, coo.row, coo.col, np.arange(A.shape[0]),
+                              nb, 1, threads=threads)
+        assert bordered.factor(lu, coo.data) == -1
+        rhs = np.arange(A.shape[0], dtype=float)
+        out = np.empty_like(rhs)
+        bordered.solve(lu, rhs, out)
+        errors.append(np.abs(A @ out - rhs).max())
+    return errors
+
+
+def test_the_bordered_lu_solves_both(solved):
+    assert max(solved) < 1e-12
+
+
+def test_a_block_is_compiled_per_stage_and_thread_flag_alone(solved):
+    """``_block``: one signature per stage (a literal: the other stages pruned, a needed
+    variant, faster) and per ``parallel`` flag; its index int64 from a loop and from a
+    ``prange`` (unsigned, cast) alike."""
+    signatures = compiled(bordered._block)
+    assert all(", int64, Literal[int](" in s for s in signatures)
+    assert len(signatures) == 6
+
+
+def test_the_scatter_takes_flat_arrays_from_either_lu(solved):
+    """``_scatter``: ``E``, ``F``, ``S`` flat, as ``kernels.schur`` passes them; one
+    signature per ``parallel`` flag."""
+    signatures = compiled(bordered._scatter)
+    assert len(signatures) == 2
+    assert all(s.count("Array(float64, 1, 'C'") == 4 for s in signatures)
+
+
+def test_the_band_lu_of_lapack_takes_int64_half_widths(solved):
+    """Not a literal 2 (``kernels.oml``'s ``KL``, ``KU``)."""
+    assert compiled(lapack.band_factor) and all(
+        "Literal" not in s for s in compiled(lapack.band_factor))
+
+
+def test_an_evaluation_without_the_tangent_has_the_index_dimensions():
+    """``Term.evaluate(ev, None)``: an empty index of the term's own dimensions, not a
+    1-D one that would compile its kernels again."""
+    rows = np.zeros((4, 6, 6), dtype=np.int64)
+    assert Term(kernels=(), rows=rows, cols=rows).no_index().shape == (0, 6, 6)
+    assert Term(kernels=(), rows=rows[:, :, :1].reshape(4, 6), cols=np.zeros(
+        (1, 6), dtype=np.int64)).no_index().shape == (0, 6)
+    assert Term(kernels=()).no_index() is NO_INDEX
