@@ -270,14 +270,14 @@ def band_substitute(ab, band, ipiv, b):
     half-width 13)."""
     kv = 2 * band
     _lower_sweep(ab, kv + 1, band, ipiv, b)
-    _upper_sweep(ab, kv, b, 0, ab.shape[0])
+    _upper_sweep(ab, kv, b)
 
 
 @njit(cache=True)
 def split_substitute(lower, upper, band, ipiv, b):
     """``band_substitute`` from the factor split by ``split``: the same operations."""
     _lower_sweep(lower, 0, band, ipiv, b)
-    _upper_sweep(upper, 2 * band, b, 0, upper.shape[0])
+    _upper_sweep(upper, 2 * band, b)
 
 
 @njit(cache=True)
@@ -299,11 +299,10 @@ def _lower_sweep(store, offset, band, ipiv, b):
 
 
 @njit(cache=True)
-def _upper_sweep(store, width, b, first, last):
-    """``b = U^{-1} b`` over the columns ``last - 1`` down to ``first`` of ``U``, column
-    ``j`` stored as ``store[j, :width + 1]``: ``width`` superdiagonals then the
-    diagonal."""
-    for j in range(last - 1, first - 1, -1):
+def _upper_sweep(store, width, b):
+    """``b = U^{-1} b``, column ``j`` of ``U`` stored as ``store[j, :width + 1]``:
+    ``width`` superdiagonals then the diagonal."""
+    for j in range(store.shape[0] - 1, -1, -1):
         bj = b[j] / store[j, width]
         b[j] = bj
         m = min(j, width)
