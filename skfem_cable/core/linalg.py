@@ -19,12 +19,12 @@ import os
 import numba
 import numpy as np
 import scipy.sparse as sp
-from numba import njit
 from scipy.sparse.csgraph import reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
 
 from ..kernels import bordered as bordered_lu
 from ..kernels import schur
+from ..kernels.books import csr_product
 from ..kernels.lapack import ADDRESSES
 
 #: The environment variable of the number of threads of the bordered LU's blocks
@@ -242,16 +242,6 @@ class PatternSolver:
         return out
 
 
-@njit(cache=True)
-def _csr_matvec(indptr, indices, data, x, out):
-    for i in range(len(indptr) - 1):
-        acc = 0.0
-        for k in range(indptr[i], indptr[i + 1]):
-            acc += data[k] * x[indices[k]]
-        out[i] = acc
-    return out
-
-
 class FastCSR:
     """A CSR matrix whose product with a vector skips scipy's per-call overhead (it
     dominates for the small matrices multiplied at every Newton iteration)."""
@@ -292,5 +282,5 @@ class FastCSR:
         return indptr.astype(np.int32), indices.astype(np.int32), data, 1
 
     def __matmul__(self, x):
-        return _csr_matvec(self.indptr, self.indices, self.data, np.ascontiguousarray(x),
+        return csr_product(self.indptr, self.indices, self.data, np.ascontiguousarray(x),
                            np.empty(self.shape[0]))

@@ -60,11 +60,19 @@ def mass_product(mass, x, out):
                 m2 += d * x[j + 2]
             out[3 * row], out[3 * row + 1], out[3 * row + 2] = m0, m1, m2
     else:
-        for row in range(indptr.size - 1):
-            m = 0.0
-            for k in range(indptr[row], indptr[row + 1]):
-                m += data[k] * x[indices[k]]
-            out[row] = m
+        csr_product(indptr, indices, data, x, out)
+
+
+@njit(cache=True, forceinline=True)
+def csr_product(indptr, indices, data, x, out):
+    """``out[:n] = A x`` for the CSR matrix ``A = (indptr, indices, data)``, each entry the
+    sum over its row in the order of its columns; returns ``out``."""
+    for row in range(indptr.size - 1):
+        m = 0.0
+        for k in range(indptr[row], indptr[row + 1]):
+            m += data[k] * x[indices[k]]
+        out[row] = m
+    return out
 
 
 @njit(cache=True)
