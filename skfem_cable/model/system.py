@@ -431,8 +431,8 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
     def mass_matrix(self):
         """Global constant mass matrix (Eq. 11) including point masses: the bodies'
         blocks on the diagonal (the entries of ``scipy.sparse.block_diag``, in its order;
-        a CSR block's read from its arrays, without scipy's conversions: a solver's
-        start describes the system twice, ``describe_system``), then the point masses'
+        a CSR block's read from its arrays, without scipy's conversions: every description
+        of the system, ``describe_system``, at a solver's start, builds it), then the point masses'
         ``m G^T G`` (``PointMass.entries``), summed where they meet."""
         rows, cols, vals, offset = [], [], [], 0
         for body in self.bodies:

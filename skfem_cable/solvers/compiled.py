@@ -326,10 +326,10 @@ def entry_point(function, args):
     return function.overloads[signature].entry_point
 
 
-def _give_back(drop, blob, *args):
-    """Give back what ``blob`` holds (kept alive until now by this call's reference):
-    ``drop(*args)``."""
-    drop(*args)
+def _give_back(blob, address, kind):
+    """Give back what ``blob`` holds at ``address`` (``kernels.erased.drop``; the buffer
+    kept alive until now by this call's reference)."""
+    erased.drop(address, kind)
 
 
 def _hold(kind, value):
@@ -372,8 +372,7 @@ class CompiledNewton:
             kind = lay.derived(("terms' type", jit), lambda: numba.typeof(terms))
             own = system_module(kinds, ckinds, kind, jit)
             self.blob, address = _hold(kind, terms)
-        weakref.finalize(self, _give_back, erased.drop, self.blob, address,
-                         kind).atexit = False
+        weakref.finalize(self, _give_back, self.blob, address, kind).atexit = False
         self.terms = (erased.address(own.evaluate, EVALUATE),
                       erased.address(own.constrain, CONSTRAIN), address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
@@ -414,8 +413,7 @@ class CompiledNewton:
         held = (self.model, self.lu, self.out)  # the run's own, held once (step.newton_held)
         self.kind = lay.derived(self.typed, lambda: numba.typeof(held))  # once per layout
         self.held, self.address = _hold(self.kind, held)
-        weakref.finalize(self, _give_back, erased.drop, self.held, self.address,
-                         self.kind).atexit = False
+        weakref.finalize(self, _give_back, self.held, self.address, self.kind).atexit = False
         if python_terms or python_constraints or sparse:
             _PARTS[key] = PythonParts(g, self.arrays, python_terms, python_constraints)
             weakref.finalize(self, _PARTS.pop, key, None)
@@ -431,7 +429,8 @@ class CompiledNewton:
         """Correct a factor the step did not make (``GeneralizedAlpha._factor``: a resumed
         run's first) as the step would have (``kernels.woodbury.refresh``), if a term asks."""
         if self._refresh is not None and self._refresh(self.lu) != -1:
-            raise SingularMatrixError("singular capacitance (tangent='woodbury')", -2)
+            raise SingularMatrixError("singular capacitance of the tangent's correction "
+                                      "(tangent='woodbury')", -2)
 
     def __reduce__(self):
         """Refused: the step holds machine addresses and references of this process (its
