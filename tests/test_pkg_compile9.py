@@ -1,0 +1,100 @@
+"""One compiled Newton step for every linear solver (issue 47, must-show 5): the step
+calls its solver's ``factor`` and ``solve`` at their machine addresses, on the solver's
+storage held at an address (``solvers.step_lu``), so that the bordered, two-level, sparse
+and corrected LUs share one step module and one signature (before: a step module of 8 to
+13 s of compilation each), and the LU's code is not linked into the step.  No timing is
+asserted: these check what the step holds and that it computes the same."""
+
+
+import numba
+import numpy as np
+import pytest
+from numba import njit
+
+import skfem_cable as sc
+from skfem_cable.kernels import bordered
+from skfem_cable.solvers import step_lu
+from skfem_cable.solvers.galpha import GeneralizedAlpha
+
+
+def _pendulum():
+    cable = sc.Cable.straight([0, 0, 0], [1.0, 0, 0], n_elements=2,
+                              section=sc.Section.circular(radius=0.01, E=7e10, rho=7800.0))
+    return sc.System([cable]).pin(cable.node(0)).add_gravity([0, -9.81, 0])
+
+
+@pytest.fixture(scope="module")
+def steps():
+    """The pendulum's compiled steps on the banded and on the sparse LU."""
+    system = _pendulum()
+    return {method: GeneralizedAlpha(system, method=method).compiled
+            for method in ("auto", "sparse")}
+
+
+def test_the_banded_and_the_sparse_lu_share_one_step(steps):
+    """Before: a step module per kind of solver (its storage's type in the step's
+    arguments).  Now one module and one type of arguments: the solver is three integers,
+    the addresses of its two functions and of its storage; each solver has a small module
+    of its own."""
+    banded, sparse = steps["auto"], steps["sparse"]
+    assert banded.newton is sparse.newton and banded.kind == sparse.kind
+    assert numba.typeof(banded.lu) == numba.types.UniTuple(numba.types.int64, 3)
+    assert banded.lu[:2] != sparse.lu[:2]
+
+
+def _defined(ir, module, function):
+    """Whether the LLVM IR ``ir`` defines a function compiled from ``module.function``
+    (numba's mangled names: length-prefixed parts)."""
+    mangled = f"{len(module)}{module}{len(function)}{function}"
+    return any(mangled in line for line in ir.splitlines() if line.startswith("define"))
+
+
+def test_the_step_does_not_link_the_lu(steps):
+    """The step's LLVM IR defines none of the bordered LU's functions (they were linked
+    in and optimised again in every step module); a function calling ``bordered.factor``
+    directly, the positive control, defines it."""
+    step = steps["auto"]
+    sc.simulate(_pendulum(), t_end=2e-3, dt=1e-3)  # compiles the step (or reads it)
+    signature = next(iter(step.newton.overloads))
+    ir = step.newton.inspect_llvm(signature)
+    assert "define" in ir and not _defined(ir, "bordered", "factor")
+    assert not _defined(ir, "bordered", "solve")
+
+    @njit
+    def linked(lu, data):
+        return bordered.factor(lu, data)
+
+    storage = step.lu_storage[1]
+    args = (numba.typeof(storage), numba.types.float64[::1])
+    linked.compile(args)
+    assert _defined(linked.inspect_llvm(args), "bordered", "factor")
+
+
+def test_the_step_s_lu_computes_what_the_solver_does(steps):
+    """The step module's ``lu_factor`` and ``lu_solve`` reach the bordered LU through
+    the held storage: the same bits as the solver's own ``factor`` and ``solve``."""
+    step = steps["auto"]
+    solver = step_lu.BANDED["bordered"]
+    data = step.arrays["data"]
+    data[:] = np.random.default_rng(0).standard_normal(data.size)
+    for i in step.model[3]:  # a dominant diagonal
+        data[i] += 1e3
+    rhs = np.random.default_rng(1).standard_normal(step.arrays["rhs"].size)
+    assert step.step.lu_factor(step.lu, data) == -1
+    out = np.zeros_like(rhs)
+    step.step.lu_solve(step.lu, rhs, out)
+    storage = step.lu_storage[1]
+    assert solver.factor(storage, data) == -1
+    expected = np.zeros_like(rhs)
+    solver.solve(storage, rhs, expected)
+    assert np.array_equal(out, expected)
+
+
+def test_the_interpreted_step_reaches_the_same_solver():
+    """``compiled=False``: the step and the solver's module interpreted find the solver's
+    functions from the numbers ``kernels.erased.address`` gave for them, and give the
+    compiled run's iterates bit for bit."""
+    runs = [sc.simulate(_pendulum(), t_end=4e-3, dt=1e-3, compiled=c) for c in (None, False)]
+    assert runs[1].stats["path"] == "python (compiled=False)"
+    for field in ("q", "v", "a", "lam"):
+        assert np.array_equal(getattr(runs[0], field), getattr(runs[1], field)), field
