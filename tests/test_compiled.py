@@ -335,4 +335,4 @@ def test_parameter_slots_are_named_in_order():
 
     assert [getattr(step, name) for name in step.PRM_SLOTS] == list(range(len(step.PRM_SLOTS)))
     header = f"{', '.join(step.PRM_SLOTS)} = range({len(step.PRM_SLOTS)})"
-    assert header in source(False)
+    assert header in source()

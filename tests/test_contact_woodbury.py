@@ -14,7 +14,6 @@ from test_contact_lines import TOLERANCE, D, crossing
 
 import skfem_cable as sc
 from skfem_cable.scenes.esail_tangle import crossing_sail
-from skfem_cable.solvers.compiled import module
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 #: The small sail's run (s) and its step: the own tangent's run stops at t = 0.26 s there
@@ -138,7 +137,7 @@ def test_the_corrected_solve_is_the_exact_tangents(sails):
     g_full, data_full = iteration_matrix(full_system, full_contact, state, SAIL_DT, "sparse")
     rhs = np.random.default_rng(0).standard_normal(g.lay.N)
     exact = np.linalg.solve(dense(g_full, data_full), rhs)
-    step = module(False, True, g.solver.kernels.__name__.rsplit(".", 1)[-1], True)
+    step = g.compiled.step
     assert step.lu_factor(g.compiled.lu, data) == -1
     corrected = np.zeros_like(rhs)
     step.lu_solve(g.compiled.lu, rhs, corrected)

@@ -67,11 +67,12 @@ def test_the_bordered_lu_solves_both(solved):
 
 def test_a_block_is_compiled_per_stage_and_thread_flag_alone(solved):
     """``_block``: one signature per stage (a literal: the other stages pruned, a needed
-    variant, faster) and per ``parallel`` flag; its index int64 from a loop and from a
+    variant, faster), the same for both ``parallel`` flags (it takes the storage without
+    the flag; before, one per flag too: six); its index int64 from a loop and from a
     ``prange`` (unsigned, cast) alike."""
     signatures = compiled(bordered._block)
     assert all(", int64, Literal[int](" in s for s in signatures)
-    assert len(signatures) == 6
+    assert len(signatures) == 3
 
 
 def test_the_scatter_takes_flat_arrays_from_either_lu(solved):

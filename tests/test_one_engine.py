@@ -15,7 +15,7 @@ from skfem_cable.core.contract import OutOfDomain
 from skfem_cable.core.records import FIELDS
 from skfem_cable.io import RunStore
 from skfem_cable.scenes import classics
-from skfem_cable.solvers import galpha
+from skfem_cable.solvers import galpha, step_lu
 from skfem_cable.solvers.compiled import PYTHON, source, system_source
 
 
@@ -36,12 +36,14 @@ def _same_runs(a, b):
 
 def test_there_is_one_newton_iteration():
     """The integrator has no Python Newton loop of its own: both runs execute the
-    generated module of ``kernels.step``; a fully compiled system's module holds no call
-    back into Python, a system with Python parts has one per part."""
+    generated module of ``kernels.step``; a fully compiled system's modules hold no call
+    back into Python (the step, the banded LU's module of ``solvers.step_lu``, its
+    terms), a system with Python parts has one per part (the sparse LU's in its
+    module)."""
     assert not hasattr(galpha.GeneralizedAlpha, "_python_step")
-    compiled = source(False) + system_source((None, None), (None,))
+    compiled = source() + step_lu.source(False, False) + system_source((None, None), (None,))
     assert "objmode" not in compiled and "python_part" not in compiled
-    mixed = source(True) + system_source((None, PYTHON), (PYTHON,))
+    mixed = step_lu.source(True, False) + system_source((None, PYTHON), (PYTHON,))
     for call in ("python_term(packs[1], 1,", "python_constraint(packs[0], 0,",
                  "def lu_factor", "def lu_solve"):
         assert call in mixed, call

@@ -220,12 +220,14 @@ def solve(lu, rhs, out):
 @njit(cache=True)
 def _blocks(lu, stage, parallel):
     """``_block`` of every block at ``stage``, on numba's threads unless ``parallel`` is
-    None (the threaded loop is then not compiled)."""
+    None (the threaded loop is then not compiled).  The blocks take the storage without
+    its last member, ``parallel``: one ``_block`` per stage for both (it was compiled for
+    each type of ``parallel`` too)."""
     if parallel is not None:
-        _blocks_parallel(lu, stage)
+        _blocks_parallel(lu[:-1], stage)
     else:
         for j in range(lu[14].size - 1):
-            _block(lu, j, stage)
+            _block(lu[:-1], j, stage)
 
 
 @njit(cache=True, parallel=True)
@@ -238,10 +240,10 @@ def _blocks_parallel(lu, stage):
 def _block(lu, j, stage):
     """Block ``j`` at ``stage``: ``FACTOR`` (``_factor_block``, its ``info`` into
     ``infos[j]``), ``SUBSTITUTE`` (a solve's ``y_j = B_j^{-1} x_j``) or ``CORRECT``
-    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``)."""
+    (``y_j -= W_j x_D'``, ``x_D'`` the border's part of ``work``); ``lu`` without
+    ``parallel``."""
     (addresses, ab, ipiv, E, F, W, S, ipiv_s, target, position, perm, band, ints, work,
-     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, lower, upper,
-     parallel) = lu
+     starts, rows_ptr, rows, cols_ptr, cols, X, x_ptr, parts, infos, lower, upper) = lu
     start, end = starts[j], starts[j + 1]
     if stage == FACTOR:
         infos[j] = _factor_block(addresses, ab, ipiv, E, F, W, band, ints[j], start, end,

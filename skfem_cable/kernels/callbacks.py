@@ -1,12 +1,15 @@
 """Template of the calls from the compiled Newton step back into Python.
 
-``solvers.compiled`` copies these functions into a system's generated terms module (and the
-sparse LU's into the Newton step's) where the system has Python parts
-(``solvers.compiled.PythonParts``, found by its ``key`` with ``python_part``): a term with
-a Python ``add`` hook, a nonlinear constraint without kernel, the sparse LU. Each is a
+``solvers.compiled`` copies these functions (``source``) into a system's generated terms
+module (and the sparse LU's into the module of the step's solver, ``solvers.step_lu``)
+where the system has Python parts (``solvers.compiled.PythonParts``, found by its ``key``
+with ``python_part``): a term with a Python ``add`` hook, a nonlinear constraint without
+kernel, the sparse LU. Each is a
 ``numba.objmode`` block (not inlined: numba does not inline a function that holds one); a
 module without Python parts has none of them.
 """
+
+import inspect
 
 from numba import objmode
 
@@ -35,3 +38,10 @@ def lu_solve(lu, rhs, dx):
     """``dx`` solving the last sparse LU with ``rhs``."""
     with objmode():
         python_part(lu[0]).solve(rhs, dx)  # noqa: F821
+
+
+def source(names):
+    """Text of the callbacks ``names`` for a generated module, each compiled apart
+    (``numba.njit(cache=True)``)."""
+    return ["@njit(cache=True)\n" + inspect.getsource(globals()[name])
+            for name in names]

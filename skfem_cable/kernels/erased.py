@@ -24,8 +24,8 @@ function is compiled for the type of each system's tuple (numba's unboxing of a 
 arrays is about half a second of compilation per type).  Interpreted
 (``numba.config.DISABLE_JIT``, ``GeneralizedAlpha(compiled=False)``), the calls keep the
 value in a dictionary under the address too, and ``function`` gives back the compiled
-function of an address (the kernels stay compiled) or the Python function given in its
-place.
+function of an address (the kernels stay compiled) or the Python function of the number
+``address`` gave in its place.
 """
 
 import functools
@@ -126,9 +126,11 @@ def drop(address, kind):
 def address(function, signature):
     """The address of the compiled ``function`` of ``signature`` (numba's calling
     convention; compiled for it first, or read from the cache), for ``function`` in
-    compiled code; ``function`` itself if it is Python (interpreted)."""
+    compiled code; a number standing for it if it is Python (interpreted: ``function``
+    gives it back)."""
     if getattr(function, "overloads", None) is None:
-        return function
+        _ADDRESSED[id(function)] = function
+        return id(function)
     jit = _get_jit_address(function, signature)
     _ADDRESSED[jit] = function
     return jit

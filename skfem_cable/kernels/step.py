@@ -1,8 +1,8 @@
 """Template of the compiled Newton iteration of one generalized-alpha step.
 
 The one definition of the iteration.  ``newton`` is not compiled here:
-``solvers.compiled`` copies its source into a module generated for each linear solver (the
-banded LU, or the sparse LU called back in Python) and compiles it there once per machine
+``solvers.compiled`` copies its source into one generated module for all linear solvers
+(each reached at its address, ``solvers.step_lu``) and compiles it there once per machine
 with ``numba.njit(cache=True)``, or imports it interpreted
 (``GeneralizedAlpha(compiled=False)``, the debugging mode).  What differs between systems
 reaches it through its argument ``terms``: the system's ``evaluate`` and ``constrain``
@@ -124,8 +124,9 @@ def _iterate(terms, model, lu, state, out, prm):
         coordinate scales, the linear constraints' Jacobian and its transpose (CSR), their
         multiplier rows and offsets at ``t1``.
     lu : tuple
-        The two-level Schur LU of ``linalg.PatternSolver`` (``kernels.schur``; its
-        storage: a factor made there is used here and the reverse).
+        ``(factor, solve, blob)``: the addresses of the linear solver's ``factor`` and
+        ``solve`` and of its storage (``solvers.step_lu``; that of ``linalg.PatternSolver``:
+        a factor made there is used here and the reverse).
     state : tuple ``(q, v, a, abar, lam, a_prev, da_prev, f_damping, f_nc, f_con)``
         The state at ``t_n``, the accelerations at ``t_(n-1)`` and their change over the
         step before (the predictor's) and the forces of the energy books at ``t_n`` (read

@@ -25,9 +25,9 @@ evaluation with the tangent that no factorization follows leaves them alone), ``
 ``12 r`` updates of length ``N``.  Without records both are the factor's own, and a
 vector's length.
 
-``refresh``, ``lu_factor`` and ``lu_solve`` are templates: ``solvers.compiled`` copies their source
-into the generated module of the Newton step, after naming the factor and solve of
-``K0`` (the banded, bordered, two-level or sparse LU) ``inner_factor`` and
+``refresh``, ``lu_factor`` and ``lu_solve`` are templates: ``solvers.step_lu`` copies
+their source into the generated module of the Newton step's solver, after naming the
+factor and solve of ``K0`` (the bordered, two-level or sparse LU) ``inner_factor`` and
 ``inner_solve``.  ``storage`` makes the arrays they work in, ``lu = (inner, (record,
 factored))``.
 """
@@ -44,7 +44,7 @@ RANK = 12
 
 
 def source():
-    """Text for the generated module of the Newton step, after its ``lu_factor`` and
+    """Text for the generated module of the Newton step's solver, after its ``lu_factor`` and
     ``lu_solve`` (those of ``K0``): renamed ``inner_factor`` and ``inner_solve``, and
     replaced by the corrected ``lu_factor`` and ``lu_solve``, with ``refresh`` (module
     notes)."""
