@@ -1,14 +1,18 @@
 """The windless E-sail rig's step made cheaper bit for bit (issue 47, item 2).
 
-The band solve's border correction vectorised (``kernels.bordered._block``), the mass
+The band solve's blocks substituted two at a time (``kernels.bordered.pair_substitute``)
+and its border correction vectorised (``kernels.bordered._block``), the mass
 of a system with point masses in the strided form of the step (``FastCSR.strided``
 leaves stored zeros out), and what else the step lost: each check here is of the
 arithmetic (the same bits as before), on small matrices and no compiled step."""
 
 import numpy as np
+import pytest
 import scipy.sparse as sp
+from scipy.linalg import lapack
 
 from skfem_cable.core.linalg import FastCSR
+from skfem_cable.kernels import bordered
 from skfem_cable.kernels.books import csr_product, step_books
 
 
@@ -47,3 +51,34 @@ def test_stored_zeros_leave_the_mass_strided_and_its_products_the_same_bits():
     step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, x, x, mv)
     assert np.array_equal(mv.view(np.int64), general.view(np.int64))
     assert books == reference
+
+
+def _split_factor(n, band, seed):
+    """The split banded LU (``bordered.split``) of a random band of ``n`` unknowns and
+    half-width ``band`` with tiny first diagonals (row interchanges there)."""
+    rng = np.random.default_rng(seed)
+    storage = np.zeros((3 * band + 1, n), order="F")
+    storage[band:] = rng.standard_normal((2 * band + 1, n))
+    storage[2 * band, :3] = 1e-3
+    lu, pivots, info = lapack.dgbtrf(storage, band, band)
+    assert info == 0
+    ab, ipiv = np.ascontiguousarray(lu.T), (pivots + 1).astype(np.int32)
+    assert np.any(ipiv != np.arange(1, n + 1))
+    lower, upper = np.zeros((n, band)), np.zeros((n, 2 * band + 1))
+    bordered.split(ab, band, lower, upper)
+    return lower, upper, ipiv
+
+
+@pytest.mark.parametrize("sizes", [(40, 40), (40, 27), (9, 33)])
+def test_two_blocks_substituted_together_are_each_alone_bit_for_bit(sizes):
+    """``pair_substitute`` interleaves the sweeps of two blocks (equal sizes, the longer
+    first or second); each block's result is its ``split_substitute`` byte for byte."""
+    band = 3
+    (la, ua, pa), (lb, ub, pb) = (_split_factor(n, band, n) for n in sizes)
+    a, b = np.linspace(-1.0, 2.0, sizes[0]), np.cos(np.arange(sizes[1]))
+    expected_a, expected_b = a.copy(), b.copy()
+    bordered.split_substitute(la, ua, band, pa, expected_a)
+    bordered.split_substitute(lb, ub, band, pb, expected_b)
+    bordered.pair_substitute(la, ua, pa, a, lb, ub, pb, b, band)
+    assert np.array_equal(a.view(np.int64), expected_a.view(np.int64))
+    assert np.array_equal(b.view(np.int64), expected_b.view(np.int64))
