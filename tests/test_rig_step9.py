@@ -3,17 +3,21 @@
 The band solve's blocks substituted two at a time (``kernels.bordered.pair_substitute``)
 and its border correction vectorised (``kernels.bordered._block``), the mass
 of a system with point masses in the strided form of the step (``FastCSR.strided``
-leaves stored zeros out), and what else the step lost: each check here is of the
-arithmetic (the same bits as before), on small matrices and no compiled step."""
+leaves stored zeros out), the mass and CSR products without wrap-around tests
+(``kernels.books``) and the constraint forces scattered from the rows of ``C``
+(``kernels.step._constraints``): each check here is of the arithmetic (the same bits as
+before), on small matrices and three steps of three joined cables."""
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
+import skfem_cable as sc
 from skfem_cable.core.linalg import FastCSR
 from skfem_cable.kernels import bordered
 from skfem_cable.kernels.books import csr_product, step_books
+from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 
 def _mass_with_stored_zeros():
@@ -82,3 +86,25 @@ def test_two_blocks_substituted_together_are_each_alone_bit_for_bit(sizes):
     bordered.pair_substitute(la, ua, pa, a, lb, ub, pb, b, band)
     assert np.array_equal(a.view(np.int64), expected_a.view(np.int64))
     assert np.array_equal(b.view(np.int64), expected_b.view(np.int64))
+
+
+def test_constraint_forces_scattered_from_the_rows_are_the_transpose_product():
+    """``kernels.step._constraints`` scatters ``C_q^T lam`` from the rows of ``C``; on
+    three cables pinned together at one node (its coordinates take terms from two rows
+    each) the step's ``f_con`` is the transpose's row-by-row product (``FastCSR @``, the
+    sums as the step made them before) byte for byte."""
+    sec = sc.Section.circular(radius=0.01, E=7e10, rho=7800.0)
+    a = sc.Cable.straight([0, 0, 0], [1.0, 0, 0], 2, sec, name="a")
+    b = sc.Cable.straight([1.0, 0, 0], [1.0, -1.0, 0], 2, sec, name="b")
+    c = sc.Cable.straight([1.0, 0, 0], [2.0, 0, 0], 2, sec, name="c")
+    system = sc.System([a, b, c]).pin(a.node(0)).add_gravity([0, -9.81, 0])
+    system.pin(b.node(0), a.node(-1)).pin(c.node(0), a.node(-1))
+    g = GeneralizedAlpha(system, rho_inf=0.8)
+    g.initialize(system.q0, np.zeros(system.n_dofs), 0.0)
+    for _ in range(3):
+        assert g.step(1e-3)[0]
+    lay, arrays = g.lay, g.compiled.arrays
+    assert np.diff(lay.C_lin_T.indptr).max() >= 2  # sums of several terms
+    expected = lay.C_lin_T @ arrays["lam1"][lay.lin_rows]
+    assert np.any(expected != 0.0)
+    assert np.array_equal(arrays["f_con"].view(np.int64), expected.view(np.int64))
