@@ -68,6 +68,11 @@ from .lapack import band_factor, dense_factor, dense_solve
 #: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
 FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
+#: The multipliers' offset in ``split``'s ``lower``: an ``np.int64``, not a literal 0, so
+#: that the sweeps are compiled for one type of offset, that of LAPACK's storage
+#: (``band_substitute``) too.
+NO_OFFSET = np.int64(0)
+
 
 @njit(cache=True)
 def factor(lu, data):
@@ -293,7 +298,7 @@ def band_substitute(ab, band, ipiv, b):
 @njit(cache=True)
 def split_substitute(lower, upper, band, ipiv, b):
     """``band_substitute`` from the factor split by ``split``: the same operations."""
-    _lower_sweep(lower, 0, band, ipiv, b)
+    _lower_sweep(lower, NO_OFFSET, band, ipiv, b)
     _upper_sweep(upper, 2 * band, b)
 
 
@@ -308,12 +313,12 @@ def pair_substitute(lower_a, upper_a, ipiv_a, a, lower_b, upper_b, ipiv_b, b, ba
     na, nb = a.size, b.size
     both = min(na, nb)
     for j in range(both - 1):
-        _lower_column(lower_a, 0, band, ipiv_a, a, j)
-        _lower_column(lower_b, 0, band, ipiv_b, b, j)
+        _lower_column(lower_a, NO_OFFSET, band, ipiv_a, a, j)
+        _lower_column(lower_b, NO_OFFSET, band, ipiv_b, b, j)
     for j in range(both - 1, na - 1):
-        _lower_column(lower_a, 0, band, ipiv_a, a, j)
+        _lower_column(lower_a, NO_OFFSET, band, ipiv_a, a, j)
     for j in range(both - 1, nb - 1):
-        _lower_column(lower_b, 0, band, ipiv_b, b, j)
+        _lower_column(lower_b, NO_OFFSET, band, ipiv_b, b, j)
     width = 2 * band
     for j in range(na - 1, both - 1, -1):  # the longer block's last columns first
         _upper_column(upper_a, width, a, j)
