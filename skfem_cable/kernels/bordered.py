@@ -68,6 +68,11 @@ from .lapack import band_factor, dense_factor, dense_solve
 #: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
 FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
+#: The multipliers' offset in ``split``'s ``lower``: an ``np.int64``, not a literal 0, so
+#: that the sweeps are compiled for one type of offset, that of LAPACK's storage
+#: (``band_substitute``) too.
+NO_OFFSET = np.int64(0)
+
 
 @njit(cache=True)
 def factor(lu, data):
@@ -225,9 +230,25 @@ def _blocks(lu, stage, parallel):
     each type of ``parallel`` too)."""
     if parallel is not None:
         _blocks_parallel(lu[:-1], stage)
+    elif stage == SUBSTITUTE:
+        _substitute_pairs(lu[:-1])
     else:
         for j in range(lu[14].size - 1):
             _block(lu[:-1], j, stage)
+
+
+@njit(cache=True)
+def _substitute_pairs(lu):
+    """The ``SUBSTITUTE`` stage on one thread, two blocks at a time (``pair_substitute``),
+    the last alone if their number is odd; ``lu`` the storage without ``parallel``."""
+    lower, upper, ipiv, band, work, starts = lu[23], lu[24], lu[2], lu[11], lu[13], lu[14]
+    nblocks = starts.size - 1
+    for j in range(0, nblocks - 1, 2):
+        a, m, b = starts[j], starts[j + 1], starts[j + 2]
+        pair_substitute(lower[a:m], upper[a:m], ipiv[a:m], work[a:m],
+                        lower[m:b], upper[m:b], ipiv[m:b], work[m:b], band)
+    if nblocks % 2:
+        _block(lu, nblocks - 1, SUBSTITUTE)
 
 
 @njit(cache=True, parallel=True)
@@ -255,12 +276,13 @@ def _block(lu, j, stage):
     elif stage == SUBSTITUTE:
         split_substitute(lower[start:end], upper[start:end], band, ipiv[start:end],
                          work[start:end])
-    else:
-        nb = ab.shape[0]
+    else:  # over slices: an index from 0 needs no wrap-around test, and LLVM vectorises
+        y = work[start:end]  # the loop (the E-sail rig's 12 blocks: 4.8 -> 2.2 us)
         for c in range(S.shape[0]):
-            gc = work[nb + c]
-            for p in range(start, end):
-                work[p] -= W[c, p] * gc
+            gc = work[ab.shape[0] + c]
+            wc = W[c, start:end]
+            for i in range(y.size):
+                y[i] -= wc[i] * gc
 
 
 @njit(cache=True)
@@ -278,26 +300,43 @@ def band_substitute(ab, band, ipiv, b):
 @njit(cache=True)
 def split_substitute(lower, upper, band, ipiv, b):
     """``band_substitute`` from the factor split by ``split``: the same operations."""
-    _lower_sweep(lower, 0, band, ipiv, b)
+    _lower_sweep(lower, NO_OFFSET, band, ipiv, b)
     _upper_sweep(upper, 2 * band, b)
+
+
+@njit(cache=True)
+def pair_substitute(lower_a, upper_a, ipiv_a, a, lower_b, upper_b, ipiv_b, b, band):
+    """``split_substitute`` of two blocks at once, ``a`` and ``b`` in place (any sizes),
+    each in its own order: the same operations, bit for bit.  A sweep is a chain (each
+    column waits for the one before, through memory and, in ``U``, a division); two
+    independent chains interleaved keep the core busy while one waits: the E-sail rig's
+    blocks of 39 unknowns of half-width 13, 1.40-1.51 -> 1.04-1.21 us per pair (CPU, a
+    compiled loop, load 6)."""
+    na, nb = a.size, b.size
+    both = min(na, nb)
+    for j in range(both - 1):
+        _lower_column(lower_a, NO_OFFSET, band, ipiv_a, a, j)
+        _lower_column(lower_b, NO_OFFSET, band, ipiv_b, b, j)
+    for j in range(both - 1, na - 1):
+        _lower_column(lower_a, NO_OFFSET, band, ipiv_a, a, j)
+    for j in range(both - 1, nb - 1):
+        _lower_column(lower_b, NO_OFFSET, band, ipiv_b, b, j)
+    width = 2 * band
+    for j in range(na - 1, both - 1, -1):  # the longer block's last columns first
+        _upper_column(upper_a, width, a, j)
+    for j in range(nb - 1, both - 1, -1):
+        _upper_column(upper_b, width, b, j)
+    for j in range(both - 1, -1, -1):
+        _upper_column(upper_a, width, a, j)
+        _upper_column(upper_b, width, b, j)
 
 
 @njit(cache=True)
 def _lower_sweep(store, offset, band, ipiv, b):
     """``b = L^{-1} P b``: the row interchanges ``ipiv`` and the multipliers of column
     ``j`` at ``store[j, offset:offset + band]``."""
-    n = store.shape[0]
-    for j in range(n - 1):
-        lm = min(band, n - j - 1)
-        p = ipiv[j] - 1
-        bj = b[p]
-        if p != j:
-            b[p] = b[j]
-            b[j] = bj
-        multipliers = store[j, offset: offset + lm]
-        below = b[j + 1: j + 1 + lm]
-        for i in range(lm):
-            below[i] -= multipliers[i] * bj
+    for j in range(store.shape[0] - 1):
+        _lower_column(store, offset, band, ipiv, b, j)
 
 
 @njit(cache=True)
@@ -305,13 +344,34 @@ def _upper_sweep(store, width, b):
     """``b = U^{-1} b``, column ``j`` of ``U`` stored as ``store[j, :width + 1]``:
     ``width`` superdiagonals then the diagonal."""
     for j in range(store.shape[0] - 1, -1, -1):
-        bj = b[j] / store[j, width]
+        _upper_column(store, width, b, j)
+
+
+@njit(cache=True, forceinline=True)
+def _lower_column(store, offset, band, ipiv, b, j):
+    """Column ``j`` of ``_lower_sweep``."""
+    lm = min(band, store.shape[0] - j - 1)
+    p = ipiv[j] - 1
+    bj = b[p]
+    if p != j:
+        b[p] = b[j]
         b[j] = bj
-        m = min(j, width)
-        column = store[j, width - m: width]
-        above = b[j - m: j]
-        for i in range(m):
-            above[i] -= column[i] * bj
+    multipliers = store[j, offset: offset + lm]
+    below = b[j + 1: j + 1 + lm]
+    for i in range(lm):
+        below[i] -= multipliers[i] * bj
+
+
+@njit(cache=True, forceinline=True)
+def _upper_column(store, width, b, j):
+    """Column ``j`` of ``_upper_sweep``."""
+    bj = b[j] / store[j, width]
+    b[j] = bj
+    m = min(j, width)
+    column = store[j, width - m: width]
+    above = b[j - m: j]
+    for i in range(m):
+        above[i] -= column[i] * bj
 
 
 @njit(cache=True)

@@ -118,7 +118,7 @@ def _iterate(terms, model, lu, state, out, prm):
         rows.
     model : tuple
         ``(mass, base, f_const, diag_index, xscale, inv_xscale, c_indptr, c_indices, c_data,
-        ct_indptr, ct_indices, ct_data, lin_rows, c_t)``: the mass matrix
+        lin_rows, c_t)``: the mass matrix
         (``linalg.FastCSR.strided``, read by ``kernels.books.mass_product``), the constant part
         of the iteration matrix, the constant force, the positions of the diagonal, the
         coordinate scales, the linear constraints' Jacobian and its transpose (CSR), their
@@ -294,18 +294,20 @@ def _constraints(terms, model, q1, lam1, r, data, f_con, cs, mbar):
     work, first order in the step (``tests/test_books_hub.py``).  The damping and
     external forces of the books are those before the correction: it moves them by
     ``O(dq)``, held below the tolerance in the coordinates."""
-    (c_indptr, c_indices, c_data, ct_indptr, ct_indices, ct_data, lin_rows, c_t) = model[6:]
+    (c_indptr, c_indices, c_data, lin_rows, c_t) = model[6:]
     n = q1.size
+    for i in range(n):
+        f_con[i] = 0.0
+    # C_q^T lam scattered from the rows of C, in their order: each f_con[i] takes its
+    # terms in the order of the transpose's row (the same sums from the same +0), without
+    # a pass over the many coordinates no constraint holds
     for k in range(lin_rows.size):
         acc = 0.0
+        lam_k = lam1[lin_rows[k]]
         for j in range(c_indptr[k], c_indptr[k + 1]):
             acc += c_data[j] * q1[c_indices[j]]
+            f_con[c_indices[j]] += c_data[j] * lam_k
         r[n + lin_rows[k]] = mbar * (acc - c_t[k])
-    for i in range(n):
-        acc = 0.0
-        for j in range(ct_indptr[i], ct_indptr[i + 1]):
-            acc += ct_data[j] * lam1[lin_rows[ct_indices[j]]]
-        f_con[i] = acc
     constrain = function(terms[1], CONSTRAIN)  # noqa: F821
     constrain(terms[2], (q1, lam1, cs, r[n:], f_con, data))
 

@@ -54,7 +54,7 @@ from . import slots, step_lu
 from .slots import PYTHON
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "16"
+GENERATOR = "17"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
@@ -361,12 +361,9 @@ class CompiledNewton:
                       erased.address(own.constrain, CONSTRAIN), address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
                         if term.kernels and term.prepare is not None]
-        empty_csr = (np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
-        if lay.C_lin is not None:
-            C, CT = lay.C_lin, lay.C_lin_T
-            lin = (C.indptr, C.indices, C.data, CT.indptr, CT.indices, CT.data)
-        else:
-            lin = (*empty_csr, np.zeros(n + 1, dtype=np.int64), *empty_csr[1:])
+        C = lay.C_lin
+        lin = (C.indptr, C.indices, C.data) if C is not None else (
+            np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0))
         self.lin_rows = np.ascontiguousarray(lay.lin_rows, dtype=np.int64)
         # the linear constraints' offsets: refreshed at every step where a point moves
         # (``iterate``), else set once
