@@ -25,7 +25,8 @@ part (``CableLaw.part(1)``), and for its axial part in the Green strain
 power ``P = D_ed ed``, and ``numpy_strain(e, prm, h)`` (``W`` and ``s``, vectorised); its
 ``span`` is that of ``kernels.assumed_strain``, in the same loop.
 
-Each is common-subexpression eliminated (``sympy.cse``).  The modules live in the
+Each is common-subexpression eliminated (``sympy.cse``) and compiled apart, then inlined
+into ``span`` by LLVM (``POINT``).  The modules live in the
 ``laws`` folder of the cache of ``kernels.generated``; a module's name carries a digest of
 the law's expressions, its kind, the templates and this generator, so a changed law or
 template never meets a stale module.
@@ -42,14 +43,24 @@ from ..kernels import assumed_strain, chunks, generated
 from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
-#: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "7"
+#: Bump when the generated code changes (part of every module's digest), to a value never
+#: used before: a cache may hold the modules of any earlier commit ("8" was used, then
+#: reverted to "7"; its modules are in caches with the same digest and other code).
+GENERATOR = "9"
 
-#: The decorator of the point functions and ``force_tangent``: numba inlines them into
+#: The decorator of the element loop's small functions (``LOOP``): numba inlines them into
 #: ``kernel``, so that their code is optimised and compiled once, there (a compiled
 #: function compiles again all the compiled functions it calls); called from Python, each
 #: is compiled alone.
 INLINED = '@njit(cache=True, inline="always")'
+
+#: The decorator of the point functions: numba types and lowers each once, apart, and
+#: LLVM inlines its code into ``span`` (``forceinline``; the same instructions).  Numba's
+#: own inlining (``inline="always"``) made ``span`` one large function, which numba
+#: compiles more slowly than its parts apart: four law modules 34-35 -> 28 s of CPU.  Not
+#: cached: ``span``'s cached code holds theirs; called from Python (``bodies.forms``),
+#: one compiles there.
+POINT = "@njit(no_cfunc_wrapper=True, forceinline=True)"
 
 
 class _ScalarPrinter(PythonCodePrinter):
@@ -157,7 +168,7 @@ def _body(outputs, sym, printer, indent, rates, unpack=_unpack):
 
 
 def _scalar_function(name, args, outputs, returns, sym, rates, unpack=_unpack):
-    lines = [INLINED, f"def {name}({', '.join(args)}):"]
+    lines = [POINT, f"def {name}({', '.join(args)}):"]
     lines += _body(outputs, sym, _ScalarPrinter({"standard": "python3"}), "    ", rates,
                    unpack)
     lines.append(f"    return {', '.join(returns)}")

@@ -178,9 +178,12 @@ class CableLaw:
     def part(self, which):
         """The axial (``which = 0``) or bending (1) part of the law alone: the terms of
         ``W`` and ``D`` without (with) ``b``, to integrate with a rule of their own
-        (locking-free cables)."""
+        (locking-free cables).  A law without the other part is its own part (one
+        compiled module, not two of the same expressions)."""
         if which not in self._parts:
             s = self.symbolic
+            if s.W[1 - which] == 0 and s.D[1 - which] == 0:
+                return self
             keep = [sp.Integer(0), sp.Integer(0)]
             W, D = list(keep), list(keep)
             W[which], D[which] = s.W[which], s.D[which]
