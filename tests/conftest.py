@@ -28,8 +28,11 @@ ROOT = Path(__file__).resolve().parents[1]
 #: The test files that took longest on a cold kernel cache, longest first (CPU seconds of
 #: their worker, ``SKFEM_CABLE_COMPILE_LOG``'s records of a run from an empty cache, and
 #: of the processes they start; the sweep's, whose work is in its dask workers, after
-#: them).  ``python benchmarks/compile_cost.py --suite DIR`` prints when each worker
-#: ended: they should end together.
+#: them); then those of 3.5 s or more on a cold or a warm cache that the first list
+#: leaves out, longest first (warm, their run time is most of the suite's: one of them
+#: handed out last kept a worker 11 s after the other).  ``python
+#: benchmarks/compile_cost.py --suite DIR`` prints when each worker ended: they should
+#: end together, warm and cold.
 LONGEST = (
     "test_laws.py", "test_contact.py", "test_esail_orbit.py", "test_elements.py",
     "test_peer_suites.py", "test_benchmarks.py", "test_mission.py",
@@ -43,6 +46,12 @@ LONGEST = (
     "test_line_bodies_space.py", "test_orbit_scenes.py", "test_esail_attitude.py",
     "test_spin_control.py", "test_oml_force.py", "test_bare_tether_deorbit.py",
     "test_rodchain.py", "test_tss_deployment.py", "test_sweep.py",
+    "test_plot.py", "test_moved_modules.py", "test_validation_statics.py", "test_locking.py",
+    "test_cli.py", "test_rodchain_io.py", "test_faults_round_three_control.py",
+    "test_dynamics_hard.py", "test_compile_time.py", "test_esail.py", "test_oml.py",
+    "test_rodchain_store.py", "test_plasma_brake.py", "test_adaptive.py", "test_dynamics.py",
+    "test_run_storage.py", "test_esail_tangle.py", "test_environment_runs.py",
+    "test_esail_deployment.py",
 )
 
 

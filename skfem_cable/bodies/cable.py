@@ -18,7 +18,7 @@ from ..core.linalg import thread_count
 from ..core.lines import LinePoints
 from ..core.node import Node
 from ..elements import DEFAULT_ELEMENT, ELEMENTS, element_type
-from .cable_options import formulation_name, gauss_rules, is_count, resolve_law
+from .cable_options import check_strain_once, formulation_name, gauss_rules, is_count, resolve_law
 from .cable_shapes import CableShapes
 from .cable_term import cable_term
 from .fields import CableFields
@@ -181,7 +181,7 @@ class Cable(CableFields, CableShapes):
             formulation = "paper"
         formulation = formulation_name(formulation, locking_free, element)
         if formulation == "assumed-strain":
-            law.check_strain()
+            check_strain_once(law)
         intorder = element.intorder if intorder is None else intorder
         if not is_count(intorder):
             raise ValueError(f"intorder must be a positive integer, got {intorder!r}")

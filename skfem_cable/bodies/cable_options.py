@@ -2,9 +2,13 @@
 rules of its parts, its formulation; and the whole-number check its counts share."""
 
 import math
+import weakref
 
 from ..laws import BUILTIN, CableLaw
 from .formulation import FORMULATIONS
+
+#: The laws whose axial part ``CableLaw.check_strain`` found a function of the strain.
+_STRAIN_CHECKED = weakref.WeakSet()
 
 
 def is_count(value):
@@ -35,6 +39,17 @@ def resolve_law(law, element):
                          f"{', '.join(element.fields)} only): use an axial law such as "
                          "law='truss', or an element with bending, e.g. element='hermite3'")
     return law
+
+
+def check_strain_once(law):
+    """``law.check_strain()`` the first time ``law`` is met: the check is deterministic
+    (its own seed) and reads the law's expressions alone, which do not change once the
+    law is made (``with_parameters``, ``with_dissipation`` and ``part`` make new laws),
+    so every cable of a law after the first would repeat it (about 0.01 s of sympy each:
+    a full-size sail's 200 cables, 2.4 s)."""
+    if law not in _STRAIN_CHECKED:
+        law.check_strain()
+        _STRAIN_CHECKED.add(law)
 
 
 #: Most Gauss points a part of the law may take (``quadrature``).

@@ -111,36 +111,50 @@ def _coulomb_resultants(scene, result, C_I_B):
     return _resultants(scene, result, C_I_B, InputTable(inputs))
 
 
+def _points(scene, result):
+    """The quadrature points ``r`` and slopes ``a`` of all tethers at every saved step,
+    (nt, n, 3) each (the tethers' points in turn), and each tether's anchor, its first
+    node, (nt, p, 3)."""
+    system, nt = scene.system, len(result.t)
+    r, a, anchor = [], [], []
+    for cable in scene.tethers:
+        qc = result.q[:, system.dofs(cable)]
+        qe = cable.element_vectors(qc)
+        r.append(np.einsum("egA,teAi->tegi", cable.S, qe).reshape(nt, -1, 3))
+        a.append(np.einsum("egA,teAi->tegi", cable.Sx, qe).reshape(nt, -1, 3))
+        anchor.append(qc[:, :3])
+    return np.concatenate(r, axis=1), np.concatenate(a, axis=1), np.stack(anchor, axis=1)
+
+
+def _by_tether(values, owner, p):
+    """The sums (nt, p, 3) of ``values`` (nt, n, 3) over the points of each tether
+    (``owner``, (n,), its tether's index), in the points' order at each step."""
+    nt = len(values)
+    bins = (owner + p * np.arange(nt)[:, None]).ravel()
+    return np.stack([np.bincount(bins, values[..., i].ravel(), minlength=nt * p)
+                     for i in range(3)], axis=-1).reshape(nt, p, 3)
+
+
 def _resultants(scene, result, C_I_B, table):
     """``_coulomb_resultants`` with the inputs of ``table`` (an ``inputs.InputTable``)
-    set, at each saved step, to the values the result recorded.  The force of a saved
-    step is evaluated once over the points of all tethers (``line_force``'s Sun, scaling
-    and voltages once per step, not once per tether)."""
-    wf, system = scene.wind_force, scene.system
+    set, at each saved step, to the values the result recorded.  The points, the sums
+    and the moments' arms are taken over all saved steps at once (``_points``,
+    ``_by_tether``); the force of a saved step over the points of all tethers
+    (``line_force``'s Sun, scaling and voltages once per step, not once per tether)."""
+    wf = scene.wind_force
     sources = wf.sources(table)
-    nt, p = len(result.t), len(scene.tethers)
-    dofs = [system.dofs(cable) for cable in scene.tethers]
+    p = len(scene.tethers)
     weights = np.concatenate([cable.weights.ravel() for cable in scene.tethers])
     owner = np.concatenate([np.full(cable.weights.size, i)
                             for i, cable in enumerate(scene.tethers)])
-    force = np.zeros((nt, p, 3))
-    moment = np.zeros((nt, p, 3))
+    r, a, anchor = _points(scene, result)
+    fw = np.empty_like(r)
     for k, t in enumerate(result.t):
         for name in table.values:
             table.set(name, result.inputs[name][k])
         coef = wf.coefficients(t, sources)
-        r, a, anchor = [], [], []
-        for cable, d in zip(scene.tethers, dofs):
-            qc = result.q[k, d]
-            qe = cable.element_vectors(qc)
-            r.append(np.einsum("egA,eAi->egi", cable.S, qe).reshape(-1, 3))
-            a.append(np.einsum("egA,eAi->egi", cable.Sx, qe).reshape(-1, 3))
-            anchor.append(qc[:3])
-        r, a = np.concatenate(r), np.concatenate(a)
-        fw = wf.line_force(r, a, coef[owner], t, result.reference) * weights[:, None]
-        arm = np.cross(r - np.asarray(anchor)[owner], fw)
-        for i in range(3):
-            force[k, :, i] = np.bincount(owner, fw[:, i], minlength=p)
-            moment[k, :, i] = np.bincount(owner, arm[:, i], minlength=p)
+        fw[k] = wf.line_force(r[k], a[k], coef[owner], t, result.reference) * weights[:, None]
+    force = _by_tether(fw, owner, p)
+    moment = _by_tether(np.cross(r - anchor[:, owner], fw), owner, p)
     RT = np.swapaxes(C_I_B, -1, -2)
     return np.einsum("tij,tpj->tpi", RT, force), np.einsum("tij,tpj->tpi", RT, moment)
