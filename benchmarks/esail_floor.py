@@ -262,7 +262,7 @@ def counted(newton, integrator):
     """Flops of each part (``cable_flops``, ``coulomb_flops``, ``band_flops``, the rigid
     hub's 6 quadratic constraints on 12 coordinates, the mass and constraint products)
     and its bytes (``part_bytes``)."""
-    model, lu, a = newton.model, newton.lu, newton.arrays
+    model, lu, a = newton.model, integrator.solver.lu, newton.arrays
     ne = elements(integrator)
     factor, solve = band_flops(lu)
     mass_nnz = model[0][0][-1] * model[0][3]  # M = M_s ⊗ I_k (linalg.FastCSR.strided)

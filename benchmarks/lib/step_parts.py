@@ -5,8 +5,10 @@ tree and of the reference commit's, which imports this file by its folder) and
 runs the scripts of ``benchmarks/`` alone, not of its folders).
 
 Only what both trees have is used: ``CompiledNewton.iterate(newton, integrator, ...)``,
-its ``arrays``, ``history`` and ``lu``, the terms' ``kernels`` (``contract.Term``) and
-the bordered band LU (``kernels.bordered``).
+its ``arrays`` and ``history``, the terms' ``kernels`` (``contract.Term``) and the
+bordered band LU (``kernels.bordered``) on the storage of the integrator's solver
+(``integrator.solver.lu``; the step's own ``lu`` is the solver's addresses since the
+step became one for every solver, ``solvers.step_lu``).
 """
 
 import time
@@ -72,9 +74,10 @@ def compiled_parts(newton, integrator, repeats):
                 "tangent_us": cpu_us(function, (pack, index, evaluation(a, a["data"])), 20,
                                      repeats)})
     a["data"][:] = matrix  # the tangents added into it
-    factor_us = cpu_us(bordered.factor, (newton.lu, a["data"]), 20, repeats)
+    lu = integrator.solver.lu
+    factor_us = cpu_us(bordered.factor, (lu, a["data"]), 20, repeats)
     rhs = np.linspace(-1.0, 1.0, a["r"].size)
-    solve_us = cpu_us(bordered.solve, (newton.lu, rhs, a["dx"]), repeats=repeats)
+    solve_us = cpu_us(bordered.solve, (lu, rhs, a["dx"]), repeats=repeats)
     return {"kernels": kernels, "factor_us": factor_us, "solve_us": solve_us}
 
 
