@@ -53,3 +53,14 @@ def test_a_law_without_bending_is_its_own_axial_part():
     cable_law = laws.BUILTIN["cable"]
     assert cable_law.part(0) is not cable_law and cable_law.part(0).name == "cable-axial"
     assert codegen.module_name(TRUSS.part(0)) == codegen.module_name(TRUSS)
+
+
+def test_an_edit_of_the_generator_renames_every_module(monkeypatch):
+    """The module's digest holds the generator's own text: a cache that keeps the modules
+    of an earlier commit (the CI machine's does) never serves them to an edited generator,
+    whatever its ``GENERATOR``; the text is read once per process."""
+    before = codegen.module_name(TRUSS)
+    assert codegen._generator_id() is codegen._generator_id()
+    assert "def _generator_id" in codegen._generator_id()
+    monkeypatch.setattr(codegen, "_generator_id", lambda: "the generator, edited")
+    assert codegen.module_name(TRUSS) != before

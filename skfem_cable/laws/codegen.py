@@ -32,8 +32,10 @@ the law's expressions, its kind, the templates and this generator, so a changed 
 template never meets a stale module.
 """
 
+import functools
 import inspect
 import re
+import sys
 
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
@@ -43,9 +45,10 @@ from ..kernels import assumed_strain, chunks, generated
 from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
-#: Bump when the generated code changes (part of every module's digest), to a value never
-#: used before: a cache may hold the modules of any earlier commit ("8" was used, then
-#: reverted to "7"; its modules are in caches with the same digest and other code).
+#: Bump when the generated code changes meaning (part of every module's digest), to a value
+#: never used before: a cache may hold the modules of any earlier commit ("8" was used,
+#: then reverted to "7").  The digest also holds this module's own text
+#: (``_generator_id``), so an edit of the generator never meets a module of the text before.
 GENERATOR = "9"
 
 #: The decorator of the element loop's small functions (``LOOP``): numba inlines them into
@@ -302,11 +305,20 @@ def source(law, kind="gauss", orders=None):
     return "\n\n\n".join(parts) + "\n"
 
 
+@functools.cache
+def _generator_id():
+    """The text of this module, which writes the generated modules (their digests hold
+    it: the generated text itself is known only after the law's derivatives, which the
+    cache is there to skip)."""
+    return inspect.getsource(sys.modules[__name__])
+
+
 def module_name(law, kind="gauss", orders=None):
     """Module name of ``law`` of ``kind`` for the element type of nodal fields ``orders``
     (``sizing``): its name and a digest of its expressions, the template, the element type
-    and the generator."""
-    digest = generated.digest(law.key, kind, GENERATOR, inspect.getsource(TEMPLATES[kind]),
+    and the generator (its version and text)."""
+    digest = generated.digest(law.key, kind, GENERATOR, _generator_id(),
+                              inspect.getsource(TEMPLATES[kind]),
                               inspect.getsource(chunks), repr(law.parameters),
                               repr(orders), sp.__version__)
     safe = re.sub(r"\W", "_", law.name)[:40]
