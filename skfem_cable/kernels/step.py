@@ -121,8 +121,8 @@ def _iterate(terms, model, lu, state, out, prm):
         lin_rows, c_t)``: the mass matrix
         (``linalg.FastCSR.strided``, read by ``kernels.books.mass_product``), the constant part
         of the iteration matrix, the constant force, the positions of the diagonal, the
-        coordinate scales, the linear constraints' Jacobian and its transpose (CSR), their
-        multiplier rows and offsets at ``t1``.
+        coordinate scales, the linear constraints' Jacobian (CSR; ``C^T lam`` is scattered
+        from its rows), their multiplier rows and offsets at ``t1``.
     lu : tuple
         ``(factor, solve, blob)``: the addresses of the linear solver's ``factor`` and
         ``solve`` and of its storage (``solvers.step_lu``; that of ``linalg.PatternSolver``:
