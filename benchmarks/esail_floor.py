@@ -160,8 +160,9 @@ def band_flops(lu):
     ``dgbtrf`` (``2 n b (2 b)``), a band solve per coupling row, ``W`` and ``F W``; the
     border's dense LU; a solve: a band solve per block (``2 n (3 b)``), the border and
     the correction ``W x_D``."""
-    ab, band, starts, rows, cols = lu[1], lu[11], lu[14], lu[16], lu[18]
-    nb, k = ab.shape[0], lu[6].shape[0]
+    blocks = lu[0][0]
+    ab, band, starts, rows, cols = blocks[1], blocks[3], blocks[6], blocks[8], blocks[10]
+    nb, k = ab.shape[0], lu[1].shape[0]
     sizes = np.diff(starts)
     substitute = 6 * band * nb
     factor = int(np.sum(4 * band * band * sizes)) + rows.size * 6 * band * sizes.max() \
@@ -178,7 +179,7 @@ def part_bytes(ne, lu, nnz):
     element = 8 * (3 * nf + 5 * nf + 3 * nf + 3 + 1) + 8 * 3 * 3 * nf   # tables, q v f fd
     coulomb = 8 * (3 * nf + 2 * 5 * nf + 5 + 1) + 8 * 2 * 3 * nf
     matrix = 8 * 3 * ne * (3 * nf) ** 2                                  # index, data RMW
-    ab, W = lu[1], lu[5]
+    ab, W = lu[0][0][1], lu[0][0][18]
     factor = 8 * (3 * ab.size + 2 * W.size) + 8 * 2 * nnz
     solve = 8 * (ab.size + W.size + 4 * ab.shape[0])
     return {"cable": ne * element, "coulomb": ne * coulomb, "matrix": matrix,

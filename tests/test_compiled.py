@@ -10,7 +10,7 @@ from scipy.linalg import lapack
 
 import skfem_cable as sc
 from skfem_cable.core.linalg import PatternSolver, SingularMatrixError
-from skfem_cable.kernels.bordered import band_substitute
+from skfem_cable.kernels.band_sweeps import band_substitute
 from skfem_cable.kernels.generated import source_id
 from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
 from skfem_cable.scenes import classics, esail
@@ -260,7 +260,7 @@ def test_newton_stops_at_a_share_of_the_local_error():
 
 
 def test_band_substitution_is_lapacks_solve():
-    """``bordered.band_substitute`` (one right-hand side, loops over contiguous slices)
+    """``band_sweeps.band_substitute`` (one right-hand side, loops over contiguous slices)
     solves with dgbtrf's factor as dgbtrs does, to round-off, with row interchanges."""
     A, ab = _banded(40, 3, seed=2)
     lu, piv, info = lapack.dgbtrf(ab.copy(), 3, 3)

@@ -13,7 +13,7 @@ import scipy.sparse as sp
 from numba.core import types
 
 from skfem_cable.core.contract import NO_INDEX, Term
-from skfem_cable.kernels import bordered, lapack, oml
+from skfem_cable.kernels import band_blocks, bordered, lapack, oml
 
 
 def arrowhead(sizes, k, seed):
@@ -70,15 +70,15 @@ def test_a_block_is_compiled_per_stage_and_thread_flag_alone(solved):
     variant, faster), the same for both ``parallel`` flags (it takes the storage without
     the flag; before, one per flag too: six); its index int64 from a loop and from a
     ``prange`` (unsigned, cast) alike."""
-    signatures = compiled(bordered._block)
+    signatures = compiled(band_blocks._block)
     assert all(", int64, Literal[int](" in s for s in signatures)
     assert len(signatures) == 3
 
 
 def test_the_scatter_takes_flat_arrays_from_either_lu(solved):
-    """``_scatter``: ``E``, ``F``, ``S`` flat, as ``kernels.schur`` passes them; one
-    signature per ``parallel`` flag."""
-    signatures = compiled(bordered._scatter)
+    """``_scatter``: ``E``, ``F``, ``S`` flat, as both LUs' blocks
+    (``kernels.band_blocks``) hold them; one signature per ``parallel`` flag."""
+    signatures = compiled(band_blocks._scatter)
     assert len(signatures) == 2
     assert all(s.count("Array(float64, 1, 'C'") == 4 for s in signatures)
 

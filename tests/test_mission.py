@@ -100,7 +100,7 @@ def test_the_bordered_lu_factors_each_tether_as_a_block_on_any_number_of_threads
     solutions = []
     for threads in (1, 2):
         solver = PatternSolver(lay.indptr, lay.indices, border=lay.border, threads=threads)
-        starts, rows_ptr = solver.lu[14], solver.lu[15]
+        starts, rows_ptr = solver.lu[0][0][6], solver.lu[0][0][7]
         assert starts.size - 1 == 12 and np.all(np.diff(rows_ptr) == 3)
         solver.factor(data)
         solutions.append(solver.solve(rhs))

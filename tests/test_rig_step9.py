@@ -1,7 +1,7 @@
 """The windless E-sail rig's step made cheaper bit for bit (issue 47, item 2).
 
-The band solve's blocks substituted two at a time (``kernels.bordered.pair_substitute``)
-and its border correction vectorised (``kernels.bordered._block``), the mass
+The band solve's blocks substituted two at a time (``kernels.band_sweeps.pair_substitute``)
+and its border correction vectorised (``kernels.band_blocks._block``), the mass
 of a system with point masses in the strided form of the step (``FastCSR.strided``
 leaves stored zeros out), the mass and CSR products without wrap-around tests
 (``kernels.books``) and the constraint forces scattered from the rows of ``C``
@@ -15,7 +15,7 @@ from scipy.linalg import lapack
 
 import skfem_cable as sc
 from skfem_cable.core.linalg import FastCSR
-from skfem_cable.kernels import bordered
+from skfem_cable.kernels import band_sweeps
 from skfem_cable.kernels.books import csr_product, step_books
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
@@ -58,7 +58,7 @@ def test_stored_zeros_leave_the_mass_strided_and_its_products_the_same_bits():
 
 
 def _split_factor(n, band, seed):
-    """The split banded LU (``bordered.split``) of a random band of ``n`` unknowns and
+    """The split banded LU (``band_sweeps.split``) of a random band of ``n`` unknowns and
     half-width ``band`` with tiny first diagonals (row interchanges there)."""
     rng = np.random.default_rng(seed)
     storage = np.zeros((3 * band + 1, n), order="F")
@@ -69,7 +69,7 @@ def _split_factor(n, band, seed):
     ab, ipiv = np.ascontiguousarray(lu.T), (pivots + 1).astype(np.int32)
     assert np.any(ipiv != np.arange(1, n + 1))
     lower, upper = np.zeros((n, band)), np.zeros((n, 2 * band + 1))
-    bordered.split(ab, band, lower, upper)
+    band_sweeps.split(ab, band, lower, upper)
     return lower, upper, ipiv
 
 
@@ -81,9 +81,9 @@ def test_two_blocks_substituted_together_are_each_alone_bit_for_bit(sizes):
     (la, ua, pa), (lb, ub, pb) = (_split_factor(n, band, n) for n in sizes)
     a, b = np.linspace(-1.0, 2.0, sizes[0]), np.cos(np.arange(sizes[1]))
     expected_a, expected_b = a.copy(), b.copy()
-    bordered.split_substitute(la, ua, band, pa, expected_a)
-    bordered.split_substitute(lb, ub, band, pb, expected_b)
-    bordered.pair_substitute(la, ua, pa, a, lb, ub, pb, b, band)
+    band_sweeps.split_substitute(la, ua, band, pa, expected_a)
+    band_sweeps.split_substitute(lb, ub, band, pb, expected_b)
+    band_sweeps.pair_substitute(la, ua, pa, a, lb, ub, pb, b, band)
     assert np.array_equal(a.view(np.int64), expected_a.view(np.int64))
     assert np.array_equal(b.view(np.int64), expected_b.view(np.int64))
 

@@ -1,5 +1,5 @@
 """The working set of a Newton iteration (issue 47, linear cost at scale): the band
-solves read the factor split into ``L`` and ``U`` (``kernels.bordered.split``), with
+solves read the factor split into ``L`` and ``U`` (``kernels.band_sweeps.split``), with
 the same results bit for bit as from LAPACK's storage; the mass matrix in the compact
 form of the step (``FastCSR.strided``); the exponent's measure
 (``benchmarks/step_exponent.py``)."""
@@ -10,7 +10,7 @@ import scipy.sparse as sp
 from scipy.linalg import lapack
 
 from skfem_cable.core.linalg import FastCSR
-from skfem_cable.kernels import bordered
+from skfem_cable.kernels import band_sweeps
 from skfem_cable.kernels.books import step_books
 
 
@@ -31,7 +31,7 @@ def factored(request):
     assert info == 0
     ab, ipiv = np.ascontiguousarray(lu.T), (pivots + 1).astype(np.int32)
     lower, upper = np.zeros((n, band)), np.zeros((n, 2 * band + 1))
-    bordered.split(ab, band, lower, upper)
+    band_sweeps.split(ab, band, lower, upper)
     return A.tocsr(), ab, ipiv, band, lower, upper, request.param
 
 
@@ -43,8 +43,8 @@ def test_split_solve_is_the_lapack_layout_solve_bit_for_bit(factored):
     assert np.any(ipiv != np.arange(1, A.shape[0] + 1)) == pivoting
     rhs = np.linspace(-1.0, 2.0, A.shape[0])
     expected, x = rhs.copy(), rhs.copy()
-    bordered.band_substitute(ab, band, ipiv, expected)
-    bordered.split_substitute(lower, upper, band, ipiv, x)
+    band_sweeps.band_substitute(ab, band, ipiv, expected)
+    band_sweeps.split_substitute(lower, upper, band, ipiv, x)
     assert np.array_equal(x, expected)
     assert np.allclose(A @ x, rhs, rtol=0, atol=1e-10)
 
