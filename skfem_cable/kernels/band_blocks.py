@@ -211,11 +211,14 @@ def _local(blocks, j):
             W[first:last].reshape((t, n)))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _blocks(blocks, stage, parallel):
     """``_block`` of every block at ``stage``, on numba's threads unless ``parallel`` is
     None (the threaded loop is then not compiled); a solve's ``SUBSTITUTE`` on one thread
-    two blocks at a time."""
+    two blocks at a time.  Inlined by numba into its callers (its branches pruned there
+    the same way): compiled apart, it was six functions (three stages, two flags) whose
+    LLVM optimisation of the block code linked into them was done again in each caller
+    (both LUs on one and two threads, a fresh process: 5.4 s of compiling)."""
     if parallel is not None:
         _blocks_parallel(blocks, stage)
     elif stage == SUBSTITUTE:
