@@ -90,12 +90,12 @@ def substitute(front, rhs, parallel):
     g = work[ab.shape[0]:]
     for j in range(starts.size - 1):  # in the order of the blocks
         near = touch[touch_ptr[j]:touch_ptr[j + 1]]
-        f = F[e_ptr[j]:e_ptr[j + 1]].reshape((starts[j + 1] - starts[j], near.size))
-        for i in range(cols_ptr[j], cols_ptr[j + 1]):
+        t = near.size
+        for i in range(cols_ptr[j], cols_ptr[j + 1]):  # F_j (n_j, t) flat
             p = cols[i]
             yp = work[p]
-            fp = f[p - starts[j]]
-            for a in range(near.size):
+            fp = F[e_ptr[j] + (p - starts[j]) * t: e_ptr[j] + (p - starts[j] + 1) * t]
+            for a in range(t):
                 g[near[a]] -= fp[a] * yp
     return g
 
@@ -271,11 +271,10 @@ def _block(blocks, j, stage):
         split_substitute(lower[start:end], upper[start:end], band, ipiv[start:end],
                          work[start:end])
     else:  # over slices: an index from 0 needs no wrap-around test, and LLVM vectorises
-        w = _local(blocks, j)[2]  # the loop (the E-sail rig's 12 blocks: 4.8 -> 2.2 us)
-        near = touch[touch_ptr[j]:touch_ptr[j + 1]]
-        y, g = work[start:end], work[ab.shape[0]:]
-        for a in range(near.size):
-            ga = g[near[a]]
-            wa = w[a]
-            for i in range(y.size):
+        y, g = work[start:end], work[ab.shape[0]:]  # the loop (the E-sail rig's 12
+        n, first = end - start, e_ptr[j]  # blocks: 4.8 -> 2.2 us); W_j (t, n_j) flat
+        for a in range(touch_ptr[j + 1] - touch_ptr[j]):
+            ga = g[touch[touch_ptr[j] + a]]
+            wa = W[first + a * n: first + (a + 1) * n]
+            for i in range(n):
                 y[i] -= wa[i] * ga
