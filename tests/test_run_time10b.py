@@ -32,3 +32,23 @@ def test_the_test_task_writes_bytecode_and_the_others_keep_the_environment(monke
     assert "PYTHONDONTWRITEBYTECODE" not in test_env
     assert test_env == {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     assert lint_env == dict(os.environ)
+
+
+def test_writes_skip_fsync_only_where_the_environment_says_so(tmp_path, monkeypatch):
+    """``SKFEM_CABLE_FSYNC=0`` (the suite's, ``conftest.py``): ``write_atomic`` writes the
+    same bytes without ``fsync``; unset or any other value, it flushes the file and its
+    folder."""
+    from skfem_cable.util import atomic
+
+    assert os.environ["SKFEM_CABLE_FSYNC"] == "0"  # the suite's processes and children
+    calls = []
+    monkeypatch.setattr(atomic.os, "fsync", lambda fd: calls.append(fd))
+    for value, flushed in (("0", 0), (None, 2), ("1", 2)):
+        if value is None:
+            monkeypatch.delenv("SKFEM_CABLE_FSYNC")
+        else:
+            monkeypatch.setenv("SKFEM_CABLE_FSYNC", value)
+        calls.clear()
+        atomic.write_atomic(tmp_path / "f", f"{value}".encode())
+        assert len(calls) == flushed and (tmp_path / "f").read_text() == f"{value}"
+        assert not [p for p in tmp_path.iterdir() if atomic.is_temporary(p)]
