@@ -49,7 +49,7 @@ LONGEST = (
     "test_line_bodies_space.py", "test_orbit_scenes.py", "test_esail_attitude.py",
     "test_spin_control.py", "test_oml_force.py", "test_bare_tether_deorbit.py",
     "test_rodchain.py", "test_tss_deployment.py", "test_sweep.py",
-    "test_plot.py", "test_moved_modules.py", "test_validation_statics.py", "test_locking.py",
+    "test_plot.py", "test_validation_statics.py", "test_locking.py",
     "test_cli.py", "test_rodchain_io.py", "test_faults_round_three_control.py",
     "test_dynamics_hard.py", "test_compile_time.py", "test_esail.py", "test_oml.py",
     "test_rodchain_store.py", "test_plasma_brake.py", "test_adaptive.py", "test_dynamics.py",
