@@ -52,3 +52,19 @@ def test_writes_skip_fsync_only_where_the_environment_says_so(tmp_path, monkeypa
         atomic.write_atomic(tmp_path / "f", f"{value}".encode())
         assert len(calls) == flushed and (tmp_path / "f").read_text() == f"{value}"
         assert not [p for p in tmp_path.iterdir() if atomic.is_temporary(p)]
+
+
+def test_the_frames_of_a_run_are_counted_once(tmp_path, monkeypatch):
+    """Before: ``described_files`` counted the VTU frames again for each frame (a glob of
+    every frame per frame: 73,712 path matches at 271 frames).  Now once, with the same
+    description."""
+    from skfem_cable.runner import directory
+
+    (tmp_path / "vtu").mkdir()
+    for i in range(40):
+        (tmp_path / "vtu" / f"series_{i:06d}.vtu").write_text("")
+    globs, glob = [], Path.glob
+    monkeypatch.setattr(Path, "glob", lambda self, p: globs.append(p) or glob(self, p))
+    listed = directory.described_files(tmp_path)
+    assert listed["vtu/series_*.vtu"].endswith("(40 files)")
+    assert globs.count("vtu/series_*.vtu") == 2  # run_files' listing, then the count
