@@ -1,7 +1,8 @@
 """What keeps the test command's run time short (issue 47, item 5): ``python3 tasks.py
 test`` keeps Python's bytecode caches where the environment switches them off (each
 pytest-xdist worker would otherwise rewrite every test module's asserts at its collection,
-and each process the suite starts would compile the package again)."""
+and each process the suite starts would compile the package again) and leaves out zarr's
+pytest plugin; the suite's writes skip ``fsync``; a run's summary counts its frames once."""
 
 import os
 from pathlib import Path
@@ -29,6 +30,7 @@ def test_the_test_task_writes_bytecode_and_the_others_keep_the_environment(monke
     assert tasks.main(["test", "-x"]) == 0 and tasks.main(["lint"]) == 0
     (test, test_env), (lint, lint_env) = seen
     assert test[-2:] == ["loadfile", "-x"] and lint[-2:] == ["check", "."]
+    assert test[test.index("-p") + 1] == "no:zarr"  # zarr's plugin, in no process
     assert "PYTHONDONTWRITEBYTECODE" not in test_env
     assert test_env == {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     assert lint_env == dict(os.environ)
