@@ -1,7 +1,7 @@
 """The test session's set-up: what the suite's processes share, and the order of its files.
 
 ``python3 tasks.py test`` runs the suite on every core (pytest-xdist, ``--dist loadfile``:
-a file's tests on one worker).  Two things here keep that fast from a cold kernel cache:
+a file's tests on one worker).  Three things here keep that fast from a cold kernel cache:
 
 * **One package for every process.**  Tests that start Python processes (the CLI under a
   signal, the dask workers of a sweep) import ``skfem_cable`` from this checkout: its
@@ -9,6 +9,9 @@ a file's tests on one worker).  Two things here keep that fast from a cold kerne
   whatever ``skfem_cable`` the environment installed (another worktree's, in an editable
   install made elsewhere), tests that code instead of this one, and compiles its kernels
   again into a cache of their own (numba's cache is per source folder).
+* **No fsync.**  The suite's faults are killed processes, never power cuts: its writes
+  skip ``fsync`` (``SKFEM_CABLE_FSYNC=0``, ``util.atomic.durable``; ``tests/test_faults.py``
+  alone made 11,067 calls, 6.0 s of system time).
 * **The longest files first.**  xdist hands out the files in the order of its collection
   (``--loadscope-reorder``, its default, would sort them by their number of tests, which
   sent the few long E-sail runs last, onto one worker while the other waited).
@@ -46,7 +49,7 @@ LONGEST = (
     "test_line_bodies_space.py", "test_orbit_scenes.py", "test_esail_attitude.py",
     "test_spin_control.py", "test_oml_force.py", "test_bare_tether_deorbit.py",
     "test_rodchain.py", "test_tss_deployment.py", "test_sweep.py",
-    "test_plot.py", "test_moved_modules.py", "test_validation_statics.py", "test_locking.py",
+    "test_plot.py", "test_validation_statics.py", "test_locking.py",
     "test_cli.py", "test_rodchain_io.py", "test_faults_round_three_control.py",
     "test_dynamics_hard.py", "test_compile_time.py", "test_esail.py", "test_oml.py",
     "test_rodchain_store.py", "test_plasma_brake.py", "test_adaptive.py", "test_dynamics.py",
@@ -63,6 +66,8 @@ def _lead_pythonpath(folder):
 
 
 _lead_pythonpath(ROOT)
+#: No ``fsync`` (module notes), in this process and those it starts.
+os.environ["SKFEM_CABLE_FSYNC"] = "0"
 
 
 def pytest_configure(config):

@@ -102,8 +102,9 @@ def described_files(out):
             continue
         pattern = next((k for k in DESCRIPTIONS if fnmatch(name, k)), None)
         if pattern == "vtu/series_*.vtu":
-            count = len(list(out.glob(pattern)))
-            listed[pattern] = f"{DESCRIPTIONS[pattern]} ({count} files)"
+            if pattern not in listed:  # counted once, not once per frame
+                count = len(list(out.glob(pattern)))
+                listed[pattern] = f"{DESCRIPTIONS[pattern]} ({count} files)"
         else:
             listed[name] = DESCRIPTIONS.get(pattern, "written by this package")
     return listed

@@ -1,0 +1,72 @@
+"""What keeps the test command's run time short (issue 47, item 5): ``python3 tasks.py
+test`` keeps Python's bytecode caches where the environment switches them off (each
+pytest-xdist worker would otherwise rewrite every test module's asserts at its collection,
+and each process the suite starts would compile the package again) and leaves out zarr's
+pytest plugin; the suite's writes skip ``fsync``; a run's summary counts its frames once."""
+
+import os
+from pathlib import Path
+from types import SimpleNamespace
+
+from test_bench_guard import load
+
+ROOT = Path(__file__).parents[1]
+
+
+def test_the_test_task_writes_bytecode_and_the_others_keep_the_environment(monkeypatch):
+    """Under ``PYTHONDONTWRITEBYTECODE=1``: the test command's environment is the caller's
+    without it; the lint command's is the caller's."""
+    tasks = load(ROOT / "tasks.py")
+    seen = []
+
+    def run(command, env=None, **_):
+        seen.append((command, env))
+        return SimpleNamespace(returncode=0)
+
+    monkeypatch.setattr(tasks, "ensure_venv", lambda: None)
+    monkeypatch.setattr(tasks, "SYSTEM_DEPS", ROOT / "no such script")
+    monkeypatch.setattr(tasks, "subprocess", SimpleNamespace(run=run))
+    monkeypatch.setenv("PYTHONDONTWRITEBYTECODE", "1")
+    assert tasks.main(["test", "-x"]) == 0 and tasks.main(["lint"]) == 0
+    (test, test_env), (lint, lint_env) = seen
+    assert test[-2:] == ["loadfile", "-x"] and lint[-2:] == ["check", "."]
+    assert test[test.index("-p") + 1] == "no:zarr"  # zarr's plugin, in no process
+    assert "PYTHONDONTWRITEBYTECODE" not in test_env
+    assert test_env == {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
+    assert lint_env == dict(os.environ)
+
+
+def test_writes_skip_fsync_only_where_the_environment_says_so(tmp_path, monkeypatch):
+    """``SKFEM_CABLE_FSYNC=0`` (the suite's, ``conftest.py``): ``write_atomic`` writes the
+    same bytes without ``fsync``; unset or any other value, it flushes the file and its
+    folder."""
+    from skfem_cable.util import atomic
+
+    assert os.environ["SKFEM_CABLE_FSYNC"] == "0"  # the suite's processes and children
+    calls = []
+    monkeypatch.setattr(atomic.os, "fsync", lambda fd: calls.append(fd))
+    for value, flushed in (("0", 0), (None, 2), ("1", 2)):
+        if value is None:
+            monkeypatch.delenv("SKFEM_CABLE_FSYNC")
+        else:
+            monkeypatch.setenv("SKFEM_CABLE_FSYNC", value)
+        calls.clear()
+        atomic.write_atomic(tmp_path / "f", f"{value}".encode())
+        assert len(calls) == flushed and (tmp_path / "f").read_text() == f"{value}"
+        assert not [p for p in tmp_path.iterdir() if atomic.is_temporary(p)]
+
+
+def test_the_frames_of_a_run_are_counted_once(tmp_path, monkeypatch):
+    """Before: ``described_files`` counted the VTU frames again for each frame (a glob of
+    every frame per frame: 73,712 path matches at 271 frames).  Now once, with the same
+    description."""
+    from skfem_cable.runner import directory
+
+    (tmp_path / "vtu").mkdir()
+    for i in range(40):
+        (tmp_path / "vtu" / f"series_{i:06d}.vtu").write_text("")
+    globs, glob = [], Path.glob
+    monkeypatch.setattr(Path, "glob", lambda self, p: globs.append(p) or glob(self, p))
+    listed = directory.described_files(tmp_path)
+    assert listed["vtu/series_*.vtu"].endswith("(40 files)")
+    assert globs.count("vtu/series_*.vtu") == 2  # run_files' listing, then the count
