@@ -34,11 +34,15 @@ def check_independent(system, constraint):
         raise ValueError(f"constraint {constraint.name!r} is degenerate: its {constraint.n_eq} "
                          f"equations have rank {rank} on its coordinates; a constraint's "
                          "equations must be independent")
+    full_off = {}  # whether J has its full row rank on the columns of a mask
     for other in system.constraints:
         if not other.linear:
             continue
+        off = ~np.isin(dofs, other.dofs(system))
+        if off.all() or _full_rank_off(J, off, full_off):
+            continue
         other_dofs, other_J = _distinct_jacobian(system, other, q0)
-        if np.intersect1d(dofs, other_dofs).size and _dependent(dofs, J, other_dofs, other_J):
+        if _dependent(dofs, J, other_dofs, other_J):
             raise ValueError(
                 f"constraint {constraint.name!r} repeats equations of {other.name!r}, added "
                 "before: the same node pinned or clamped twice makes the system's matrix "
@@ -103,6 +107,17 @@ def _distinct_jacobian(system, constraint, q0):
     J = np.zeros((constraint.n_eq, dofs.size))
     np.add.at(J.T, where, np.asarray(constraint.jacobian(q0[d], 0.0), dtype=float).T)
     return dofs, J
+
+
+def _full_rank_off(J, off, known):
+    """Whether the columns ``off`` of ``J`` (those off another constraint's coordinates)
+    alone have its full row rank (memo ``known``, by mask).  Then no combination of the
+    rows of both constraints vanishes unless ``J``'s part does: the rank of both is the
+    other's plus ``len(J)`` (a tether's node pinned to a hub that other pins share)."""
+    key = off.tobytes()
+    if key not in known:
+        known[key] = np.linalg.matrix_rank(J[:, off]) == len(J) if off.any() else False
+    return known[key]
 
 
 def _dependent(dofs, J, other_dofs, other_J):

@@ -319,8 +319,12 @@ class SolarWindForce:
         (``distance``; 1 AU for the paper's law), per cable (N/m), of the voltages of
         ``sources`` (``voltages``) in the wind at ``t`` (the law evaluated once per
         distinct voltage)."""
+        return self.coefficients_at(self.voltages(t, sources), t, reference)
+
+    def coefficients_at(self, voltages, t, reference=None):
+        """``coefficients`` of the tether voltages ``voltages`` (V, one per cable)."""
         wind, d = self.wind.at(t), self.distance(t, reference)
-        levels, which = np.unique(self.voltages(t, sources), return_inverse=True)
+        levels, which = np.unique(voltages, return_inverse=True)
         return np.array([self.law.force_per_length(V, wind, d) for V in levels])[which]
 
     #: Deploying tethers are supported (``System.deploy`` with a prescribed length): the
@@ -387,14 +391,28 @@ class SolarWindForce:
                 raise ValueError(f"SolarWindForce on {cable.name!r}, deployed from a reel: "
                                  "the solar wind supports prescribed lengths only")
 
+        modulated = any(callable(v) for v in self.voltage)
+        moves = self.law.anchor is None and callable(self.sun)
+        varies = self.wind.varies or moves
+
         def sun_position(t):
             sun[:] = source(t)
 
         def scaling(t):
             scale[:2] = self.scaling(t, voltages, reference)
 
+        # in a steady wind at a fixed distance with fixed lengths, the coefficients are
+        # those of the voltages alone: unchanged voltages (a controller's between its
+        # samples, an on-off modulation's between switchings) keep them
+        held = [None] if not (varies or any(deploying)) else None
+
         def coefficients(t):
-            per_cable = self.coefficients(t, voltages, reference)
+            volts = self.voltages(t, voltages)
+            if held is not None:
+                if held[0] is not None and np.array_equal(volts, held[0]):
+                    return
+                held[0] = volts.copy()
+            per_cable = self.coefficients_at(volts, t, reference)
             if any(deploying):
                 per_cable *= np.array([system.stretch(c, t) for c in self.cables])
             coef[:] = per_cable[cable_of_element]
@@ -402,9 +420,6 @@ class SolarWindForce:
         def expansion(t):
             scale[:] = kernel.expansion(scale[0], scale[1], sun)
 
-        modulated = any(callable(v) for v in self.voltage)
-        moves = self.law.anchor is None and callable(self.sun)
-        varies = self.wind.varies or moves
         rescales = self.law.anchor is None and (varies or modulated)
         return [part for part, needed in (
             (sun_position, callable(self.sun)),
