@@ -55,9 +55,11 @@ def _crossing(pattern, rank):
     ``m`` unknowns of the square CSR ``pattern`` at positions ``rank``: the longest
     coupling ``(i, j)``, ``i < c <= j`` in positions, that crosses it (0: none)."""
     m = rank.size
-    coo = pattern.tocoo()
     reach = np.arange(m)
-    np.maximum.at(reach, rank[coo.row], rank[coo.col])
+    rows = np.flatnonzero(np.diff(pattern.indptr))
+    if rows.size:
+        top = np.maximum.reduceat(rank[pattern.indices], pattern.indptr[rows])
+        reach[rank[rows]] = np.maximum(top, rank[rows])
     span = reach - np.arange(m)
     w = np.zeros(m + 1, dtype=np.int64)
     for s in range(1, int(np.max(span, initial=0)) + 1):
@@ -93,7 +95,8 @@ def light_last(pattern):
     if not mask.any() or mask.all():
         return None
     heavy, few = np.flatnonzero(~mask), np.flatnonzero(mask)
-    order = heavy[reverse_cuthill_mckee(pattern[heavy][:, heavy], symmetric_mode=True)]
+    rest = pattern[heavy][:, heavy]
+    order = heavy[reverse_cuthill_mckee(rest, symmetric_mode=True)]
     rank = np.full(mask.size, -1)
     rank[order] = np.arange(order.size)
     coo = pattern[few].tocoo()
@@ -103,7 +106,7 @@ def light_last(pattern):
     last = np.full(few.size, -1)
     np.minimum.at(first, coo.row[coupled], at[coupled])
     np.maximum.at(last, coo.row[coupled], at[coupled])
-    cuts = _cuts(first, last, _crossing(pattern[order][:, order], np.arange(order.size)))
+    cuts = _cuts(first, last, _crossing(rest, rank[heavy]))
     # a cut c comes before the unknown at position c: keys 2 c (light) and 2 c + 1
     keys = np.concatenate([2 * np.arange(order.size) + 1, 2 * cuts])
     return np.concatenate([order, few])[np.argsort(keys, kind="stable")]
