@@ -17,6 +17,8 @@ from skfem import MeshLine
 import skfem_cable as sc
 from skfem_cable.core import ordering
 from skfem_cable.core.linalg import ordering_of
+from skfem_cable.kernels import bordered
+from skfem_cable.kernels.lapack import ADDRESSES
 from skfem_cable.scenes import classics, esail
 
 #: A cable's half-width: an element couples the six coordinates of each of its two nodes.
@@ -58,10 +60,16 @@ def test_a_catenary_pinned_at_both_ends_keeps_the_cable_half_width():
 
 def test_the_esail_rig_tether_blocks_keep_the_cable_half_width():
     """The rig's 12 tethers of 5 elements, each with its root joint's multipliers, hub
-    last (the border)."""
+    last (the border); each tether a block of its own: the multipliers of two tethers
+    put at the free cut between them each on its tether's side (in the order of their
+    neighbours, else the two blocks were one)."""
     scene = esail.build(esail.BaselineConfig(), 10.0, 5)
     (perm, nb, band, dense), lay = _ordering(scene.system)
     assert band == CABLE and nb == lay.N - lay.border.size and dense.size == lay.border.size
+    lu = bordered.storage(ADDRESSES, np.repeat(np.arange(lay.N), np.diff(lay.indptr)),
+                          lay.indices, perm, nb, band)
+    starts, rows_ptr = lu[14], lu[15]
+    assert np.all(np.diff(starts) == 39) and np.all(np.diff(rows_ptr) == 3)
 
 
 def _rcm_half_width(pattern):

@@ -107,9 +107,12 @@ def light_last(pattern):
     np.minimum.at(first, coo.row[coupled], at[coupled])
     np.maximum.at(last, coo.row[coupled], at[coupled])
     cuts = _cuts(first, last, _crossing(rest, rank[heavy]))
-    # a cut c comes before the unknown at position c: keys 2 c (light) and 2 c + 1
+    # a cut c comes before the unknown at position c: keys 2 c (light) and 2 c + 1; the
+    # light unknowns at one cut in the order of their neighbours, so that those of the
+    # bodies on either side of a free cut stay on their side (blocks stay apart)
     keys = np.concatenate([2 * np.arange(order.size) + 1, 2 * cuts])
-    return np.concatenate([order, few])[np.argsort(keys, kind="stable")]
+    near = np.concatenate([np.zeros(order.size, dtype=np.int64), first + last])
+    return np.concatenate([order, few])[np.lexsort((near, keys))]
 
 
 def band_ordering(pattern, border):
