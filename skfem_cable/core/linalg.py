@@ -110,7 +110,9 @@ class PatternSolver:
         CSR pattern of a structurally symmetric square matrix.
     method : {"auto", "banded", "sparse"}
         ``"banded"``: LAPACK's banded LU of the pattern reordered by reverse
-        Cuthill-McKee, with the ``border`` unknowns (if any) last, eliminated by a Schur
+        Cuthill-McKee (its light unknowns placed apart where that narrows the band:
+        ``core.ordering.band_ordering``), with the ``border`` unknowns (if any) last,
+        eliminated by a Schur
         complement (``kernels.bordered``, or with ``junctions`` ``kernels.schur``);
         ``"sparse"``: SuperLU; ``"auto"``: banded while
         the half-width stays within ``MAX_BANDWIDTH``.
