@@ -1,7 +1,8 @@
 """Linear solves on the fixed sparsity pattern of the KKT (iteration) matrix.
 
-The pattern is reordered once by reverse Cuthill-McKee.  A single cable (with its
-multipliers interleaved by the ordering) is a band of half-width about 13, factored by
+The pattern is reordered once by reverse Cuthill-McKee, its light unknowns (a pin's
+multipliers) placed apart where that narrows the band (``core.ordering``).  A single cable
+(with a pin's multipliers at its end) is a band of half-width 11, factored by
 LAPACK's banded LU (``dgbtrf``, through ``kernels.lapack`` so that the compiled Newton step
 uses the same factor) in O(n).  A hub joined to many cables (the E-sail's) is ordered last
 as a dense border eliminated by its Schur complement (``kernels.bordered``), so the band
@@ -19,13 +20,13 @@ import os
 import numba
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.csgraph import reverse_cuthill_mckee
 from scipy.sparse.linalg import splu
 
 from ..kernels import bordered as bordered_lu
 from ..kernels import schur
 from ..kernels.books import csr_product
 from ..kernels.lapack import ADDRESSES
+from .ordering import band_ordering
 
 #: The environment variable of the number of threads of the bordered LU's blocks
 #: (``threads`` of ``PatternSolver``) and of the element loops (``kernels.chunks``).
@@ -61,24 +62,6 @@ def thread_count(threads=None):
 def _unknowns(indices):
     """Sorted unique int64 unknowns of ``indices`` (None: none)."""
     return np.unique(np.asarray([] if indices is None else indices, dtype=np.int64))
-
-
-def band_ordering(pattern, border):
-    """``(perm, nb, band)`` of the square CSR ``pattern``: reverse Cuthill-McKee of the
-    unknowns outside ``border``, then the ``border``; ``nb`` band unknowns of half-width
-    ``band``."""
-    n = pattern.shape[0]
-    rest = np.setdiff1d(np.arange(n), border)
-    sub = pattern[rest][:, rest] if border.size else pattern
-    order = reverse_cuthill_mckee(sub, symmetric_mode=True) if rest.size else rest
-    perm = np.concatenate([rest[order], border]).astype(np.int64)
-    iperm = np.empty_like(perm)
-    iperm[perm] = np.arange(n)
-    coo = pattern.tocoo()
-    pr, pc = iperm[coo.row], iperm[coo.col]
-    inside = (pr < rest.size) & (pc < rest.size)
-    band = int(np.max(np.abs(pr - pc)[inside], initial=0))
-    return perm, rest.size, band
 
 
 def _pattern(indptr, indices):
@@ -127,7 +110,9 @@ class PatternSolver:
         CSR pattern of a structurally symmetric square matrix.
     method : {"auto", "banded", "sparse"}
         ``"banded"``: LAPACK's banded LU of the pattern reordered by reverse
-        Cuthill-McKee, with the ``border`` unknowns (if any) last, eliminated by a Schur
+        Cuthill-McKee (its light unknowns placed apart where that narrows the band:
+        ``core.ordering.band_ordering``), with the ``border`` unknowns (if any) last,
+        eliminated by a Schur
         complement (``kernels.bordered``, or with ``junctions`` ``kernels.schur``);
         ``"sparse"``: SuperLU; ``"auto"``: banded while
         the half-width stays within ``MAX_BANDWIDTH``.
