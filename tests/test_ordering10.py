@@ -68,7 +68,7 @@ def test_the_esail_rig_tether_blocks_keep_the_cable_half_width():
     assert band == CABLE and nb == lay.N - lay.border.size and dense.size == lay.border.size
     lu = bordered.storage(ADDRESSES, np.repeat(np.arange(lay.N), np.diff(lay.indptr)),
                           lay.indices, perm, nb, band)
-    starts, rows_ptr = lu[14], lu[15]
+    starts, rows_ptr = lu[0][0][6], lu[0][0][7]  # the blocks' storage (band_blocks)
     assert np.all(np.diff(starts) == 39) and np.all(np.diff(rows_ptr) == 3)
 
 

@@ -67,8 +67,10 @@ def test_a_controlled_run_leaves_the_users_input_and_gives_the_same_motion():
     """The pendulum of ``test_control`` pushed by ``Ramp`` with a delay of two steps.
     Before: ``push.value`` held ``[0, 0.04, 0]`` after the run (the controller's last
     output, written on the user's ``Input``).  Now it holds its initial ``[0, 0, 0]``;
-    the motion is that of main before the change to the last bit (the tip's position
-    at 0.05 s, and a second run of the same system gives the same steps)."""
+    the motion is that of main before the change (the tip's position at 0.05 s: to the
+    last bit then; to rounding since ``core.ordering`` puts the pin's multipliers at the
+    band's end, where the LU takes other pivots), and a second run of the same system
+    gives the same steps to the last bit."""
     from test_control import DT, SAMPLE, Ramp, pendulum
 
     system, cable, push = pendulum()
@@ -78,7 +80,9 @@ def test_a_controlled_run_leaves_the_users_input_and_gives_the_same_motion():
     assert push.value.tolist() == [0.0, 0.0, 0.0] and push(1.0).tolist() == [0.0, 0.0, 0.0]
     np.testing.assert_array_equal(runs[0].inputs["push"][-1], [0.0, 0.04, 0.0])
     tip = system.dofs(cable)[-12:-9]
-    assert runs[0].q[-1, tip].tolist() == [0.7497950241882557, -0.012575068901183263, 0.0]
+    np.testing.assert_allclose(runs[0].q[-1, tip],
+                               [0.7497950241882557, -0.012575068901183263, 0.0],
+                               rtol=0.0, atol=1e-14)
     np.testing.assert_array_equal(runs[1].q, runs[0].q)
 
 
