@@ -293,11 +293,13 @@ class _Inertia:
         self.d = deployment
         self.dofs = system.dofs(deployment.cable)
         M0, G0, K0 = deployment.matrices
-        self.M0, self.G0, self.K0 = M0, G0, K0
-        self.Mv = (M0 + G0 - G0.T).tocsr()
-        self.Gs = (G0 + G0.T).tocsr()
+        Mv = (M0 + G0 - G0.T).tocsr()
         pattern = (M0 + G0 + K0).tocoo()
-        self.blocks = [_on(pattern, m) for m in (M0, self.Mv, G0, K0)]
+        self.blocks = [_on(pattern, m) for m in (M0, Mv, G0, K0)]
+        # the products ``add`` and ``_length`` read, by the vector they multiply, in one
+        # sparse product each (rows stacked: each row's sum as in its own matrix)
+        self.stacks = [sp.vstack(m).tocsr() for m in
+                       ((M0, G0.T), (G0, K0), (Mv, M0, K0, G0, G0 + G0.T))]
         rows, cols = [self.dofs[pattern.row]], [self.dofs[pattern.col]]
         self.stowed = deployment.stowed(system)
         anchor = self.stowed is not None and self.stowed[2] is not None
@@ -322,9 +324,10 @@ class _Inertia:
         ell, rate, acc = d.state(ev.t, ev.q, ev.v, ev.a)
         lam, nu, kappa = ell / L0, rate / L0, rate * rate / (ell * L0)
         q, v, a = ev.q[self.dofs], ev.v[self.dofs], ev.a[self.dofs]
-        M0, G0, K0, Mv = self.M0, self.G0, self.K0, self.Mv
-        ev.f_ext[self.dofs] -= (lam - 1.0) * (M0 @ a) + nu * (Mv @ v) + (acc / L0) * (G0 @ q) \
-            - kappa * (K0 @ q)
+        products = [np.split(m @ x, m.shape[0] // q.size)
+                    for m, x in zip(self.stacks, (a, q, v))]
+        (M0a, _), (G0q, K0q), (Mvv, *_) = products
+        ev.f_ext[self.dofs] -= (lam - 1.0) * M0a + nu * Mvv + (acc / L0) * G0q - kappa * K0q
         b = self.blocks
         da = [(lam - 1.0) * b[0]]
         dv = [nu * b[1]]
@@ -337,31 +340,32 @@ class _Inertia:
             dv.append(-mu * rate * GG.ravel())
             dq.append(np.zeros(GG.size))
         if self.reel is not None:
-            self._length(ev, (ell, rate, acc), (q, v, a), dq, dv, da)
+            self._length(ev, (ell, rate, acc), (q, v, a), products, (dq, dv, da))
         if ev.want_tangent:
             ev.add_tangent(index, np.concatenate(dq), np.concatenate(dv),
                            da=np.concatenate(da))
 
-    def _length(self, ev, lengths, cable, dq, dv, da):
-        """The reel's equation and the coupling blocks (appended to ``dq, dv, da`` in the
-        order of the rows: the column of the length, then its row)."""
+    def _length(self, ev, lengths, cable, products, blocks):
+        """The reel's equation and the coupling blocks (appended to ``blocks = (dq, dv,
+        da)`` in the order of the rows: the column of the length, then its row), of the
+        ``products`` of ``self.stacks`` with ``cable = (q, v, a)``."""
         ell, rate, acc = lengths
         q, v, a = cable
+        (M0a, G0Ta), (G0q, K0q), (Mvv, M0v, K0v, G0v, Gsv) = products
+        dq, dv, da = blocks
         L0 = self.d.L0
-        M0, G0, K0 = self.M0, self.G0, self.K0
-        G0q, K0q, K0v, M0v = G0 @ q, K0 @ q, K0 @ v, M0 @ v
         k, qKv = q @ K0q, q @ K0v
         lL = ell * L0
-        force = (a @ G0q + v @ (G0 @ v)) / L0 + acc * k / lL + 2 * rate * qKv / lL \
+        force = (a @ G0q + v @ G0v) / L0 + acc * k / lL + 2 * rate * qKv / lL \
             - 0.5 * rate**2 * k / (ell * lL) - 0.5 * (v @ M0v) / L0
         # the column: derivatives of F_q (and of the anchor's force) in l, l', l''
-        col_q = [(M0 @ a) / L0 + rate**2 / (ell * lL) * K0q]
-        col_v = [(self.Mv @ v) / L0 - 2 * rate / lL * K0q]
+        col_q = [M0a / L0 + rate**2 / (ell * lL) * K0q]
+        col_v = [Mvv / L0 - 2 * rate / lL * K0q]
         col_a = [G0q / L0]
         # the row: derivatives of F_l in q, v, a
-        row_q = [(G0.T @ a) / L0 + 2 * acc / lL * K0q + 2 * rate / lL * K0v
+        row_q = [G0Ta / L0 + 2 * acc / lL * K0q + 2 * rate / lL * K0v
                  - rate**2 / (ell * lL) * K0q]
-        row_v = [(self.Gs @ v) / L0 + 2 * rate / lL * K0q - M0v / L0]
+        row_v = [Gsv / L0 + 2 * rate / lL * K0q - M0v / L0]
         row_a = [G0q / L0]
         diag_q = -acc * k / (ell * lL) - 2 * rate * qKv / (ell * lL) + rate**2 * k / (ell**2 * lL)
         diag_v = 2 * qKv / lL - rate * k / (ell * lL)

@@ -288,16 +288,25 @@ class SolarWindForce:
     def line_force(self, r, a, coef, t, reference=None, sources=None):
         """Force per unit length (N/m) at points ``r`` (..., 3) of slopes ``a`` (..., 3)
         with the coefficients ``coef`` (...) of ``coefficients`` at time ``t`` (in the
-        coordinates of the run of ``reference``, ``sun_at``):
-        ``coef (d / rho)^p (i_R - (t . i_R) t)`` with ``(d, p) = scaling(t)`` (Eqs.
-        29-32, as the kernel)."""
-        rel = r - self.sun_at(t, reference)
+        coordinates of the run of ``reference``, ``sun_at``): ``line_forces`` with the
+        Sun's position and the ``scaling`` at ``t``."""
+        return self.line_forces(r, a, coef, self.sun_at(t, reference),
+                                self.scaling(t, sources, reference))
+
+    @staticmethod
+    def line_forces(r, a, coef, sun, scaling):
+        """Force per unit length (N/m) at points ``r`` (..., 3) of slopes ``a`` (..., 3)
+        with the coefficients ``coef`` (...), the Sun at ``sun`` (..., 3) and ``scaling``
+        ``(d, p)`` (..., 2) (``scaling``), each broadcast against the points (the points
+        of many saved steps at once, with each step's Sun and scaling):
+        ``coef (d / rho)^p (i_R - (t . i_R) t)`` (Eqs. 29-32, as the kernel)."""
+        rel = r - sun
         rho = np.linalg.norm(rel, axis=-1, keepdims=True)
         i_R = rel / rho
         tangent = a / np.linalg.norm(a, axis=-1, keepdims=True)
         u_perp = i_R - np.sum(tangent * i_R, axis=-1, keepdims=True) * tangent
-        d, p = self.scaling(t, sources, reference)
-        return (coef[..., None] * (d / rho) ** p) * u_perp
+        d, p = np.moveaxis(np.asarray(scaling, dtype=float), -1, 0)
+        return (coef[..., None] * (d[..., None] / rho) ** p[..., None]) * u_perp
 
     def distance(self, t, reference=None):
         """The reference distance ``d`` (m) of the force at ``t``: the law's ``anchor``

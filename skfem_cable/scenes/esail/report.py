@@ -139,8 +139,8 @@ def _resultants(scene, result, C_I_B, table):
     """``_coulomb_resultants`` with the inputs of ``table`` (an ``inputs.InputTable``)
     set, at each saved step, to the values the result recorded.  The points, the sums
     and the moments' arms are taken over all saved steps at once (``_points``,
-    ``_by_tether``); the force of a saved step over the points of all tethers
-    (``line_force``'s Sun, scaling and voltages once per step, not once per tether)."""
+    ``_by_tether``), and so is the force (``line_forces``) with each step's
+    coefficients, Sun and scaling (the voltages once per step, not once per tether)."""
     wf = scene.wind_force
     sources = wf.sources(table)
     p = len(scene.tethers)
@@ -148,12 +148,15 @@ def _resultants(scene, result, C_I_B, table):
     owner = np.concatenate([np.full(cable.weights.size, i)
                             for i, cable in enumerate(scene.tethers)])
     r, a, anchor = _points(scene, result)
-    fw = np.empty_like(r)
+    nt = len(result.t)
+    coef, sun, scaling = np.empty((nt, p)), np.empty((nt, 3)), np.empty((nt, 2))
     for k, t in enumerate(result.t):
         for name in table.values:
             table.set(name, result.inputs[name][k])
-        coef = wf.coefficients(t, sources)
-        fw[k] = wf.line_force(r[k], a[k], coef[owner], t, result.reference) * weights[:, None]
+        coef[k] = wf.coefficients(t, sources)
+        sun[k] = wf.sun_at(t, result.reference)
+        scaling[k] = wf.scaling(t, sources, result.reference)
+    fw = wf.line_forces(r, a, coef[:, owner], sun[:, None], scaling[:, None]) * weights[:, None]
     force = _by_tether(fw, owner, p)
     moment = _by_tether(np.cross(r - anchor[:, owner], fw), owner, p)
     RT = np.swapaxes(C_I_B, -1, -2)
