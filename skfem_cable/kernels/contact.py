@@ -60,6 +60,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .line import point_function
+
 #: Kinds of surface (``surface[0]``).
 PLANE, SPHERE, CYLINDER, EDGE = 0.0, 1.0, 2.0, 3.0
 #: Positions in ``coef = [k, c, mu, eps, r_c, part, p_0]``.
@@ -201,7 +203,7 @@ def contact_point(surface, coef, x, xd, want, f, Fx, Fv, work):
             Fv[i, j] -= mu * (phi[i] * dNv[j] + N * dv)
 
 
-@njit(cache=True, inline="always")
+@point_function
 def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     """The contact's point function for the loop of ``kernels.line.module``:
     ``params = (surface, coef)`` (module notes); the force does not depend on the slope

@@ -24,21 +24,23 @@ import math
 
 from numba import njit
 
+from .line import point_function
 
-@njit(cache=True, inline="always")
+
+@point_function
 def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     """``f = s(rho) u_perp`` at the point ``x`` of slope ``a`` and, if ``want``, its
     derivatives ``Fx``, ``Fa`` (``Fv`` stays zero), with ``params = (sun, scaling)``: the
     Sun's position (3,) and ``scaling`` (7 numbers: ``(d0, p)`` and their
     expansion about the origin's distance, ``expansion``) (``kernels.line`` for the
     signature; ``work[0, 0]``, ``work[0, 1]`` hold ``i_R`` and ``t``, ``work[1]``,
-    ``work[2]`` the projections).  Inlined into the generated loop, as before the loop
-    was generic (its CPU time per evaluation is the hand-written loop's)."""
+    ``work[2]`` the projections).  Inlined by LLVM into the generated loop
+    (``line.point_function``; its CPU time per evaluation is the hand-written loop's)."""
     sun, scaling = params
     _wind(sun, scaling, True, x, a, want, f, Fx, Fa, work)
 
 
-@njit(cache=True, inline="always")
+@point_function
 def point_uniform(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     """``point`` of a wind that does not scale with the distance (``p = 0``: ``s = 1``,
     the paper's force law), without the power and its derivative at every point: the

@@ -33,6 +33,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .line import point_function
+
 
 @njit(cache=True, inline="always")
 def flow(x, uniform, W, vertical, heights, velocities, sigma, c, dc, slope):
@@ -97,7 +99,7 @@ def point_force(a, u, coef, want, h, Hu, Ha, t, un):
         h[i] *= lam
 
 
-@njit(cache=True, inline="always")
+@point_function
 def point(params, e, t, x, a, xd, want, f, Fx, Fa, Fv, work):
     """The drag's point function for the loop of ``kernels.line.module``: the force ``f``
     per unit length at the position ``x``, slope ``a`` and velocity ``xd``, with
