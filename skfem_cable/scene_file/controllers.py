@@ -35,7 +35,10 @@ def read_controllers(root, system):
 
 
 def _load(t, target):
-    """The function ``target`` (``"module:function"`` or ``"file.py:function"``)."""
+    """The function ``target`` (``"module:function"`` or ``"file.py:function"``).  A file
+    runs from its text, never from a bytecode cache: Python trusts a cache whose source
+    has the same size and modification second, so a controller edited within a second
+    (``200.0`` -> ``300.0``) ran its old code, and a resume compared the wrong code."""
     where, _, name = target.rpartition(":")
     if not where or not name:
         t.fail("callable", 'must be "module:function" or "file.py:function"', target)
@@ -46,7 +49,8 @@ def _load(t, target):
                 path = Path(str(t.source)).resolve().parent / path
             spec = importlib.util.spec_from_file_location(path.stem, path)
             module = importlib.util.module_from_spec(spec)
-            spec.loader.exec_module(module)
+            exec(compile(path.read_bytes(), str(path), "exec", dont_inherit=True),
+                 module.__dict__)
         else:
             module = importlib.import_module(where)
         return getattr(module, name)
