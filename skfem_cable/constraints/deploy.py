@@ -296,10 +296,12 @@ class _Inertia:
         Mv = (M0 + G0 - G0.T).tocsr()
         pattern = (M0 + G0 + K0).tocoo()
         self.blocks = [_on(pattern, m) for m in (M0, Mv, G0, K0)]
-        # the products ``add`` and ``_length`` read, by the vector they multiply, in one
-        # sparse product each (rows stacked: each row's sum as in its own matrix)
-        self.stacks = [sp.vstack(m).tocsr() for m in
-                       ((M0, G0.T), (G0, K0), (Mv, M0, K0, G0, G0 + G0.T))]
+        # the products ``add`` (and with a reel ``_length``) reads, by the vector they
+        # multiply, in one sparse product each (rows stacked: each row's sum as in its own
+        # matrix)
+        stacks = (((M0, G0.T), (G0, K0), (Mv, M0, K0, G0, G0 + G0.T))
+                  if deployment.reel is not None else ((M0,), (G0, K0), (Mv,)))
+        self.stacks = [sp.vstack(m).tocsr() for m in stacks]
         rows, cols = [self.dofs[pattern.row]], [self.dofs[pattern.col]]
         self.stowed = deployment.stowed(system)
         anchor = self.stowed is not None and self.stowed[2] is not None
@@ -326,7 +328,7 @@ class _Inertia:
         q, v, a = ev.q[self.dofs], ev.v[self.dofs], ev.a[self.dofs]
         products = [np.split(m @ x, m.shape[0] // q.size)
                     for m, x in zip(self.stacks, (a, q, v))]
-        (M0a, _), (G0q, K0q), (Mvv, *_) = products
+        (M0a, *_), (G0q, K0q), (Mvv, *_) = products
         ev.f_ext[self.dofs] -= (lam - 1.0) * M0a + nu * Mvv + (acc / L0) * G0q - kappa * K0q
         b = self.blocks
         da = [(lam - 1.0) * b[0]]

@@ -413,14 +413,16 @@ class SolarWindForce:
         # in a steady wind at a fixed distance with fixed lengths, the coefficients are
         # those of the voltages alone: unchanged voltages (a controller's between its
         # samples, an on-off modulation's between switchings) keep them
-        held = [None] if not (varies or any(deploying)) else None
+        holds = not (varies or any(deploying))
+        held = None
 
         def coefficients(t):
+            nonlocal held
             volts = self.voltages(t, voltages)
-            if held is not None:
-                if held[0] is not None and np.array_equal(volts, held[0]):
+            if holds:
+                if held is not None and np.array_equal(volts, held):
                     return
-                held[0] = volts.copy()
+                held = volts.copy()
             per_cable = self.coefficients_at(volts, t, reference)
             if any(deploying):
                 per_cable *= np.array([system.stretch(c, t) for c in self.cables])

@@ -27,11 +27,19 @@ from .cameras import _FIXED_VIEWS, _unit, scene_camera, view_camera
 TENSION_CMAP = "viridis"
 
 
+def _window_environment():
+    """This process's environment with, on Linux without an X display, VTK's EGL render
+    windows chosen (no X warning, no Xvfb needed); an explicit
+    ``VTK_DEFAULT_OPENGL_WINDOW`` is respected."""
+    env = dict(os.environ)
+    if sys.platform.startswith("linux") and not env.get("DISPLAY"):
+        env.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    return env
+
+
 def use_egl_without_display():
-    """On Linux without an X display, make VTK open EGL render windows (no X warning,
-    no Xvfb needed); an explicit ``VTK_DEFAULT_OPENGL_WINDOW`` is respected."""
-    if sys.platform.startswith("linux") and not os.environ.get("DISPLAY"):
-        os.environ.setdefault("VTK_DEFAULT_OPENGL_WINDOW", "vtkEGLRenderWindow")
+    """Make this process's VTK open the render windows of ``_window_environment``."""
+    os.environ.update(_window_environment())
 
 
 _PROBE = """
@@ -49,13 +57,13 @@ def rendering_available():
     """``(ok, reason)``: whether an off-screen OpenGL context can be created here.
 
     The probe renders a sphere in a child process, since a failing OpenGL set-up can abort
-    the process rather than raise; the child inherits the window choice of
-    ``use_egl_without_display`` and imports pyvista alone (not this package: 2 s less).
+    the process rather than raise; the child opens the windows of
+    ``use_egl_without_display`` (this process's environment is left as it is) and imports
+    pyvista alone (not this package: 2 s less).
     """
-    use_egl_without_display()
     try:
         proc = subprocess.run([sys.executable, "-c", _PROBE], capture_output=True, text=True,
-                              timeout=120)
+                              timeout=120, env=_window_environment())
     except subprocess.TimeoutExpired:
         return False, "the OpenGL probe timed out"
     if proc.returncode == 0:
