@@ -99,6 +99,27 @@ def test_series_writer_appends_after_a_restart(tmp_path):
     assert export.read_pvd(fresh.pvd) == [(7.0, "vtu/series_000000.vtu")]
 
 
+def test_a_series_formats_each_frame_of_its_pvd_once(tmp_path, monkeypatch):
+    """Adding a frame rewrites the ``.pvd`` from the kept lines of the others: one
+    ``pvd_line`` a frame (it rebuilt and indented the whole XML tree at every frame, which
+    is quadratic: 3.1 of 13 s of a 271-frame run), and the file still lists every frame,
+    with a name that needs escaping, as ``read_pvd`` and ParaView's reader see it."""
+    formatted = []
+    real = export.pvd_line
+    monkeypatch.setattr(export, "pvd_line", lambda *e: formatted.append(e) or real(*e))
+    series = export.VtuSeries(tmp_path, name="a&b")
+    mesh = meshio.Mesh(np.zeros((2, 3)), [("line", np.array([[0, 1]]))])
+    for t in range(30):
+        series.add(0.5 * t, mesh)
+    series.add(2.0, mesh)
+    assert len(formatted) == 31
+    want = [(0.5 * t, f"vtu/a&b_{t:06d}.vtu") for t in range(4)] + [
+        (2.0, "vtu/a&b_000004.vtu")]
+    assert export.read_pvd(series.pvd) == want
+    reader = pv.get_reader(str(series.pvd))
+    assert list(reader.time_values) == [t for t, _ in want]
+
+
 def test_bad_sampling_is_named():
     _, _, tether = hub_system()
     with pytest.raises(ValueError, match="points_per_element"):

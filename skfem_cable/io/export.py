@@ -34,6 +34,7 @@ computed; ``"lvlh"`` (a system in orbit) writes them in the orbiting frame of
 ``Orbit.lvlh``: positions and slopes turned into its axes, velocities relative to it.
 """
 
+import bisect
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -250,17 +251,27 @@ def write_vtu(path, system, state, points_per_element=8, resolution=32, frame="i
     return path
 
 
-def write_pvd(path, entries):
+#: A ``.pvd`` collection's text before and after its data sets (``write_pvd``).
+_PVD_HEAD = (b"<?xml version='1.0' encoding='utf-8'?>\n"
+             b'<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
+             b"  <Collection>\n")
+_PVD_TAIL = b"  </Collection>\n</VTKFile>\n"
+
+
+def pvd_line(t, file):
+    """The ``.pvd`` line (bytes) of the data set of time ``t`` in ``file``."""
+    element = ET.Element("DataSet", timestep=repr(float(t)), group="", part="0",
+                         file=str(file))
+    return b"    " + ET.tostring(element) + b"\n"
+
+
+def write_pvd(path, entries, lines=None):
     """Write a ``.pvd`` collection of ``(time, file)`` entries (files relative to the
-    ``.pvd``'s folder), atomically."""
-    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
-    coll = ET.SubElement(root, "Collection")
-    for t, file in entries:
-        ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part="0",
-                      file=str(file))
-    ET.indent(root)
+    ``.pvd``'s folder), atomically.  ``lines``: their ``pvd_line``s, when the caller keeps
+    them (a series adding a frame writes the others' lines again, not their XML)."""
+    lines = [pvd_line(t, file) for t, file in entries] if lines is None else lines
     with replacing(path) as tmp:
-        ET.ElementTree(root).write(tmp, xml_declaration=True, encoding="utf-8")
+        Path(tmp).write_bytes(_PVD_HEAD + b"".join(lines) + _PVD_TAIL)
 
 
 def read_pvd(path):
@@ -292,15 +303,19 @@ class VtuSeries:
         self.name = name
         self.pvd = self.dir / f"{name}.pvd"
         self.entries = read_pvd(self.pvd) if append and self.pvd.exists() else []
+        self._lines = [pvd_line(*entry) for entry in self.entries]
 
     def add(self, t, mesh):
-        """Write the ``meshio.Mesh`` of time ``t``; entries at or after ``t`` are replaced.
-        Returns the path of the ``.vtu``."""
-        self.entries = [e for e in self.entries if e[0] < t]
-        file = Path("vtu") / f"{self.name}_{len(self.entries):06d}.vtu"
+        """Write the ``meshio.Mesh`` of time ``t``; entries at or after ``t`` are replaced
+        (the entries stay in the order of their times).  Returns the path of the
+        ``.vtu``."""
+        kept = bisect.bisect_left(self.entries, t, key=lambda entry: entry[0])
+        del self.entries[kept:], self._lines[kept:]
+        file = Path("vtu") / f"{self.name}_{kept:06d}.vtu"
         _write_atomic(self.dir / file, mesh)
         self.entries.append((float(t), file.as_posix()))
-        write_pvd(self.pvd, self.entries)
+        self._lines.append(pvd_line(*self.entries[-1]))
+        write_pvd(self.pvd, self.entries, self._lines)
         return self.dir / file
 
     def close(self):
