@@ -60,60 +60,59 @@ from . import _moved as _moved  # old module paths, one release (docs/architectu
 
 # isort: split
 from . import kernels as kernels  # first: numba caches and reports the kernels defined after
+from .util.lazy import exports as _exports
 
-# isort: split
-from . import environment as environment  # IGRF, IRI, NRLMSIS, epochs, OML current
-from . import io as io  # observers: run store, ParaView series, progress bar
-from . import laws as laws  # element laws: energy densities -> compiled kernels
-from . import plot as plot  # renders and figures
-from .analysis.tangent_check import check_tangent
-from .bodies import forms as forms  # scikit-fem forms of the element laws
-from .bodies.cable import Cable
-from .bodies.formulation import FORMULATIONS
-from .bodies.reel import Brake, Motor, Reel, Servo
-from .bodies.rigid import RigidBody
-from .bodies.rod import Rod
-from .bodies.section import Section
-from .control import sensors as sensors  # what a controller measures
-from .control.controller import ControlError, Controller
-from .core.contract import Evaluation, Term
-from .core.inputs import Input
-from .core.node import Node
-from .core.protocols import Observer
-from .elements import (
-    ELEMENTS,
-    CableElement,
-    ElementLineCableHermite,
-    ElementLineCableHermite5,
-    ElementLineCableLinear,
-)
-from .environment import Cathode, Epoch
-from .io import export as export  # VTU files for ParaView
-from .laws import CableLaw, cable_law
-from .loads.atmosphere import AtmosphericDrag
-from .loads.coulomb import SolarWind, SolarWindForce
-from .loads.drag import Buoyancy, CurrentProfile, FreeMolecularDrag, MorisonDrag
-from .loads.electrodynamic import ElectrodynamicForce, MagneticDipole
-from .loads.gravity import Centrifugal, Gravity
-from .loads.line import LineLoad
-from .loads.point import PointLoad, PointMass, PointMoment
-from .loads.surfaces import Cylinder, Edge, Plane, Sphere
-from .loads.twist import TwistTorque
-from .model.state import State
-from .model.system import System, SystemChanged
-from .results.result import Result
-from .rodchain import RodChain, RodChainDivergence, RodChainResult, circular_anchor
-from .scenes import esail as esail
-from .solvers.modal import modes
-from .solvers.settle import settle
-from .solvers.simulate import simulate
-from .solvers.static import StaticConvergenceError, solve_static
-from .solvers.steady import solve_steady
-from .solvers.step_control import SimulationError
-from .space.constants import AU, MU_EARTH, MU_SUN, R_EARTH
-from .space.orbit import Orbit
-from .space.reference import Reference
-from .study import sweep  # parameter studies on Dask distributed
+#: Where each public name lives: imported on first use (PEP 562 ``__getattr__``), so that
+#: ``import skfem_cable`` costs numba alone and a command imports what it uses.
+_PUBLIC = {
+    "analysis.tangent_check": ("check_tangent",),
+    "bodies.cable": ("Cable",),
+    "bodies.formulation": ("FORMULATIONS",),
+    "bodies.reel": ("Brake", "Motor", "Reel", "Servo"),
+    "bodies.rigid": ("RigidBody",),
+    "bodies.rod": ("Rod",),
+    "bodies.section": ("Section",),
+    "control.controller": ("ControlError", "Controller"),
+    "core.contract": ("Evaluation", "Term"),
+    "core.inputs": ("Input",),
+    "core.node": ("Node",),
+    "core.protocols": ("Observer",),
+    "elements": ("ELEMENTS", "CableElement", "ElementLineCableHermite",
+                 "ElementLineCableHermite5", "ElementLineCableLinear"),
+    "environment": ("Cathode", "Epoch"),
+    "laws": ("CableLaw", "cable_law"),
+    "loads.atmosphere": ("AtmosphericDrag",),
+    "loads.coulomb": ("SolarWind", "SolarWindForce"),
+    "loads.drag": ("Buoyancy", "CurrentProfile", "FreeMolecularDrag", "MorisonDrag"),
+    "loads.electrodynamic": ("ElectrodynamicForce", "MagneticDipole"),
+    "loads.gravity": ("Centrifugal", "Gravity"),
+    "loads.line": ("LineLoad",),
+    "loads.point": ("PointLoad", "PointMass", "PointMoment"),
+    "loads.surfaces": ("Cylinder", "Edge", "Plane", "Sphere"),
+    "loads.twist": ("TwistTorque",),
+    "model.state": ("State",),
+    "model.system": ("System", "SystemChanged"),
+    "results.result": ("Result",),
+    "rodchain": ("RodChain", "RodChainDivergence", "RodChainResult", "circular_anchor"),
+    "solvers.modal": ("modes",),
+    "solvers.settle": ("settle",),
+    "solvers.simulate": ("simulate",),
+    "solvers.static": ("StaticConvergenceError", "solve_static"),
+    "solvers.steady": ("solve_steady",),
+    "solvers.step_control": ("SimulationError",),
+    "space.constants": ("AU", "MU_EARTH", "MU_SUN", "R_EARTH"),
+    "space.orbit": ("Orbit",),
+    "space.reference": ("Reference",),
+    "study": ("sweep",),  # parameter studies on Dask distributed
+}
+
+#: The public modules, by their full names: element laws, I/O observers (run store,
+#: ParaView series, progress bar), the environment's models (IGRF, IRI, NRLMSIS, epochs,
+#: OML current), renders and figures, scikit-fem forms of the laws, what a controller
+#: measures, VTU files for ParaView, the E-sail scene.
+_MODULES = {"environment": "environment", "io": "io", "laws": "laws", "plot": "plot",
+            "forms": "bodies.forms", "sensors": "control.sensors", "export": "io.export",
+            "esail": "scenes.esail"}
 
 __all__ = [
     "check_tangent",
@@ -191,13 +190,17 @@ __all__ = [
 ]
 
 
+_public, __dir__ = _exports(__name__, _PUBLIC, _MODULES)
+
+
 def __getattr__(name):
-    """The package's submodules not imported above (``scene_file``, ``validation``,
-    ``runner``, ...), imported when first named: ``sc.scene_file.load(path)`` works
-    without ``import skfem_cable.scene_file``."""
+    """A public name (``_PUBLIC``, ``_MODULES``), one of the package's submodules not
+    imported yet (``scene_file``, ``validation``, ``runner``, ...) or an old module path
+    (``_moved``), imported when first named: ``sc.System`` and ``sc.scene_file.load(path)``
+    work without importing their modules."""
     found = _moved.attribute(name)
     if found is not None:
         return found
-    if importlib.util.find_spec(f"{__name__}.{name}") is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return importlib.import_module(f"{__name__}.{name}")
+    if importlib.util.find_spec(f"{__name__}.{name}") is not None:
+        return importlib.import_module(f"{__name__}.{name}")
+    return _public(name)

@@ -3,6 +3,8 @@
 source file alone, so an edit of a callee in another module (linked into the caller's
 machine code) would load stale code."""
 
+import ast
+
 from numba.core import caching
 
 from skfem_cable.kernels import cache, oml_force
@@ -45,3 +47,33 @@ def test_a_callees_edit_changes_the_callers_stamp(monkeypatch):
     assert locator(kernel).get_source_stamp() != before
     monkeypatch.setattr(caching, "_hash_source_file", edited("kernels/rod_density.py"))
     assert locator(kernel).get_source_stamp() == before
+
+
+def _imports_of_the_whole_tree(path):
+    """What ``cache.imports`` finds, from the module's whole syntax tree (slow: the
+    reference of the statement scan)."""
+    inside = path.is_relative_to(cache.PACKAGE)
+    package = path.relative_to(cache.PACKAGE.parent).parent.parts if inside else ()
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.Import):
+            found += [cache._source(alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and (inside or not node.level):
+            base = package[:len(package) - node.level + 1] if node.level else ()
+            name = ".".join([*base, *([node.module] if node.module else [])])
+            found += [cache._source(name)]
+            found += [cache._source(f"{name}.{alias.name}") for alias in node.names]
+    return {f for f in found if f is not None}
+
+
+def test_the_statement_scan_finds_every_import():
+    """``cache.imports`` finds the import statements by a pattern: in every module of the
+    package and every generated module of the cache folder, it finds each import the
+    module's syntax tree holds (a docstring's line may add one, never hide one)."""
+    modules = [*cache.PACKAGE.rglob("*.py"), *cache.cache_dir("laws").glob("*.py"),
+               *cache.cache_dir("steps").glob("*.py")]
+    assert len(modules) > 100
+    for path in modules:
+        stat = path.stat()
+        assert set(cache.imports(path, stat.st_mtime, stat.st_size)) >= \
+            _imports_of_the_whole_tree(path), path

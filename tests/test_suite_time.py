@@ -27,6 +27,38 @@ print(json.dumps(sorted(sys.modules)))
 """
 
 
+#: Run in a fresh process: the modules ``import skfem_cable`` imports, then those the
+#: command line's help adds.
+BARE = """
+import json, sys
+import skfem_cable
+bare = sorted(sys.modules)
+from skfem_cable.cli import command
+command.build_parser().format_help()
+print(json.dumps([bare, sorted(sys.modules)]))
+"""
+
+#: What the help does without: the laws and their algebra, the run store, the solvers and
+#: the model.  (It imports the registries its choices name: the formulations, the element
+#: types (scikit-fem) and the frames of the VTU files, ``runner.options``.)
+UNNEEDED = ("sympy", "zarr", "skfem_cable.solvers", "skfem_cable.model.system", "skfem_cable.laws",
+            "skfem_cable.bodies.cable", "skfem_cable.scenes.classics")
+
+
+def test_the_package_alone_imports_numba_and_its_public_names_on_use():
+    """``import skfem_cable`` imports numba and the kernels' cache (``kernels``), and no
+    other module of the package: each public name is imported when first named
+    (``util.lazy``); ``skfem-cable --help`` does without the model and the solvers."""
+    out = subprocess.run([sys.executable, "-c", BARE], cwd=ROOT, check=True,
+                         capture_output=True, text=True)
+    bare, helped = json.loads(out.stdout.strip().splitlines()[-1])
+    assert "numba" in bare
+    assert {m for m in bare if m.startswith("skfem_cable")} <= {
+        "skfem_cable", "skfem_cable._moved", "skfem_cable.kernels", "skfem_cable.kernels.cache",
+        "skfem_cable.kernels.compile_log", "skfem_cable.util", "skfem_cable.util.lazy"}
+    assert [m for m in helped if m.startswith(UNNEEDED)] == []
+
+
 @pytest.fixture(scope="module")
 def compare():
     return load(ROOT / "benchmarks" / "commit_compare.py")

@@ -13,11 +13,8 @@ import textwrap
 from contextlib import contextmanager
 from pathlib import Path
 
-from ..control.controller import ControlError
 from ..runner import values
 from ..runner.options import FLAGS, RunOptions, add_flags
-from ..solvers.static import StaticConvergenceError
-from ..solvers.step_control import SimulationError
 
 EPILOG = """examples:
   skfem-cable run pendulum --out runs/pendulum
@@ -377,6 +374,11 @@ def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser.parse_args(_glue_negative_values(argv))
     args.argv = argv
+    # here, not at the top: ``--help`` does without the solvers and their kernels
+    from ..control.controller import ControlError
+    from ..solvers.static import StaticConvergenceError
+    from ..solvers.step_control import SimulationError
+
     try:
         return COMMANDS[args.command](args)
     except (ValueError, OSError, ImportError, SimulationError,

@@ -56,7 +56,6 @@ as ``kernels.cable``'s template is in the law's Gauss module, with the element l
 import functools
 
 import numpy as np
-import sympy as sp
 
 from ..elements.base import hermite_coefficients
 
@@ -150,6 +149,8 @@ class Rule:
         strain at the reference coordinates ``xi``: the Hermite interpolant of the nodal
         data (``nodal``), plus the bubbles times the raw strain's moments (``moments``)
         less the interpolant's (moments and bubbles in exact arithmetic)."""
+        import sympy as sp  # here: importing sympy costs 0.3 s, and this runs once per element type
+
         xi = np.atleast_1d(np.asarray(xi, dtype=float))
         m = self.m
         hermite = hermite_coefficients(tuple(range(m - 1)))  # (2 m - 2 functions, powers)

@@ -20,6 +20,7 @@ import ast
 import functools
 import hashlib
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -117,15 +118,28 @@ def dependencies(py_file):
     return seen
 
 
+#: An import statement at the start of a line, at any indentation (function-level imports
+#: count): ``import a.b as c, d``, or ``from .a import b`` with the names in parentheses
+#: over several lines or not.  A docstring's line of that form counts too (a dependency
+#: too many, harmless).
+_IMPORT = re.compile(r"^[ \t]*(?:import[ \t][^\n]*|from[ \t]+[\w.]+[ \t]+import[ \t]*"
+                     r"(?:\([^)]*\)|[^\n]*))", re.MULTILINE)
+
+
 @functools.cache
 def imports(path, mtime, size):
     """The package's source files that the module at ``path`` imports (relative imports,
     and absolute ones of ``skfem_cable``), memoised per version (mtime, size) of the
-    file."""
+    file.  Its import statements are found by ``_IMPORT`` and parsed alone: parsing the
+    whole module cost every process 0.2 s for the 30 modules of a run's kernels."""
     inside = path.is_relative_to(PACKAGE)
     package = path.relative_to(PACKAGE.parent).parent.parts if inside else ()
     found = []
-    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+    for statement in _IMPORT.findall(path.read_text()):
+        try:
+            node = ast.parse(statement.strip()).body[0]
+        except SyntaxError:  # a docstring's line, not a statement
+            continue
         if isinstance(node, ast.Import):
             found += [_source(alias.name) for alias in node.names]
         elif isinstance(node, ast.ImportFrom):

@@ -32,40 +32,25 @@ files and their descriptions, which a scene's module extends with ``register_fil
 checking, holding and removing a run), ``summary`` (``summary.json`` and the printed
 summary), ``figures`` (the figures of a run), ``continued`` (a continued run is the run it
 continues) and ``drive`` (``run_dynamic``, ``RunScene``, ``run_static``).  Their public
-names are importable from ``skfem_cable.runner`` too.
+names are importable from ``skfem_cable.runner`` too, each imported when first named
+(``util.lazy``): ``runner.options`` alone (the command line's help) does without the
+solvers.
 """
 
-from .continued import MOVABLE, resume_checked
-from .directory import (
-    DESCRIPTIONS,
-    SUMMARY,
-    UNDESCRIBED,
-    check_run_dir,
-    described_files,
-    recorded_files,
-    register_files,
-    remove_run,
-    run_directory,
-    run_files,
-    run_patterns,
-)
-from .drive import RunScene, run_dynamic, run_static, store_summary
-from .figures import framed_title, plot_files, run_figures, snapshot
-from .options import RunOptions
-from .summary import (
-    BALANCE_WARNING,
-    MAX_PRINTED,
-    body_outputs,
-    centre_of_mass_orbit,
-    complete_summary,
-    format_summary,
-    orbit_elements,
-    orbit_summary,
-    run_outputs,
-    run_warnings,
-    warn,
-    write_summary,
-)
+from ..util.lazy import exports
+
+_WHERE = {
+    "continued": ("MOVABLE", "resume_checked"),
+    "directory": ("DESCRIPTIONS", "SUMMARY", "UNDESCRIBED", "check_run_dir",
+                  "described_files", "recorded_files", "register_files", "remove_run",
+                  "run_directory", "run_files", "run_patterns"),
+    "drive": ("RunScene", "run_dynamic", "run_static", "store_summary"),
+    "figures": ("framed_title", "plot_files", "run_figures", "snapshot"),
+    "options": ("RunOptions",),
+    "summary": ("BALANCE_WARNING", "MAX_PRINTED", "body_outputs", "centre_of_mass_orbit",
+                "complete_summary", "format_summary", "orbit_elements", "orbit_summary",
+                "run_outputs", "run_warnings", "warn", "write_summary"),
+}
 
 __all__ = [
     "BALANCE_WARNING", "DESCRIPTIONS", "MAX_PRINTED", "MOVABLE", "SUMMARY", "UNDESCRIBED",
@@ -76,3 +61,5 @@ __all__ = [
     "run_files", "run_outputs", "run_patterns", "run_static", "run_warnings", "snapshot",
     "store_summary", "warn", "write_summary",
 ]
+
+__getattr__, __dir__ = exports(__name__, _WHERE)

@@ -2,9 +2,10 @@
 ``register_files``), whether a run may be written there (``check_run_dir``), holding one
 for a run (``run_directory``) and removing the run it holds (``remove_run``).
 
-The runner describes its own files: the summary, the run store, the lock and the VTU
-series here, its figures in ``runner.figures``.  A module that writes files of its own
-into run directories (a scene) registers them when it is imported::
+The runner describes its own files here: the summary, the run store, the lock, the VTU
+series and its figures (``runner.figures``), whichever of its modules a process imported.
+A module that writes files of its own into run directories (a scene) registers them when
+it is imported::
 
     from skfem_cable.runner.directory import register_files
 
@@ -33,7 +34,7 @@ SUMMARY = "summary.json"
 
 #: Every file a run directory can hold (names and patterns relative to it), with the
 #: one-line description ``summary.json`` gives it (``described_files``): the runner's own
-#: here and in ``runner.figures``, those of a scene added by its module
+#: (its figures' those ``runner.figures`` writes), those of a scene added by its module
 #: (``register_files``).
 DESCRIPTIONS = {
     SUMMARY: "this summary: scene, parameters, solver statistics, key outputs, files",
@@ -43,6 +44,16 @@ DESCRIPTIONS = {
     "checkpoint_*.npz": "integrator checkpoint: a resumed run continues bit for bit",
     "series.pvd": "ParaView collection of the VTU frames (open this one in ParaView)",
     "vtu/series_*.vtu": "ParaView frames: bodies with tension, strain and velocity fields",
+    # the figures (``runner.figures``)
+    "animation.gif": "animation of the run (3-D renders)",
+    "animation.mp4": "animation of the run (3-D renders)",
+    "plots/energies.png": "energy terms, balance residual and relative drift against time",
+    "plots/cables.png": "tip displacements (in orbit: in the LVLH frame about the centre "
+                        "of mass; spinning: in the spinning frame) and root and peak "
+                        "tensions of the cables against time",
+    "plots/tension_psd.png": "power spectral density of the root tensions",
+    "plots/inputs.png": "the inputs controllers set (sc.Input) against time",
+    "plots/final.png": "3-D render of the final state",
 }
 
 #: Names and patterns of further files written into run directories, without a

@@ -1,8 +1,8 @@
 """The figures of a run in its run directory: the standard ones of a dynamic run
 (``run_figures``: energies, cable histories, root-tension spectra, the rendered final
 state, the animation on request), a rendered snapshot (``snapshot``) and the list of a
-run's figures for its summary (``plot_files``).  The files it writes are registered
-here (``directory.register_files``)."""
+run's figures for its summary (``plot_files``).  The files it writes are described in
+``directory.DESCRIPTIONS``."""
 
 from pathlib import Path
 
@@ -11,20 +11,7 @@ import numpy as np
 from .. import plot
 from ..io import export
 from ..util.atomic import is_temporary
-from .directory import register_files
 from .summary import warn
-
-register_files({
-    "animation.gif": "animation of the run (3-D renders)",
-    "animation.mp4": "animation of the run (3-D renders)",
-    "plots/energies.png": "energy terms, balance residual and relative drift against time",
-    "plots/cables.png": "tip displacements (in orbit: in the LVLH frame about the centre "
-                        "of mass; spinning: in the spinning frame) and root and peak "
-                        "tensions of the cables against time",
-    "plots/tension_psd.png": "power spectral density of the root tensions",
-    "plots/inputs.png": "the inputs controllers set (sc.Input) against time",
-    "plots/final.png": "3-D render of the final state",
-})
 
 
 def snapshot(out, system, state, name="final.png", title=None, frame="inertial"):

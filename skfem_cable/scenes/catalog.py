@@ -22,10 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..runner.drive import RunScene, run_static
 from ..runner.options import OPT_IN
-from ..solvers.static import solve_static
-from . import classics
 
 
 def _resolve(target):
@@ -97,6 +94,8 @@ def run_scene(scene, options):
 
 
 # --- built-in scenes -------------------------------------------------------------------------
+# Each imports the model, the solvers and the runner itself: the catalog alone (the scenes'
+# names for ``skfem-cable --help``) does without them.
 def elastica_row(cable, k, state):
     """Tip displacements ``u`` (along the cable), ``w`` (along the load) of the cantilever
     ``cable`` (``classics.cantilever``, unit length) at ``state``, against the exact
@@ -115,6 +114,10 @@ def cantilever(options):
     straight cable (20 load steps) and compared with the exact elastica; the
     VTU series uses ``k`` as its time value, so ParaView steps through the loads
     (``--formulation paper`` shows the tension stripes of membrane locking)."""
+    from ..runner.drive import run_static
+    from ..solvers.static import solve_static
+    from . import classics
+
     options.reject("cantilever", "t_end", "dt", "every")
     n = options.value("elements", 16)
     section = classics.ELASTICA_SECTION
@@ -137,6 +140,9 @@ def cantilever_point(elements=16, k=5.0, formulation=None, load_steps=20, elemen
     cantilever_convergence.py``) as a sweep's scene: ``elements`` elements, tip load
     ``k = P L^2 / EI``, solved in ``load_steps`` steps; run it with
     ``run_cantilever_point``."""
+    from ..runner.drive import RunScene
+    from . import classics
+
     scene = classics.cantilever(elements, k, formulation=formulation, element=element)
     return RunScene("cantilever", scene.system, scene.initial, {"load_steps": load_steps},
                     {"elements": elements, "k": k, "formulation": scene.cable.formulation,
@@ -146,6 +152,9 @@ def cantilever_point(elements=16, k=5.0, formulation=None, load_steps=20, elemen
 def run_cantilever_point(scene, options):
     """Solve the ``cantilever_point`` scene and write its run directory (``run_static``);
     its outputs are ``elastica_row``'s: ``rel_error`` against the exact elastica."""
+    from ..runner.drive import run_static
+    from ..solvers.static import solve_static
+
     k = scene.parameters["k"]
     state = solve_static(scene.system, load_steps=scene.settings["load_steps"])
     row = elastica_row(scene.system.cables()[0], k, state)
@@ -158,6 +167,9 @@ def pendulum_scene(elements=16, formulation=None, t_end=1.0, dt=1e-3, every=10,
     """The ``pendulum`` scene (``classics.pendulum``) with ``elements`` cable elements of
     the type ``element`` (the default: None), run to ``t_end`` with step ``dt``, every
     ``every``-th step saved."""
+    from ..runner.drive import RunScene
+    from . import classics
+
     scene = classics.pendulum(n_elements=elements, formulation=formulation, element=element)
     return RunScene("pendulum", scene.system, scene.initial,
                     {"t_end": t_end, "dt": dt, "every": every, "rho_inf": 0.8},
@@ -177,6 +189,9 @@ def spinning_tether_scene(elements=10, formulation=None, spin=2.0, tip_mass=0.5,
     """Tether with a tip mass spinning about z (``classics.spinning_tether``); its
     outputs compare the mean root tension with the rigid rotating cable
     ``m W^2 L + rho A W^2 L^2 / 2``."""
+    from ..runner.drive import RunScene
+    from . import classics
+
     scene = classics.spinning_tether(n_elements=elements, spin=spin, tip_mass=tip_mass,
                                      formulation=formulation, element=element)
     cable = scene.cable
@@ -209,6 +224,7 @@ def esail_scene(alpha=10.0, voltage=20e3, elements=5, formulation=None, t_end=No
     step saved: the scene ``skfem-cable sweep esail`` sweeps.  Its outputs
     (``esail_numbers``): mean thrust vector and magnitude, thrust angle, coning and
     lagging amplitudes, peak tether tension."""
+    from ..runner.drive import RunScene
     from . import esail
 
     cfg = esail.BaselineConfig(voltage=voltage)
@@ -228,6 +244,7 @@ def esail_orbit_scene(alpha=10.0, voltage=20e3, elements=5, formulation=None,
     at sailing angle ``alpha`` (deg) and tether voltage ``voltage`` (V), run to ``t_end``
     (default a day) with step ``dt`` (rho_inf = 0.25), every ``every``-th step saved; its
     outputs are ``esail_numbers``', the summary adds the orbit (``runner.orbit_summary``)."""
+    from ..runner.drive import RunScene
     from . import esail
 
     cfg = esail.BaselineConfig(voltage=voltage)
@@ -256,6 +273,7 @@ def esail_full_scene(alpha=10.0, elements=10, t_end=None, rtol=None, every=50,
     the sail's state under the wind (``esail.settled``: its equilibrium and 4.4 h of
     relaxation before t = 0, some 9 s on one thread), or from the windless spin if not
     ``settled``."""
+    from ..runner.drive import RunScene
     from . import esail
 
     cfg = esail.FULL_SIZE
