@@ -47,15 +47,17 @@ def flat_sail_angle(alpha_deg, mode="constant", width=None, n=3600):
 
 
 def main(angles=(0.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0), out="runs/esail_thrust_vectoring",
-         figure=True, cases=CASES, dt=1.0):
+         figure=True, cases=CASES, dt=1.0, settle=2, rotations=3):
     """Thrust angles (deg) of the sail and of the flat-sail model for each of ``cases``
     (``CASES`` or some of them) and sailing angle in ``angles`` (deg), the sail run at
-    steps of ``dt`` (s); writes the figure into ``out``."""
+    steps of ``dt`` (s) for ``settle`` spin periods and the mean thrust taken over the
+    next ``rotations``; writes the figure into ``out``."""
     table = {}
     for label, mode, width in cases:
         rows = []
         for alpha in angles:
-            run = thrust_vectoring(alpha, mode, half_width_deg=width or 45.0, dt=dt)
+            run = thrust_vectoring(alpha, mode, half_width_deg=width or 45.0, dt=dt,
+                                   settle=settle, rotations=rotations)
             rows.append((alpha, run["thrust_angle_deg"], flat_sail_angle(alpha, mode, width),
                          run["thrust_N"]))
         table[label] = np.array(rows)

@@ -1,6 +1,11 @@
 """The paper's baseline runs (Sect. 4.3): 12 tethers x 5 cable elements in the paper's
-formulation, dt = 0.1 s, rho_inf = 0.25, three spin periods (47,124 steps each, ~25 s
-each)."""
+formulation, dt = 0.1 s, rho_inf = 0.25.  The tilted sail runs the paper's three spin
+periods (47,124 steps: its spectrum needs their frequency bins); the sun-facing sail and
+the sail without voltage one period (15,708 steps), which holds all their checks see: the
+sun-facing thrust's mean is the same over one, two and three periods to 3e-8, its largest
+departure from the coned projection (9.3e-5) and its largest balance error (6.0e-10 of
+the energy, 8.8e-10 over three) fall in the first; the tolerances of checks on a quantity
+that drifts in time are the three periods' ones scaled to one."""
 
 import numpy as np
 import pytest
@@ -12,28 +17,28 @@ from skfem_cable.scenes import esail
 pytestmark = pytest.mark.slow
 
 
-def run(alpha, voltage=20e3):
+def run(alpha, periods, voltage=20e3):
     cfg = esail.BaselineConfig(voltage=voltage)
     scene = esail.build(cfg, alpha_deg=alpha, n_elements=5, kind="cable", formulation="paper")
-    result = sc.simulate(scene.system, t_end=3 * cfg.spin_period, dt=0.1, rho_inf=0.25,
-                         initial=scene.initial, every=10)
+    result = sc.simulate(scene.system, t_end=periods * cfg.spin_period, dt=0.1,
+                         rho_inf=0.25, initial=scene.initial, every=10)
     return cfg, scene, result, esail.outputs(scene, result)
 
 
 @pytest.fixture(scope="module")
 def sun_facing():
-    return run(0.0)
+    return run(0.0, periods=1)
 
 
 @pytest.fixture(scope="module")
 def tilted():
-    return run(10.0)
+    return run(10.0, periods=3)
 
 
 def test_runs_complete_without_step_failures(sun_facing, tilted):
-    for cfg, _, result, _ in (sun_facing, tilted):
-        assert result.t[-1] == pytest.approx(3 * cfg.spin_period)
-        assert result.stats["steps"] == 47124 and result.stats["rejected"] == 0
+    for (cfg, _, result, _), periods, steps in ((sun_facing, 1, 15708), (tilted, 3, 47124)):
+        assert result.t[-1] == pytest.approx(periods * cfg.spin_period)
+        assert result.stats["steps"] == steps and result.stats["rejected"] == 0
 
 
 def test_sun_facing_thrust_is_the_coning_projected_force(sun_facing):
@@ -60,17 +65,22 @@ def test_tilted_thrust_drops_and_turns_by_about_half_alpha(sun_facing, tilted):
 
 def test_energy_balance_with_the_sail_on(sun_facing):
     """The wind's work is booked: kinetic + elastic + dissipated - work stays constant to
-    1e-6 of the energy while the total energy grows by the thrust work."""
+    1e-6 of the energy while the total energy grows by the thrust work (which grows as
+    t^2, the sail accelerating from rest: over three periods more than 1 J, measured 6.5;
+    over the one run here more than 1/9 J, measured 0.735)."""
     _, _, _, out = sun_facing
-    assert out["external_work"][-1] > 1.0
+    assert out["external_work"][-1] > 1.0 / 9
     assert np.abs(out["balance"]).max() < 1e-6 * out["total"][0]
 
 
 def test_energy_constant_with_the_sail_off():
-    """V0 = 0: the paper shows no visible drift; measured |E - E0| / E0 < 1e-6 over 3 T_s."""
-    _, _, _, out = run(10.0, voltage=0.0)
-    assert np.abs(out["total"] / out["total"][0] - 1).max() < 1e-6
-    assert np.abs(out["coning"]).max() < 1e-8
+    """V0 = 0: the paper shows no visible drift over 3 T_s.  Both the energy's departure
+    and the coning of round-off grow linearly (measured 8.6e-11, 1.7e-10, 2.6e-10 of the
+    energy and 4.5e-12, 8.5e-12, 1.2e-11 rad after one, two, three T_s): one T_s is run,
+    against the bounds of three (1e-6 and 1e-8) divided by three."""
+    _, _, _, out = run(10.0, periods=1, voltage=0.0)
+    assert np.abs(out["total"] / out["total"][0] - 1).max() < 1e-6 / 3
+    assert np.abs(out["coning"]).max() < 1e-8 / 3
 
 
 def test_psd_peaks_are_modes_of_the_spinning_sail(tilted):

@@ -35,10 +35,14 @@ def check_independent(system, constraint):
                          f"equations have rank {rank} on its coordinates; a constraint's "
                          "equations must be independent")
     full_off = {}  # whether J has its full row rank on the columns of a mask
+    theirs = np.zeros(q0.size, dtype=bool)  # the other's coordinates (set, read, cleared)
     for other in system.constraints:
         if not other.linear:
             continue
-        off = ~np.isin(dofs, other.dofs(system))
+        other_dofs = other.dofs(system)
+        theirs[other_dofs] = True
+        off = ~theirs[dofs]
+        theirs[other_dofs] = False
         if off.all() or _full_rank_off(J, off, full_off):
             continue
         other_dofs, other_J = _distinct_jacobian(system, other, q0)

@@ -94,6 +94,8 @@ class CableElement(Element):
     intorder = 1
     coefficients = _Coefficients()
 
+    _last_shape = (None, None)  # (key, shape) of ``_remembered_shape``
+
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         cls.nodal_dofs = len(cls.orders)
@@ -155,10 +157,21 @@ class CableElement(Element):
             self._index_error()
         if tind is None:
             tind = np.arange(mapping.mesh.t.shape[1])
-        h = mapping.A[0, 0, tind]
+        h = mapping.A[0, 0, tind][:, None]
         xi = np.broadcast_to(X[0], (len(tind), X.shape[-1]))
-        s, s_x, s_xx = self.shape(xi, h[:, None])
-        return (DiscreteField(value=s[i], grad=s_x[i][None], hess=s_xx[i][None, None]),)
+        s, s_x, s_xx = self._remembered_shape(xi, h)
+        return (DiscreteField(value=s[i].copy(), grad=s_x[i][None].copy(),
+                              hess=s_xx[i][None, None].copy()),)
+
+    def _remembered_shape(self, xi, h):
+        """``shape(xi, h)``, remembered for the last ``xi`` and ``h`` (by value): scikit-fem
+        asks ``gbasis`` for the functions one at a time, each with the same points and
+        lengths (and the cables of a sail have the same), while ``shape`` computes them
+        all.  ``gbasis`` hands out copies, so the remembered arrays stay as computed."""
+        key = (xi.shape, h.shape, xi.tobytes(), h.tobytes())
+        if self._last_shape[0] != key:
+            self._last_shape = key, self.shape(xi, h)
+        return self._last_shape[1]
 
     def __repr__(self):
         return f"{type(self).__name__}()"
