@@ -192,6 +192,7 @@ def test_a_run_directory_is_held_by_one_process(tmp_path, capsys):
                   str(out), cwd=tmp_path)
     try:
         _wait_for(out / "vtu" / "series_000201.vtu", proc)  # after the first commit
+        proc.send_signal(signal.SIGSTOP)  # a stopped writer holds its lock, idle
         holder = f"in use by another run: process {proc.pid} on host"
         for extra in (["--overwrite", "--elements", "5"], ["--resume"]):
             capsys.readouterr()

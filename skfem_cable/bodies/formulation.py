@@ -162,9 +162,11 @@ class AssumedStrain:
         force = [self.axial_force(cable, eps, e, stretch, t)
                  for eps in self.assumed(cable, q, stretch)]
         bending = cable.law.part(1)
-        if not bending.vanishes:
-            force = [f + cable.section_force(q, e, np.full(e.size, xi), stretch, bending, t)
-                     for f, xi in zip(force, self.POINTS)]
+        if not bending.vanishes:  # at the three points in one call: (..., 3, n_elements)
+            points = np.broadcast_to(e, (len(self.POINTS), e.size))
+            xi = np.broadcast_to(np.array(self.POINTS)[:, None], points.shape)
+            bent = cable.section_force(q, points, xi, stretch, bending, t)
+            force = [f + part for f, part in zip(force, np.moveaxis(bent, -2, 0))]
         return self.recovered(cable, *force, s)
 
     def assumed(self, cable, q, stretch=1.0):

@@ -22,6 +22,7 @@ recovery of fields and the export.
 """
 
 import functools
+import math
 
 import numpy as np
 from skfem.element import Element
@@ -144,7 +145,7 @@ class CableElement(Element):
             # sum_j j!/(j-d)! C[:, j] xi^(j-d), in ascending powers as written by hand
             value = np.zeros((self.n_functions,) + ones.shape)
             for j in range(d, C.shape[1]):
-                factor = float(np.prod(np.arange(j - d + 1, j + 1)))
+                factor = float(math.perm(j, d))  # j! / (j - d)!
                 value = value + (factor * C[:, j]).reshape((-1,) + (1,) * ones.ndim) \
                     * powers[j - d]
             power = (self.scaling - d).reshape((-1,) + (1,) * ones.ndim)

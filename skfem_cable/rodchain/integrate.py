@@ -255,9 +255,11 @@ class Integration:
         n, n3 = c.n, 3 * c.n
 
         def rhs(t, y):
-            q = y[:n3].reshape(n, 3)
-            v = y[n3:].reshape(n, 3)
-            return np.concatenate([y[n3:], p.acceleration(t, q, v)[0].ravel()])
+            dy = np.empty_like(y)
+            dy[:n3] = y[n3:]
+            p.acceleration(t, y[:n3].reshape(n, 3), y[n3:].reshape(n, 3),
+                           dy[n3:].reshape(n, 3))
+            return dy
 
         y0 = np.concatenate([Q[start].ravel(), V[start].ravel()])
         limit = (1 + p.max_strain) * c.lengths

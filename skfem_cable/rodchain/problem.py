@@ -108,7 +108,13 @@ class Problem:
         self.xi, self.wq = 0.5 * (x + 1.0), 0.5 * wq
         self.moving = callable(anchor)
         self.anchor = _anchor_motion(anchor)
-        self.anchor(np.zeros(1))  # validate now rather than mid-integration
+        a0 = self.anchor(np.zeros(1))[2]  # validate now rather than mid-integration
+        #: The loads of every time when they are constant (a fixed anchor, no callable
+        #: line load), else None: ``_loads`` then costs nothing per call.
+        self._constant = None
+        if not (self.moving or self.line_callable):
+            zero = np.zeros((chain.n, 3))
+            self._constant = (self.gravity - a0[0], zero, zero)
 
     @property
     def does_work(self):
@@ -141,11 +147,12 @@ class Problem:
         Fs = l * np.einsum("g,igd->id", self.wq * self.xi, f)
         return F, Fs
 
-    def acceleration(self, t, q, v):
-        """``(q'', flag)``: Eq. 21 at time ``t``; ``flag`` is ``load_vector``'s rod check."""
+    def acceleration(self, t, q, v, out=None):
+        """``(q'', flag)``: Eq. 21 at time ``t``; ``flag`` is ``load_vector``'s rod check.
+        ``out``: an array (n, 3) to write ``q''`` into (a new one by default)."""
         c = self.chain
         g, Fx, Fxs = self._loads(t, q, v)
-        out = np.empty_like(q)
+        out = np.empty_like(q) if out is None else out
         bad = kern.derivative(q, c.masses, c.lengths, c.EA, c.compression, c._a, c._b, g,
                               self.w, self.tip, Fx, Fxs, self.max_strain, np.empty_like(q), out)
         return out, bad
@@ -162,6 +169,8 @@ class Problem:
     def _loads(self, t, q, v):
         """Gravity in the anchor's frame ``g - a_0(t)`` and the line-load terms
         ``(F, F*)`` of ``extra_forces`` at time ``t``."""
+        if self._constant is not None:
+            return self._constant
         r0, u0, a0 = self.anchor(np.array([t]))
         return (self.gravity - a0[0], *self.extra_forces(t, q, v, r0[0], u0[0]))
 
