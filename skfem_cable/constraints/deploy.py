@@ -326,8 +326,7 @@ class _Inertia:
         ell, rate, acc = d.state(ev.t, ev.q, ev.v, ev.a)
         lam, nu, kappa = ell / L0, rate / L0, rate * rate / (ell * L0)
         q, v, a = ev.q[self.dofs], ev.v[self.dofs], ev.a[self.dofs]
-        products = [np.split(m @ x, m.shape[0] // q.size)
-                    for m, x in zip(self.stacks, (a, q, v))]
+        products = [(m @ x).reshape(-1, q.size) for m, x in zip(self.stacks, (a, q, v))]
         (M0a, *_), (G0q, K0q), (Mvv, *_) = products
         ev.f_ext[self.dofs] -= (lam - 1.0) * M0a + nu * Mvv + (acc / L0) * G0q - kappa * K0q
         b = self.blocks

@@ -33,7 +33,10 @@ class Pattern:
         """Fix the pattern of an ``N x N`` matrix (with its full diagonal)."""
         self.block(np.arange(N), np.arange(N))
         key = np.concatenate(self.rows) * N + np.concatenate(self.cols)
-        self.ukey = np.unique(key)
+        # the distinct keys by a sort: np.unique hashes them first (numpy 2.4), 3.3 s for
+        # the 2.9 million of a cable of 10 000 elements against 0.06 s
+        ordered = np.sort(key)
+        self.ukey = ordered[np.concatenate([[True], ordered[1:] != ordered[:-1]])]
         self.N = N
         self.indptr = np.searchsorted(self.ukey // N, np.arange(N + 1)).astype(np.int64)
         self.indices = (self.ukey % N).astype(np.int64)
