@@ -54,7 +54,7 @@ from . import slots, step_lu
 from .slots import PYTHON
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "17"
+GENERATOR = "18"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
@@ -150,7 +150,8 @@ def system_source(kernels, constraint_kernels):
     at the addresses held with the terms of the injected type ``TERMS``."""
     calls = ((_TERM_CALLS if PYTHON in kernels else ())
              + (_CONSTRAINT_CALLS if PYTHON in constraint_kernels else ()))
-    imports = ("from numba import njit" + (", objmode" if calls else "")
+    imports = (("import numpy as np\n" if calls else "")
+               + "from numba import njit" + (", objmode" if calls else "")
                + "\n\nfrom skfem_cable.kernels.erased import function, held\n"
                + ("from skfem_cable.solvers.compiled import python_part\n" if calls else ""))
     parts = [
@@ -161,12 +162,15 @@ def system_source(kernels, constraint_kernels):
         if kernels else "",
         f"({_names('c', constraint_kernels)}) = CONSTRAINT_KERNELS  # noqa: F821"
         if constraint_kernels else "",
+        # a Python slot's number as an int64: numba compiles a callee once per literal int
+        # argument (a module's callback was compiled once per Python slot)
         f"{_INLINED}\ndef evaluate_slots(packs, indices, references, ev):\n"
         + "\n".join(_calls("k", kernels, "ev",
-                            "python_term(packs[{k}], {k}, ev[6].size > 0)")),
+                            "python_term(packs[{k}], np.int64({k}), ev[6].size > 0)")),
         f"{_INLINED}\ndef constrain_slots(packs, indices, references, cev):\n"
         + "\n".join(_calls("c", constraint_kernels, "cev",
-                            "python_constraint(packs[{k}], {k}, cev[3], cev[5].size > 0)")),
+                            "python_constraint(packs[{k}], np.int64({k}), cev[3], "
+                            "cev[5].size > 0)")),
     ]
     parts += callbacks.source(calls) + [_SYSTEM_ENTRIES]
     return "\n\n\n".join(p for p in parts if p)
