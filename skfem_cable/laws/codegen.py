@@ -51,16 +51,10 @@ from .symbolic import SLOPE_FLOOR
 
 #: Bump when the generated code changes meaning (part of every module's digest), to a value
 #: never used before: a cache may hold the modules of any earlier commit ("8" was used,
-#: then reverted to "7"; "10": the point functions in modules of their own).  The digest
-#: also holds this module's own text (``_generator_id``), so an edit of the generator never
-#: meets a module of the text before.
-GENERATOR = "10"
-
-#: The decorator of the element loop's small functions (``LOOP``): numba inlines them into
-#: ``kernel``, so that their code is optimised and compiled once, there (a compiled
-#: function compiles again all the compiled functions it calls); called from Python, each
-#: is compiled alone.
-INLINED = '@njit(cache=True, inline="always")'
+#: then reverted to "7"; "10": the point functions in modules of their own; "11": the element
+#: loop one function, ``kernel``).  The digest also holds this module's own text
+#: (``_generator_id``), so an edit of the generator never meets a module of the text before.
+GENERATOR = "11"
 
 #: The decorator of the point functions: numba types and lowers each once, apart, and
 #: LLVM inlines its code into ``span`` (``forceinline``; the same instructions).  Numba's
@@ -252,15 +246,11 @@ def _point_functions(sym, damped):
     ], d
 
 
-#: The element loop (``kernels.chunks``) around a template's ``span``, with the
-#: decorators of its functions in the generated module: ``kernel`` and
-#: ``kernel_parallel`` are the hooks; numba compiles each at its first call, so the
-#: threaded loop only where a system runs on threads.
-LOOP = ((INLINED, chunks.chunk), (INLINED, chunks.close),
-        (INLINED, chunks.force_tangent),
-        ("@njit(cache=True, parallel=True)", chunks.force_tangent_parallel),
-        (INLINED, chunks.arguments), ("@njit(cache=True)", chunks.kernel),
-        ("@njit(cache=True)", chunks.kernel_parallel))
+#: The element loop (``kernels.chunks``) around a template's ``span``: its ``kernel``
+#: under the names of the hooks and with their decorators.  Numba compiles each at its
+#: first call, so the threaded loop only where a system runs on threads.
+LOOP = (("kernel", "@njit(cache=True)"), ("kernel_parallel", "@njit(cache=True, parallel=True)"))
+
 
 #: The kinds of generated module of a law and the template each compiles: ``"gauss"``,
 #: the law on a Gauss (or any) rule (``kernels.cable``; the paper's and the Lobatto
@@ -341,7 +331,8 @@ def source(law, kind="gauss", orders=None):
         f"PARAMETERS = {law.parameters!r}",
         *([] if kind == "gauss" else _strain_functions(law.strain)),
         "@njit(cache=True)\n" + inspect.getsource(module.span),
-        *(decorator + "\n" + inspect.getsource(fn) for decorator, fn in LOOP),
+        *(decorator + "\n" + inspect.getsource(chunks.kernel).replace("def kernel(", f"def {name}(")
+          for name, decorator in LOOP),
     ]
     return "\n\n\n".join(parts) + "\n"
 
