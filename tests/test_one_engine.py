@@ -44,7 +44,8 @@ def test_there_is_one_newton_iteration():
     compiled = source() + step_lu.source(False, False) + system_source((None, None), (None,))
     assert "objmode" not in compiled and "python_part" not in compiled
     mixed = step_lu.source(True, False) + system_source((None, PYTHON), (PYTHON,))
-    for call in ("python_term(packs[1], 1,", "python_constraint(packs[0], 0,",
+    for call in ("python_term(packs[1], np.int64(1),",
+                 "python_constraint(packs[0], np.int64(0),",
                  "def lu_factor", "def lu_solve"):
         assert call in mixed, call
 
