@@ -265,11 +265,15 @@ def pvd_line(t, file):
     return b"    " + ET.tostring(element) + b"\n"
 
 
-def write_pvd(path, entries, lines=None):
+def write_pvd(path, entries):
     """Write a ``.pvd`` collection of ``(time, file)`` entries (files relative to the
-    ``.pvd``'s folder), atomically.  ``lines``: their ``pvd_line``s, when the caller keeps
-    them (a series adding a frame writes the others' lines again, not their XML)."""
-    lines = [pvd_line(t, file) for t, file in entries] if lines is None else lines
+    ``.pvd``'s folder), atomically."""
+    _write_collection(path, [pvd_line(t, file) for t, file in entries])
+
+
+def _write_collection(path, lines):
+    """Write the ``.pvd`` collection of the data-set ``lines`` (``pvd_line``), atomically:
+    a series adding a frame writes the others' kept lines again, not their XML."""
     with replacing(path) as tmp:
         Path(tmp).write_bytes(_PVD_HEAD + b"".join(lines) + _PVD_TAIL)
 
@@ -315,7 +319,7 @@ class VtuSeries:
         _write_atomic(self.dir / file, mesh)
         self.entries.append((float(t), file.as_posix()))
         self._lines.append(pvd_line(*self.entries[-1]))
-        write_pvd(self.pvd, self.entries, self._lines)
+        _write_collection(self.pvd, self._lines)
         return self.dir / file
 
     def close(self):

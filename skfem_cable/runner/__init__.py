@@ -52,14 +52,6 @@ _WHERE = {
                 "run_outputs", "run_warnings", "warn", "write_summary"),
 }
 
-__all__ = [
-    "BALANCE_WARNING", "DESCRIPTIONS", "MAX_PRINTED", "MOVABLE", "SUMMARY", "UNDESCRIBED",
-    "RunOptions", "RunScene", "body_outputs", "centre_of_mass_orbit", "check_run_dir",
-    "complete_summary", "described_files", "format_summary", "framed_title",
-    "orbit_elements", "orbit_summary", "plot_files", "recorded_files", "register_files",
-    "remove_run", "resume_checked", "run_directory", "run_dynamic", "run_figures",
-    "run_files", "run_outputs", "run_patterns", "run_static", "run_warnings", "snapshot",
-    "store_summary", "warn", "write_summary",
-]
+__all__ = [name for names in _WHERE.values() for name in names]
 
 __getattr__, __dir__ = exports(__name__, _WHERE)
