@@ -51,7 +51,7 @@ from .chunks import CHUNK
 
 #: Bump when the generated module changes meaning (part of its digest; a value never used
 #: before: caches keep the modules of earlier commits).
-GENERATOR = "8"
+GENERATOR = "9"
 
 #: The decorator of a pointwise load's point function (``module``): numba types and lowers
 #: it once per process and parameters, apart, and LLVM inlines its code into each
