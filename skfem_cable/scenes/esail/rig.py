@@ -61,9 +61,7 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
         tail = np.concatenate([[0.0], np.cumsum(0.5 * (centrifugal[1:] + centrifugal[:-1])
                                                 * np.diff(grid))])
         T = tip_mass * omega**2 * r[-1] + tail[-1] - tail
-        lam = np.ones_like(T)
-        for _ in range(30):  # Newton on lam^3 - lam = 2 T / EA
-            lam -= (lam**3 - lam - 2 * T / EA) / (3 * lam**2 - 1)
+        lam = _stretch(2 * T / EA)
         r_new = hub_radius + np.concatenate([[0.0], np.cumsum(0.5 * (lam[1:] + lam[:-1])
                                                              * np.diff(grid))])
         done = np.max(np.abs(r_new - r)) <= 1e-15 * r[-1]
@@ -71,6 +69,23 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
         if done:
             break
     return np.interp(s, grid, r), np.interp(s, grid, lam)
+
+
+def _stretch(rhs):
+    """The stretch ``lambda`` of the Green-strain law ``lambda^3 - lambda = rhs = 2 T / EA``
+    by 30 Newton steps from 1, each applied only to the entries that the previous one
+    changed: an entry a step leaves unchanged stays so (a step is a function of the entry
+    alone), so the result is that of 30 steps on the whole array, at the cost of the few
+    entries still moving (49 of 20,006 after the fourth step of the E-sail's tethers, which
+    end in a two-cycle of the last bit)."""
+    lam = np.ones_like(rhs)
+    moving = np.arange(lam.size)
+    for _ in range(30):
+        old = lam[moving]
+        new = old - (old**3 - old - rhs[moving]) / (3 * old**2 - 1)
+        lam[moving] = new
+        moving = moving[new != old]
+    return lam
 
 
 def build(config, alpha_deg, n_elements, kind="cable", formulation=None, remote_units=None,
