@@ -20,7 +20,7 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 import numpy as np
 
 from ..core.contract import OutOfDomain
-from ..core.linalg import PatternSolver, ordering_of
+from ..core.linalg import PatternSolver, ordering_of, thread_count
 from ..core.protocols import IntegrableSystem, StepHook
 from ..kernels import step as codes
 from ..kernels.error import error_ratio
@@ -172,8 +172,10 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.n = system.n_dofs
         ordering = lay.derived("ordering", lambda: ordering_of(lay.indptr, lay.indices,
                                                                lay.border, lay.junctions))
-        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border,
-                                    junctions=lay.junctions, ordering=ordering)
+        self.solver = lay.derived(  # the layout's solver, never factored: its plan, once
+            ("solver", method, thread_count()),
+            lambda: PatternSolver(lay.indptr, lay.indices, method, lay.border,
+                                  junctions=lay.junctions, ordering=ordering)).renewed()
         self.mbar = float(np.mean(lay.mass_diagonal))
         if not self.mbar > 0:
             raise ValueError("the system has no mass")
