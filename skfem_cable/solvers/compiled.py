@@ -351,18 +351,14 @@ class CompiledNewton:
         step = self.step = module(jit)
         self.newton = step.newton_held
         self.entry = None  # entry_point, at the first call
-        types = lay.derived("slots' types",  # once per layout
-                            lambda: numba.typeof((packs, indices, cpacks, cindices)))
         with global_compiler_lock:  # what it compiles, said on one line (compile_log)
-            (kinds, ckinds), terms = slots.addressed(
-                (functions, packs, indices, EVALUATE.args[1]),
-                (cfunctions, cpacks, cindices, CONSTRAIN.args[1]), types)
-            kind = lay.derived(("terms' type", jit), lambda: numba.typeof(terms))
-            own = system_module(kinds, ckinds, kind, jit)
-            self.blob, address = _hold(kind, terms)
+            kind, references, creferences, entries = lay.derived(  # once per layout
+                ("terms", jit), lambda: self._terms_module(
+                    (functions, packs, indices), (cfunctions, cpacks, cindices), jit))
+            self.blob, address = _hold(kind, (packs, indices, references, cpacks, cindices,
+                                              creferences))
         weakref.finalize(self, _give_back, self.blob, address, kind).atexit = False
-        self.terms = (erased.address(own.evaluate, EVALUATE),
-                      erased.address(own.constrain, CONSTRAIN), address)
+        self.terms = (*entries, address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
                         if term.kernels and term.prepare is not None]
         C = lay.C_lin
@@ -406,6 +402,20 @@ class CompiledNewton:
         prm[template.CON_WEIGHT], prm[template.MAX_ITER] = g.con_weight, g.max_iter
         prm[template.TOL_LOCAL], prm[template.ERROR_CONSTANT] = g.tol_local or 0.0, \
             g.error_constant
+
+    @staticmethod
+    def _terms_module(terms, constraints, jit):
+        """The numba type of the tuple the terms module of the slots ``terms = (functions,
+        packs, indices)`` and ``constraints`` reads (``system_module``), the addresses of
+        the slots' kernels and those of the module's ``evaluate`` and ``constrain``."""
+        (functions, packs, indices), (cfunctions, cpacks, cindices) = terms, constraints
+        types = numba.typeof((packs, indices, cpacks, cindices))
+        (kinds, ckinds), (references, creferences) = slots.addressed(
+            (functions, EVALUATE.args[1]), (cfunctions, CONSTRAIN.args[1]), types)
+        kind = numba.typeof((packs, indices, references, cpacks, cindices, creferences))
+        own = system_module(kinds, ckinds, kind, jit)
+        return kind, references, creferences, (erased.address(own.evaluate, EVALUATE),
+                                               erased.address(own.constrain, CONSTRAIN))
 
     def _solver(self, g, sparse, key, jit):
         """The held storage of the step's linear solver (``solvers.step_lu``, corrected if a

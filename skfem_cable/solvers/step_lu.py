@@ -102,9 +102,11 @@ def _signature(kernel, args):
     return kernel.overloads[args].signature
 
 
+@functools.cache
 def _banded(kernels, inner):
     """``((factor, signature), (solve, signature))`` of the banded LU ``kernels``
-    (``BANDED``) on storage of the numba type ``inner``."""
+    (``BANDED``) on storage of the numba type ``inner`` (once per type: the numba types
+    of a storage's arguments hashed at every look-up of a compiled signature)."""
     lu = BANDED[kernels]
     return ((lu.factor, _signature(lu.factor, (inner, _VECTOR))),
             (lu.solve, _signature(lu.solve, (inner, _VECTOR, _VECTOR))))
