@@ -45,7 +45,25 @@ _HELD = {}
 _ADDRESSED = {}
 
 
-@functools.cache
+def _per_type(make):
+    """``make(kind)`` made once per numba type ``kind``, looked up by its identity (the
+    type is kept, so its identity stays its own; numba interns its types, and an equal
+    type of another identity is looked up by its hash): a numba type's hash walks the
+    whole type, 5-10 us for the E-sail rig's held arguments at every look-up in a
+    ``functools.cache``."""
+    made = functools.cache(make)
+    by_id = {}
+
+    @functools.wraps(make)
+    def once(kind):
+        found = by_id.get(id(kind))
+        if found is None:
+            found = by_id[id(kind)] = (kind, made(kind))
+        return found[1]
+    return once
+
+
+@_per_type
 def size_of(kind):
     """Bytes of a value of the numba type ``kind`` in compiled code (its buffer's size;
     once per type: LLVM's layout of the E-sail rig's held arguments took 0.1 ms, twice at
@@ -70,7 +88,7 @@ def release(address, kind):
     _HELD.pop(address, None)
 
 
-@functools.cache
+@_per_type
 def _leaves(kind):
     """``(offset, type)`` of the leaves of a value of the numba type ``kind`` (its members
     that are not tuples, depth first) in its buffer, as LLVM lays out numba's value."""
@@ -86,7 +104,7 @@ def _leaves(kind):
     return tuple(found)
 
 
-@functools.cache
+@_per_type
 def _counted(kind):
     """The leaves of ``_leaves(kind)`` that hold references (the arrays)."""
     models = cpu_target.target_context.data_model_manager
@@ -118,7 +136,7 @@ def keep(address, value, kind):
     hold(address, value)
 
 
-@functools.cache
+@_per_type
 def _taker(leaf):
     """``_take`` compiled for a leaf of the numba type ``leaf`` (or read from the cache),
     behind the unboxing of its arguments alone: the dispatcher would type its second

@@ -320,6 +320,13 @@ def entry_point(function, args):
     return function.overloads[signature].entry_point
 
 
+def _inner(kernels, inner):
+    """The numba type of the storage ``inner`` of the banded LU ``kernels`` (or the
+    sparse LU's) and the addresses of its functions (``step_lu.functions``)."""
+    kind = numba.typeof(inner)
+    return kind, step_lu.functions(kernels, kind)
+
+
 def _give_back(blob, address, kind):
     """Give back what ``blob`` holds at ``address`` (``kernels.erased.drop``; the buffer
     kept alive until now by this call's reference)."""
@@ -430,16 +437,24 @@ class CompiledNewton:
         kernels = None if sparse else g.solver.kernels.__name__.rsplit(".", 1)[-1]
         inner = np.array([key]) if sparse else g.solver.lu
         typed = ("LU", kernels, g.solver.threads, bool(corrections))
-        inner_kind = lay.derived((*typed, "inner"), lambda: numba.typeof(inner))
-        self.lu_storage = step_lu.storage(kernels, inner, inner_kind, (
+        inner_kind, functions = lay.derived((*typed, "inner"), lambda: _inner(kernels, inner))
+        self.lu_storage = step_lu.storage(inner, functions, (
             woodbury.storage(corrections[0], lay.N) if corrections else None))
         kind = lay.derived(typed, lambda: numba.typeof(self.lu_storage))
-        solver = step_lu.module(kernels, bool(corrections), inner_kind, kind, jit)
+        solver, entries = lay.derived((*typed, "module", jit), lambda: self._lu_module(
+            kernels, bool(corrections), inner_kind, kind, jit))
         self._refresh = solver.refresh if corrections else None
         blob, address = _hold(kind, self.lu_storage)
         weakref.finalize(self, _give_back, blob, address, kind).atexit = False
-        return blob, (erased.address(solver.factor, step_lu.AT_FACTOR),
-                      erased.address(solver.solve, step_lu.AT_SOLVE), address)
+        return blob, (*entries, address)
+
+    @staticmethod
+    def _lu_module(kernels, corrected, inner, kind, jit):
+        """The module of the step's linear solver (``step_lu.module``) and the addresses
+        of its ``factor`` and ``solve``."""
+        solver = step_lu.module(kernels, corrected, inner, kind, jit)
+        return solver, (erased.address(solver.factor, step_lu.AT_FACTOR),
+                        erased.address(solver.solve, step_lu.AT_SOLVE))
 
     def refresh(self):
         """Correct a factor the step did not make (``GeneralizedAlpha._factor``: a resumed
