@@ -77,7 +77,13 @@ def renewed(arrays):
     """``arrays`` of ``storage`` with fresh work arrays (``WORK``, zeros as made) around
     the same plan: the storage of another solver of the same pattern, as ``storage``
     makes it, without its making."""
-    return tuple(np.zeros_like(a) if k in WORK else a for k, a in enumerate(arrays))
+    return tuple(zeros(a) if k in WORK else a for k, a in enumerate(arrays))
+
+
+def zeros(a):
+    """Zeros of the shape and type of ``a`` (C order, as ``storage`` makes them; left to
+    the system's zeroed pages, where ``np.zeros_like`` writes every one)."""
+    return np.zeros(a.shape, a.dtype)
 
 
 def _least_cover(graph):

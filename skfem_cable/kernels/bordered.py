@@ -86,6 +86,6 @@ def renewed(lu):
     """The ``lu`` of ``storage`` with fresh work arrays (``band_layout.renewed``, ``S``
     and its pivots) around the same plan: another solver's of the same pattern."""
     front, S, ipiv_s, parallel = lu
-    S = np.zeros_like(S)
-    return ((band_layout.renewed(front[0]), *front[1:5], S.ravel()), S, np.zeros_like(ipiv_s),
-            parallel)
+    S = band_layout.zeros(S)
+    return ((band_layout.renewed(front[0]), *front[1:5], S.ravel()), S,
+            band_layout.zeros(ipiv_s), parallel)

@@ -111,11 +111,23 @@ def _counted(kind):
     return tuple((at, leaf) for at, leaf in _leaves(kind) if models[leaf].contains_nrt_meminfo())
 
 
+@_per_type
+def _tuples(kind):
+    """Which members of the numba tuple type ``kind`` are tuples."""
+    return tuple(isinstance(member, types.BaseTuple) for member in kind)
+
+
 def _values(kind, value):
     """The leaves of ``value``, of the numba type ``kind``, in the order of ``_leaves``."""
     if not isinstance(kind, types.BaseTuple):
         return [value]
-    return [leaf for member, item in zip(kind, value) for leaf in _values(member, item)]
+    leaves = []
+    for member, tuple_, item in zip(kind, _tuples(kind), value):
+        if tuple_:
+            leaves += _values(member, item)
+        else:
+            leaves.append(item)
+    return leaves
 
 
 @njit(cache=True)

@@ -96,7 +96,7 @@ def renewed(lu):
     values of ``S``, the inner LU's, ``bordered.renewed``) around the same plan: another
     solver's of the same pattern."""
     front, inner, parallel = lu
-    return ((band_layout.renewed(front[0]), *front[1:5], np.zeros_like(front[5])),
+    return ((band_layout.renewed(front[0]), *front[1:5], band_layout.zeros(front[5])),
             bordered.renewed(inner), parallel)
 
 

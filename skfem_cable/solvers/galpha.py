@@ -45,6 +45,13 @@ def galpha_parameters(rho_inf):
     return alpha_m, alpha_f, gamma, beta
 
 
+def _total_mass(system, lay):
+    """The mass of ``system`` in translation (the mass matrix of ``lay`` on a unit
+    velocity of the whole system)."""
+    unit = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=(1, 0, 0))
+    return float(unit @ (lay.mass @ unit))
+
+
 class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     """Integrator state and one step of the generalized-alpha method.
 
@@ -183,8 +190,7 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.xscale = lay.coordinate_scale
         self.inv_xscale = 1.0 / self.xscale
         self.L_ref = lay.length_scale
-        unit = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=(1, 0, 0))
-        self.total_mass = float(unit @ (lay.mass @ unit))
+        self.total_mass = lay.derived("total mass", lambda: _total_mass(system, lay))
         # the scaled residual: dynamic rows divided by the diagonal of the iteration matrix
         # (a Jacobi estimate of the correction, in units of the coordinates; refreshed at
         # every factorization, the mass diagonal before the first, the mean mass where a
