@@ -49,7 +49,8 @@ def rig():
 
 
 def test_a_run_start_reuses_what_the_layout_derives(rig):
-    """Two integrators of one layout share its band ordering, the numba type of the
+    """Two integrators of one layout share its band ordering, its solver's plan (not its
+    work arrays: ``PatternSolver.renewed``), its terms module, the numba type of the
     step's held arguments and the step's entry point, not their arrays; a system edited
     since gets its own."""
     system, _, initial = rig
@@ -62,6 +63,9 @@ def test_a_run_start_reuses_what_the_layout_derives(rig):
     assert a.compiled.kind is b.compiled.kind and a.compiled.entry is b.compiled.entry
     assert a.compiled.arrays["q1"] is not b.compiled.arrays["q1"]
     assert a.solver.lu[0][0][1] is not b.solver.lu[0][0][1]  # each its own factor
+    assert a.solver.lu[0][3] is b.solver.lu[0][3]  # one plan: the values' places
+    assert a.compiled.terms[:2] == b.compiled.terms[:2]  # one terms module
+    assert a.compiled.blob is not b.compiled.blob  # each its own terms held
     np.testing.assert_array_equal(a.q, b.q)
     edited, _, _ = small_rig()
     c = GeneralizedAlpha(edited, rho_inf=0.25)

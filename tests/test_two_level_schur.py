@@ -69,6 +69,45 @@ def test_two_levels_solve_a_ring_and_hub_as_superlu_does(ring):
         assert np.abs(solver.solve(rhs) - exact).max() < 1e-12 * np.abs(exact).max()
 
 
+def _arrays(storage):
+    """The arrays of a solver's nested storage, depth first."""
+    if isinstance(storage, np.ndarray):
+        return [storage]
+    if isinstance(storage, tuple):
+        return [a for member in storage for a in _arrays(member)]
+    return []
+
+
+@pytest.mark.parametrize("junctions", [False, True])
+def test_a_renewed_solver_is_one_made_afresh(ring, junctions):
+    """``PatternSolver.renewed`` (an integrator's solver: the layout's, with work arrays of
+    its own) gives the storage a solver made afresh has, array for array, sharing with
+    its original only what a factorization leaves as made (the plan of the pattern), and
+    factors and solves to the same bits; one level (``kernels.bordered``) and two
+    (``kernels.schur``)."""
+    A, hub, tips, rhs = ring
+    made = {"border": hub, "junctions": tips if junctions else None}
+    original = PatternSolver(A.indptr, A.indices, "banded", **made)
+    assert original.levels == 1 + junctions
+    original.factor(A.data)
+    x = original.solve(rhs)
+    renewed = original.renewed()
+    fresh = PatternSolver(A.indptr, A.indices, "banded", **made)
+    old, new, afresh = (_arrays(s.lu) for s in (original, renewed, fresh))
+    assert len(old) == len(new) == len(afresh) > 30
+    written = 0
+    for a, b, c in zip(old, new, afresh):
+        np.testing.assert_array_equal(b, c)
+        assert b.dtype == c.dtype and b.flags.c_contiguous == c.flags.c_contiguous
+        if np.shares_memory(a, b):
+            np.testing.assert_array_equal(a, c)
+        written += not np.array_equal(a, c)
+    assert written >= 5  # the band, its factor, pivots, S, ...
+    assert renewed.factorizations == 0 and renewed.ordering is original.ordering
+    renewed.factor(A.data)
+    np.testing.assert_array_equal(renewed.solve(rhs), x)
+
+
 @pytest.mark.parametrize("where", ["tip", "tether", "hub"])
 def test_a_zero_pivot_is_located_at_its_unknown_in_either_level(ring, where):
     """A vanishing row and column: in a block (the first level), at a tip (the band of

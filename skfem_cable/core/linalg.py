@@ -14,6 +14,7 @@ Patterns no band fits fall back to SuperLU.  All index maps from
 the CSR data array into the factor's storage, and the storage itself, are made once.
 """
 
+import copy
 import functools
 import os
 
@@ -185,6 +186,17 @@ class PatternSolver:
                                           nb, band, self.threads)
         self.factorizations = 0
         self._lu = None
+
+    def renewed(self):
+        """A solver of the same pattern, ordering and storage plan as this one, with work
+        arrays of its own (as made: ``kernels.bordered.renewed``, ``kernels.schur.renewed``)
+        and no factorization: what a solver's making derives from its pattern alone (its
+        storage's plan, most of the making of the E-sail rig's) made once."""
+        other = copy.copy(self)
+        if self.method == "banded":
+            other.lu = self.kernels.renewed(self.lu)
+        other.factorizations, other._lu = 0, None
+        return other
 
     def factor(self, data):
         """LU-factor the matrix with CSR values ``data``."""

@@ -67,6 +67,25 @@ def storage(addresses, pr, pc, n, nb, band, least, threads=1):
             True if threads > 1 and nblocks > 1 else None)
 
 
+#: The places in ``storage``'s ``arrays`` (``kernels.band_blocks``' ``blocks``) of what
+#: the kernels write (the band and its factor, pivots, scratch, ``X``, ``E``, ``F``,
+#: ``W``, the parts, the infos): the rest, the plan of the pattern, they only read.
+WORK = (1, 2, 4, 5, 11, 16, 17, 18, 20, 22, 23, 24)
+
+
+def renewed(arrays):
+    """``arrays`` of ``storage`` with fresh work arrays (``WORK``, zeros as made) around
+    the same plan: the storage of another solver of the same pattern, as ``storage``
+    makes it, without its making."""
+    return tuple(zeros(a) if k in WORK else a for k, a in enumerate(arrays))
+
+
+def zeros(a):
+    """Zeros of the shape and type of ``a`` (C order, as ``storage`` makes them; left to
+    the system's zeroed pages, where ``np.zeros_like`` writes every one)."""
+    return np.zeros(a.shape, a.dtype)
+
+
 def _least_cover(graph):
     """Masks of the rows and columns of a least vertex cover of the bipartite graph of the
     CSR ``graph``'s entries (Koenig's theorem: the rows not reached from an unmatched row

@@ -26,7 +26,7 @@ storage (``kernels.band_blocks``), whose ``s_data`` is ``S`` flat, ``S`` column-
 import numpy as np
 from numba import njit
 
-from . import band_blocks
+from . import band_blocks, band_layout
 from .band_layout import storage as blocks_storage
 from .lapack import dense_factor, dense_solve
 
@@ -80,3 +80,12 @@ def storage(addresses, rows, cols, perm, nb, band, threads=1):
     front = (blocks, perm.astype(np.int64), target, position,
              ((keys % max(k, 1)) * k + keys // max(k, 1)).astype(np.int64), S.ravel())
     return front, S, np.zeros(k, dtype=np.int32), parallel
+
+
+def renewed(lu):
+    """The ``lu`` of ``storage`` with fresh work arrays (``band_layout.renewed``, ``S``
+    and its pivots) around the same plan: another solver's of the same pattern."""
+    front, S, ipiv_s, parallel = lu
+    S = band_layout.zeros(S)
+    return ((band_layout.renewed(front[0]), *front[1:5], S.ravel()), S,
+            band_layout.zeros(ipiv_s), parallel)

@@ -45,7 +45,25 @@ _HELD = {}
 _ADDRESSED = {}
 
 
-@functools.cache
+def _per_type(make):
+    """``make(kind)`` made once per numba type ``kind``, looked up by its identity (the
+    type is kept, so its identity stays its own; numba interns its types, and an equal
+    type of another identity is looked up by its hash): a numba type's hash walks the
+    whole type, 5-10 us for the E-sail rig's held arguments at every look-up in a
+    ``functools.cache``."""
+    made = functools.cache(make)
+    by_id = {}
+
+    @functools.wraps(make)
+    def once(kind):
+        found = by_id.get(id(kind))
+        if found is None:
+            found = by_id[id(kind)] = (kind, made(kind))
+        return found[1]
+    return once
+
+
+@_per_type
 def size_of(kind):
     """Bytes of a value of the numba type ``kind`` in compiled code (its buffer's size;
     once per type: LLVM's layout of the E-sail rig's held arguments took 0.1 ms, twice at
@@ -70,7 +88,7 @@ def release(address, kind):
     _HELD.pop(address, None)
 
 
-@functools.cache
+@_per_type
 def _leaves(kind):
     """``(offset, type)`` of the leaves of a value of the numba type ``kind`` (its members
     that are not tuples, depth first) in its buffer, as LLVM lays out numba's value."""
@@ -86,18 +104,30 @@ def _leaves(kind):
     return tuple(found)
 
 
-@functools.cache
+@_per_type
 def _counted(kind):
     """The leaves of ``_leaves(kind)`` that hold references (the arrays)."""
     models = cpu_target.target_context.data_model_manager
     return tuple((at, leaf) for at, leaf in _leaves(kind) if models[leaf].contains_nrt_meminfo())
 
 
+@_per_type
+def _tuples(kind):
+    """Which members of the numba tuple type ``kind`` are tuples."""
+    return tuple(isinstance(member, types.BaseTuple) for member in kind)
+
+
 def _values(kind, value):
     """The leaves of ``value``, of the numba type ``kind``, in the order of ``_leaves``."""
     if not isinstance(kind, types.BaseTuple):
         return [value]
-    return [leaf for member, item in zip(kind, value) for leaf in _values(member, item)]
+    leaves = []
+    for member, tuple_, item in zip(kind, _tuples(kind), value):
+        if tuple_:
+            leaves += _values(member, item)
+        else:
+            leaves.append(item)
+    return leaves
 
 
 @njit(cache=True)
@@ -118,11 +148,22 @@ def keep(address, value, kind):
     hold(address, value)
 
 
+@_per_type
+def _taker(leaf):
+    """``_take`` compiled for a leaf of the numba type ``leaf`` (or read from the cache),
+    behind the unboxing of its arguments alone: the dispatcher would type its second
+    argument, a numba type, at every call (a ``TypeRef`` made and hashed: 5 us a leaf,
+    0.6 ms at every start of a run of the E-sail rig)."""
+    signature = (types.int64, types.TypeRef(leaf))
+    _take.compile(signature)
+    return _take.overloads[signature].entry_point
+
+
 def drop(address, kind):
     """From Python: ``release`` the value of the numba type ``kind`` that ``keep`` held at
     ``address``, leaf by leaf (those with references: the arrays)."""
     for offset, leaf in _counted(kind):
-        _take(address + offset, leaf)
+        _taker(leaf)(address + offset, leaf)
     release(address, kind)
 
 
@@ -134,6 +175,13 @@ def address(function, signature):
     if getattr(function, "overloads", None) is None:
         _ADDRESSED[id(function)] = function
         return id(function)
+    return _jit_address(function, signature)
+
+
+@functools.cache
+def _jit_address(function, signature):
+    """``address`` of a compiled ``function``, once per function and signature (its
+    machine code stays where it is while the process lives: ``_ADDRESSED`` keeps it)."""
     jit = _get_jit_address(function, signature)
     _ADDRESSED[jit] = function
     return jit

@@ -38,7 +38,7 @@ import numpy as np
 import scipy.sparse as sp
 from numba import njit
 
-from . import band_blocks, bordered
+from . import band_blocks, band_layout, bordered
 from .band_layout import storage as blocks_storage
 
 
@@ -89,6 +89,15 @@ def storage(addresses, rows, cols, perm, nb, band, order, threads=1):
     front = (blocks, perm.astype(np.int64), target, position,
              np.searchsorted(s_keys, near.part_keys).astype(np.int64), np.zeros(s_keys.size))
     return front, inner, parallel
+
+
+def renewed(lu):
+    """The ``lu`` of ``storage`` with fresh work arrays (``band_layout.renewed``, the
+    values of ``S``, the inner LU's, ``bordered.renewed``) around the same plan: another
+    solver's of the same pattern."""
+    front, inner, parallel = lu
+    return ((band_layout.renewed(front[0]), *front[1:5], band_layout.zeros(front[5])),
+            bordered.renewed(inner), parallel)
 
 
 def _csr(keys, k):

@@ -204,20 +204,34 @@ def _global_names(code):
     return tuple(sorted(names))
 
 
+@functools.cache
+def _fields(cls):
+    """The names of the fields of the dataclass ``cls``, or None if it is none; else the
+    names in the ``__slots__`` of ``cls`` and its bases (in the order of its MRO): once per
+    class."""
+    if dataclasses.is_dataclass(cls):
+        return None, tuple(f.name for f in dataclasses.fields(cls))
+    return tuple(name for klass in cls.__mro__ for name in getattr(klass, "__slots__", ())
+                 if isinstance(name, str)), None
+
+
 def _attributes(obj):
     """The public and private data attributes of ``obj`` (``__dict__`` and ``__slots__``),
     or its representation when it has none (without memory addresses)."""
-    if dataclasses.is_dataclass(obj):
-        attrs = {f.name: getattr(obj, f.name, None) for f in dataclasses.fields(obj)}
+    slots, fields = _fields(type(obj))
+    if fields is not None:
+        attrs = {name: getattr(obj, name, None) for name in fields}
     else:
         attrs = dict(getattr(obj, "__dict__", {}))
-        for cls in type(obj).__mro__:
-            for name in getattr(cls, "__slots__", ()):
-                if isinstance(name, str) and hasattr(obj, name) and name not in attrs:
-                    attrs[name] = getattr(obj, name)
+        for name in slots:
+            if hasattr(obj, name) and name not in attrs:
+                attrs[name] = getattr(obj, name)
     if not attrs:
         return _ADDRESS.sub("", repr(obj))
-    caches = set(getattr(obj, "caches", ()))
+    caches = getattr(obj, "caches", ())
+    if not caches:
+        return attrs
+    caches = set(caches)
     return {k: v for k, v in attrs.items() if k not in caches}
 
 

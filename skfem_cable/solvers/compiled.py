@@ -320,6 +320,13 @@ def entry_point(function, args):
     return function.overloads[signature].entry_point
 
 
+def _inner(kernels, inner):
+    """The numba type of the storage ``inner`` of the banded LU ``kernels`` (or the
+    sparse LU's) and the addresses of its functions (``step_lu.functions``)."""
+    kind = numba.typeof(inner)
+    return kind, step_lu.functions(kernels, kind)
+
+
 def _give_back(blob, address, kind):
     """Give back what ``blob`` holds at ``address`` (``kernels.erased.drop``; the buffer
     kept alive until now by this call's reference)."""
@@ -351,18 +358,14 @@ class CompiledNewton:
         step = self.step = module(jit)
         self.newton = step.newton_held
         self.entry = None  # entry_point, at the first call
-        types = lay.derived("slots' types",  # once per layout
-                            lambda: numba.typeof((packs, indices, cpacks, cindices)))
         with global_compiler_lock:  # what it compiles, said on one line (compile_log)
-            (kinds, ckinds), terms = slots.addressed(
-                (functions, packs, indices, EVALUATE.args[1]),
-                (cfunctions, cpacks, cindices, CONSTRAIN.args[1]), types)
-            kind = lay.derived(("terms' type", jit), lambda: numba.typeof(terms))
-            own = system_module(kinds, ckinds, kind, jit)
-            self.blob, address = _hold(kind, terms)
+            kind, references, creferences, entries = lay.derived(  # once per layout
+                ("terms", jit), lambda: self._terms_module(
+                    (functions, packs, indices), (cfunctions, cpacks, cindices), jit))
+            self.blob, address = _hold(kind, (packs, indices, references, cpacks, cindices,
+                                              creferences))
         weakref.finalize(self, _give_back, self.blob, address, kind).atexit = False
-        self.terms = (erased.address(own.evaluate, EVALUATE),
-                      erased.address(own.constrain, CONSTRAIN), address)
+        self.terms = (*entries, address)
         self.prepare = [term.prepare for term, _ in lay.body_terms + lay.load_terms
                         if term.kernels and term.prepare is not None]
         C = lay.C_lin
@@ -407,6 +410,20 @@ class CompiledNewton:
         prm[template.TOL_LOCAL], prm[template.ERROR_CONSTANT] = g.tol_local or 0.0, \
             g.error_constant
 
+    @staticmethod
+    def _terms_module(terms, constraints, jit):
+        """The numba type of the tuple the terms module of the slots ``terms = (functions,
+        packs, indices)`` and ``constraints`` reads (``system_module``), the addresses of
+        the slots' kernels and those of the module's ``evaluate`` and ``constrain``."""
+        (functions, packs, indices), (cfunctions, cpacks, cindices) = terms, constraints
+        types = numba.typeof((packs, indices, cpacks, cindices))
+        (kinds, ckinds), (references, creferences) = slots.addressed(
+            (functions, EVALUATE.args[1]), (cfunctions, CONSTRAIN.args[1]), types)
+        kind = numba.typeof((packs, indices, references, cpacks, cindices, creferences))
+        own = system_module(kinds, ckinds, kind, jit)
+        return kind, references, creferences, (erased.address(own.evaluate, EVALUATE),
+                                               erased.address(own.constrain, CONSTRAIN))
+
     def _solver(self, g, sparse, key, jit):
         """The held storage of the step's linear solver (``solvers.step_lu``, corrected if a
         term asks, ``kernels.woodbury``) and the step's ``lu``: the addresses of the
@@ -420,16 +437,24 @@ class CompiledNewton:
         kernels = None if sparse else g.solver.kernels.__name__.rsplit(".", 1)[-1]
         inner = np.array([key]) if sparse else g.solver.lu
         typed = ("LU", kernels, g.solver.threads, bool(corrections))
-        inner_kind = lay.derived((*typed, "inner"), lambda: numba.typeof(inner))
-        self.lu_storage = step_lu.storage(kernels, inner, inner_kind, (
+        inner_kind, functions = lay.derived((*typed, "inner"), lambda: _inner(kernels, inner))
+        self.lu_storage = step_lu.storage(inner, functions, (
             woodbury.storage(corrections[0], lay.N) if corrections else None))
         kind = lay.derived(typed, lambda: numba.typeof(self.lu_storage))
-        solver = step_lu.module(kernels, bool(corrections), inner_kind, kind, jit)
+        solver, entries = lay.derived((*typed, "module", jit), lambda: self._lu_module(
+            kernels, bool(corrections), inner_kind, kind, jit))
         self._refresh = solver.refresh if corrections else None
         blob, address = _hold(kind, self.lu_storage)
         weakref.finalize(self, _give_back, blob, address, kind).atexit = False
-        return blob, (erased.address(solver.factor, step_lu.AT_FACTOR),
-                      erased.address(solver.solve, step_lu.AT_SOLVE), address)
+        return blob, (*entries, address)
+
+    @staticmethod
+    def _lu_module(kernels, corrected, inner, kind, jit):
+        """The module of the step's linear solver (``step_lu.module``) and the addresses
+        of its ``factor`` and ``solve``."""
+        solver = step_lu.module(kernels, corrected, inner, kind, jit)
+        return solver, (erased.address(solver.factor, step_lu.AT_FACTOR),
+                        erased.address(solver.solve, step_lu.AT_SOLVE))
 
     def refresh(self):
         """Correct a factor the step did not make (``GeneralizedAlpha._factor``: a resumed

@@ -20,7 +20,7 @@ with unknowns ``(dq, dlambda / (beta' m))``; its entries do not grow as ``h -> 0
 import numpy as np
 
 from ..core.contract import OutOfDomain
-from ..core.linalg import PatternSolver, ordering_of
+from ..core.linalg import PatternSolver, ordering_of, thread_count
 from ..core.protocols import IntegrableSystem, StepHook
 from ..kernels import step as codes
 from ..kernels.error import error_ratio
@@ -43,6 +43,13 @@ def galpha_parameters(rho_inf):
     gamma = 0.5 + alpha_f - alpha_m
     beta = 0.25 * (gamma + 0.5) ** 2
     return alpha_m, alpha_f, gamma, beta
+
+
+def _total_mass(system, lay):
+    """The mass of ``system`` in translation (the mass matrix of ``lay`` on a unit
+    velocity of the whole system)."""
+    unit = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=(1, 0, 0))
+    return float(unit @ (lay.mass @ unit))
 
 
 class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
@@ -172,8 +179,10 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.n = system.n_dofs
         ordering = lay.derived("ordering", lambda: ordering_of(lay.indptr, lay.indices,
                                                                lay.border, lay.junctions))
-        self.solver = PatternSolver(lay.indptr, lay.indices, method, lay.border,
-                                    junctions=lay.junctions, ordering=ordering)
+        self.solver = lay.derived(  # the layout's solver, never factored: its plan, once
+            ("solver", method, thread_count()),
+            lambda: PatternSolver(lay.indptr, lay.indices, method, lay.border,
+                                  junctions=lay.junctions, ordering=ordering)).renewed()
         self.mbar = float(np.mean(lay.mass_diagonal))
         if not self.mbar > 0:
             raise ValueError("the system has no mass")
@@ -181,8 +190,7 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.xscale = lay.coordinate_scale
         self.inv_xscale = 1.0 / self.xscale
         self.L_ref = lay.length_scale
-        unit = system.rigid_motion_velocity(system.q0, (0, 0, 0), velocity=(1, 0, 0))
-        self.total_mass = float(unit @ (lay.mass @ unit))
+        self.total_mass = lay.derived("total mass", lambda: _total_mass(system, lay))
         # the scaled residual: dynamic rows divided by the diagonal of the iteration matrix
         # (a Jacobi estimate of the correction, in units of the coordinates; refreshed at
         # every factorization, the mass diagonal before the first, the mean mass where a

@@ -7,6 +7,19 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..core.linalg import SingularMatrixError
+from ..kernels.books import csr_product
+
+
+def _dynamic_block(lay):
+    """``(indptr, indices, entries)``: the CSR pattern of the KKT matrix's block of the
+    coordinates (``[:n, :n]``), and the places of its values in the KKT values, in the
+    order of its rows and columns (scipy's slice of the matrix, without its making)."""
+    n = lay.N - lay.n_c
+    end = lay.indptr[n]
+    kept = lay.indices[:end] < n
+    indptr = np.concatenate([[0], np.cumsum(kept)])[lay.indptr[: n + 1]]
+    entries = np.flatnonzero(kept)
+    return indptr.astype(np.int64), lay.indices[entries].astype(np.int64), entries
 
 
 class InitialState:
@@ -78,11 +91,12 @@ class InitialState:
         system.evaluate(q, v, t, np.zeros(lay.n_c), cK=0.0, cC=0.0, scale=self.mbar,
                         data=data, a=rest, cM=1.0, layout=lay)
         rhs = np.zeros(lay.N)
-        kkt = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
-        rhs[:n] = kkt[:n, :n] @ v
+        indptr, indices, entries = lay.derived("dynamic block", lambda: _dynamic_block(lay))
+        csr_product(indptr, indices, data[entries], v, rhs)  # the KKT matrix's [:n, :n] v
         try:
             self.solver.factor(data)
         except SingularMatrixError as err:
+            kkt = sp.csr_matrix((data, lay.indices, lay.indptr), shape=(lay.N, lay.N))
             raise self._singular_start(t, err.index, kkt[n:, :n]) from None
         self.stats["factorizations"] += 1
         rhs[n:] = -self.mbar * system.constraint_velocity_term(q, t, lay)

@@ -72,12 +72,13 @@ def _addresses(functions, packs, indices, evaluation):
 
 
 def addressed(terms, constraints, types):
-    """The function types of the slots ``terms = (functions, packs, indices, ev)`` and
-    ``constraints`` (the same with ``cev``; ``ev``, ``cev``: the numba types of the
-    evaluation tuples), and the tuple the terms module reads from its address: ``(packs,
-    indices, references, cpacks, cindices, creferences)``; ``types``: the numba type of
-    ``(packs, indices, cpacks, cindices)``."""
-    (functions, packs, indices, ev), (cfunctions, cpacks, cindices, cev) = terms, constraints
+    """The function types and the addresses of the kernels of the slots ``terms =
+    (functions, ev)`` and ``constraints`` (``(cfunctions, cev)``; ``ev``, ``cev``: the
+    numba types of the evaluation tuples): ``(kinds, ckinds), (references,
+    creferences)``; ``types``: the numba type of ``(packs, indices, cpacks, cindices)``.
+    The terms module reads ``(packs, indices, references, cpacks, cindices,
+    creferences)`` from its address."""
+    (functions, ev), (cfunctions, cev) = terms, constraints
     kinds, references = _addresses(functions, types[0], types[1], ev)
     ckinds, creferences = _addresses(cfunctions, types[2], types[3], cev)
-    return (kinds, ckinds), (packs, indices, references, cpacks, cindices, creferences)
+    return (kinds, ckinds), (references, creferences)

@@ -129,11 +129,18 @@ def module(kernels, corrected, inner, kind, jit=True):
                           + (" (Woodbury)" if corrected else ""), jit=jit)
 
 
-def storage(kernels, inner, inner_kind, correction):
-    """The storage the module reads: the banded LU ``kernels``' ``inner`` (of the numba
-    type ``inner_kind``) with the addresses of its ``factor`` and ``solve``
-    (``kernels.erased.address``), or the sparse LU's ``inner`` (``kernels`` None), with
-    the arrays of the ``correction`` of a term (``kernels.woodbury.storage``) if any."""
-    lu = inner if kernels is None else (
-        tuple(erased.address(*f) for f in _banded(kernels, inner_kind)), inner)
+def functions(kernels, inner):
+    """The addresses of the ``factor`` and ``solve`` of the banded LU ``kernels`` on
+    storage of the numba type ``inner`` (``kernels.erased.address``), or None for the
+    sparse LU (``kernels`` None)."""
+    return None if kernels is None else tuple(erased.address(*f)
+                                              for f in _banded(kernels, inner))
+
+
+def storage(inner, functions, correction):
+    """The storage the module reads: the banded LU's ``inner`` with the addresses of its
+    ``factor`` and ``solve`` (``functions``), or the sparse LU's ``inner`` (``functions``
+    None), with the arrays of the ``correction`` of a term (``kernels.woodbury.storage``)
+    if any."""
+    lu = inner if functions is None else (functions, inner)
     return lu if correction is None else (lu, correction)
