@@ -9,11 +9,12 @@ for bit.
 narrower than its block size (32) column by column (``dgbtf2``): per column a BLAS call
 to find the pivot, one to swap the rows, one to scale the multipliers and a rank-one
 update (``dger``), which OpenBLAS runs as one ``daxpy`` per column of the update, with
-fused multiply-adds.  For a cable's band of half-width 11 the calls cost more than their
-arithmetic: ``band_lu`` does the same operations in the same order (the update with
-fused multiply-adds, ``_fma``), the same factor and pivots bit for bit
-(``tests/test_compiled.py``), 2.2 times faster (the flexible pendulum's 105 unknowns: 19.5
--> 8.8 us; CPU, a compiled loop).
+fused multiply-adds (its kernels for x86-64 with FMA).  For a cable's band of half-width
+11 the calls cost more than their arithmetic: ``band_lu`` does the same operations in the
+same order (the update with fused multiply-adds, ``_fma``), scipy's factor and pivots bit
+for bit where its OpenBLAS fuses (``tests/test_compiled.py``; elsewhere the same factor
+up to round-off, and the same on every machine), 2.2 times faster (the flexible
+pendulum's 105 unknowns: 19.5 -> 8.8 us; CPU, a compiled loop).
 
 **The solves read the factor in two arrays of their own.**  LAPACK's band storage of
 half-width ``b`` holds a column of the factor in a row of ``3 b + 1`` values: ``2 b + 1``
