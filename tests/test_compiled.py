@@ -1,7 +1,8 @@
 """The compiled Newton step (``solvers.compiled``): the same iterates as its interpreted
 run (``compiled=False``), bit for bit (pendulums, the E-sail); the same diagnostics; the
-Python parts of a system are named; the LAPACK bridge it factors with equals scipy's, the bordered
-band LU solves an arrowhead, the rigid body's constraint kernel is its definition."""
+Python parts of a system are named; the LAPACK bridge and the band LU it factors with equal
+scipy's, the bordered band LU solves an arrowhead, the rigid body's constraint kernel is its
+definition."""
 
 import numpy as np
 import pytest
@@ -10,7 +11,7 @@ from scipy.linalg import lapack
 
 import skfem_cable as sc
 from skfem_cable.core.linalg import PatternSolver, SingularMatrixError
-from skfem_cable.kernels.band_sweeps import band_substitute
+from skfem_cable.kernels.band_sweeps import band_lu, band_substitute
 from skfem_cable.kernels.generated import source_id
 from skfem_cable.kernels.lapack import ADDRESSES, band_factor, band_solve
 from skfem_cable.scenes import classics, esail
@@ -158,6 +159,23 @@ def test_band_kernels_are_lapack():
     ab[:, 7] = 0.0  # column 8 (1-based) vanishes
     singular = np.ascontiguousarray(ab.T)
     assert band_factor(ADDRESSES, singular, 3, 3, ipiv, ints) == 8
+
+
+@pytest.mark.parametrize("n, kl", [(40, 3), (105, 11), (60, 13), (9, 5), (30, 1), (12, 0)])
+def test_band_lu_is_lapacks_factor(n, kl):
+    """``band_sweeps.band_lu`` (``dgbtf2`` as loops) makes scipy's ``dgbtrf`` factor and
+    pivots byte for byte, with row interchanges (tiny first diagonals) and without, and
+    the 1-based column of a zero pivot."""
+    _, ab = _banded(n, kl, seed=n + kl)
+    ab[2 * kl, :3] = 1e-3  # row interchanges in the first columns
+    for matrix in (ab, np.where(np.arange(n) == 7, 0.0, ab)):  # column 8 vanishes
+        lu, piv, info = lapack.dgbtrf(matrix.copy(), kl, kl)
+        mine = np.ascontiguousarray(matrix.T)
+        ipiv = np.zeros(n, dtype=np.int32)
+        assert band_lu(mine, kl, ipiv) == info
+        assert np.array_equal(mine.T, lu) and np.array_equal(ipiv, piv + 1)
+        assert kl == 0 or np.any(ipiv != np.arange(1, n + 1))
+    assert info == 8
 
 
 @pytest.mark.parametrize("voltage", [20e3, lambda t: 20e3 * (1.0 + 0.5 * np.sin(0.05 * t))],

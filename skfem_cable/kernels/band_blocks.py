@@ -15,7 +15,8 @@ bordered band (Golub & Van Loan, Matrix Computations, 4th ed., 2013, sec. 4.5.4;
 Iterative Methods for Sparse Linear Systems, 2nd ed., 2003, eq. (14.9)):
 
 * ``factor``: for every block (at once on numba's threads when the storage is made with
-  ``threads > 1``: ``prange``) LAPACK's banded LU of ``B_j`` (``dgbtrf``), copied apart
+  ``threads > 1``: ``prange``) LAPACK's banded LU of ``B_j`` (``band_sweeps.band_lu``,
+  ``dgbtf2`` without its BLAS calls), copied apart
   for the solves (``band_sweeps.split``); ``X_j = B_j^{-1} P_j`` for the unit columns
   ``P_j`` of its cover rows and ``W_j = X_j E_j[R_j]``, or a band solve per column of
   ``E_j`` (``direct``; ``layout.Touch.cover``); its part ``F_j W_j`` from its coupling
@@ -29,12 +30,13 @@ The storage ``front = (blocks, perm, target, position, s_pos, s_data)`` (``stora
 ``blocks = (addresses, ab, ipiv, band, ints, work, starts, rows_ptr, rows, cols_ptr,
 cols, X, x_ptr, touch_ptr, touch, direct, E, F, W, e_ptr, parts, p_ptr, infos, lower,
 upper)`` (LAPACK addresses; the band in the ``kernels.lapack`` layout, its pivots
-(1-based within each block) and half-width; int32 scratch, a row per block and one for
-the border; float scratch (n); the blocks' first band unknowns (``nblocks + 1``); the
-cover rows of each block (CSR-like, band indices) and its coupling columns; the ``X_j``,
-flat at ``x_ptr``; the border unknowns each block touches (CSR-like) and which of them
-``W_j`` takes by a band solve (int8); ``E_j``, ``F_j`` ``(n_j, |T_j|)`` and ``W_j``
-flat at ``e_ptr``; the parts flat at ``p_ptr``; each block's LAPACK ``info``; the
+(1-based within each block) and half-width; int32 scratch, a row per block (unused:
+``band_lu`` calls no LAPACK) and one for the border's LAPACK calls; float scratch (n);
+the blocks' first band unknowns (``nblocks + 1``); the cover rows of each block
+(CSR-like, band indices) and its coupling columns; the ``X_j``, flat at ``x_ptr``; the
+border unknowns each block touches (CSR-like) and which of them ``W_j`` takes by a band
+solve (int8); ``E_j``, ``F_j`` ``(n_j, |T_j|)`` and ``W_j`` flat at ``e_ptr``; the parts
+flat at ``p_ptr``; each block's LAPACK ``info``; the
 factor split for the solves, ``(nb, band)`` and ``(nb, 2 band + 1)``); the ordering;
 for every CSR value of the matrix its place (int8; 0: band, 1: E, 2: F, 3: S) and flat
 position there; the places of the parts' entries in ``s_data``, the border's values
@@ -47,8 +49,7 @@ linked into the Newton step).
 import numpy as np
 from numba import njit, prange
 
-from .band_sweeps import band_substitute, pair_substitute, split, split_substitute
-from .lapack import band_factor
+from .band_sweeps import band_lu, band_substitute, pair_substitute, split, split_substitute
 
 #: The stages of a block (``_block``).  Plain ints: numba types a global int as its
 #: literal value, so ``_block`` and ``_blocks`` are compiled once per stage, each with
@@ -163,14 +164,13 @@ def _place(data, target, position, flat, first, last):
 
 
 @njit(cache=True)
-def _factor_block(addresses, ab, ipiv, band, ints, start, end, units, columns, X, e, f, w,
-                  direct, part):
+def _factor_block(ab, ipiv, band, start, end, units, columns, X, e, f, w, direct, part):
     """The banded LU of the block ``start:end``, its ``W_j`` (``w``, from ``E_j``: ``e``)
     and its part ``F_j W_j`` (``part``, from ``F_j``: ``f``); returns LAPACK's
     ``info``."""
     n, t = end - start, direct.size
     block, pivots = ab[start:end], ipiv[start:end]
-    info = band_factor(addresses, block, band, band, pivots, ints)
+    info = band_lu(block, band, pivots)
     part[:] = 0.0
     if info > 0 or t == 0:
         return info
@@ -262,7 +262,7 @@ def _block(blocks, j, stage):
         e, f, w = _local(blocks, j)
         t = touch_ptr[j + 1] - touch_ptr[j]
         infos[j] = _factor_block(
-            addresses, ab, ipiv, band, ints[j], start, end, rows[rows_ptr[j]:rows_ptr[j + 1]],
+            ab, ipiv, band, start, end, rows[rows_ptr[j]:rows_ptr[j + 1]],
             cols[cols_ptr[j]:cols_ptr[j + 1]], X[x_ptr[j]:x_ptr[j + 1]], e, f, w,
             direct[touch_ptr[j]:touch_ptr[j + 1]], parts[p_ptr[j]:p_ptr[j + 1]].reshape((t, t)))
         if infos[j] == 0:

@@ -234,7 +234,8 @@ def _lower_hold(context, builder, signature, args):
 @lower_builtin(held, types.Integer, types.TypeRef)
 def _lower_held(context, builder, signature, args):
     loaded = builder.load(_pointer(builder, context, args[0], signature.return_type))
-    context.nrt.incref(builder, signature.return_type, loaded)  # a new reference
+    if context.enable_nrt:  # a new reference (borrowed where compiled without counts)
+        context.nrt.incref(builder, signature.return_type, loaded)
     return loaded
 
 

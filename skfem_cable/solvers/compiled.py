@@ -54,7 +54,7 @@ from . import slots, step_lu
 from .slots import PYTHON
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "18"
+GENERATOR = "19"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
@@ -97,16 +97,17 @@ _INLINED = '@njit(cache=True, inline="always")'
 #: The decorator of the step's entry ``newton_held``: no C wrapper (numba's
 #: first-class-function entry, which the step never uses; 750 of the 23,000 lines of LLVM
 #: IR of the pendulum's step).
-_ENTRY = "@njit(cache=True, no_cfunc_wrapper=True)"
+_ENTRY = f"@njit(cache=True, no_cfunc_wrapper=True{step_lu.COUNTLESS})"
 
 #: The decorator of the step's functions with more than one caller (``_residual`` has two,
 #: ``_constraints`` three): typed and lowered once by numba, which does it again at every
 #: call of an ``inline="always"`` function (its inlining pass took a third of the step's
 #: compilation), and inlined by LLVM into each caller (``forceinline``: the step's machine
 #: code is that of the inlined functions).
-_SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
+_SHARED = f"@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{step_lu.COUNTLESS})"
 
-#: The decorators of the template's functions other than ``_INLINED``.
+#: The decorators of the template's functions other than ``_INLINED`` (all of the step
+#: without numba's reference counts, ``step_lu.COUNTLESS``).
 _DECORATORS = {"newton_held": _ENTRY, "_residual": _SHARED, "_constraints": _SHARED}
 
 
@@ -127,15 +128,16 @@ CONSTRAIN = numba.types.void(numba.types.int64, numba.types.UniTuple(_VECTOR, 6)
 #: reading the terms' data at the address ``blob`` (``kernels.erased``: ``(packs, indices,
 #: references, cpacks, cindices, creferences)``, the slots' packs, tangent positions and
 #: kernels' addresses, put there by ``kernels.erased.keep``), called at their addresses
-#: alone (neither a C nor a Python wrapper).
+#: alone (neither a C nor a Python wrapper); ``{counts}``: without numba's reference counts
+#: where no slot is Python (``step_lu.COUNTLESS``; the objmode calls need them).
 _SYSTEM_ENTRIES = '''# EVALUATE, CONSTRAIN, TERMS: injected by the loader
-@njit(EVALUATE, cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # noqa: F821
+@njit(EVALUATE, cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True{counts})  # noqa: F821
 def evaluate(blob, ev):
     terms = held(blob, TERMS)  # noqa: F821
     evaluate_slots(terms[0], terms[1], terms[2], ev)
 
 
-@njit(CONSTRAIN, cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)  # noqa: F821
+@njit(CONSTRAIN, cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True{counts})  # noqa: F821
 def constrain(blob, cev):
     terms = held(blob, TERMS)  # noqa: F821
     constrain_slots(terms[3], terms[4], terms[5], cev)
@@ -172,7 +174,8 @@ def system_source(kernels, constraint_kernels):
                             "python_constraint(packs[{k}], np.int64({k}), cev[3], "
                             "cev[5].size > 0)")),
     ]
-    parts += callbacks.source(calls) + [_SYSTEM_ENTRIES]
+    parts += callbacks.source(calls) + [_SYSTEM_ENTRIES.format(
+        counts="" if calls else step_lu.COUNTLESS)]
     return "\n\n\n".join(p for p in parts if p)
 
 

@@ -28,7 +28,7 @@ import numba
 from ..kernels import bordered, callbacks, erased, generated, lapack, schur, woodbury
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "1"
+GENERATOR = "2"
 
 _VECTOR = numba.types.float64[::1]
 
@@ -41,35 +41,45 @@ AT_SOLVE = numba.types.void(numba.types.int64, _VECTOR, _VECTOR)
 #: The banded LUs by their names (``linalg.PatternSolver.kernels``).
 BANDED = {"bordered": bordered, "schur": schur}
 
+#: The option of a generated function compiled without numba's reference counts (here and
+#: in ``solvers.compiled``'s modules): one that makes no array and calls no Python, whose
+#: arrays are alive through its call (the held ones, ``kernels.erased.held``, borrowed from
+#: their holder; its arguments, from its caller).  Their counts, an atomic add each for
+#: every array taken from a tuple or sliced, cost 1.5 us of the pendulum's and of the
+#: E-sail rig's compiled call (20 and 40 us) in the step module alone (a compiled loop).
+COUNTLESS = ", _nrt=False"
+
 #: The step's calls of the solver (``kernels.step._factor``, ``_iterate``).
-STEP_SOURCE = '''@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)
+STEP_SOURCE = f'''@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{COUNTLESS})
 def lu_factor(lu, data):
     return function(lu[0], AT_FACTOR)(lu[2], data)  # noqa: F821 (placed by the loader)
 
 
-@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)
+@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{COUNTLESS})
 def lu_solve(lu, rhs, out):
     function(lu[1], AT_SOLVE)(lu[2], rhs, out)  # noqa: F821
 '''
 
 #: The banded LU's ``factor`` and ``solve`` at their addresses.
-_BANDED_SOURCE = '''@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)
+_BANDED_SOURCE = f'''@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{COUNTLESS})
 def lu_factor(lu, data):
     return function(lu[0][0], FACTOR)(lu[1], data)  # noqa: F821 (placed by the loader)
 
 
-@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)
+@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{COUNTLESS})
 def lu_solve(lu, rhs, out):
     function(lu[0][1], SOLVE)(lu[1], rhs, out)  # noqa: F821
 '''
 
-#: The module's entries, on the storage of the type ``LU`` held at ``blob``.
-_ENTRIES = '''@njit(AT_FACTOR, cache=True, no_cfunc_wrapper=True)  # noqa: F821
+#: The module's entries, on the storage of the type ``LU`` held at ``blob``; ``{counts}``:
+#: ``COUNTLESS`` for the banded LU uncorrected (the sparse LU's objmode calls and the
+#: correction's need numba's reference counts).
+_ENTRIES = '''@njit(AT_FACTOR, cache=True, no_cfunc_wrapper=True{counts})  # noqa: F821
 def factor(blob, data):
     return lu_factor(held(blob, LU), data)  # noqa: F821
 
 
-@njit(AT_SOLVE, cache=True, no_cfunc_wrapper=True)  # noqa: F821
+@njit(AT_SOLVE, cache=True, no_cfunc_wrapper=True{counts})  # noqa: F821
 def solve(blob, rhs, out):
     lu_solve(held(blob, LU), rhs, out)  # noqa: F821
 '''
@@ -85,7 +95,8 @@ def source(sparse, corrected):
              + ("from skfem_cable.solvers.compiled import python_part\n" if sparse else "")]
     parts += callbacks.source(("lu_factor", "lu_solve")) if sparse else [_BANDED_SOURCE]
     parts += [woodbury.source()] if corrected else []
-    return "\n\n\n".join(parts + [_ENTRIES])
+    counts = "" if sparse or corrected else COUNTLESS
+    return "\n\n\n".join(parts + [_ENTRIES.format(counts=counts)])
 
 
 @functools.cache
