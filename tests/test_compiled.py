@@ -163,9 +163,10 @@ def test_band_kernels_are_lapack():
 
 @pytest.mark.parametrize("n, kl", [(40, 3), (105, 11), (60, 13), (9, 5), (30, 1), (12, 0)])
 def test_band_lu_is_lapacks_factor(n, kl):
-    """``band_sweeps.band_lu`` (``dgbtf2`` as loops) makes scipy's ``dgbtrf`` factor and
-    pivots byte for byte, with row interchanges (tiny first diagonals) and without, and
-    the 1-based column of a zero pivot."""
+    """``band_sweeps.band_lu`` (``dgbtf2`` as loops) makes scipy's ``dgbtrf`` pivots and
+    factor, with row interchanges (tiny first diagonals) and without, and the 1-based
+    column of a zero pivot.  The factor to round-off: bit for bit where scipy's OpenBLAS
+    fuses its ``daxpy`` (x86-64 with FMA, this machine's), which other builds need not."""
     _, ab = _banded(n, kl, seed=n + kl)
     ab[2 * kl, :3] = 1e-3  # row interchanges in the first columns
     for matrix in (ab, np.where(np.arange(n) == 7, 0.0, ab)):  # column 8 vanishes
@@ -173,7 +174,8 @@ def test_band_lu_is_lapacks_factor(n, kl):
         mine = np.ascontiguousarray(matrix.T)
         ipiv = np.zeros(n, dtype=np.int32)
         assert band_lu(mine, kl, ipiv) == info
-        assert np.array_equal(mine.T, lu) and np.array_equal(ipiv, piv + 1)
+        assert np.array_equal(ipiv, piv + 1)
+        np.testing.assert_allclose(mine.T, lu, rtol=0, atol=1e-13 * np.abs(lu).max())
         assert kl == 0 or np.any(ipiv != np.arange(1, n + 1))
     assert info == 8
 

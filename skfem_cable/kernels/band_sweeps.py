@@ -12,8 +12,9 @@ update (``dger``), which OpenBLAS runs as one ``daxpy`` per column of the update
 fused multiply-adds (its kernels for x86-64 with FMA).  For a cable's band of half-width
 11 the calls cost more than their arithmetic: ``band_lu`` does the same operations in the
 same order (the update with fused multiply-adds, ``_fma``), scipy's factor and pivots bit
-for bit where its OpenBLAS fuses (``tests/test_compiled.py``; elsewhere the same factor
-up to round-off, and the same on every machine), 2.2 times faster (the flexible
+for bit where its OpenBLAS fuses (elsewhere the same factor up to round-off, and the
+same on every machine; ``tests/test_compiled.py`` checks the pivots and the factor to
+round-off), 2.2 times faster (the flexible
 pendulum's 105 unknowns: 19.5 -> 8.8 us; CPU, a compiled loop).
 
 **The solves read the factor in two arrays of their own.**  LAPACK's band storage of
