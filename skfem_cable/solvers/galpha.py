@@ -415,9 +415,10 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         step's end the current state (copied: only an accepted step's); ``rate`` is its
         Newton contraction estimate (``newton_rate``)."""
         q1, v1 = end["q1"], end["v1"]
-        refused = refusal(self.checks, self.q, q1)
-        if refused is not None:
-            return False, f"t={t1:.6g}, h={h:.3g}: {refused}"
+        if self.checks:
+            refused = refusal(self.checks, self.q, q1)
+            if refused is not None:
+                return False, f"t={t1:.6g}, h={h:.3g}: {refused}"
         if self.rtol is not None:
             self.error_ratio = error_ratio(self.q, q1, end["abar1"], self.abar,
                                            self.error_constant * h * h, self.system.vectors,
@@ -425,22 +426,24 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
             if not self.error_ratio <= 1.0:
                 return False, (f"t={t1:.6g}, h={h:.3g}: local error {self.error_ratio:.3g} "
                                "times the tolerance")
-        books = self._booked((end["fd"], end["f_ext"], end["f_con"]), end["energy"], q1, v1,
-                             t1, sums=end["books"])
+        dissipated, external, kinetic, potential, energy_rate = self._step_books(
+            end["books"], q1, t1)
+        axial, bending = end["energy"].tolist()
         self.guard.set_scale(self.total_mass, self.L_ref, h)
-        grown = self.guard.check(self._energies(books))
+        grown = self.guard.check((kinetic, axial, bending, potential, dissipated, external))
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
-        books.update(fd=books["fd"].copy(), fnc=books["fnc"].copy(),
-                     fcon=books["fcon"].copy())
         self.t, self.q, self.v, self.lam = t1, q1.copy(), v1.copy(), end["lam1"].copy()
         self.abar = end["abar1"].copy()
         if self.a_prev is not None:
             self.da_prev, self.h_prev2 = self.a - self.a_prev, self.h_prev
         self.a_prev, self.h_prev = self.a, h
         self.a = end["a1"].copy()
+        self.fd, self.fnc, self.fcon = end["fd"].copy(), end["f_ext"].copy(), end["f_con"].copy()
+        self.elastic = end["energy"].copy()
+        self.dissipated, self.external_work = dissipated, external
+        self.kinetic, self.potential, self.energy_rate = kinetic, potential, energy_rate
         self.iterations, self.newton_rate = iterations, rate
-        self.__dict__.update(books)
         self.guard.accept(t1)
         self.stats["steps"] += 1
         return True, "converged"

@@ -25,18 +25,18 @@ import numpy as np
 FLOOR = 1e-12
 
 
-def balance(energies):
-    """``kinetic + elastic + potential + dissipated - external work`` (J)."""
-    e = energies
-    return (float(e["kinetic"]) + float(e["axial"]) + float(e["bending"])
-            + float(e["potential"]) + float(e["dissipated"]) - float(e["external_work"]))
+#: The energies of a state in the balance, in the order ``EnergyGuard.check`` takes them.
+ENERGIES = ("kinetic", "axial", "bending", "potential", "dissipated", "external_work")
 
 
-def content(energies, potential0):
-    """Energy content of a state: the magnitudes of all the terms of the balance (J)."""
-    return (float(energies["kinetic"] + energies["axial"] + energies["bending"])
-            + abs(float(energies["potential"]) - potential0)
-            + abs(float(energies["dissipated"])) + abs(float(energies["external_work"])))
+def measure(energies, potential0):
+    """The balance ``kinetic + elastic + potential + dissipated - external work`` and the
+    energy content, the magnitudes of all its terms, of a state's ``energies`` (floats in
+    the order of ``ENERGIES``; J)."""
+    kinetic, axial, bending, potential, dissipated, external_work = energies
+    stored = kinetic + axial + bending
+    return (stored + potential + dissipated - external_work,
+            stored + abs(potential - potential0) + abs(dissipated) + abs(external_work))
 
 
 def refusal(checks, q0, q1):
@@ -70,10 +70,10 @@ class EnergyGuard:
         self.candidate = None  # (balance, content) of the last checked state
 
     def reset(self, t, energies):
-        """Start from an accepted initial state."""
-        self.potential0 = float(energies["potential"])
-        self.lowest = balance(energies)
-        self.largest = content(energies, self.potential0)
+        """Start from an accepted initial state (``energies``: a dict of ``ENERGIES``)."""
+        energies = tuple(float(energies[name]) for name in ENERGIES)
+        self.potential0 = energies[3]
+        self.lowest, self.largest = measure(energies, self.potential0)
         self.floor = 0.0
         self.history.clear()
         self.history.append((t, self.lowest))
@@ -85,14 +85,14 @@ class EnergyGuard:
             self.floor = FLOOR * mass * (length / h) ** 2
 
     def check(self, energies):
-        """None if the candidate is acceptable, else a short reason: the rise of its
-        balance above the lowest so far against the energy content (the largest seen, the
-        candidate's included)."""
-        self.candidate = balance(energies), content(energies, self.potential0)
+        """None if the candidate of ``energies`` (floats in the order of ``ENERGIES``) is
+        acceptable, else a short reason: the rise of its balance above the lowest so far
+        against the energy content (the largest seen, the candidate's included)."""
+        self.candidate = balance, content = measure(energies, self.potential0)
         if self.tol is None:
             return None
-        grown = self.candidate[0] - self.lowest
-        scale = max(self.largest, self.candidate[1], self.floor, 1e-300)
+        grown = balance - self.lowest
+        scale = max(self.largest, content, self.floor, 1e-300)
         if not math.isfinite(grown) or grown > self.tol * scale:
             return (f"energy balance grew by {grown:.4g} J ({grown / scale:.3g} of the "
                     f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
