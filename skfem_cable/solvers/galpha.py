@@ -391,13 +391,13 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         t1 = self.t + h
         status, it, factored, corrected, singular = self.compiled.iterate(self, h, t1, need,
                                                                           full)
-        self.stats["newton"] += corrected
-        self.stats["factorizations"] += factored
-        arrays = self.compiled.arrays
-        if factored:
+        stats, arrays = self.stats, self.compiled.arrays
+        stats["newton"] += corrected
+        stats["factorizations"] += factored
+        if factored:  # the step's arrays fq, fv, flam hold the state of its last factor
             self.h_factored = h
-            self.factored_at = {"q": arrays["fq"].copy(), "v": arrays["fv"].copy(), "t": t1,
-                                "lam": arrays["flam"].copy(), "h": h}
+            self.factored_at = {"q": arrays["fq"], "v": arrays["fv"], "t": t1,
+                                "lam": arrays["flam"], "h": h}
         if status == codes.SINGULAR:
             self.h_factored = None
             return False, self._singular(t1, h, singular)
