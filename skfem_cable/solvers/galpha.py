@@ -270,7 +270,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     # --- one step ---------------------------------------------------------------------------
     def step(self, h):
         """Advance by ``h``; returns ``(success, message)`` and updates the state only on
-        success (scipy ``OdeSolver`` style)."""
+        success (scipy ``OdeSolver`` style), in its arrays (``q``, ``v``, ``lam``, ...:
+        copy what you keep)."""
         self.error_ratio = None
         self._fit_abar(h)
         fresh, full = self.fresh_tangent, self.newton == "full"
