@@ -412,9 +412,10 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         """Book the energies of a converged step (with the step's arrays ``end``,
         ``CompiledNewton.arrays``: its end ``q1, v1, a1, lam1, abar1``, the forces of its
         last residual, its elastic energy and the compiled books), apply the terms'
-        checks (``guard.refusal``) and the instability guard and, if they pass, make the
-        step's end the current state (copied into its arrays: only an accepted step's);
-        ``rate`` is its Newton contraction estimate (``newton_rate``)."""
+        checks (``guard.refusal``) and, last, the instability guard (``EnergyGuard.admit``)
+        and, if they pass, make the step's end the current state (copied into its arrays:
+        only an accepted step's); ``rate`` is its Newton contraction estimate
+        (``newton_rate``)."""
         q1, v1 = end["q1"], end["v1"]
         if self.checks:
             refused = refusal(self.checks, self.q, q1)
@@ -431,7 +432,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
             end["books"], q1, t1)
         axial, bending = end["energy"].tolist()
         self.guard.set_scale(self.total_mass, self.L_ref, h)
-        grown = self.guard.check((kinetic, axial, bending, potential, dissipated, external))
+        grown = self.guard.admit(t1, (kinetic, axial, bending, potential, dissipated,
+                                      external))
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
         # the step's end becomes the state, written into the state's arrays in place (the
@@ -452,6 +454,5 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.dissipated, self.external_work = dissipated, external
         self.kinetic, self.potential, self.energy_rate = kinetic, potential, energy_rate
         self.iterations, self.newton_rate = iterations, rate
-        self.guard.accept(t1)
         self.stats["steps"] += 1
         return True, "converged"

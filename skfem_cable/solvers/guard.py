@@ -67,7 +67,6 @@ class EnergyGuard:
             raise ValueError(f"energy_tol must be a number > 0 or None, got {tol!r}")
         self.tol = tol
         self.history = deque(maxlen=keep)
-        self.candidate = None  # (balance, content) of the last checked state
 
     def reset(self, t, energies):
         """Start from an accepted initial state (``energies``: a dict of ``ENERGIES``)."""
@@ -84,28 +83,26 @@ class EnergyGuard:
         if not self.floor:
             self.floor = FLOOR * mass * (length / h) ** 2
 
-    def check(self, energies):
-        """None if the candidate of ``energies`` (floats in the order of ``ENERGIES``) is
-        acceptable, else a short reason: the rise of its balance above the lowest so far
-        against the energy content (the largest seen, the candidate's included)."""
-        self.candidate = balance, content = measure(energies, self.potential0)
-        if self.tol is None:
-            return None
-        grown = balance - self.lowest
-        scale = max(self.largest, content, self.floor, 1e-300)
-        if not math.isfinite(grown) or grown > self.tol * scale:
-            return (f"energy balance grew by {grown:.4g} J ({grown / scale:.3g} of the "
-                    f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
+    def admit(self, t, energies):
+        """Judge the candidate state at ``t`` of ``energies`` (floats in the order of
+        ``ENERGIES``): None if it is acceptable, and it becomes the guard's reference
+        (lowest balance, largest content, history); else a short reason: the rise of its
+        balance above the lowest so far against the energy content (the largest seen, the
+        candidate's included).  (The last check of a step: judging and taking it in one
+        call.)"""
+        balance, content = measure(energies, self.potential0)
+        if self.tol is not None:
+            grown = balance - self.lowest
+            scale = max(self.largest, content, self.floor, 1e-300)
+            if not math.isfinite(grown) or grown > self.tol * scale:
+                return (f"energy balance grew by {grown:.4g} J ({grown / scale:.3g} of the "
+                        f"energy content {scale:.4g} J; energy_tol = {self.tol:g})")
+        if balance < self.lowest:  # min() and max() as comparisons: 0.15 us less a step
+            self.lowest = balance
+        if content > self.largest:
+            self.largest = content
+        self.history.append((t, balance))
         return None
-
-    def accept(self, t):
-        """Take the candidate of the last ``check`` as the new state."""
-        b, c = self.candidate
-        if b < self.lowest:  # min() and max() as comparisons: 0.15 us less a step
-            self.lowest = b
-        if c > self.largest:
-            self.largest = c
-        self.history.append((t, b))
 
     def describe_history(self):
         return ", ".join(f"t={t:.6g}: {b:.6g} J" for t, b in self.history)
