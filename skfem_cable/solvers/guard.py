@@ -21,18 +21,16 @@ from collections import deque
 
 import numpy as np
 
+from ..core.records import ENERGIES
+
 #: Energy content below which nothing is judged, relative to ``m (L / h)^2``.
 FLOOR = 1e-12
-
-
-#: The energies of a state in the balance, in the order ``EnergyGuard.check`` takes them.
-ENERGIES = ("kinetic", "axial", "bending", "potential", "dissipated", "external_work")
 
 
 def measure(energies, potential0):
     """The balance ``kinetic + elastic + potential + dissipated - external work`` and the
     energy content, the magnitudes of all its terms, of a state's ``energies`` (floats in
-    the order of ``ENERGIES``; J)."""
+    the order of ``records.ENERGIES``; J)."""
     kinetic, axial, bending, potential, dissipated, external_work = energies
     stored = kinetic + axial + bending
     return (stored + potential + dissipated - external_work,
