@@ -45,7 +45,8 @@ class Books:
         """The books opened at the current state ``(q, v, t)``, where the forces are
         ``forces`` ``(f_damping, f_nc, f_con)`` and the elastic energy ``energy`` (2,):
         no work yet, the kinetic and potential energy there (``kernels.books``).  The
-        forces are kept as given (the caller copies what it must keep)."""
+        forces are kept as given: accepted steps write theirs into them
+        (``GeneralizedAlpha._accept``), so they must be arrays nothing else holds."""
         q, M = self.q, self.lay.mass
         dissipated, external, kinetic, potential = step_books(
             np.zeros_like(q), forces, forces, M.strided, self.lay.f_const, q, self.v,
