@@ -96,7 +96,7 @@ counts = {"evaluations": evaluations / n, "corrections": result.stats["newton"] 
           "factorizations": result.stats["factorizations"] / n}
 
 # the Python of a step, by cProfile: per-function times of the long run less the short's
-GROUPS = (("books", ("books.py", "_booked", "_energies", "_opened")),
+GROUPS = (("books", ("books.py", "_step_books", "_energies", "_open")),
           ("guard", ("guard.py",)),
           ("copies of the state", ("method 'copy'", "numpy.copy", "method 'tolist'")),
           ("the compiled call's preparation", ("compiled.py", "predictor", "extrapolation",

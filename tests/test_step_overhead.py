@@ -123,7 +123,7 @@ def test_a_scene_without_orbit_or_controllers_runs_no_step_hooks(runs):
 
 def test_a_resumed_run_is_bit_for_bit_the_run_in_one_go(runs):
     """The state, the multipliers and the energy books of the run resumed at step 6
-    (its checkpoint's books reopened, ``Books._booked``) equal the uninterrupted run's,
+    (its checkpoint's books reopened, ``Books._open``) equal the uninterrupted run's,
     bit for bit, at every saved step (the accelerations at the resumed run's steps)."""
     whole, resumed, _ = runs
     assert len(resumed) == len(whole) == 13

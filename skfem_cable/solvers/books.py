@@ -9,43 +9,50 @@ from ..kernels.books import step_books
 
 
 class Books:
-    """``_booked`` (the books at the end of a step), ``_opened`` (at the current state),
-    ``energies`` (of the current state)
-    and ``_energies`` (of a dict of books); read the integrator's state and layout."""
+    """``_step_books`` (the books at the end of a step), ``_open`` and ``_opened`` (at the
+    current state), ``energies`` (of the current state) and ``_energies`` (of a dict of
+    books); read the integrator's state and layout."""
 
-    def _booked(self, forces, energy, q1, v1, t1, sums=None, start=False):
-        """Energy books at the end ``(q1, v1, t1)`` of a step whose last residual gave the
-        ``forces`` ``(f_damping, f_nc, f_con)`` and the elastic ``energy`` (2,): the work
-        of the damping and of the non-constant external forces over the step, ``dq . (f_n
-        + f_{n+1}) / 2`` (exact for the trapezoidal rule), the constraint forces ``-C_q^T
-        lambda`` counted as external (they work where a constraint is driven, a moving
-        pin; elsewhere ``C_q dq = 0`` to ``O(dq^3)``; those of the accepted multipliers
-        also when Newton ends on a correction without evaluating it,
-        ``kernels.step._constraints``: a change of the multipliers that the mean nodal mass
-        of a heavy hub hid from the convergence test left the books of a damped rope on
-        the hub open to first order in the step), the work of the explicit time
-        dependence of stored energies (``System.energy_rate``: a deploying cable's reel),
-        ``h (P_n + P_{n+1}) / 2``, the work of the change of the terms' data over the step
-        (``System.energy_change``: a law parameter that varies in time), and the kinetic
-        and potential energy (``kernels.books``; ``sums``, (4,): the step's dissipated and
-        external work, kinetic and potential energy as the compiled step computed them);
-        ``start`` opens the books at ``q1``.  The forces are kept as given (the caller
-        copies what it must keep)."""
-        fd, fnc, fcon = forces
-        if sums is not None:  # computed by the compiled step
-            dissipated, external, kinetic, potential = sums.tolist()
-        else:
-            M = self.lay.mass
-            before = forces if start else (self.fd, self.fnc, self.fcon)
-            dq = np.zeros_like(q1) if start else q1 - self.q
-            dissipated, external, kinetic, potential = step_books(
-                dq, before, forces, M.strided, self.lay.f_const, q1, v1, np.empty(q1.size))
+    def _step_books(self, sums, q1, t1):
+        """Energy books at the end ``(q1, t1)`` of a step, from the sums the compiled step
+        computed (``sums``, (4,): the step's dissipated and external work, kinetic and
+        potential energy, ``kernels.books.step_books``): the work of the damping and of
+        the non-constant external forces over the step, ``dq . (f_n + f_{n+1}) / 2``
+        (exact for the trapezoidal rule), the constraint forces ``-C_q^T lambda`` counted
+        as external (they work where a constraint is driven, a moving pin; elsewhere
+        ``C_q dq = 0`` to ``O(dq^3)``; those of the accepted multipliers also when Newton
+        ends on a correction without evaluating it, ``kernels.step._constraints``: a
+        change of the multipliers that the mean nodal mass of a heavy hub hid from the
+        convergence test left the books of a damped rope on the hub open to first order
+        in the step), the work of the explicit time dependence of stored energies
+        (``System.energy_rate``: a deploying cable's reel), ``h (P_n + P_{n+1}) / 2``, and
+        the work of the change of the terms' data over the step (``System.energy_change``:
+        a law parameter that varies in time), added to the books so far.
+
+        Returns
+        -------
+        dissipated, external_work, kinetic, potential, energy_rate : float
+        """
+        dissipated, external, kinetic, potential = sums.tolist()
         rate = self.system.energy_rate(q1, t1) if self.energy_depends_on_time else 0.0
-        if not start:
-            dissipated += self.dissipated
-            external += self.external_work + 0.5 * (t1 - self.t) * (self.energy_rate + rate)
-            if self.energy_changes:
-                external += self.system.energy_change(self.q, q1, self.t, t1)
+        dissipated += self.dissipated
+        external += self.external_work + 0.5 * (t1 - self.t) * (self.energy_rate + rate)
+        if self.energy_changes:
+            external += self.system.energy_change(self.q, q1, self.t, t1)
+        return dissipated, external, kinetic, potential, rate
+
+    def _open(self, forces, energy):
+        """The books opened at the current state ``(q, v, t)``, where the forces are
+        ``forces`` ``(f_damping, f_nc, f_con)`` and the elastic energy ``energy`` (2,):
+        no work yet, the kinetic and potential energy there (``kernels.books``).  The
+        forces are kept as given: accepted steps write theirs into them
+        (``GeneralizedAlpha._accept``), so they must be arrays nothing else holds."""
+        q, M = self.q, self.lay.mass
+        dissipated, external, kinetic, potential = step_books(
+            np.zeros_like(q), forces, forces, M.strided, self.lay.f_const, q, self.v,
+            np.empty(q.size))
+        rate = self.system.energy_rate(q, self.t) if self.energy_depends_on_time else 0.0
+        fd, fnc, fcon = forces
         return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
                 "external_work": external, "elastic": energy.copy(),
                 "kinetic": kinetic, "potential": potential, "energy_rate": rate}
@@ -53,8 +60,7 @@ class Books:
     def _opened(self, info):
         """The books opened at the current state, with the evaluation ``info`` there (of
         ``System.evaluate``)."""
-        return self._booked((info["f_damping"], info["f_nc"], info["f_con"]), info["energy"],
-                            self.q, self.v, self.t, start=True)
+        return self._open((info["f_damping"], info["f_nc"], info["f_con"]), info["energy"])
 
     @staticmethod
     def _energies(books):

@@ -48,8 +48,7 @@ class Checkpoint:
             value = np.array(snap[k] if k in snap else np.zeros(self.n))  # fcon: pre-guard
             setattr(self, k, value if value.ndim else value.item())
         self.t = float(self.t)
-        start = self._booked((self.fd, self.fnc, self.fcon), self.elastic, self.q, self.v,
-                             self.t, start=True)
+        start = self._open((self.fd, self.fnc, self.fcon), self.elastic)
         self.kinetic, self.potential = start["kinetic"], start["potential"]
         self.energy_rate = start["energy_rate"]
         self.h_next = float(snap["h_next"]) if "h_next" in snap else None

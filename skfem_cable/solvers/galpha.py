@@ -278,7 +278,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     # --- one step ---------------------------------------------------------------------------
     def step(self, h):
         """Advance by ``h``; returns ``(success, message)`` and updates the state only on
-        success (scipy ``OdeSolver`` style)."""
+        success (scipy ``OdeSolver`` style), in its arrays (``q``, ``v``, ``lam``, ...:
+        copy what you keep)."""
         self.error_ratio = None
         self._fit_abar(h)
         fresh, full = self.fresh_tangent, self.newton == "full"
@@ -399,13 +400,13 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         t1 = self.t + h
         status, it, factored, corrected, singular = self.compiled.iterate(self, h, t1, need,
                                                                           full)
-        self.stats["newton"] += corrected
-        self.stats["factorizations"] += factored
-        arrays = self.compiled.arrays
-        if factored:
+        stats, arrays = self.stats, self.compiled.arrays
+        stats["newton"] += corrected
+        stats["factorizations"] += factored
+        if factored:  # the step's arrays fq, fv, flam hold the state of its last factor
             self.h_factored = h
-            self.factored_at = {"q": arrays["fq"].copy(), "v": arrays["fv"].copy(), "t": t1,
-                                "lam": arrays["flam"].copy(), "h": h}
+            self.factored_at = {"q": arrays["fq"], "v": arrays["fv"], "t": t1,
+                                "lam": arrays["flam"], "h": h}
         if status == codes.SINGULAR:
             self.h_factored = None
             return False, self._singular(t1, h, singular)
@@ -419,13 +420,15 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         """Book the energies of a converged step (with the step's arrays ``end``,
         ``CompiledNewton.arrays``: its end ``q1, v1, a1, lam1, abar1``, the forces of its
         last residual, its elastic energy and the compiled books), apply the terms'
-        checks (``guard.refusal``) and the instability guard and, if they pass, make the
-        step's end the current state (copied: only an accepted step's); ``rate`` is its
-        Newton contraction estimate (``newton_rate``)."""
+        checks (``guard.refusal``) and, last, the instability guard (``EnergyGuard.admit``)
+        and, if they pass, make the step's end the current state (copied into its arrays:
+        only an accepted step's); ``rate`` is its Newton contraction estimate
+        (``newton_rate``)."""
         q1, v1 = end["q1"], end["v1"]
-        refused = refusal(self.checks, self.q, q1)
-        if refused is not None:
-            return False, f"t={t1:.6g}, h={h:.3g}: {refused}"
+        if self.checks:
+            refused = refusal(self.checks, self.q, q1)
+            if refused is not None:
+                return False, f"t={t1:.6g}, h={h:.3g}: {refused}"
         if self.rtol is not None:
             self.error_ratio = error_ratio(self.q, q1, end["abar1"], self.abar,
                                            self.error_constant * h * h, self.system.vectors,
@@ -433,22 +436,31 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
             if not self.error_ratio <= 1.0:
                 return False, (f"t={t1:.6g}, h={h:.3g}: local error {self.error_ratio:.3g} "
                                "times the tolerance")
-        books = self._booked((end["fd"], end["f_ext"], end["f_con"]), end["energy"], q1, v1,
-                             t1, sums=end["books"])
+        dissipated, external, kinetic, potential, energy_rate = self._step_books(
+            end["books"], q1, t1)
+        axial, bending = end["energy"].tolist()
         self.guard.set_scale(self.total_mass, self.L_ref, h)
-        grown = self.guard.check(self._energies(books))
+        grown = self.guard.admit(t1, (kinetic, axial, bending, potential, dissipated,
+                                      external))
         if grown is not None:
             return False, self._diagnose_growth(t1, h, v1, grown)
-        books.update(fd=books["fd"].copy(), fnc=books["fnc"].copy(),
-                     fcon=books["fcon"].copy())
-        self.t, self.q, self.v, self.lam = t1, q1.copy(), v1.copy(), end["lam1"].copy()
-        self.abar = end["abar1"].copy()
-        if self.a_prev is not None:
-            self.da_prev, self.h_prev2 = self.a - self.a_prev, self.h_prev
-        self.a_prev, self.h_prev = self.a, h
-        self.a = end["a1"].copy()
+        # the step's end becomes the state, written into the state's arrays in place (the
+        # compiled step overwrites its own at its next call; observers copy what they
+        # keep, contract.Step): fresh copies cost the rig 3-5 us more a step (allocating
+        # and freeing nine arrays with the caches cold after the compiled call)
+        self.t = t1
+        self.q[...], self.v[...], self.lam[...] = q1, v1, end["lam1"]
+        self.abar[...] = end["abar1"]
+        if self.a_prev is not None:  # (np.subtract allocates da_prev when there is none)
+            self.da_prev = np.subtract(self.a, self.a_prev, out=self.da_prev)
+            self.h_prev2 = self.h_prev
+        a = np.empty_like(self.a) if self.a_prev is None else self.a_prev  # now free
+        a[...] = end["a1"]
+        self.a_prev, self.h_prev, self.a = self.a, h, a
+        self.fd[...], self.fnc[...], self.fcon[...] = end["fd"], end["f_ext"], end["f_con"]
+        self.elastic[...] = end["energy"]
+        self.dissipated, self.external_work = dissipated, external
+        self.kinetic, self.potential, self.energy_rate = kinetic, potential, energy_rate
         self.iterations, self.newton_rate = iterations, rate
-        self.__dict__.update(books)
-        self.guard.accept(t1)
         self.stats["steps"] += 1
         return True, "converged"
