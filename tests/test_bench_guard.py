@@ -58,6 +58,22 @@ def test_ratios_above_the_threshold_are_flagged(compare):
     assert row == "| orbit | 600 | 0.105 | n/a at abb2314 |  | 1.50 / n/a |  |"
 
 
+def test_the_cost_per_step_takes_the_least_short_and_the_least_long_run(compare):
+    """A process whose short run was slowed (the time the difference subtracts) does not
+    make the cost per step read low: the least short and the least long run over the
+    repeats, each alone."""
+    def run(short_ms, long_ms):
+        return {"ms_per_step": (long_ms - short_ms) / 500, "wall_ms_per_step": 0.0,
+                "newton_per_step": 1.2, "runs_ms": [short_ms, long_ms, short_ms, long_ms],
+                "steps": [100, 600]}
+    best = compare.fastest([run(45.0, 62.0), run(14.4, 64.8), run(15.0, 66.0)])
+    assert best["ms_per_step"] == pytest.approx((62.0 - 14.4) / 500)
+    assert best["wall_ms_per_step"] == pytest.approx((62.0 - 14.4) / 500)
+    assert best["newton_per_step"] == 1.2
+    error = {"error": "AttributeError: no build_orbit"}
+    assert compare.fastest([error]) == error
+
+
 def test_a_case_the_tree_lacks_reads_not_available(compare):
     """A snippet that fails on a tree's API gives its error, not a crash of the report."""
     case = compare.Case("missing", 6, "raise AttributeError('no build_orbit')")
