@@ -30,8 +30,8 @@ The storage ``front = (blocks, perm, target, position, s_pos, s_data)`` (``stora
 ``blocks = (addresses, ab, ipiv, band, ints, work, starts, rows_ptr, rows, cols_ptr,
 cols, X, x_ptr, touch_ptr, touch, direct, E, F, W, e_ptr, parts, p_ptr, infos, lower,
 upper)`` (LAPACK addresses; the band in the ``kernels.lapack`` layout, its pivots
-(1-based within each block) and half-width; int32 scratch, a row per block (unused:
-``band_lu`` calls no LAPACK) and one for the border's LAPACK calls; float scratch (n);
+(1-based within each block) and half-width; int32 scratch of the border's LAPACK
+calls (``band_lu`` calls none); float scratch (n);
 the blocks' first band unknowns (``nblocks + 1``); the cover rows of each block
 (CSR-like, band indices) and its coupling columns; the ``X_j``, flat at ``x_ptr``; the
 border unknowns each block touches (CSR-like) and which of them ``W_j`` takes by a band

@@ -57,7 +57,7 @@ def storage(addresses, pr, pc, n, nb, band, least, threads=1):
     x_ptr = pointers(np.diff(rows_ptr) * np.diff(starts))
     nblocks = starts.size - 1
     arrays = (addresses, np.zeros((nb, ldab)), np.zeros(nb, dtype=np.int32), int(band),
-              np.zeros((nblocks + 1, 8), dtype=np.int32), np.zeros(n), starts,
+              np.zeros(8, dtype=np.int32), np.zeros(n), starts,
               rows_ptr, unit_rows, cols_ptr, coupling_cols, np.zeros(x_ptr[-1]), x_ptr,
               near.ptr, near.touch, near.direct, np.zeros(near.e_ptr[-1]),
               np.zeros(near.e_ptr[-1]), np.zeros(near.e_ptr[-1]), near.e_ptr,

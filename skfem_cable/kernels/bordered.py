@@ -40,7 +40,7 @@ def factor(lu, data):
     if at >= 0 or S.shape[0] == 0:
         return at
     blocks = front[0]
-    info = dense_factor(blocks[0], S, ipiv_s, blocks[4][blocks[6].size - 1])
+    info = dense_factor(blocks[0], S, ipiv_s, blocks[4])
     if info > 0:
         return front[1][blocks[1].shape[0] + info - 1]
     return -1
@@ -53,7 +53,7 @@ def solve(lu, rhs, out):
     g = band_blocks.substitute(front, rhs, parallel)
     if S.shape[0]:
         blocks = front[0]
-        dense_solve(blocks[0], S, ipiv_s, g, blocks[4][blocks[6].size - 1])
+        dense_solve(blocks[0], S, ipiv_s, g, blocks[4])
     band_blocks.correct(front, out, parallel)
 
 
