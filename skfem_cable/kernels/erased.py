@@ -148,15 +148,20 @@ def keep(address, value, kind):
     hold(address, value)
 
 
+def entry(function, signature):
+    """The machine code of the numba dispatcher ``function`` for the argument types
+    ``signature`` (compiled for them, or read from the cache, first), behind the unboxing
+    of its arguments alone: a dispatcher types every argument at every call."""
+    function.compile(signature)
+    return function.overloads[signature].entry_point
+
+
 @_per_type
 def _taker(leaf):
-    """``_take`` compiled for a leaf of the numba type ``leaf`` (or read from the cache),
-    behind the unboxing of its arguments alone: the dispatcher would type its second
-    argument, a numba type, at every call (a ``TypeRef`` made and hashed: 5 us a leaf,
-    0.6 ms at every start of a run of the E-sail rig)."""
-    signature = (types.int64, types.TypeRef(leaf))
-    _take.compile(signature)
-    return _take.overloads[signature].entry_point
+    """``_take``'s ``entry`` for a leaf of the numba type ``leaf``: the dispatcher would
+    type its second argument, a numba type, at every call (a ``TypeRef`` made and hashed:
+    5 us a leaf, 0.6 ms at every start of a run of the E-sail rig)."""
+    return entry(_take, (types.int64, types.TypeRef(leaf)))
 
 
 def drop(address, kind):

@@ -319,8 +319,7 @@ def entry_point(function, args):
     signature = tuple(function.typeof_pyval(a) for a in args)
     with warnings.catch_warnings():  # first-class functions are "experimental" in numba
         warnings.simplefilter("ignore", NumbaExperimentalFeatureWarning)
-        function.compile(signature)
-    return function.overloads[signature].entry_point
+        return erased.entry(function, signature)
 
 
 def _inner(kernels, inner):
