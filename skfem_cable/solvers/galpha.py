@@ -300,8 +300,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
     #: The longest run of steps from a fresh tangent before the stale one is tried again.
     FRESH_STEPS_MAX = 64
 
-    #: The contraction above which a step of two corrections or more on the stale tangent
-    #: has the next step refactor (``_choose_newton``).
+    #: The contraction above which a step of two corrections or more has the next step
+    #: refactor (``_choose_newton``).
     STALE_RATE = 0.05
 
     def _choose_newton(self, fresh, factorizations):
@@ -317,16 +317,16 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         7.0 ms on one thread against full Newton's 11.6.  The flexible pendulum at 1 ms
         steps, which refactored in two steps of three, takes 2.9 corrections per step
         instead of 4.5, 0.84 of the time.  Steps whose stale tangent serves (the E-sail
-        rig) keep it, until it serves slowly: a step that took two corrections or more at
-        a contraction above ``STALE_RATE`` (its first correction's error estimate,
-        ``kernels.step.first_error_factor``, then misses the tolerance) has the next step
-        factor at its predictor (as Hairer & Wanner's RADAU5 refactors after a step that
-        contracted above its ``THET``, 0.001 by default and about 0.1 advised for small
-        systems).  The E-sail rig's tangent of ``t = 0`` contracts at 0.13
-        by ``t = 25 s``, and 154 of its first 400 steps took a second correction: 557
-        corrections and 3 factorizations in 400 steps, 406 and 5 with the refresh (the
-        compiled Newton call 60.6 -> 50.3 us a step; the tips' radius the same to 1e-6 m).
-        """
+        rig) keep it, until it serves slowly: a step (after any run of fresh ones) that
+        took two corrections or more at a contraction above ``STALE_RATE`` (its first
+        correction's error estimate, ``kernels.step.first_error_factor``, then misses the
+        tolerance) has the next step factor at its predictor (as Hairer & Wanner's RADAU5
+        refactors after a step that contracted above its ``THET``, 0.001 by default and
+        about 0.1 advised for small systems).  The E-sail rig's tangent of ``t = 0``
+        contracts at 0.13 by ``t = 25 s``, and 154 of its first 400 steps took a second
+        correction: 557 corrections and 3 factorizations in 400 steps, 406 and 5 with the
+        refresh (the compiled Newton call 60.6 -> 50.3 us a step; the tips' radius the
+        same to 1e-6 m)."""
         if fresh:
             self.fresh_steps -= 1
         elif factorizations >= 1:
