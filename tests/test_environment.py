@@ -142,6 +142,24 @@ def test_iri_density_as_pyiri_gives_it():
         assert error < 1e-6
 
 
+def test_iri_reads_a_months_coefficients_once_and_as_pyiri_reads_them():
+    """The memo of PyIRI's coefficient files (``iri.pyiri``): a second density call in
+    the same month reads no file, and the memoized arrays equal a fresh read, read-only."""
+    from PyIRI import main_library
+
+    from skfem_cable.environment.iri import pyiri
+    pyiri()
+    read = main_library.read_ccir_ursi_coeff
+    iri = sc.environment.IRI(EPOCH, f107=150.0)
+    first = iri.density(X, T)
+    misses = read.memoized.cache_info().misses
+    assert np.array_equal(iri.density(X, T), first)
+    assert read.memoized.cache_info().misses == misses
+    month = when().to_datetime().month
+    for kept, fresh in zip(read(month, PyIRI.coeff_dir), read.__wrapped__(month, PyIRI.coeff_dir)):
+        assert np.array_equal(kept, fresh) and not kept.flags.writeable
+
+
 def test_plasmas_co_rotate_and_check_their_arguments():
     iri = sc.environment.IRI(EPOCH, f107=150.0)
     v = iri.velocity(X, T)
