@@ -38,10 +38,11 @@ def thinned(t, y, columns=COLUMNS):
     shows: in each of ``columns`` equal spans of ``t``, its first, last, lowest and highest
     point, in order (each column's vertical extent and its joins to the next are drawn as
     from every point; a figure of a noisy 470,000-step history takes 0.6 s, not 5.6).  A
-    history of at most ``4 * columns`` points, with a value that is not finite, or whose
-    times do not grow, is returned as it is."""
+    history of at most ``4 * columns`` points, not of numbers, with a value that is not
+    finite, or whose times do not grow, is returned as it is."""
     t, y = np.asarray(t), np.asarray(y)
-    if (len(t) <= 4 * columns or not (np.isfinite(t).all() and np.isfinite(y).all())
+    if (len(t) <= 4 * columns or not all(np.issubdtype(a.dtype, np.number) for a in (t, y))
+            or not (np.isfinite(t).all() and np.isfinite(y).all())
             or not t[-1] > t[0] or np.any(np.diff(t) < 0)):
         return t, y
     column = np.minimum(((t - t[0]) * (columns / (t[-1] - t[0]))).astype(np.intp),
