@@ -62,7 +62,7 @@ def test_long_history_is_drawn_from_each_columns_first_last_and_extremes():
     """A noisy 47,000-step history with a one-step spike is drawn from at most four points
     in each of ``COLUMNS`` equal spans of time: the span's first, last, lowest and highest
     (the spike kept), in order; a short history, or one with a gap (NaN), as it is."""
-    from skfem_cable.plot.figures import COLUMNS, thinned
+    from skfem_cable.plot.figures import COLUMNS
 
     rng = np.random.default_rng(0)
     t = np.linspace(0.0, 100.0, 47_000)
@@ -81,7 +81,7 @@ def test_long_history_is_drawn_from_each_columns_first_last_and_extremes():
     for extreme in (np.minimum, np.maximum):
         assert np.array_equal(extreme.reduceat(y[drawn], kept), extreme.reduceat(y, first))
     for short in (t[:4 * COLUMNS], np.where(t < 50.0, t, np.nan)):
-        assert np.array_equal(thinned(short, short)[1], short, equal_nan=True)
+        assert np.array_equal(plot.thinned(short, short)[1], short, equal_nan=True)
 
 
 def test_many_curves_get_distinct_colours_and_a_colour_bar_key():
