@@ -22,6 +22,7 @@ and draws the house (``--picture``, ``docs/img/architecture.png``)::
 
 import argparse
 import ast
+import functools
 import sys
 from collections import defaultdict
 from pathlib import Path
@@ -58,28 +59,56 @@ def within(name, prefixes):
     return any(name == p or name.startswith(p + ".") for p in prefixes)
 
 
+def _is_flag(node):
+    return (isinstance(node, ast.Constant) and isinstance(node.value, str)
+            and node.value.startswith("--") and node.value[2:3].isalpha()
+            and " " not in node.value)
+
+
+@functools.cache
+def _scanned(path, mtime_ns, size):
+    statements, spelled = [], set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            statements.append((node.lineno, None, [a.name for a in node.names]))
+        elif isinstance(node, ast.ImportFrom):
+            statements.append((node.lineno, (node.level, node.module or ""),
+                               [a.name for a in node.names]))
+        elif _is_flag(node):
+            spelled.add(node.value.split("=")[0])
+    return statements, spelled
+
+
+def scan(path):
+    """One walk of the syntax tree of the module ``path``: its import statements ``(line,
+    None, names)`` (``import``) or ``(line, (level, module), names)`` (``from``), and the
+    command-line flags it spells (``flags``).  Kept per process while the file keeps its
+    time and size: ``imports`` and ``flags`` read the same modules (the trees themselves
+    are not kept: a few hundred of them slow every later garbage collection)."""
+    stat = path.stat()
+    return _scanned(path, stat.st_mtime_ns, stat.st_size)
+
+
 def imports(path, modules):
     """The package modules that ``path`` imports, each with the line of its first import
     (relative imports resolved)."""
     name = module_name(path)
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     out = {}
-    for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.Import):
-            targets = [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            base = node.module or ""
-            if node.level:
-                anchor = package.split(".")[:len(package.split(".")) - node.level + 1]
-                base = ".".join(anchor + ([base] if base else []))
-            targets = [f"{base}.{a.name}" for a in node.names] + [base]
+    for line, source, names in scan(path)[0]:
+        if source is None:
+            targets = names
         else:
-            continue
+            level, base = source
+            if level:
+                anchor = package.split(".")[:len(package.split(".")) - level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            targets = [f"{base}.{a}" for a in names] + [base]
         for target in targets:
             while target and target not in modules:  # a name inside a module
                 target = target.rpartition(".")[0]
             if target and target != name:
-                out[target] = min(out.get(target, node.lineno), node.lineno)
+                out[target] = min(out.get(target, line), line)
     return out
 
 
@@ -128,11 +157,8 @@ def flags(paths):
     module: ``{flag: [modules]}``."""
     where = defaultdict(set)
     for name, path in paths.items():
-        for node in ast.walk(ast.parse(path.read_text())):
-            if (isinstance(node, ast.Constant) and isinstance(node.value, str)
-                    and node.value.startswith("--") and node.value[2:3].isalpha()
-                    and " " not in node.value):
-                where[node.value.split("=")[0]].add(name)
+        for flag in scan(path)[1]:
+            where[flag].add(name)
     return {f: sorted(m) for f, m in sorted(where.items()) if len(m) > 1}
 
 

@@ -58,6 +58,32 @@ def test_histories_tick_labels_have_no_offset():
     assert _offset_texts(fig) == ["", ""]
 
 
+def test_long_history_is_drawn_from_each_columns_first_last_and_extremes():
+    """A noisy 47,000-step history with a one-step spike is drawn from at most four points
+    in each of ``COLUMNS`` equal spans of time: the span's first, last, lowest and highest
+    (the spike kept), in order; a short history, or one with a gap (NaN), as it is."""
+    from skfem_cable.plot.figures import COLUMNS
+
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 100.0, 47_000)
+    y = np.sin(t) + 0.1 * rng.normal(size=t.size)
+    y[12_345] = 5.0
+    (line,) = plot.histories(t, {"y": y}).axes[0].lines
+    drawn = np.searchsorted(t, line.get_xdata())
+    assert np.array_equal(t[drawn], line.get_xdata()) and np.array_equal(y[drawn], line.get_ydata())
+    assert np.all(np.diff(drawn) > 0) and len(drawn) <= 4 * COLUMNS and 12_345 in drawn
+    column = np.minimum((t * (COLUMNS / 100.0)).astype(int), COLUMNS - 1)
+    first = np.flatnonzero(np.diff(column, prepend=-1))
+    kept = np.flatnonzero(np.diff(column[drawn], prepend=-1))
+    assert np.array_equal(drawn[kept], first)  # every column, from its first point
+    assert np.array_equal(drawn[np.append(kept[1:], len(drawn)) - 1],
+                          np.append(first[1:], len(t)) - 1)  # ... to its last
+    for extreme in (np.minimum, np.maximum):
+        assert np.array_equal(extreme.reduceat(y[drawn], kept), extreme.reduceat(y, first))
+    for short in (t[:4 * COLUMNS], np.where(t < 50.0, t, np.nan)):
+        assert np.array_equal(plot.thinned(short, short)[1], short, equal_nan=True)
+
+
 def test_many_curves_get_distinct_colours_and_a_colour_bar_key():
     """12 root tensions: 12 distinct colours (no repeated cycle: tether 11 is not tether
     1's colour), named on a colour bar beside the panel rather than by a legend over it."""

@@ -7,8 +7,9 @@
 * ``plot.cameras``: the camera a scene chooses for itself (``scene_camera``: up against
   gravity; along or across the spin axis of a spinning scene; face on for a planar
   scene) and the named views (``VIEWS``, ``view_camera``);
-* ``plot.figures``: figures (matplotlib, no display needed) of time histories, power
-  spectral densities, the energy books and speed-against-error tables;
+* ``plot.figures``: figures (matplotlib, no display needed) of time histories (a long one
+  drawn from the points its pixels show, ``thinned``), power spectral densities, the
+  energy books and speed-against-error tables;
 * the spectrum itself (``spectrum``, ``welch_plan``) is ``skfem_cable.analysis.spectra``'s, which
   needs no matplotlib.
 
@@ -42,6 +43,7 @@ from .figures import (
     psd,
     rigid_fit,
     speed_error,
+    thinned,
 )
 from .renders import (
     TENSION_CMAP,
@@ -66,7 +68,7 @@ __all__ = [
     # figures
     "CURVE_CMAP", "ENERGY_TERMS", "MAX_LEGEND", "cable_histories", "corotated",
     "curve_colours", "energies", "energy_figure", "energy_scale", "histories", "psd",
-    "rigid_fit", "speed_error",
+    "rigid_fit", "speed_error", "thinned",
     # spectra
     "spectrum", "welch_plan",
 ]

@@ -1,6 +1,7 @@
 """Figures of runs (matplotlib, no display needed): time histories (``histories``,
 ``cable_histories``), power spectral densities (``psd``, from ``spectra.spectrum``), the
 energy books (``energies``) and speed-against-error tables of benchmarks (``speed_error``).
+A long time history is drawn from the points its pixels show (``thinned``).
 
 matplotlib is imported on first use, not with the module.
 """
@@ -26,6 +27,34 @@ def _finish(fig, path):
     if path is not None:
         fig.savefig(Path(path), dpi=120)
     return fig
+
+
+#: Columns of ``thinned``: more than a figure's pixels across (840 at 7 in and 120 dpi).
+COLUMNS = 2000
+
+
+def thinned(t, y, columns=COLUMNS):
+    """The points of the time history ``(t, y)`` that a drawing ``columns`` pixels wide
+    shows: in each of ``columns`` equal spans of ``t``, its first, last, lowest and highest
+    point, in order (each column's vertical extent and its joins to the next are drawn as
+    from every point; a figure of a noisy 470,000-step history takes 0.6 s, not 5.6).  A
+    history of at most ``4 * columns`` points, not of numbers, with a value that is not
+    finite, or whose times do not grow, is returned as it is."""
+    t, y = np.asarray(t), np.asarray(y)
+    if (len(t) <= 4 * columns or not all(np.issubdtype(a.dtype, np.number) for a in (t, y))
+            or not (np.isfinite(t).all() and np.isfinite(y).all())
+            or not t[-1] > t[0] or np.any(np.diff(t) < 0)):
+        return t, y
+    column = np.minimum(((t - t[0]) * (columns / (t[-1] - t[0]))).astype(np.intp),
+                        columns - 1)
+    first = np.flatnonzero(np.diff(column, prepend=-1))
+    count = np.diff(first, append=len(t))
+    keep = [first, first + count - 1]
+    for extreme in (np.minimum, np.maximum):
+        at = np.flatnonzero(y == np.repeat(extreme.reduceat(y, first), count))
+        keep.append(at[np.diff(column[at], prepend=-1) > 0])  # the first in its column
+    keep = np.unique(np.concatenate(keep))
+    return t[keep], y[keep]
 
 
 #: Most curves of a panel told apart by the default colour cycle and named in a legend;
@@ -103,7 +132,7 @@ def histories(t, panels, path=None, title=None, xlabel="t [s]", drawstyle="defau
             curves = {None: curves}
         colours = curve_colours(len(curves))
         for (label, y), colour in zip(curves.items(), colours):
-            ax.plot(t, np.asarray(y), label=label, lw=1.0, color=colour, drawstyle=drawstyle)
+            ax.plot(*thinned(t, y), label=label, lw=1.0, color=colour, drawstyle=drawstyle)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
         _plain_numbers(ax)
@@ -223,15 +252,15 @@ def energy_figure(t, E, path=None, title="Energy"):
     for k in ENERGY_TERMS:
         if k not in constant:
             change = E[k] - E[k][0]
-            terms.plot(t, change, **_energy_style(k),
+            terms.plot(*thinned(t, change), **_energy_style(k),
                        label=f"{k.replace('_', ' ')}\n(max |Δ| {np.abs(change).max():.2g} J)")
     terms.set_ylabel("change since\nfirst step [J]")
     terms.legend(fontsize="small", loc="center left", bbox_to_anchor=(1.01, 0.5),
                  title=_constant_note(constant), title_fontsize="small")
-    balance.plot(t, E["balance"], color="k", lw=1.0)
+    balance.plot(*thinned(t, E["balance"]), color="k", lw=1.0)
     balance.set_ylabel("balance\nresidual [J]")
     rel = np.abs(E["balance"]) / scale if scale > 0 else np.zeros_like(t)
-    drift.semilogy(t, np.where(rel > 0, rel, np.nan), color="tab:red", lw=1.0)
+    drift.semilogy(*thinned(t, np.where(rel > 0, rel, np.nan)), color="tab:red", lw=1.0)
     if not np.any(rel > 0):
         drift.text(0.5, 0.5, "balance exactly zero", transform=drift.transAxes, ha="center")
     drift.set_ylabel("|balance| / E_scale")
@@ -367,7 +396,7 @@ def cable_histories(result, path=None, title=None):
     colours = curve_colours(len(cables))
     for ax, (ylabel, values) in zip(axes, panels.items()):
         for k, (cable, colour) in enumerate(zip(cables, colours)):
-            ax.plot(result.t, values[:, k], lw=1.0, color=colour, label=cable.name)
+            ax.plot(*thinned(result.t, values[:, k]), lw=1.0, color=colour, label=cable.name)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
         _plain_numbers(ax)
