@@ -182,16 +182,13 @@ def _iterate(terms, model, lu, state, out, prm):
     factorizations = corrections = 0
     for it in range(max_iter + 1):
         tangent = need
-        _residual(terms, model, q1, v1, a1, lam1, r, data if tangent else nodata, out, mbar, bp)
-        err_q = err_c = 0.0
-        finite = True
-        for i in range(n):
-            e = abs(r[i]) * res_weight[i]
-            finite = finite and np.isfinite(e)
-            err_q = max(err_q, e)
+        err_q, finite = _residual(terms, model, q1, v1, a1, lam1, r,
+                                  data if tangent else nodata, out, mbar, bp)
+        err_c = 0.0
         for i in range(n, r.size):
             finite = finite and np.isfinite(r[i])
             err_c = max(err_c, abs(r[i]))
+            rhs[i] = -r[i]
         err = max(err_q, err_c * con_weight)
         history[it] = err
         if not finite:
@@ -216,6 +213,8 @@ def _iterate(terms, model, lu, state, out, prm):
         if need:
             if not tangent:  # tangent requested after this evaluation: rebuild it
                 _residual(terms, model, q1, v1, a1, lam1, rhs, data, out, mbar, bp)
+                for i in range(r.size):  # (rhs was its scratch)
+                    rhs[i] = -r[i]
             singular = _factor(lu, data, model[3], xscale, res_weight)
             if singular != -1:
                 return SINGULAR, it, factorizations, corrections, singular
@@ -226,8 +225,6 @@ def _iterate(terms, model, lu, state, out, prm):
             for k in range(lam1.size):
                 flam[k] = lam1[k]
             need = full
-        for i in range(r.size):
-            rhs[i] = -r[i]
         lu_solve(lu, rhs, dx)  # noqa: F821
         dq_before = dq_err
         dq_err = 0.0
@@ -258,7 +255,12 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     """Evaluate every term and constraint at ``(q1, v1, lam1)`` (and, with ``data`` not
     empty, the iteration matrix) and write the scaled residual into ``r``: dynamic rows
     ``(M a1 + f - f_const - f_ext + C_q^T lam1) / beta'``, constraint rows
-    ``mbar (C q1 - c(t1))`` (as ``System.evaluate`` writes them)."""
+    ``mbar (C q1 - c(t1))`` (as ``System.evaluate`` writes them).
+
+    In the same pass over the dynamic rows (each a pass fewer over ``r``, out of the L2
+    cache on large systems): their negation into the right-hand side ``rhs`` (``out[19]``;
+    ``_iterate`` negates the constraint rows) and the largest of them scaled by the
+    residual weights (``out[13]``); returns it and whether they are all finite."""
     mass, base, f_const = model[:3]
     f, f_ext, fd, f_con, energy, power, s = out[7], out[8], out[9], out[10], out[11], \
         out[12], out[20]
@@ -273,8 +275,17 @@ def _residual(terms, model, q1, v1, a1, lam1, r, data, out, mbar, bp):
     evaluate(terms[2], (q1, v1, s, f, f_ext, fd, data, energy, power))
     _constraints(terms, model, q1, lam1, r, data, f_con, out[21], mbar)
     mass_product(mass, a1, r)  # M a1 into the dynamic rows, then the forces
+    rhs, res_weight = out[19], out[13]
+    err = 0.0
+    finite = True
     for i in range(q1.size):
-        r[i] = (r[i] + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
+        ri = (r[i] + ((f[i] - (f_const[i] + f_ext[i])) + f_con[i])) / bp
+        r[i] = ri
+        rhs[i] = -ri
+        e = abs(ri) * res_weight[i]
+        finite = finite and np.isfinite(e)
+        err = max(err, e)
+    return err, finite
 
 
 def _constraints(terms, model, q1, lam1, r, data, f_con, cs, mbar):

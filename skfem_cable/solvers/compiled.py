@@ -54,7 +54,7 @@ from . import slots, step_lu
 from .slots import PYTHON
 
 #: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "19"
+GENERATOR = "20"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "newton", "_finish", "_iterate",
                        "_residual", "_constraints", "_factor", "pseudo_acceleration",
