@@ -10,6 +10,8 @@ observers, no step hooks, no Python in the step) does not describe it again at i
 One small rig (a hub and three tethers of two elements with tip masses, the E-sail's
 section), built once."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -153,3 +155,30 @@ def test_a_run_describes_the_system_again_only_after_the_users_code(rig, monkeyp
     calls.clear()
     sc.simulate(system, initial=initial, compiled=False, t_end=0.2, dt=0.1, rho_inf=0.25)
     assert len(calls) == 2
+
+
+def test_the_kept_mass_matrix_follows_every_edit():
+    """``System.mass_matrix`` keeps the summed matrix while its entries are unchanged: an
+    edit of a point mass, of a body's block in place or of a section is in the next one
+    (and in a new layout), and a change to a returned matrix is not in the system's."""
+    system, _, _ = small_rig()
+    tether = system.bodies[1]
+    layout = system.current_layout()
+    before = system.mass_matrix().toarray()
+    system.mass_matrix().data[:] = 0.0
+    assert np.array_equal(system.mass_matrix().toarray(), before)
+    assert system.current_layout() is layout
+
+    system.point_masses[0].mass *= 2
+    assert not np.array_equal(system.mass_matrix().toarray(), before)
+    assert system.current_layout() is not layout
+    system.point_masses[0].mass /= 2
+    assert np.array_equal(system.mass_matrix().toarray(), before)
+
+    layout = system.current_layout()
+    tether.mass_matrix().data[0] *= 3  # the body's own block, in place
+    edited = system.mass_matrix().toarray()
+    assert np.count_nonzero(edited != before) == 1
+    assert system.current_layout() is not layout
+    tether.section = dataclasses.replace(tether.section, rho=2 * tether.section.rho)
+    assert not np.array_equal(system.mass_matrix().toarray(), edited)
