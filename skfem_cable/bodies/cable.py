@@ -9,8 +9,11 @@ Examples
 (4, 5, 30, 2.0)
 """
 
+import functools
+
 import numpy as np
 from skfem import Basis, BilinearForm, ElementVector, LinearForm, MeshLine, asm
+from skfem.assembly import Dofs
 from skfem.helpers import dot
 from skfem.quadrature import get_quadrature
 
@@ -196,12 +199,10 @@ class Cable(CableFields, CableShapes):
         self.name = name
         self.element = element
         self.h = np.diff(x)
-        vector = ElementVector(element, 3)
         self.intorder = int(intorder)
-        self.basis = Basis(mesh, vector, intorder=self.intorder)
-        self._exact = Basis(mesh, vector, intorder=2 * element.maxdeg)  # mass, line loads
         self.q0 = np.stack(self._nodal_fields(positions, slopes, curvatures), axis=1).ravel()
-        self.element_dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
+        self.element_dofs = np.ascontiguousarray(Dofs(mesh, self._vector).element_dofs.T,
+                                                 dtype=np.int64)
         X, W = get_quadrature(mesh.refdom, self.intorder)
         self.xi = X[0]
         self.S = self._shape(self.xi)[0]
@@ -209,6 +210,22 @@ class Cable(CableFields, CableShapes):
         self.quadrature = gauss_rules(quadrature, formulation, len(self.xi))
         self.formulation = formulation
         self._mass = None
+
+    @property
+    def _vector(self):
+        """The vector element of the cable's bases (``ElementVector(element, 3)``)."""
+        return ElementVector(self.element, 3)
+
+    @functools.cached_property
+    def basis(self):
+        """The scikit-fem basis on the Gauss rule ``intorder`` (``forms``), made at its
+        first use: the kernels read tables of their own (``S``, ``Sx``, ``tables_at``)."""
+        return Basis(self.mesh, self._vector, intorder=self.intorder)
+
+    @functools.cached_property
+    def _exact(self):
+        """The scikit-fem basis on a rule exact for the mass matrix and line loads."""
+        return Basis(self.mesh, self._vector, intorder=2 * self.element.maxdeg)
 
     def _nodal_fields(self, positions, slopes, curvatures):
         """The initial nodal fields of the element, in the order of its ``orders``, each
