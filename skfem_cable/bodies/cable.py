@@ -31,6 +31,24 @@ from .section import Section
 from .stretched import Stretched
 from .varying import Varying
 
+#: Most entries (nonzeros) of the mass matrices ``_kept_mass`` keeps.
+MASS_KEPT = 2_000_000
+
+_KEPT_MASSES = {}
+
+
+def _kept_mass(key, assemble):
+    """A copy of the mass matrix kept by ``key`` (what defines it: mesh, element, mass per
+    length), else of ``assemble()``, kept then; the latest used are kept, up to
+    ``MASS_KEPT`` entries in all (``Cable.mass_matrix``)."""
+    M = _KEPT_MASSES.pop(key, None)
+    if M is None:
+        M = assemble()
+    _KEPT_MASSES[key] = M  # the latest used last
+    while sum(m.nnz for m in _KEPT_MASSES.values()) > MASS_KEPT:
+        del _KEPT_MASSES[next(iter(_KEPT_MASSES))]
+    return M.copy()
+
 
 class Cable(CableFields, CableShapes):
     """Gradient-deficient ANCF cable (Eqs. 16-26): nodal positions and slopes (and, on the
@@ -334,11 +352,16 @@ class Cable(CableFields, CableShapes):
     # --- constant matrices and loads (scikit-fem assembly, done once) --------------------
     def mass_matrix(self):
         """Constant mass matrix ``rho A int S^T S dx`` (Eq. 22), assembled once per
-        ``section`` (again when it is replaced)."""
+        ``section`` (again when it is replaced), or a copy of the one of a recent cable
+        with the same element, mesh and mass per length (``_kept_mass``: a scene built
+        again, a sweep's cases, a test's fixtures)."""
         if self._mass is None or self._mass[0] is not self.section:
             mu = self.section.mass_per_length
-            self._mass = (self.section, asm(BilinearForm(lambda u, v, w: mu * dot(u, v)),
-                                            self._exact).tocsr())
+            p, t = self.mesh.p, self.mesh.t
+            key = (type(self.mesh), self.element, p.dtype.str, p.tobytes(), t.dtype.str,
+                   t.tobytes(), float(mu).hex())
+            self._mass = (self.section, _kept_mass(key, lambda: asm(
+                BilinearForm(lambda u, v, w: mu * dot(u, v)), self._exact).tocsr()))
         return self._mass[1]
 
     def mass_points(self):
