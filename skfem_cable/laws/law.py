@@ -20,6 +20,7 @@ function's defaults) first, then the attributes of the cable's ``Section`` (``EA
 """
 
 import copy
+import functools
 import hashlib
 import inspect
 from dataclasses import dataclass, replace
@@ -50,6 +51,12 @@ class Symbolic:
     h: sp.Symbol
     W: tuple
     D: tuple
+
+    @functools.cached_property
+    def bending(self):
+        """True if an expression involves ``b = r_xx`` (``CableLaw.bending``; once per
+        expressions: sympy walks them for their symbols at every ``free_symbols``)."""
+        return any(e.free_symbols & set(self.x[3:]) for e in (*self.W, *self.D))
 
 
 @dataclass(frozen=True)
@@ -293,8 +300,7 @@ class CableLaw:
     @property
     def bending(self):
         """True if the law involves ``b = r_xx`` (then it needs the slopes' continuity)."""
-        s = self.symbolic
-        return any(e.free_symbols & set(s.x[3:]) for e in (*s.W, *s.D))
+        return self.symbolic.bending
 
     @property
     def vanishes(self):
