@@ -223,8 +223,8 @@ class Cable(CableFields, CableShapes):
                                                  dtype=np.int64)
         X, W = get_quadrature(mesh.refdom, self.intorder)
         self.xi = X[0]
-        self.S = self._shape(self.xi)[0]
-        self.Sx, self.Sxx, self.weights, _ = self.tables_at(self.xi, W)
+        self.S, self.Sx, self.Sxx = self._shape(self.xi)
+        self.weights = self._weighted(W)
         self.quadrature = gauss_rules(quadrature, formulation, len(self.xi))
         self.formulation = formulation
         self._mass = None
@@ -286,8 +286,11 @@ class Cable(CableFields, CableShapes):
         first and second x-derivatives (ne, nq, n_functions), the weights times the
         element lengths (ne, nq) and the element lengths (ne,)."""
         _, Sx, Sxx = self._shape(xi)
-        return Sx, Sxx, np.ascontiguousarray(np.asarray(weights)[None, :] * self.h[:, None]), \
-            self.h
+        return Sx, Sxx, self._weighted(weights), self.h
+
+    def _weighted(self, weights):
+        """The weights (nq,) of a rule on [0, 1] times the element lengths (ne, nq)."""
+        return np.ascontiguousarray(np.asarray(weights)[None, :] * self.h[:, None])
 
     # --- layout -------------------------------------------------------------------------
     @property
