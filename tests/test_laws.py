@@ -80,7 +80,7 @@ def test_forms_equal_kernel(name, element, n):
 
 def energy(system, q):
     """The elastic energy of ``system`` at ``q``."""
-    _, info = system.evaluate(q, None, 0.0, np.zeros(0))
+    _, info = system.evaluate(q, None, 0.0, np.zeros(0), layout=system.layout)
     return info["energy"].sum()
 
 
