@@ -40,9 +40,10 @@ def numba_eval(cable, q, system=None):
     """Energy, force and tangent (dense) through the evaluation contract of ``system``
     (default: a new ``System([cable])``; the same numbers, bit for bit)."""
     system = System([cable]) if system is None else system
-    data = np.zeros(system.layout.nnz)
-    f, info = system.evaluate(q, None, 0.0, np.zeros(0), data=data)
-    return info["energy"].sum(), f, system.layout.matrix(data).toarray()
+    lay = system.layout  # held: the system is not edited (no description per call)
+    data = np.zeros(lay.nnz)
+    f, info = system.evaluate(q, None, 0.0, np.zeros(0), data=data, layout=lay)
+    return info["energy"].sum(), f, lay.matrix(data).toarray()
 
 
 def central(function, x, h=1e-6):
@@ -190,10 +191,10 @@ def damped_eval(cable, q, v, system=None):
     """Force, dF/dq and dF/dv (global dense), dissipated power and damping force, through
     ``system`` (default: a new ``System([cable])``; the same numbers, bit for bit)."""
     system = System([cable]) if system is None else system
-    lay = system.layout
+    lay = system.layout  # held: the system is not edited (no description per call)
     dK, dC = np.zeros(lay.nnz), np.zeros(lay.nnz)
-    f, info = system.evaluate(q, v, 0.0, np.zeros(0), cK=1.0, cC=0.0, data=dK)
-    system.evaluate(q, v, 0.0, np.zeros(0), cK=0.0, cC=1.0, data=dC)
+    f, info = system.evaluate(q, v, 0.0, np.zeros(0), cK=1.0, cC=0.0, data=dK, layout=lay)
+    system.evaluate(q, v, 0.0, np.zeros(0), cK=0.0, cC=1.0, data=dC, layout=lay)
     return (f, lay.matrix(dK).toarray(), lay.matrix(dC).toarray(), info["power"],
             info["f_damping"])
 

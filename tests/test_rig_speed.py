@@ -7,13 +7,18 @@ point, made again at every run, and the system described twice. What a solver de
 from the layout alone is now made once per layout (``Layout.derived``), the mass matrix
 without scipy's ``block_diag``, and a run in which no Python could edit the system (no
 observers, no step hooks, no Python in the step) does not describe it again at its end.
+A system sums its mass matrix again only when its entries change, and a cable like a
+recent one (element, mesh, mass per length) takes a copy of its mass matrix.
 One small rig (a hub and three tethers of two elements with tip masses, the E-sail's
 section), built once."""
+
+import dataclasses
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
-from skfem import MeshLine
+from skfem import BilinearForm, MeshLine, asm
+from skfem.helpers import dot
 
 import skfem_cable as sc
 from skfem_cable.model import system as system_module
@@ -153,3 +158,53 @@ def test_a_run_describes_the_system_again_only_after_the_users_code(rig, monkeyp
     calls.clear()
     sc.simulate(system, initial=initial, compiled=False, t_end=0.2, dt=0.1, rho_inf=0.25)
     assert len(calls) == 2
+
+
+def test_the_kept_mass_matrix_follows_every_edit():
+    """``System.mass_matrix`` keeps the summed matrix while its entries are unchanged: an
+    edit of a point mass, of a body's block in place or of a section is in the next one
+    (and in a new layout), and a change to a returned matrix is not in the system's."""
+    system, _, _ = small_rig()
+    tether = system.bodies[1]
+    layout = system.current_layout()
+    before = system.mass_matrix().toarray()
+    system.mass_matrix().data[:] = 0.0
+    assert np.array_equal(system.mass_matrix().toarray(), before)
+    assert system.current_layout() is layout
+
+    system.point_masses[0].mass *= 2
+    assert not np.array_equal(system.mass_matrix().toarray(), before)
+    assert system.current_layout() is not layout
+    system.point_masses[0].mass /= 2
+    assert np.array_equal(system.mass_matrix().toarray(), before)
+
+    layout = system.current_layout()
+    tether.mass_matrix().data[0] *= 3  # the body's own block, in place
+    edited = system.mass_matrix().toarray()
+    assert np.count_nonzero(edited != before) == 1
+    assert system.current_layout() is not layout
+    tether.section = dataclasses.replace(tether.section, rho=2 * tether.section.rho)
+    assert not np.array_equal(system.mass_matrix().toarray(), edited)
+
+
+def test_a_cable_like_a_recent_one_takes_a_copy_of_its_mass_matrix():
+    """A cable with the element, mesh and mass per length of a recent one gets the mass
+    matrix of its own assembly, byte for byte, in an object of its own; another mass
+    per length or mesh gets another."""
+    sec = sc.Section.circular(1e-3, 2e11, 7850.0)
+    a, b = (sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, sec) for _ in range(2))
+    Ma, Mb = a.mass_matrix(), b.mass_matrix()
+    assert Mb is not Ma
+    mu = sec.mass_per_length
+    own = asm(BilinearForm(lambda u, v, w: mu * dot(u, v)), b._exact).tocsr()
+    for field in ("indptr", "indices", "data"):
+        assert getattr(Mb, field).dtype == getattr(own, field).dtype
+        assert getattr(Mb, field).tobytes() == getattr(own, field).tobytes()
+    Ma.data[:] = 0.0  # an edit of one cable's matrix is its own
+    again = sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, sec).mass_matrix()
+    assert again.data.tobytes() == own.data.tobytes()
+    heavy = dataclasses.replace(sec, rho=2 * sec.rho)
+    assert np.array_equal(sc.Cable.straight([0, 0, 0], [1, 0, 0], 4, heavy).mass_matrix().data,
+                          2 * own.data)
+    longer = sc.Cable.straight([0, 0, 0], [2, 0, 0], 4, sec).mass_matrix()
+    assert not np.array_equal(longer.data, own.data)

@@ -9,8 +9,11 @@ Examples
 (4, 5, 30, 2.0)
 """
 
+import functools
+
 import numpy as np
 from skfem import Basis, BilinearForm, ElementVector, LinearForm, MeshLine, asm
+from skfem.assembly import Dofs
 from skfem.helpers import dot
 from skfem.quadrature import get_quadrature
 
@@ -27,6 +30,24 @@ from .memory import check_memory
 from .section import Section
 from .stretched import Stretched
 from .varying import Varying
+
+#: Most entries (nonzeros) of the mass matrices ``_kept_mass`` keeps.
+MASS_KEPT = 2_000_000
+
+_KEPT_MASSES = {}
+
+
+def _kept_mass(key, assemble):
+    """A copy of the mass matrix kept by ``key`` (what defines it: mesh, element, mass per
+    length), else of ``assemble()``, kept then; the latest used are kept, up to
+    ``MASS_KEPT`` entries in all (``Cable.mass_matrix``)."""
+    M = _KEPT_MASSES.pop(key, None)
+    if M is None:
+        M = assemble()
+    _KEPT_MASSES[key] = M  # the latest used last
+    while sum(m.nnz for m in _KEPT_MASSES.values()) > MASS_KEPT:
+        del _KEPT_MASSES[next(iter(_KEPT_MASSES))]
+    return M.copy()
 
 
 class Cable(CableFields, CableShapes):
@@ -196,19 +217,33 @@ class Cable(CableFields, CableShapes):
         self.name = name
         self.element = element
         self.h = np.diff(x)
-        vector = ElementVector(element, 3)
         self.intorder = int(intorder)
-        self.basis = Basis(mesh, vector, intorder=self.intorder)
-        self._exact = Basis(mesh, vector, intorder=2 * element.maxdeg)  # mass, line loads
         self.q0 = np.stack(self._nodal_fields(positions, slopes, curvatures), axis=1).ravel()
-        self.element_dofs = np.ascontiguousarray(self.basis.element_dofs.T, dtype=np.int64)
+        self.element_dofs = np.ascontiguousarray(Dofs(mesh, self._vector).element_dofs.T,
+                                                 dtype=np.int64)
         X, W = get_quadrature(mesh.refdom, self.intorder)
         self.xi = X[0]
-        self.S = self._shape(self.xi)[0]
-        self.Sx, self.Sxx, self.weights, _ = self.tables_at(self.xi, W)
+        self.S, self.Sx, self.Sxx = self._shape(self.xi)
+        self.weights = self._weighted(W)
         self.quadrature = gauss_rules(quadrature, formulation, len(self.xi))
         self.formulation = formulation
         self._mass = None
+
+    @property
+    def _vector(self):
+        """The vector element of the cable's bases (``ElementVector(element, 3)``)."""
+        return ElementVector(self.element, 3)
+
+    @functools.cached_property
+    def basis(self):
+        """The scikit-fem basis on the Gauss rule ``intorder`` (``forms``), made at its
+        first use: the kernels read tables of their own (``S``, ``Sx``, ``tables_at``)."""
+        return Basis(self.mesh, self._vector, intorder=self.intorder)
+
+    @functools.cached_property
+    def _exact(self):
+        """The scikit-fem basis on a rule exact for the mass matrix and line loads."""
+        return Basis(self.mesh, self._vector, intorder=2 * self.element.maxdeg)
 
     def _nodal_fields(self, positions, slopes, curvatures):
         """The initial nodal fields of the element, in the order of its ``orders``, each
@@ -251,8 +286,11 @@ class Cable(CableFields, CableShapes):
         first and second x-derivatives (ne, nq, n_functions), the weights times the
         element lengths (ne, nq) and the element lengths (ne,)."""
         _, Sx, Sxx = self._shape(xi)
-        return Sx, Sxx, np.ascontiguousarray(np.asarray(weights)[None, :] * self.h[:, None]), \
-            self.h
+        return Sx, Sxx, self._weighted(weights), self.h
+
+    def _weighted(self, weights):
+        """The weights (nq,) of a rule on [0, 1] times the element lengths (ne, nq)."""
+        return np.ascontiguousarray(np.asarray(weights)[None, :] * self.h[:, None])
 
     # --- layout -------------------------------------------------------------------------
     @property
@@ -317,11 +355,16 @@ class Cable(CableFields, CableShapes):
     # --- constant matrices and loads (scikit-fem assembly, done once) --------------------
     def mass_matrix(self):
         """Constant mass matrix ``rho A int S^T S dx`` (Eq. 22), assembled once per
-        ``section`` (again when it is replaced)."""
+        ``section`` (again when it is replaced), or a copy of the one of a recent cable
+        with the same element, mesh and mass per length (``_kept_mass``: a scene built
+        again, a sweep's cases, a test's fixtures)."""
         if self._mass is None or self._mass[0] is not self.section:
             mu = self.section.mass_per_length
-            self._mass = (self.section, asm(BilinearForm(lambda u, v, w: mu * dot(u, v)),
-                                            self._exact).tocsr())
+            p, t = self.mesh.p, self.mesh.t
+            key = (type(self.mesh), self.element, p.dtype.str, p.tobytes(), t.dtype.str,
+                   t.tobytes(), float(mu).hex())
+            self._mass = (self.section, _kept_mass(key, lambda: asm(
+                BilinearForm(lambda u, v, w: mu * dot(u, v)), self._exact).tocsr()))
         return self._mass[1]
 
     def mass_points(self):

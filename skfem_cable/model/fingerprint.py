@@ -90,6 +90,21 @@ def _qualname(cls):
     return f"{getattr(cls, '__module__', '?')}.{getattr(cls, '__qualname__', repr(cls))}"
 
 
+def _itself(x):
+    return x
+
+
+def _float(x):
+    return {"float": float(x).hex()}
+
+
+#: The description of a value of each of these exact types at once, as ``_Describer``
+#: describes it by its checks in turn (most leaves are of these types; their subclasses
+#: take the checks).
+_LEAVES = {type(None): _itself, bool: _itself, str: _itself, int: int, float: _float,
+           np.float64: _float, np.ndarray: _array}
+
+
 @functools.cache
 def _code(code):
     """Byte code, constants and names of a code object (recursively), without addresses
@@ -123,6 +138,9 @@ class _Describer:
         self.system, self.closures = system, closures
 
     def __call__(self, obj, depth=0, path=()):
+        leaf = _LEAVES.get(type(obj))
+        if leaf is not None:
+            return leaf(obj)
         if obj is None or isinstance(obj, (bool, str)):
             return obj
         if isinstance(obj, (int, np.integer)):

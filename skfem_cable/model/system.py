@@ -40,6 +40,11 @@ from .system_deploying import SystemDeploying
 from .system_evaluation import SystemEvaluation
 
 
+def _same_bytes(a, b):
+    """True if the arrays ``a`` and ``b`` have the same type, shape and bytes."""
+    return a.dtype == b.dtype and a.shape == b.shape and a.tobytes() == b.tobytes()
+
+
 class SystemChanged(RuntimeError):
     """The system changed while a solver ran (an observer edited a load, a section, ...),
     or since a ``Result`` read from it was simulated: the message names what changed."""
@@ -127,6 +132,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
         self.orbit = self.orbit_gravity = None
         self.epoch = None
         self._layout = None
+        self._mass_kept = None
 
     # --- building -------------------------------------------------------------------------
     def _offset(self, body):
@@ -431,9 +437,21 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
     def mass_matrix(self):
         """Global constant mass matrix (Eq. 11) including point masses: the bodies'
         blocks on the diagonal (the entries of ``scipy.sparse.block_diag``, in its order;
-        a CSR block's read from its arrays, without scipy's conversions: every description
-        of the system, ``describe_system``, at a solver's start, builds it), then the point masses'
-        ``m G^T G`` (``PointMass.entries``), summed where they meet."""
+        a CSR block's read from its arrays, without scipy's conversions), then the point
+        masses' ``m G^T G`` (``PointMass.entries``), summed where they meet.  Every
+        description of the system (``describe_system``: at every solver's start and every
+        public evaluation) asks for it: the summed matrix is kept with its entries and
+        made again only when they differ, byte for byte (a copy is returned)."""
+        entries, n = self._mass_entries()
+        kept = self._mass_kept
+        if kept is None or kept[1] != n or not all(map(_same_bytes, kept[0], entries)):
+            M = sp.csr_matrix((entries[2], entries[:2]), shape=(n, n))
+            self._mass_kept = kept = (entries, n, M)
+        return kept[2].copy()
+
+    def _mass_entries(self):
+        """``(rows, cols, values)`` of the mass matrix before its entries are summed
+        (``mass_matrix``), and its size."""
         rows, cols, vals, offset = [], [], [], 0
         for body in self.bodies:
             block = body.mass_matrix()
@@ -452,9 +470,7 @@ class System(SystemMotion, SystemEvaluation, SystemDeploying):
             rows.append(r)
             cols.append(c)
             vals.append(m)
-        return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
-                                                     np.concatenate(cols))),
-                             shape=(offset, offset))
+        return (np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)), offset
 
     def cables(self):
         """The bodies with fields along a line (``contract.Line``: ``interpolate``,

@@ -84,10 +84,11 @@ class SystemEvaluation:
                                     np.linalg.norm(f_con))
         return r, info
 
-    def assemble(self, q, v=None, cK=1.0, cC=0.0):
+    def assemble(self, q, v=None, cK=1.0, cC=0.0, layout=None):
         """The bodies' internal force ``f = dU/dq + dD/dv`` and its tangent ``cK df/dq + cC
         df/dv`` (sparse, ``n_dofs`` square) at ``q`` and ``v`` (None: statics, no
-        dissipation), by the compiled kernels; loads and constraints left out.
+        dissipation), by the compiled kernels; loads and constraints left out
+        (``layout``: as in ``evaluate``).
 
         Examples
         --------
@@ -98,7 +99,7 @@ class SystemEvaluation:
         >>> round(float(f[12]), 6), K.shape                      # the tip's axial force
         (10.1505, (18, 18))
         """
-        lay = self.current_layout()
+        lay = self._solved(layout)
         data = np.zeros(lay.nnz)
         _, info = self.evaluate(q, v, 0.0, np.zeros(self.n_constraints), load_factor=0.0,
                                 cK=cK, cC=cC, data=data, layout=lay)

@@ -1,5 +1,7 @@
 """Building the E-sail: hub, tethers, joints and the solar wind, settled to its spin."""
 
+import functools
+import numbers
 from dataclasses import replace
 
 import numpy as np
@@ -53,7 +55,20 @@ def rotating_cable_stretch(s, hub_radius, length, EA, mass_per_length, tip_mass,
     Green-strain law ``T = EA (lambda^2 - 1) lambda / 2``, ``r(0) = hub_radius``,
     ``T(L) = m omega^2 r(L)``.  Returns the radius ``r`` and the stretch ``lambda`` at the
     reference arc lengths ``s`` (fixed-point iteration on a fine grid, converged to
-    round-off)."""
+    round-off; with numbers for the parameters, the latest 32 answers are remembered by
+    their values and types: a scene built again asks again, 25 ms each)."""
+    s = np.asarray(s, dtype=float)
+    parameters = (hub_radius, length, EA, mass_per_length, tip_mass, omega)
+    solve = _steady_spin if all(isinstance(x, numbers.Number) for x in parameters) \
+        else _steady_spin.__wrapped__
+    r, lam = solve(s.shape, s.tobytes(), *parameters)
+    return r.copy(), lam.copy()
+
+
+@functools.lru_cache(maxsize=32, typed=True)
+def _steady_spin(shape, s, hub_radius, length, EA, mass_per_length, tip_mass, omega):
+    """``rotating_cable_stretch`` at the arc lengths of ``shape`` whose bytes are ``s``."""
+    s = np.frombuffer(s).reshape(shape)
     grid = np.union1d(np.linspace(0.0, length, 20001), s)
     r = hub_radius + grid
     for _ in range(50):
