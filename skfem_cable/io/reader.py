@@ -263,7 +263,7 @@ def _read(path, manifest, names):
         arrays = _open_arrays(root, names)
     except Exception as err:
         raise _unopenable(root, err) from err
-    values = sync(settled([a.getitem(slice(0, n)) for a in arrays]))
+    values = sync(settled(a.getitem(slice(0, n)) for a in arrays))
     for name, value in zip(names, values):
         if not isinstance(value, Exception) and value.shape[0] != n:
             value = ValueError(f"{value.shape[0]} steps stored, {n} committed")

@@ -31,12 +31,15 @@ async def gather(coros):
 
 
 async def settled(coros):
-    """The results of all of ``coros``, an ``Exception`` in the place of each that failed
-    (any other ``BaseException`` is raised)."""
-    results = await asyncio.gather(*coros, return_exceptions=True)
-    for r in results:
-        if isinstance(r, BaseException) and not isinstance(r, Exception):
-            raise r
+    """The results of ``coros``, awaited one after the other (each runs its own reads
+    concurrently: all at once would crowd zarr's threads), an ``Exception`` in the place
+    of each that failed."""
+    results = []
+    for coro in coros:
+        try:
+            results.append(await coro)
+        except Exception as err:
+            results.append(err)
     return results
 
 
