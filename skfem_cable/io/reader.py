@@ -28,7 +28,7 @@ from .legacy import is_legacy, read_legacy
 from .manifest import MANIFEST, StoreCorrupt, StoreError, StoreMismatch, read_manifest
 from .matching import check_fingerprint
 from .schema import COUNTERS, FIELD, STORE, VARIABLE
-from .zarr_store import atomic_store, sync
+from .zarr_store import atomic_store, gather, settled, sync
 
 #: The end of a message about a damaged store: what can still be read.
 _READABLE = "the rest of the store still opens with xarray.open_zarr"
@@ -224,35 +224,77 @@ def _manifest_or_raise(path):
 def read_records(path, system, manifest):
     """The committed steps of the store in ``path`` as arrays keyed by ``FIELDS``, the
     inputs' values by ``input_<name>`` and the loads' outputs by ``output_<name>``."""
-    path = Path(path)
+    return _records(system, manifest, _read(path, manifest, _record_variables(manifest)))
+
+
+def _record_variables(manifest):
+    """The stored variables that make the records (``read_records``): the fields of
+    ``FIELDS`` in their order, then the inputs' and the loads' outputs."""
+    stored = [FIELD.get(v, v) for v in manifest["variables"]]
+    names = [name for name in FIELDS if name in stored]
+    names += [v for v in stored if v.startswith((INPUT, OUTPUT))]
+    return [VARIABLE.get(name, name) for name in names]
+
+
+def _records(system, manifest, values):
+    """The records (``read_records``) of the stored ``values`` (``{variable: array}``)."""
     n = int(manifest["saved"])
     stored = [FIELD.get(v, v) for v in manifest["variables"]]
     if n == 0:
         return empty_records(system, 0)
+    records = {FIELD.get(v, v): a for v, a in values.items()}
+    inputs = {k: v for k, v in records.items() if k.startswith((INPUT, OUTPUT))}
+    return {**fill_records(system, records, stored, n), **inputs}
+
+
+def _read(path, manifest, names):
+    """``{name: values}`` of the first ``saved`` steps of the variables ``names`` of the
+    store in ``path``, read at once with zarr (the arrays of the consolidated metadata,
+    read around and repaired when it is lost, as ``open_dataset``); a missing chunk, an
+    array that cannot be read or has fewer steps raise ``StoreCorrupt`` naming the file
+    (the first of ``names`` that fails)."""
+    path = Path(path)
+    n = int(manifest["saved"])
+    if n == 0:
+        return {}
     check_chunks(path, manifest)
     root = path / STORE
     try:
-        ds = _open_dataset(root)
+        arrays = _open_arrays(root, names)
     except Exception as err:
         raise _unopenable(root, err) from err
-    records = {}
-    for name in [*FIELDS, *(v for v in stored if v.startswith((INPUT, OUTPUT)))]:
-        if name not in stored:
-            continue
-        var = VARIABLE.get(name, name)
-        try:
-            records[name] = ds[var].isel(time=slice(0, n)).values
-            if records[name].shape[0] != n:
-                raise ValueError(f"{records[name].shape[0]} steps stored, {n} committed")
-        except Exception as err:
-            bad = (_undecodable_chunk(root, var, int(manifest["chunk"]), n)
-                   or (root / var, f"cannot be read ({type(err).__name__}: {err})"))
+    values = sync(settled(a.getitem(slice(0, n)) for a in arrays))
+    for name, value in zip(names, values):
+        if not isinstance(value, Exception) and value.shape[0] != n:
+            value = ValueError(f"{value.shape[0]} steps stored, {n} committed")
+        if isinstance(value, Exception):
+            bad = (_undecodable_chunk(root, name, int(manifest["chunk"]), n)
+                   or (root / name, f"cannot be read ({type(value).__name__}: {value})"))
             raise StoreCorrupt(f"{bad[0]} {bad[1]}: the saved steps of {path} cannot be read "
                                "completely; restore the file from a backup, or run the scene "
                                f"again into a new directory (--out); {_READABLE}",
-                               bad[0]) from err
-    inputs = {k: v for k, v in records.items() if k.startswith((INPUT, OUTPUT))}
-    return {**fill_records(system, records, stored, n), **inputs}
+                               bad[0]) from value
+    return dict(zip(names, values))
+
+
+def _open_arrays(root, names):
+    """The arrays ``names`` of the store ``root`` (``AsyncArray``), from its consolidated
+    metadata; without it from their own, and the consolidated metadata is written again
+    (``repair_metadata``)."""
+    try:
+        return sync(_arrays(root, names, consolidated=True))
+    except Exception:
+        arrays = sync(_arrays(root, names, consolidated=False))
+    repair_metadata(root)
+    return arrays
+
+
+async def _arrays(root, names, consolidated):
+    import zarr.api.asynchronous as za
+
+    group = await za.open_group(store=atomic_store(root, read_only=True), mode="r",
+                                use_consolidated=consolidated)
+    return await gather([group.getitem(name) for name in names])
 
 
 def checkpoint_bytes(path, manifest):
@@ -332,7 +374,10 @@ def read_result(path, system: SystemView, check=True):
         raise StoreMismatch(f"{path} holds {manifest.get('n_dofs')} coordinates and "
                             f"{manifest.get('n_constraints')} multipliers; the given system "
                             f"has {system.n_dofs} and {system.n_constraints}")
-    records = read_records(path, system, manifest)
+    counters = [name for name in ("stat_" + c for c in COUNTERS)
+                if name in manifest["variables"]]
+    values = _read(path, manifest, _record_variables(manifest) + counters)
+    records = _records(system, manifest, values)
     in_orbit = system.orbit is not None
     reference = _reference(system, read_checkpoint(path, manifest)
                            if in_orbit and manifest.get("checkpoint") else {})
@@ -340,7 +385,7 @@ def read_result(path, system: SystemView, check=True):
              "stopped": manifest.get("message") if manifest.get("status") == "stopped"
              else None}
     if manifest["saved"]:
-        stats.update(_counters(path, manifest))
+        stats.update({name[5:]: int(values[name][-1]) for name in counters})
     return records, stats, reference
 
 
@@ -349,13 +394,6 @@ def _reference(system, checkpoint):
     ``checkpoint`` (a mapping; none without ``orbit_rebases``)."""
     orbit = system.orbit
     return None if orbit is None else Reference(orbit, checkpoint.get("orbit_rebases"))
-
-
-def _counters(path, manifest):
-    ds = _open_dataset(Path(path) / STORE)
-    n = manifest["saved"]
-    return {c: int(ds["stat_" + c].isel(time=n - 1).values) for c in COUNTERS
-            if "stat_" + c in ds}
 
 
 def run_info(path):

@@ -49,7 +49,7 @@ from .schema import (
     layout,
     variables,
 )
-from .zarr_store import atomic_store, gather, sync
+from .zarr_store import atomic_store, consolidate, gather, sync
 
 
 def store_files(run_dir):
@@ -137,7 +137,7 @@ class RunStore(Observer):
         self.pending = []  # [record, checkpoint or None]: the last one has its checkpoint
         self.committed = 0
         self.manifest = None
-        self._arrays = None
+        self._zarr = None  # (the group, its arrays by name) while the run goes
         self._graceful = False
         self._lock = ExitStack()
         self._clock = (0.0, 0.0)  # (perf_counter at start, wall time of earlier sessions)
@@ -149,7 +149,7 @@ class RunStore(Observer):
 
     # --- the observer ------------------------------------------------------------------
     def start(self, run):
-        self.pending, self._arrays = [], None
+        self.pending, self._zarr = [], None
         self._clock = (time.perf_counter(), 0.0)
         self._graceful = self.handle_signals and signals.install_graceful()
         try:
@@ -209,7 +209,7 @@ class RunStore(Observer):
         snap = self.pending[-1][1]
         start, stop = self.committed, self.committed + len(records)
         blocks = {name: var.block(records) for name, var in self.variables.items()}
-        sync(_append(self.root, self._arrays, start, blocks))
+        sync(_append(*self._zarr, start, blocks))
         index, t = int(records[-1]["index"]), float(records[-1]["t"])
         buf = io.BytesIO()
         np.savez_compressed(buf, **snap, n_saved=stop)
@@ -307,8 +307,7 @@ class RunStore(Observer):
             self.fields = tuple(FIELD.get(k, k) for k in stored if FIELD.get(k, k) in FIELDS)
             remove_temporaries(self.path)
             self._remove_stale_checkpoints(manifest)
-            self._arrays = sync(_open_arrays(self.root, list(self.variables),
-                                             manifest["saved"]))
+            self._zarr = sync(_open_arrays(self.root, list(self.variables), manifest["saved"]))
             self.committed = manifest["saved"]
             self._clock = (self._clock[0], manifest.get("wall_time", 0.0))
             self.manifest = write_manifest(self.path, dict(manifest, settings=settings,
@@ -334,8 +333,8 @@ class RunStore(Observer):
         self.manifest = write_manifest(self.path, manifest)
         attrs = {"title": "skfem_cable run", **jsonable(self.attrs),
                  "settings": settings, "fingerprint": fp, **layout(run.system)}
-        self._arrays = sync(_create_group(self.root, run.system, self.variables, self.chunk,
-                                          attrs))
+        self._zarr = sync(_create_group(self.root, run.system, self.variables, self.chunk,
+                                        attrs))
         self.committed = 0
 
     def _existing(self, run):
@@ -393,6 +392,8 @@ _WRITE_ALL = {"write_empty_chunks": True}
 
 
 async def _create_group(root, system, variables, chunk, attrs):
+    """The new group of the run store at ``root`` and its arrays by name: the
+    ``variables`` (empty) and the labels (``schema.coordinates``, filled)."""
     import zarr.api.asynchronous as za
 
     store = atomic_store(root)
@@ -409,14 +410,16 @@ async def _create_group(root, system, variables, chunk, attrs):
             dtype=var.dtype, fill_value=fill, dimension_names=var.dims, filters=filters,
             compressors=compressors, attributes=attributes)
         arrays[name] = arrays[name].with_config(_WRITE_ALL)
-    await gather([_write_coordinate(group, name, dims, values) for name, (dims, values)
-                  in coordinates(system, variables).items()])
-    await za.consolidate_metadata(store)
-    return arrays
+    labels = coordinates(system, variables)
+    arrays.update(zip(labels, await gather([_write_coordinate(group, name, dims, values)
+                                            for name, (dims, values) in labels.items()])))
+    await consolidate(group, arrays)
+    return group, arrays
 
 
 async def _write_coordinate(group, name, dims, values):
-    """Create and fill the array ``name`` of the labels ``values`` (written once)."""
+    """Create and fill the array ``name`` of the labels ``values`` (written once); returns
+    it."""
     strings = values.dtype.kind in "UT"
     fill = "" if strings else np.nan if values.dtype.kind == "f" else -1
     arr = await group.create_array(
@@ -425,18 +428,18 @@ async def _write_coordinate(group, name, dims, values):
         attributes=ATTRS.get(name, {}))
     if values.size:
         await arr.with_config(_WRITE_ALL).setitem(..., values)
+    return arr
 
 
 async def _open_arrays(root, names, saved):
-    """The arrays ``names`` of the store at ``root``, truncated to ``saved`` steps (what a
-    broken commit appended is dropped)."""
+    """The group of the store at ``root`` and its arrays by name, those of ``names``
+    truncated to ``saved`` steps (what a broken commit appended is dropped)."""
     import zarr.api.asynchronous as za
 
-    store = atomic_store(root)
-    group = await za.open_group(store=store, mode="r+", use_consolidated=False)
-    arrays = {}
+    group = await za.open_group(store=atomic_store(root), mode="r+", use_consolidated=False)
+    arrays = {name: arr async for name, arr in group.members()}
     for name in names:
-        arr = await group.getitem(name)
+        arr = arrays[name]
         if arr.shape[0] < saved:
             raise StoreCorrupt(f"{root / name} has {arr.shape[0]} steps but the manifest "
                                f"committed {saved}: the store was damaged after the run",
@@ -444,12 +447,13 @@ async def _open_arrays(root, names, saved):
         if arr.shape[0] != saved:
             await arr.resize((saved, *arr.shape[1:]))
         arrays[name] = arr.with_config(_WRITE_ALL)
-    await za.consolidate_metadata(store)
-    return arrays
+    await consolidate(group, arrays)
+    return group, arrays
 
 
-async def _append(root, arrays, start, blocks):
-    import zarr.api.asynchronous as za
+async def _append(group, arrays, start, blocks):
+    """Append ``blocks`` (``{name: values}``) at the step ``start`` of the ``arrays`` of
+    ``group``, then write its consolidated metadata."""
 
     async def one(arr, block):
         stop = start + len(block)
@@ -457,4 +461,4 @@ async def _append(root, arrays, start, blocks):
         await arr.setitem(slice(start, stop), block)
 
     await gather([one(arrays[name], block) for name, block in blocks.items()])
-    await za.consolidate_metadata(atomic_store(root))
+    await consolidate(group, arrays)

@@ -1,9 +1,11 @@
 """Zarr under the run store: ``atomic_store``, the Zarr store whose every object (chunk
-or metadata) is written crash-safely (``atomic.write_atomic``), and ``sync``/``gather``,
-which run zarr's coroutines.  zarr is imported on first use.
+or metadata) is written crash-safely (``atomic.write_atomic``); ``sync``, ``gather`` and
+``settled``, which run zarr's coroutines; ``consolidate``, the consolidated metadata of a
+group whose arrays are at hand.  zarr is imported on first use.
 """
 
 import asyncio
+import dataclasses
 import warnings
 
 from ..util.atomic import write_atomic
@@ -26,6 +28,31 @@ async def gather(coros):
         if isinstance(r, BaseException):
             raise r
     return results
+
+
+async def settled(coros):
+    """The results of ``coros``, awaited one after the other (each runs its own reads
+    concurrently: all at once would crowd zarr's threads), an ``Exception`` in the place
+    of each that failed."""
+    results = []
+    for coro in coros:
+        try:
+            results.append(await coro)
+        except Exception as err:
+            results.append(err)
+    return results
+
+
+async def consolidate(group, arrays):
+    """Write the consolidated metadata of ``group`` (an ``AsyncGroup``) from the metadata
+    of its ``arrays`` (``{name: AsyncArray}``, all its members): the document
+    ``zarr.consolidate_metadata`` writes, without listing the store and reading every
+    array's ``zarr.json`` back (a commit of the run store writes it after each append)."""
+    from zarr.core.group import ConsolidatedMetadata
+
+    members = ConsolidatedMetadata(metadata={k: a.metadata for k, a in arrays.items()})
+    metadata = dataclasses.replace(group.metadata, consolidated_metadata=members)
+    await dataclasses.replace(group, metadata=metadata)._save_metadata()
 
 
 _STORE_CLASS = None
