@@ -152,9 +152,10 @@ def test_spinning_modes_are_those_of_the_constrained_pencil():
     """``modes(spin=)`` (the constraints eliminated, a standard eigenproblem) against the
     QZ algorithm on the first-order KKT pencil ``A z = lambda B z``, ``z = (x, lambda x,
     mu)``, of the spinning tether: the 12 lowest frequencies to 1e-9 relative (measured
-    9e-12; its lowest, the zero-frequency mode, to 1e-9 Hz: measured 1e-13), and each
-    shape a null vector of ``lambda^2 M + lambda G + K`` on the constrained motions,
-    mass-normalised."""
+    1e-11), but the lowest, the in-plane swing about the hub's rim (6.5e-6 Hz, about
+    ``Omega sqrt(R / L) / 2 pi`` = 6.4e-6 Hz), to 1e-6 (measured 2e-8: a root far below the
+    pencil's largest carries more of its round-off), and each shape a null vector of
+    ``lambda^2 M + lambda G + K`` on the constrained motions, mass-normalised."""
     from scipy.linalg import eigvals, null_space
 
     from skfem_cable.loads.gravity import spin_matrix
@@ -177,11 +178,12 @@ def test_spinning_modes_are_those_of_the_constrained_pencil():
     lam = eigvals(A, B)
     lam = lam[np.isfinite(lam) & (lam.imag >= 0)]
     reference = np.sort(np.abs(lam))[:12] / (2 * np.pi)
-    print(f"{abs(f[0] - reference[0]):.1e}", np.abs(f[1:] / reference[1:] - 1).max())
-    assert abs(f[0] - reference[0]) < 1e-9
+    print(f"swing {f[0]:.3e} Hz within {abs(f[0] / reference[0] - 1):.1e}, the others "
+          f"within {np.abs(f[1:] / reference[1:] - 1).max():.1e}")
+    assert f[0] == pytest.approx(reference[0], rel=1e-6)
     np.testing.assert_allclose(f[1:], reference[1:], rtol=1e-9)
     Z = null_space(K[n:, :n])
-    for freq, x in zip(f[1:], shapes[1:]):
+    for freq, x in zip(f, shapes):
         lam = 2j * np.pi * freq
         residual = Z.T @ ((lam ** 2 * M + lam * G + K[:n, :n]) @ x)
         assert np.abs(residual).max() < 1e-8 * np.abs(K[:n, :n] @ x).max()

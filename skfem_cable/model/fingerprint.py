@@ -80,7 +80,7 @@ def _array(a):
 
 def _plain(x):
     if isinstance(x, float):
-        return {"float": x.hex()}
+        return _float(x)
     if isinstance(x, (str, int, bool)) or x is None:
         return x
     return {"class": _qualname(type(x))}
@@ -146,7 +146,7 @@ class _Describer:
         if isinstance(obj, (int, np.integer)):
             return int(obj)
         if isinstance(obj, (float, np.floating)):
-            return {"float": float(obj).hex()}
+            return _float(obj)
         if isinstance(obj, (complex, np.complexfloating)):
             return {"complex": [float(obj.real).hex(), float(obj.imag).hex()]}
         if isinstance(obj, np.ndarray):

@@ -147,7 +147,6 @@ def _gyroscopic_modes(system, kkt, k, spin):
     lam, vec = lam[upper], vec[:r, upper]
     order = np.argsort(np.abs(lam))[:k]
     shapes = (ZL @ vec[:, order]).T
-    Mq = mass.toarray()
     for i in range(len(shapes)):
-        shapes[i] /= np.sqrt(abs(np.conj(shapes[i]) @ Mq @ shapes[i]))
+        shapes[i] /= np.sqrt(abs(np.conj(shapes[i]) @ (mass @ shapes[i])))
     return np.abs(lam[order]) / (2 * np.pi), shapes
