@@ -159,7 +159,9 @@ class CableFields:
         x = np.moveaxis(np.concatenate([a, b], axis=-1), -1, 0)
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(self.h[e] * lam, x.shape[1:])
-        G = self.densities(x, np.zeros_like(x), h, law, t)["G"]
+        law = self.law if law is None else law
+        G = law.compiled().numpy_gradient(x, np.zeros_like(x),
+                                          law.values_at(self.section, t, x.ndim - 1), h)
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         lam = np.sqrt(p)[..., None]
         t = a / lam

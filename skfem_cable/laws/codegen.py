@@ -11,7 +11,9 @@ in a module of their own (``points``, one per expressions and damping):
   ``G = W_x + D_xd``, ``Gd = D_xd`` and the dissipated power ``P = D_xd . xd``;
 * ``point_ghd(x, xd, prm, h, G, H, Gd, Hc)`` also writing ``H = W_xx + D_xd,x`` and
   ``Hc = D_xd,xd``;
-* ``numpy_point(x, xd, prm, h)``, the same quantities vectorised over points (numpy).
+* ``numpy_point(x, xd, prm, h)``, the same quantities vectorised over points (numpy);
+* ``numpy_gradient(x, xd, prm, h)``, its ``G`` alone, stacked (6, ...): what a section
+  force reads, without the Hessians.
 
 The ``"gauss"`` module imports the law's point functions and holds ``span``, the loop of
 ``kernels.cable`` over a range of elements compiled around them, the element loop of
@@ -52,9 +54,10 @@ from .symbolic import SLOPE_FLOOR
 #: Bump when the generated code changes meaning (part of every module's digest), to a value
 #: never used before: a cache may hold the modules of any earlier commit ("8" was used,
 #: then reverted to "7"; "10": the point functions in modules of their own; "11": the element
-#: loop one function, ``kernel``).  The digest also holds this module's own text
-#: (``_generator_id``), so an edit of the generator never meets a module of the text before.
-GENERATOR = "11"
+#: loop one function, ``kernel``; "12": ``numpy_gradient``).  The digest also holds this
+#: module's own text (``_generator_id``), so an edit of the generator never meets a module
+#: of the text before.
+GENERATOR = "12"
 
 #: The decorator of the point functions: numba types and lowers each once, apart, and
 #: LLVM inlines its code into ``span`` (``forceinline``; the same instructions).  Numba's
@@ -181,18 +184,36 @@ def _select(outputs, prefixes):
     return {t: e for t, e in outputs.items() if t.split("[")[0] in prefixes}
 
 
-def _numpy_function(outputs, sym):
-    """``numpy_point(x, xd, prm, h)`` returning a dict of arrays (vectorised)."""
-    lines = ["def numpy_point(x, xd, prm, h):",
-             '    """Energy and power parts, G, H, Gd, Hc at points (leading axes of x)."""']
+def _numpy_functions(outputs, sym):
+    """``numpy_point(x, xd, prm, h)`` returning a dict of arrays (vectorised), and
+    ``numpy_gradient(x, xd, prm, h)`` returning its ``G`` alone, stacked (6, ...), by the
+    lines of ``numpy_point`` that ``G`` needs (the same arithmetic, bit for bit)."""
     flat = {re.sub(r"[\[\], ]+", "_", t).rstrip("_"): e for t, e in outputs.items()}
-    lines += _body(flat, sym, _VectorPrinter({"standard": "python3"}), "    ", True)
-    lines.append("    shape = numpy.shape(x[0])")
-    lines.append("    out = {}")
-    for t in flat:
-        lines.append(f"    out[{t!r}] = numpy.broadcast_to({t}, shape) * 1.0")
-    lines.append("    return out")
-    return "\n".join(lines)
+    body = _body(flat, sym, _VectorPrinter({"standard": "python3"}), "    ", True)
+    point = ["def numpy_point(x, xd, prm, h):",
+             '    """Energy and power parts, G, H, Gd, Hc at points (leading axes of x)."""',
+             *body, "    shape = numpy.shape(x[0])", "    out = {}",
+             *(f"    out[{t!r}] = numpy.broadcast_to({t}, shape) * 1.0" for t in flat),
+             "    return out"]
+    G = [f"G_{i}" for i in range(6)]
+    gradient = ["def numpy_gradient(x, xd, prm, h):",
+                '    """G = W_x + D_xd at points (leading axes of x), stacked (6, ...)."""',
+                *_needed(body, G), "    shape = numpy.shape(x[0])",
+                f"    return numpy.stack([numpy.broadcast_to(G, shape) * 1.0 for G in "
+                f"({', '.join(G)})])"]
+    return "\n".join(point), "\n".join(gradient)
+
+
+def _needed(lines, targets):
+    """The lines of the straight-line code ``lines`` (``name = expr``) that computing
+    ``targets`` needs (a name read is a word of an expression)."""
+    need, kept = set(targets), []
+    for line in reversed(lines):
+        name, expr = line.strip().split(" = ", 1)
+        if name in need:
+            need.update(re.findall(r"[A-Za-z_]\w*", expr))
+            kept.append(line)
+    return kept[::-1]
 
 
 def _unpack_strain(strain, used, rates):
@@ -281,12 +302,12 @@ def _header(what):
 
 def points_source(law, damped):
     """The text of the points module of ``law`` (a law or a part of one, ``damped`` or
-    not): its point functions (``POINTS``) and ``numpy_point``."""
+    not): its point functions (``POINTS``), ``numpy_point`` and ``numpy_gradient``."""
     points, d = _point_functions(law.symbolic, damped)
     return "\n\n\n".join([
         *_header(f"the point functions of the law {law.name!r} (parameters "
                  f"{', '.join(law.parameters) or 'none'}, damped {damped})"),
-        f"SLOPE_FLOOR = {SLOPE_FLOOR!r}", *points, _numpy_function(d, law.symbolic)]) + "\n"
+        f"SLOPE_FLOOR = {SLOPE_FLOOR!r}", *points, *_numpy_functions(d, law.symbolic)]) + "\n"
 
 
 def points_name(law, damped):
@@ -319,7 +340,7 @@ def source(law, kind="gauss", orders=None):
     (``"assumed-strain"``), the element type's constants, the template's ``span`` and the
     element loop (``LOOP``)."""
     module = TEMPLATES[kind]
-    names = (*POINTS, "numpy_point") if kind == "gauss" else POINTS
+    names = (*POINTS, "numpy_point", "numpy_gradient") if kind == "gauss" else POINTS
     parts = [
         *_header(f"the law {law.name!r} (parameters {', '.join(law.parameters) or 'none'}), "
                  f"module kind {kind!r}"),
