@@ -92,6 +92,27 @@ def test_igrf_equals_ppigrf_rotated_back():
     assert error < 1e-4
 
 
+def test_igrf_reads_its_coefficient_file_once_and_as_ppigrf_reads_it():
+    """The memo of ppigrf's coefficient file (``igrf.ppigrf``): a second field call reads
+    no file and gives the same field bit for bit; each call gets copies equal to a fresh
+    read, so that an edit of one does not reach the next."""
+    from ppigrf import ppigrf as module
+
+    from skfem_cable.environment.igrf import ppigrf as memoized_ppigrf
+    memoized_ppigrf()
+    read = module.read_shc
+    igrf = sc.environment.IGRF(EPOCH)
+    first = igrf.field(X, T)
+    misses = read.memoized.cache_info().misses
+    for kept, again in zip(first, igrf.field(X, T)):
+        assert np.array_equal(kept, again)
+    assert read.memoized.cache_info().misses == misses
+    g, h = read()
+    g.iloc[0, 0] = np.nan
+    for kept, fresh in zip(read(), read.__wrapped__()):
+        assert kept.equals(fresh)
+
+
 def test_igrf_gradient_against_central_differences():
     """``dB/dx`` against central differences of the field with a 1 km step in the GCRS
     axes (1e-5 of the gradient's norm), curl-free and divergence-free to 1e-7."""

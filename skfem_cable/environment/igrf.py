@@ -21,6 +21,8 @@ References
 2. K. M. Laundal, ppigrf: Pure Python IGRF (the evaluation of the model).
 """
 
+import functools
+
 import numpy as np
 
 from ..bodies.section import check_positive
@@ -31,16 +33,44 @@ GRADIENT_STEP = 100.0
 NANOTESLA = 1e-9
 
 
+def _read_once(read):
+    """``read`` (ppigrf's ``read_shc(filename)``: the coefficient frames ``g, h``)
+    memoized per arguments (the file); each call gets its own copies of the frames (a
+    caller that edited them would not change the next call's)."""
+    @functools.lru_cache(maxsize=4)
+    def memoized(*args, **named):
+        return read(*args, **named)
+
+    @functools.wraps(read)
+    def coefficients(*args, **named):
+        g, h = memoized(*args, **named)
+        return g.copy(), h.copy()
+
+    coefficients.memoized = memoized
+    return coefficients
+
+
+def ppigrf():
+    """ppigrf, its coefficient file read once per file in a process: ``igrf_gc`` parses
+    the whole ``.shc`` file on every call (7 ms of a 25 ms call for tens of points), and a
+    load evaluates it once per step; the memo (``_read_once``) replaces
+    ``ppigrf.ppigrf.read_shc``, which ``igrf_gc`` looks up at each call."""
+    import ppigrf
+    from ppigrf import ppigrf as module
+    if not hasattr(module.read_shc, "memoized"):
+        module.read_shc = _read_once(module.read_shc)
+    return ppigrf
+
+
 def itrs_field(y, when):
     """The IGRF field (T) at Earth-fixed Cartesian positions ``y`` (n, 3) (m) at the
     datetime ``when``: ppigrf's geocentric components ``(B_r, B_theta, B_phi)`` (nT) on
     the local spherical basis, turned into Cartesian components."""
-    import ppigrf
     r = np.linalg.norm(y, axis=-1)
     theta = np.arccos(np.clip(y[:, 2] / r, -1.0, 1.0))
     phi = np.arctan2(y[:, 1], y[:, 0])
-    Br, Bt, Bp = (b[0] for b in ppigrf.igrf_gc(r * 1e-3, np.degrees(theta),
-                                                np.degrees(phi), when))
+    Br, Bt, Bp = (b[0] for b in ppigrf().igrf_gc(r * 1e-3, np.degrees(theta),
+                                                  np.degrees(phi), when))
     st, ct, sp, cp = np.sin(theta), np.cos(theta), np.sin(phi), np.cos(phi)
     e_r = np.stack([st * cp, st * sp, ct], axis=-1)
     e_t = np.stack([ct * cp, ct * sp, -st], axis=-1)
