@@ -159,9 +159,7 @@ class CableFields:
         x = np.moveaxis(np.concatenate([a, b], axis=-1), -1, 0)
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * np.ndim(e))
         h = np.broadcast_to(self.h[e] * lam, x.shape[1:])
-        law = self.law if law is None else law
-        G = law.compiled().numpy_gradient(x, np.zeros_like(x),
-                                          law.values_at(self.section, t, x.ndim - 1), h)
+        G = self.gradient(x, np.zeros_like(x), h, law, t)
         p = np.maximum(np.einsum("...i,...i", a, a), SLOPE_FLOOR)
         lam = np.sqrt(p)[..., None]
         t = a / lam
@@ -175,14 +173,25 @@ class CableFields:
         leads the points' shape) (its generated ``numpy_point``): energy
         ``ea``/``eb`` and power ``pa``/``pb`` (axial, bending), ``G = W_x + D_xd`` and
         ``Gd = D_xd`` (6, ...), ``H = W_xx + D_xd,x`` and ``Hc = D_xd,xd`` (6, 6, ...)."""
-        law = self.law if law is None else law
-        out = law.compiled().numpy_point(x, xd, law.values_at(self.section, t, x.ndim - 1),
-                                         h)
+        out = self._vectorised("numpy_point", x, xd, h, law, t)
         out["G"] = np.stack([out.pop(f"G_{i}") for i in range(6)])
         out["Gd"] = np.stack([out.pop(f"Gd_{i}") for i in range(6)])
         for k in ("H", "Hc"):
             out[k] = np.stack([[out.pop(f"{k}_{i}_{j}") for j in range(6)] for i in range(6)])
         return out
+
+    def gradient(self, x, xd, h, law=None, t=0.0):
+        """``G = W_x + D_xd`` (6, ...) of ``law`` (default the cable's) alone, as in
+        ``densities`` (its generated ``numpy_gradient``: the same arithmetic, without the
+        Hessians)."""
+        return self._vectorised("numpy_gradient", x, xd, h, law, t)
+
+    def _vectorised(self, name, x, xd, h, law, t):
+        """The generated vectorised function ``name`` of ``law`` (default the cable's) at
+        ``x``, ``xd``, ``h`` with the law's values at ``t``."""
+        law = self.law if law is None else law
+        return getattr(law.compiled(), name)(x, xd, law.values_at(self.section, t, x.ndim - 1),
+                                             h)
 
     def curvature(self, q, s, stretch=1.0):
         """Curvature ``kappa = |r_x x r_xx| / |r_x|^3`` (Eq. 24), 1/m; ``stretch``: the
