@@ -480,8 +480,11 @@ def test_stiff_chain_converges_to_rigid_chain_as_inverse_stiffness():
 
 @pytest.mark.slow
 def test_steel_chain_adaptive_agrees_with_rk4():
-    t, rk4 = scene.free_end_trajectory(11, t_end=0.1)
-    _, dop = scene.free_end_trajectory(11, t_end=0.1, method="DOP853", rtol=1e-10, atol=1e-12)
+    """DOP853 on the stiff steel chain (its axial wave crosses it every 0.2 ms) against
+    RK4 over 0.05 s, 230 crossings, the free end fallen 12 mm: 2.5e-14 L apart (over 0.1
+    s 8.8e-14 L)."""
+    t, rk4 = scene.free_end_trajectory(11, t_end=0.05)
+    _, dop = scene.free_end_trajectory(11, t_end=0.05, method="DOP853", rtol=1e-10, atol=1e-12)
     assert np.abs(dop - rk4).max() < 1e-8 * scene.STEEL["length"]
 
 
