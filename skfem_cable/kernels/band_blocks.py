@@ -58,8 +58,18 @@ from .band_sweeps import band_lu, band_substitute, pair_substitute, split, split
 #: solve: a larger ``_block`` called per block, not inlined).  A needed variant.
 FACTOR, SUBSTITUTE, CORRECT = 0, 1, 2
 
+#: The decorator of this module's compiled functions: compiled code alone calls them
+#: (``kernels.bordered``, ``kernels.schur``), so without numba's Python and C wrappers,
+#: which box and unbox their arguments for a call from Python (the blocks' tuple of 25
+#: arrays: 0.6 s of each of ``_block``'s three compilations) or serve a C pointer (a call
+#: from Python would crash).
+inner = njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
 
-@njit(cache=True)
+#: ``inner`` with the loops of ``prange`` on numba's threads.
+threaded = njit(cache=True, parallel=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)
+
+
+@inner
 def factor(front, data, parallel):
     """Factor the blocks of the matrix with CSR values ``data`` and sum the border's
     ``S = D - sum_j F_j W_j`` into ``s_data``; returns the (original) unknown of a zero
@@ -77,7 +87,7 @@ def factor(front, data, parallel):
     return -1
 
 
-@njit(cache=True)
+@inner
 def substitute(front, rhs, parallel):
     """A solve's first half: ``rhs`` in the ordering into ``work``, ``y = B^{-1} x_B``
     there, and ``g = x_D - F y``; returns ``g`` (``work``'s border part, a view)."""
@@ -101,7 +111,7 @@ def substitute(front, rhs, parallel):
     return g
 
 
-@njit(cache=True)
+@inner
 def correct(front, out, parallel):
     """A solve's second half, the border's ``x_D'`` in ``work``: ``x_B' = y - W x_D'``
     (none without a border), and ``work`` in the original ordering into ``out``."""
@@ -113,7 +123,7 @@ def correct(front, out, parallel):
         out[perm[i]] = work[i]
 
 
-@njit(cache=True)
+@inner
 def _scatter(data, target, position, ab, E, F, S, parallel):
     """The CSR values ``data`` into the band, ``E``, ``F`` and ``D`` (in ``S``), every
     other entry zero; on numba's threads unless ``parallel`` is None (assignments to
@@ -131,7 +141,7 @@ def _scatter(data, target, position, ab, E, F, S, parallel):
 PIECE = 16384
 
 
-@njit(cache=True, parallel=True)
+@threaded
 def _scatter_parallel(data, target, position, flat):
     for k in range(4):
         size = flat[k].size
@@ -141,13 +151,13 @@ def _scatter_parallel(data, target, position, flat):
         _place(data, target, position, flat, i * PIECE, min(data.size, (i + 1) * PIECE))
 
 
-@njit(cache=True)
+@inner
 def _fill(values, first, last):
     for p in range(first, last):
         values[p] = 0.0
 
 
-@njit(cache=True)
+@inner
 def _place(data, target, position, flat, first, last):
     """Entries ``first:last`` of ``data`` to their places in the storage ``flat`` (the
     band, ``E``, ``F``, ``S`` flattened)."""
@@ -163,7 +173,7 @@ def _place(data, target, position, flat, first, last):
             flat[3][position[p]] = data[p]
 
 
-@njit(cache=True)
+@inner
 def _factor_block(ab, ipiv, band, start, end, units, columns, X, e, f, w, direct, part):
     """The banded LU of the block ``start:end``, its ``W_j`` (``w``, from ``E_j``: ``e``)
     and its part ``F_j W_j`` (``part``, from ``F_j``: ``f``); returns LAPACK's
@@ -200,7 +210,7 @@ def _factor_block(ab, ipiv, band, start, end, units, columns, X, e, f, w, direct
     return info
 
 
-@njit(cache=True)
+@inner
 def _local(blocks, j):
     """Block ``j``'s ``E_j``, ``F_j`` and ``W_j`` (views)."""
     starts, touch_ptr, E, F, W, e_ptr = (blocks[6], blocks[13], blocks[16], blocks[17],
@@ -228,7 +238,7 @@ def _blocks(blocks, stage, parallel):
             _block(blocks, j, stage)
 
 
-@njit(cache=True)
+@inner
 def _substitute_pairs(blocks):
     """The ``SUBSTITUTE`` stage on one thread, two blocks at a time (``pair_substitute``),
     the last alone if their number is odd."""
@@ -243,13 +253,13 @@ def _substitute_pairs(blocks):
         _block(blocks, nblocks - 1, SUBSTITUTE)
 
 
-@njit(cache=True, parallel=True)
+@threaded
 def _blocks_parallel(blocks, stage):
     for j in prange(blocks[6].size - 1):
         _block(blocks, np.int64(j), stage)  # prange's index is unsigned: one signature
 
 
-@njit(cache=True)
+@inner
 def _block(blocks, j, stage):
     """Block ``j`` at ``stage``: ``FACTOR`` (``_factor_block``, its ``info`` into
     ``infos[j]``, the factor split), ``SUBSTITUTE`` (a solve's ``y_j = B_j^{-1} x_j``)

@@ -50,8 +50,9 @@ from . import generated
 from .chunks import CHUNK
 
 #: Bump when the generated module changes meaning (part of its digest; a value never used
-#: before: caches keep the modules of earlier commits).
-GENERATOR = "9"
+#: before: caches keep the modules of earlier commits; "7", "8" were used; "10": no Python
+#: wrapper of ``span`` and ``loop_parallel``).
+GENERATOR = "10"
 
 #: The decorator of a pointwise load's point function (``module``): numba types and lowers
 #: it once per process and parameters, apart, and LLVM inlines its code into each
@@ -308,8 +309,14 @@ def kernel_parallel(pack, index, ev):
 #: cold cache for the Morison drag's module), and inlined by LLVM into each caller
 #: (``forceinline``: the machine code of the loops is that of the inlined functions).  No
 #: C wrappers here: the module's functions are called by numba (the system's ``evaluate``)
-#: or from Python, never through a C pointer.
-SHARED = "@njit(cache=True, no_cfunc_wrapper=True, forceinline=True)"
+#: or from Python (the hooks, ``HOOK``), never through a C pointer; and ``span`` and
+#: ``loop_parallel``, which compiled code alone calls, none of Python either (it would box
+#: and unbox their arguments, tuples of arrays; a call from Python would crash).
+SHARED = "@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, forceinline=True)"
+
+#: The decorator of the hooks of the evaluation contract, ``kernel`` and
+#: ``kernel_parallel`` (see ``SHARED``).
+HOOK = "@njit(cache=True, no_cfunc_wrapper=True)"
 
 #: The decorator of the template's small drivers around ``span`` (``chunk``, ``close``,
 #: ``loop``, ``arguments``): inlined by numba into the hooks, whose compilation then
@@ -321,9 +328,9 @@ INLINED = '@njit(cache=True, inline="always")'
 #: The template's functions and their decorators in the generated module: the hooks and
 #: the threaded loop are compiled (``kernel_parallel`` only when a run uses threads).
 TEMPLATE = ((SHARED, span), (INLINED, chunk), (INLINED, close), (INLINED, loop),
-            ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True)", loop_parallel),
-            (INLINED, arguments), ("@njit(cache=True, no_cfunc_wrapper=True)", kernel),
-            ("@njit(cache=True, no_cfunc_wrapper=True)", kernel_parallel))
+            ("@njit(cache=True, parallel=True, no_cfunc_wrapper=True, no_cpython_wrapper=True)",
+             loop_parallel),
+            (INLINED, arguments), (HOOK, kernel), (HOOK, kernel_parallel))
 
 
 def _source(point, nf, velocity, dissipative):

@@ -27,8 +27,9 @@ import numba
 
 from ..kernels import bordered, callbacks, erased, generated, lapack, schur, woodbury
 
-#: Bump when the generated code changes meaning (part of every module's digest).
-GENERATOR = "2"
+#: Bump when the generated code changes meaning (part of every module's digest; "3": the
+#: banded ``lu_factor`` and ``lu_solve`` without numba's Python wrapper).
+GENERATOR = "3"
 
 _VECTOR = numba.types.float64[::1]
 
@@ -60,13 +61,17 @@ def lu_solve(lu, rhs, out):
     function(lu[1], AT_SOLVE)(lu[2], rhs, out)  # noqa: F821
 '''
 
-#: The banded LU's ``factor`` and ``solve`` at their addresses.
-_BANDED_SOURCE = f'''@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{COUNTLESS})
+#: The banded LU's ``factor`` and ``solve`` at their addresses: called by the module's
+#: entries alone, without numba's Python wrapper (it would box and unbox the storage, some
+#: thirty arrays; a call from Python would crash).
+_CALLED = ("@njit(cache=True, no_cfunc_wrapper=True, no_cpython_wrapper=True, "
+           f"forceinline=True{COUNTLESS})")
+_BANDED_SOURCE = f'''{_CALLED}
 def lu_factor(lu, data):
     return function(lu[0][0], FACTOR)(lu[1], data)  # noqa: F821 (placed by the loader)
 
 
-@njit(cache=True, no_cfunc_wrapper=True, forceinline=True{COUNTLESS})
+{_CALLED}
 def lu_solve(lu, rhs, out):
     function(lu[0][1], SOLVE)(lu[1], rhs, out)  # noqa: F821
 '''
