@@ -18,8 +18,13 @@ a file's tests on one worker).  Three things here keep that fast from a cold ker
   ``LONGEST`` names the files that took longest on a cold cache; they start first, the
   rest follow in alphabetical order, so that the last files handed out are short and the
   two workers end together.
+* **A quick exit.**  At its end a process freezes what the tests left (``gc.freeze`` in
+  ``pytest_unconfigure``): the interpreter's exit then frees it without its garbage
+  collections walking every object of the package, numba and sympy again (``skfem-cable``
+  does the same).
 """
 
+import gc
 import os
 from pathlib import Path
 
@@ -75,6 +80,12 @@ def pytest_configure(config):
     xdist's order by number of tests."""
     if hasattr(config.option, "loadscopereorder"):
         config.option.loadscopereorder = False
+
+
+def pytest_unconfigure(config):
+    """Freeze the objects left, the session over (``gc.freeze``): a worker's exit took 5.2
+    CPU s of a one-process run of six files (170 tests), measured."""
+    gc.freeze()
 
 
 def pytest_collection_modifyitems(config, items):

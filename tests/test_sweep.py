@@ -1,8 +1,12 @@
 """Parameter studies on Dask distributed (``skfem_cable.study``, ``skfem-cable sweep``):
-grids and run names, one point's task (reuse, continue, failures), sweeps on a
-``LocalCluster`` of two processes, the convergence study and the E-sail demo as sweeps,
-and the command line against a scheduler and workers started as separate processes, one
-of which is killed mid-sweep."""
+grids and run names, one point's task (reuse, continue, failures), the command line against
+a scheduler and two workers started as separate processes, one of which is killed
+mid-sweep, and sweeps on a ``LocalCluster`` of one worker process, the convergence study
+and the E-sail demo as sweeps.
+
+The command-line test comes before the cluster's tests: the module's cluster is started at
+its first test and stopped at the module's end, and would otherwise idle (and tick) through
+the command-line test's processes."""
 
 import io
 import json
@@ -28,10 +32,14 @@ from skfem_cable.study import open_run, open_study, parse_param, points, run_nam
 
 @pytest.fixture(scope="module")
 def client():
-    """Two worker processes with one thread each (the cluster of the sweep tests)."""
+    """One worker process with one thread (the cluster of the sweep tests: the tasks run
+    in another process than the test's, as on any cluster; two workers at once are the
+    command-line test's).  A second worker imports the package and loads the kernels of
+    every scene again: each of two spent 6.3 CPU s on these four tests, almost all of it
+    so."""
     from dask.distributed import Client, LocalCluster
 
-    with LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
+    with LocalCluster(n_workers=1, processes=True, threads_per_worker=1,
                       dashboard_address=None) as cluster, Client(cluster) as c:
         yield c
 
@@ -151,62 +159,6 @@ def test_run_point_records_a_failure_and_keeps_the_partial_run(tmp_path):
     assert 0.1 < record["t_last"] <= 0.15 and stored.time.values[-1] == record["t_last"]
 
 
-# --- sweeps on a local cluster --------------------------------------------------------------
-def test_sweep_on_a_local_cluster_equals_runs_alone_and_resumes(client, tmp_path):
-    grid = {"elements": [2, 3], "dt": [0.01, -0.01]}
-    ds = sc.sweep(pendulum_scene, grid, client=client, store=tmp_path / "s",
-                  fixed={"t_end": 0.2})
-    assert ds.status.dims == ("elements", "dt")
-    assert list(ds.status.sel(dt=0.01).values) == ["complete", "complete"]
-    assert all("dt must be > 0" in e for e in ds.error.sel(dt=-0.01).values)
-    assert np.isnan(ds.steps.sel(dt=-0.01)).all() and (ds.steps.sel(dt=0.01) == 20).all()
-    # bit for bit the run alone, and its summary's numbers
-    point = {"elements": 3, "dt": 0.01, "t_end": 0.2}
-    reference = alone(pendulum_scene(**point), tmp_path / "alone")
-    run = open_run(ds, elements=3, dt=0.01)
-    assert np.array_equal(run.q.values, reference)
-    summary = json.loads((tmp_path / "alone" / "summary.json").read_text())
-    assert ds.cables_cable_max_tension_run.sel(elements=3, dt=0.01) == \
-        summary["outputs"]["cables"]["cable"]["max_tension_run"]
-    # the study on disk is the one returned; a second call reuses the finished runs
-    stored = open_study(tmp_path / "s")
-    assert stored.steps.equals(ds.steps) and stored.error.equals(ds.error)
-    again = sc.sweep(pendulum_scene, grid, client=client, store=tmp_path / "s",
-                     fixed={"t_end": 0.2})
-    assert again.reused.sel(dt=0.01).all() and not again.reused.sel(dt=-0.01).any()
-    assert again.cables_cable_max_tension_run.equals(ds.cables_cable_max_tension_run)
-
-
-def test_sweep_of_a_list_grid_keeps_failed_runs_partial(client, tmp_path):
-    ds = sc.sweep(failing_pendulum, [{"t_fail": 0.15}, {"t_fail": 1.0}], client=client,
-                  store=tmp_path / "s")
-    assert ds.status.dims == ("run",) and list(ds.t_fail.values) == [0.15, 1.0]
-    assert list(ds.status.values) == ["failed", "complete"]
-    assert 0.1 < ds.t_last.values[0] <= 0.15 and ds.t_last.values[1] == pytest.approx(0.3)
-    assert open_run(ds, run=0).time.values[-1] == ds.t_last.values[0]
-
-
-def test_convergence_study_as_a_sweep(client, tmp_path):
-    ds = sc.sweep(catalog.cantilever_point, {"elements": [2, 4], "k": [1.0, 5.0]},
-                  run=catalog.run_cantilever_point, client=client, store=tmp_path / "c")
-    error = ds.rel_error
-    assert (error.sel(elements=4) < error.sel(elements=2)).all()
-    scene = classics.cantilever(4, 5.0)
-    direct = catalog.elastica_row(scene.cable, 5.0, sc.solve_static(scene.system,
-                                                                    load_steps=20))
-    assert error.sel(elements=4, k=5.0) == direct["rel_error"]
-
-
-def test_demo_esail_sweep(client, tmp_path):
-    demo = load_demo("esail_sweep")
-    ds = demo.main(alphas=(0, 30), voltages=(20e3,), periods=0.005, elements=1,
-                   out=tmp_path / "e", client=client)
-    assert (tmp_path / "e" / "esail_sweep.png").is_file()
-    cfg = sc.esail.BaselineConfig()
-    sun_facing = cfg.n_tethers * cfg.tether_length * sc.SolarWind().force_per_length(20e3)
-    assert ds.thrust_mean_N.sel(alpha=0, voltage=20e3) == pytest.approx(sun_facing, rel=1e-3)
-
-
 # --- the command line on a scheduler and workers of their own ---------------------------------
 def _wait_for(condition, timeout, what):
     end = time.monotonic() + timeout
@@ -261,3 +213,59 @@ def test_cli_sweep_on_a_scheduler_survives_a_killed_worker(tmp_path):
         for proc in procs[::-1]:
             proc.kill()
             proc.wait()
+
+
+# --- sweeps on a local cluster --------------------------------------------------------------
+def test_sweep_on_a_local_cluster_equals_runs_alone_and_resumes(client, tmp_path):
+    grid = {"elements": [2, 3], "dt": [0.01, -0.01]}
+    ds = sc.sweep(pendulum_scene, grid, client=client, store=tmp_path / "s",
+                  fixed={"t_end": 0.2})
+    assert ds.status.dims == ("elements", "dt")
+    assert list(ds.status.sel(dt=0.01).values) == ["complete", "complete"]
+    assert all("dt must be > 0" in e for e in ds.error.sel(dt=-0.01).values)
+    assert np.isnan(ds.steps.sel(dt=-0.01)).all() and (ds.steps.sel(dt=0.01) == 20).all()
+    # bit for bit the run alone, and its summary's numbers
+    point = {"elements": 3, "dt": 0.01, "t_end": 0.2}
+    reference = alone(pendulum_scene(**point), tmp_path / "alone")
+    run = open_run(ds, elements=3, dt=0.01)
+    assert np.array_equal(run.q.values, reference)
+    summary = json.loads((tmp_path / "alone" / "summary.json").read_text())
+    assert ds.cables_cable_max_tension_run.sel(elements=3, dt=0.01) == \
+        summary["outputs"]["cables"]["cable"]["max_tension_run"]
+    # the study on disk is the one returned; a second call reuses the finished runs
+    stored = open_study(tmp_path / "s")
+    assert stored.steps.equals(ds.steps) and stored.error.equals(ds.error)
+    again = sc.sweep(pendulum_scene, grid, client=client, store=tmp_path / "s",
+                     fixed={"t_end": 0.2})
+    assert again.reused.sel(dt=0.01).all() and not again.reused.sel(dt=-0.01).any()
+    assert again.cables_cable_max_tension_run.equals(ds.cables_cable_max_tension_run)
+
+
+def test_sweep_of_a_list_grid_keeps_failed_runs_partial(client, tmp_path):
+    ds = sc.sweep(failing_pendulum, [{"t_fail": 0.15}, {"t_fail": 1.0}], client=client,
+                  store=tmp_path / "s")
+    assert ds.status.dims == ("run",) and list(ds.t_fail.values) == [0.15, 1.0]
+    assert list(ds.status.values) == ["failed", "complete"]
+    assert 0.1 < ds.t_last.values[0] <= 0.15 and ds.t_last.values[1] == pytest.approx(0.3)
+    assert open_run(ds, run=0).time.values[-1] == ds.t_last.values[0]
+
+
+def test_convergence_study_as_a_sweep(client, tmp_path):
+    ds = sc.sweep(catalog.cantilever_point, {"elements": [2, 4], "k": [1.0, 5.0]},
+                  run=catalog.run_cantilever_point, client=client, store=tmp_path / "c")
+    error = ds.rel_error
+    assert (error.sel(elements=4) < error.sel(elements=2)).all()
+    scene = classics.cantilever(4, 5.0)
+    direct = catalog.elastica_row(scene.cable, 5.0, sc.solve_static(scene.system,
+                                                                    load_steps=20))
+    assert error.sel(elements=4, k=5.0) == direct["rel_error"]
+
+
+def test_demo_esail_sweep(client, tmp_path):
+    demo = load_demo("esail_sweep")
+    ds = demo.main(alphas=(0, 30), voltages=(20e3,), periods=0.005, elements=1,
+                   out=tmp_path / "e", client=client)
+    assert (tmp_path / "e" / "esail_sweep.png").is_file()
+    cfg = sc.esail.BaselineConfig()
+    sun_facing = cfg.n_tethers * cfg.tether_length * sc.SolarWind().force_per_length(20e3)
+    assert ds.thrust_mean_N.sel(alpha=0, voltage=20e3) == pytest.approx(sun_facing, rel=1e-3)
