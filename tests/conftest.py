@@ -1,7 +1,7 @@
 """The test session's set-up: what the suite's processes share, and the order of its files.
 
 ``python3 tasks.py test`` runs the suite on every core (pytest-xdist, ``--dist loadfile``:
-a file's tests on one worker).  Three things here keep that fast from a cold kernel cache:
+a file's tests on one worker).  Four things here keep that fast from a cold kernel cache:
 
 * **One package for every process.**  Tests that start Python processes (the CLI under a
   signal, the dask workers of a sweep) import ``skfem_cable`` from this checkout: its
