@@ -21,11 +21,10 @@ References
 2. K. M. Laundal, ppigrf: Pure Python IGRF (the evaluation of the model).
 """
 
-import functools
-
 import numpy as np
 
 from ..bodies.section import check_positive
+from .coefficients import read_once
 from .epoch import epoch_or_none, model_epoch
 
 GRADIENT_STEP = 100.0
@@ -33,33 +32,21 @@ GRADIENT_STEP = 100.0
 NANOTESLA = 1e-9
 
 
-def _read_once(read):
-    """``read`` (ppigrf's ``read_shc(filename)``: the coefficient frames ``g, h``)
-    memoized per arguments (the file); each call gets its own copies of the frames (a
-    caller that edited them would not change the next call's)."""
-    @functools.lru_cache(maxsize=4)
-    def memoized(*args, **named):
-        return read(*args, **named)
-
-    @functools.wraps(read)
-    def coefficients(*args, **named):
-        g, h = memoized(*args, **named)
-        return g.copy(), h.copy()
-
-    coefficients.memoized = memoized
-    return coefficients
-
-
 def ppigrf():
     """ppigrf, its coefficient file read once per file in a process: ``igrf_gc`` parses
     the whole ``.shc`` file on every call (7 ms of a 25 ms call for tens of points), and a
-    load evaluates it once per step; the memo (``_read_once``) replaces
+    load evaluates it once per step; the memo (``coefficients.read_once``) replaces
     ``ppigrf.ppigrf.read_shc``, which ``igrf_gc`` looks up at each call."""
     import ppigrf
     from ppigrf import ppigrf as module
-    if not hasattr(module.read_shc, "memoized"):
-        module.read_shc = _read_once(module.read_shc)
+    read_once(module, "read_shc", 4, handed=_copies)
     return ppigrf
+
+
+def _copies(frames):
+    """Copies of ppigrf's coefficient frames ``g, h`` (pandas: not made read-only), so
+    that a caller that edited them would not change the next call's."""
+    return tuple(frame.copy() for frame in frames)
 
 
 def itrs_field(y, when):

@@ -17,11 +17,10 @@ References
    description of an ionospheric benchmark", Rev. Geophys. 60 (2022) e2022RG000792.
 """
 
-import functools
-
 import numpy as np
 
 from ..bodies.section import check_positive
+from .coefficients import read_once
 from .epoch import corotation_velocity, epoch_or_none, model_epoch
 from .msis import index
 from .plasma import OXYGEN_ION_MASS
@@ -31,37 +30,23 @@ BLOCK = 64
 which the diagonal is kept, so blocks bound the work to ``BLOCK`` times the points."""
 
 
-def _read_once(read):
-    """``read`` (PyIRI's ``main_library.read_ccir_ursi_coeff(month, folder)``) memoized
-    per month and folder, its arrays read-only (PyIRI only reads them: a write would
-    raise instead of changing the coefficients of later calls)."""
-    @functools.lru_cache(maxsize=24)
-    def memoized(month, folder):
-        arrays = read(month, folder)
-        for array in arrays:
-            array.flags.writeable = False
-        return arrays
-
-    @functools.wraps(read)
-    def coefficients(month, folder, *options, **named):
-        if options or named:
-            return read(month, folder, *options, **named)
-        return memoized(month, folder)
-
-    coefficients.memoized = memoized
-    return coefficients
-
-
 def pyiri():
     """PyIRI's ``edp_update``, its CCIR/URSI coefficient files read once per month and
     folder in a process.  ``IRI_density_1day`` reads two months' files (fortranformat,
     about 30 ms each) on every call, three quarters of a call's CPU for tens of points,
-    and a load evaluates it once per step; the memo (``_read_once``) replaces
+    and a load evaluates it once per step; the memo (``coefficients.read_once``) replaces
     ``main_library.read_ccir_ursi_coeff``, which ``edp_update`` looks up at each call."""
     from PyIRI import edp_update, main_library
-    if not hasattr(main_library.read_ccir_ursi_coeff, "memoized"):
-        main_library.read_ccir_ursi_coeff = _read_once(main_library.read_ccir_ursi_coeff)
+    read_once(main_library, "read_ccir_ursi_coeff", 24, kept=_read_only)
     return edp_update
+
+
+def _read_only(arrays):
+    """PyIRI's coefficient arrays made read-only (PyIRI only reads them: a write would
+    raise instead of changing the coefficients of later calls)."""
+    for array in arrays:
+        array.flags.writeable = False
+    return arrays
 
 
 def pyiri_density(when, lon, lat, height, f107):
