@@ -91,7 +91,7 @@ class CableFields:
         derivatives in the material arc length ``s = stretch x`` of a mesh stretched by
         ``stretch`` (scalar, or one value per leading index of ``q``; 1 unless the cable
         is deploying, see ``deploy``)."""
-        S = self.element.shape(xi, self.h[e])
+        S = self.element.remembered_shape(xi, self.h[e])
         qe = self.element_vectors(q, e)
         r, a, b = (np.einsum("A...,...Ai->...i", Sk, qe) for Sk in S)
         lam = np.reshape(stretch, np.shape(stretch) + (1,) * (np.ndim(e) + 1))

@@ -116,7 +116,7 @@ class CableElement(Element):
     intorder = 1
     coefficients = _Coefficients()
 
-    _last_shape = (None, None)  # (key, shape) of ``_remembered_shape``
+    _last_shape = (None, None)  # (key, shape) of ``remembered_shape``
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -184,19 +184,23 @@ class CableElement(Element):
             tind = np.arange(mapping.mesh.t.shape[1])
         h = mapping.A[0, 0, tind][:, None]
         xi = np.broadcast_to(X[0], (len(tind), X.shape[-1]))
-        s, s_x, s_xx = self._remembered_shape(xi, h)
+        s, s_x, s_xx = self.remembered_shape(xi, h)
         return (DiscreteField(value=s[i].copy(), grad=s_x[i][None].copy(),
                               hess=s_xx[i][None, None].copy()),)
 
-    def _remembered_shape(self, xi, h):
-        """``shape(xi, h)``, remembered for the last ``xi`` and ``h`` (by value): scikit-fem
-        asks ``gbasis`` for the functions one at a time, each with the same points and
-        lengths (and the cables of a sail have the same), while ``shape`` computes them
-        all.  ``gbasis`` hands out copies, so the remembered arrays stay as computed."""
+    def remembered_shape(self, xi, h):
+        """``shape(xi, h)``, remembered for the last ``xi`` and ``h`` (by value), shared:
+        the caller reads the arrays and does not write into them.  scikit-fem asks
+        ``gbasis`` for the functions one at a time, each with the same points and lengths,
+        and a cable's fields at a set of points (``CableFields.sample``: positions,
+        velocities, strain, tension and curvature) read them there five times or more
+        (and the cables of a sail have the same), while ``shape`` computes them all."""
+        xi, h = np.asarray(xi, dtype=float), np.asarray(h, dtype=float)
         key = (xi.shape, h.shape, xi.tobytes(), h.tobytes())
-        if self._last_shape[0] != key:
-            self._last_shape = key, self.shape(xi, h)
-        return self._last_shape[1]
+        last = self._last_shape  # one read: another thread may remember its own meanwhile
+        if last[0] != key:
+            last = self._last_shape = key, self.shape(xi, h)
+        return last[1]
 
     def __repr__(self):
         return f"{type(self).__name__}()"
