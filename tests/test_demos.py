@@ -70,12 +70,13 @@ def test_esail_orbit_demo(tmp_path):
 
 def test_esail_thrust_vectoring_demo():
     """At 10 deg the on-off sail with arcs of +-20 deg leans its thrust by 9.6 deg, the
-    flat-sail model's angle to 1e-3 (that case alone is run, at 2 s steps and for one
-    spin period and the mean over two, as ``tests/test_esail_vectoring.py``: 9.602 deg
-    against the model's 9.600; 9.598 over the demo's two and three, 9.600 at 1 s)."""
+    flat-sail model's angle to 1e-3 (that case alone is run, at 5 s steps and for one
+    spin period and the mean over two, as ``tests/test_esail_vectoring.py``: 9.597 deg
+    against the model's 9.600, 9.602 at 2 s; 9.598 over the demo's two and three, 9.600
+    at 1 s)."""
     demo = load_demo("esail_thrust_vectoring")
     narrow = [case for case in demo.CASES if case[0] == "on-off, arcs +-20 deg"]
-    table = demo.main(angles=(10.0,), figure=False, cases=narrow, dt=2.0, settle=1,
+    table = demo.main(angles=(10.0,), figure=False, cases=narrow, dt=5.0, settle=1,
                       rotations=2)["table"]
     (_, angle, model, _), = table["on-off, arcs +-20 deg"]
     assert angle == pytest.approx(model, rel=1e-3) and angle > 9.5
