@@ -763,18 +763,20 @@ def falling_run_ours(n_elements, dt, element, repeats):
     return wall, r.position(cable, cable.length)[:, :2]
 
 
-def falling_wire(quick=False, repeats=3):
+def falling_wire(quick=False, repeats=3, ours=tuple(OUR_ELEMENTS)):
     """The catenary's wire without bending, pinned at one end and released straight and
     horizontal at rest (a falling wire, the whip at its end): our linear and cubic
-    elements against MoorDyn (EI = 0), the reference our linear element, fine
-    (``LINEAR_REFERENCE``); prints the tables, returns the rows."""
+    elements (the codes ``ours`` of ``OUR_ELEMENTS``, default both) against MoorDyn (EI =
+    0), the reference our linear element, fine (``LINEAR_REFERENCE``); prints the tables,
+    returns the rows."""
     md = import_peer("moordyn")
     grade = "quick" if quick else "full"
     grid = CATENARY_GRID[grade]
     n_ref, dt_ref = LINEAR_REFERENCE[grade]
     ref_wall, ref = falling_run_ours(n_ref, dt_ref, "linear", 1)
     rows = []
-    for code, (element, counts, dts) in OUR_ELEMENTS.items():
+    for code in ours:
+        element, counts, dts = OUR_ELEMENTS[code]
         for n in grid[counts]:
             for dt in grid[dts]:
                 wall, tips = falling_run_ours(n, dt, element, repeats)

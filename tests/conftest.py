@@ -1,7 +1,7 @@
 """The test session's set-up: what the suite's processes share, and the order of its files.
 
 ``python3 tasks.py test`` runs the suite on every core (pytest-xdist, ``--dist loadfile``:
-a file's tests on one worker).  Four things here keep that fast from a cold kernel cache:
+a file's tests on one worker).  Five things here keep that fast from a cold kernel cache:
 
 * **One package for every process.**  Tests that start Python processes (the CLI under a
   signal, the dask workers of a sweep) import ``skfem_cable`` from this checkout: its
@@ -12,6 +12,10 @@ a file's tests on one worker).  Four things here keep that fast from a cold kern
 * **No fsync.**  The suite's faults are killed processes, never power cuts: its writes
   skip ``fsync`` (``SKFEM_CABLE_FSYNC=0``, ``util.atomic.durable``; ``tests/test_faults.py``
   alone made 11,067 calls, 6.0 s of system time).
+* **One BLAS thread.**  Every core has its worker already: OpenBLAS's threads of one
+  (``OPENBLAS_NUM_THREADS``, unless set) would only wait for the other worker's core,
+  spinning on CPU time (the 12 x 5 sail's 804 eigenvalues, ``esail.spinning_modes``: 0.27
+  s of CPU on one thread, 1.4-5.7 s on two on a loaded machine).
 * **The longest files first.**  xdist hands out the files in the order of its collection
   (``--loadscope-reorder``, its default, would sort them by their number of tests, which
   sent the few long E-sail runs last, onto one worker while the other waited).
@@ -73,6 +77,8 @@ def _lead_pythonpath(folder):
 _lead_pythonpath(ROOT)
 #: No ``fsync`` (module notes), in this process and those it starts.
 os.environ["SKFEM_CABLE_FSYNC"] = "0"
+#: One BLAS thread (module notes) in the workers and the processes they start.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 def pytest_configure(config):

@@ -145,7 +145,8 @@ def test_a_loop_pressed_on_itself():
     leg 2 is lowered 3 cm onto leg 1, as the tethers of
     ``test_taut_tethers_driven_together_do_not_pass``: the legs do not pass through each
     other (penetration below the stated tolerance d), and the neighbouring segments
-    (closer than pi d along the line) never count."""
+    (closer than pi d along the line) never count.  Steps of 2 ms: at 1 / 2 ms the legs
+    end 31.65 / 31.54 N apart, 3.67e-3 / 3.66e-3 d deep, one contact all along."""
     height, legs, turn = 0.0102, 10, 24
     cable = loop_cable(height, legs, turn)
     system = sc.System([cable])
@@ -156,7 +157,7 @@ def test_a_loop_pressed_on_itself():
     system.contact(cable, cable)
     contact = system.loads[-1]
     assert contact.exclusion == pytest.approx(np.pi * D)
-    result = sc.simulate(system, t_end=0.55, dt=1e-3, every=10, method="sparse")
+    result = sc.simulate(system, t_end=0.55, dt=2e-3, every=5, method="sparse")
     out = contact.contacts(system, result.state(-1).q, result.state(-1).v)
     assert len(out["normal"]) == 1 and out["normal"][0] > 10.0
     assert 0.0 < out["max_penetration"] < TOLERANCE * D

@@ -114,19 +114,20 @@ def point_mass_departure(orbit, t, force, mass, x0, v0):
 
 
 def test_centre_of_mass_follows_a_point_mass_under_the_recorded_force():
-    """The 12-tether sail (2 elements per tether, 10 deg, dt = 1 s) for 3 hours around the
+    """The 12-tether sail (2 elements per tether, 10 deg, dt = 5 s) for 3 hours around the
     Sun: its centre of mass departs from the Keplerian orbit by about 560 m and follows a
     point mass propagated independently under the run's own recorded total force (the
-    kernel's resultant at every tenth step, 10 s apart against a spin period of 26 min,
-    cubic spline) to 1e-6 of that departure."""
+    kernel's resultant at every second step, 10 s apart against a spin period of 26 min,
+    cubic spline) to 1e-6 of that departure.  Measured at dt = 1 / 5 s: 3.4e-10 / 1.1e-10
+    of the departure (557.6306 / 557.6310 m); a point mass 1e-5 heavier is 1.0e-5 off."""
     scene = esail.build_orbit(CONFIG, 10.0, 2)
     system = scene.system
-    result = sc.simulate(system, t_end=3 * 3600.0, dt=1.0, initial=scene.initial,
+    result = sc.simulate(system, t_end=3 * 3600.0, dt=5.0, initial=scene.initial,
                          rho_inf=0.25)
     assert result.stats["path"] == "compiled"
     M = system_mass_points(system).mass.sum()
     com = system.centre_of_mass(result.q)
-    every = np.r_[np.arange(0, result.t.size - 1, 10), result.t.size - 1]
+    every = np.r_[np.arange(0, result.t.size - 1, 2), result.t.size - 1]
     forces = np.array([total_force(scene, result.q[k], result.t[k]) for k in every])
     force = CubicSpline(result.t[every], forces)
     reference = point_mass_departure(scene.orbit, result.t, force, M, com[0],

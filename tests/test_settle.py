@@ -24,8 +24,10 @@ def swinging_catenary(sag=(0, -1, 0)):
 
 def test_settle_relaxes_a_swinging_cable_to_its_equilibrium():
     """After 60 steps of 1 s (``omega h`` about 2) the midpoint is within 1e-4 m of the
-    static equilibrium and nearly at rest; the same run at ``rho_inf = 0.8`` is still
-    swinging (more than 0.1 m off)."""
+    static equilibrium and nearly at rest; the same run at ``rho_inf = 0.5`` is still
+    swinging (more than 0.1 m off: 0.89 m; at 0.3 0.008 m).  At ``rho_inf = 0.8`` it
+    swings more (1.25 m) but its steps of 1 s are halved some 3000 times (1.6 s of CPU
+    against 0.3)."""
     hanging, down = swinging_catenary(sag=(0, 0, -1))
     equilibrium = sc.solve_static(hanging).position(down, 5.0)
     system, cable = swinging_catenary()
@@ -33,7 +35,7 @@ def test_settle_relaxes_a_swinging_cable_to_its_equilibrium():
     assert state.t == pytest.approx(60.0)
     assert np.linalg.norm(state.position(cable, 5.0) - equilibrium) < 1e-4
     assert np.abs(state.v).max() < 1e-3
-    ringing = sc.simulate(system, 60.0, 1.0, rho_inf=0.8, every=60).state(-1)
+    ringing = sc.settle(system, 60.0, 1.0, rho_inf=0.5)
     assert np.linalg.norm(ringing.position(cable, 5.0) - equilibrium) > 0.1
 
 

@@ -78,5 +78,4 @@ def spinning_modes(config, alpha_deg=0.0, n_elements=5, kind="cable", k=200):
         d = lay.cdofs[j]
         J[np.ix_(lay.crows[j], d)] = system.constraints[j].jacobian(q[d])
     lam = np.linalg.lstsq(J.T, -r[:n], rcond=None)[0]
-    freqs, _ = modes(system, State(system, q, lam), k=k, spin=omega)
-    return freqs
+    return modes(system, State(system, q, lam), k=k, spin=omega, shapes=False)[0]
