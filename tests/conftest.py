@@ -1,7 +1,7 @@
 """The test session's set-up: what the suite's processes share, and the order of its files.
 
 ``python3 tasks.py test`` runs the suite on every core (pytest-xdist, ``--dist loadfile``:
-a file's tests on one worker).  Four things here keep that fast from a cold kernel cache:
+a file's tests on one worker).  Five things here keep that fast from a cold kernel cache:
 
 * **One package for every process.**  Tests that start Python processes (the CLI under a
   signal, the dask workers of a sweep) import ``skfem_cable`` from this checkout: its
@@ -18,6 +18,9 @@ a file's tests on one worker).  Four things here keep that fast from a cold kern
   ``LONGEST`` names the files that took longest on a cold cache; they start first, the
   rest follow in alphabetical order, so that the last files handed out are short and the
   two workers end together.
+* **A collection without garbage collections.**  Every worker imports every test file:
+  it does so with the cyclic garbage collector off, and freezes what it imported
+  (``pytest_collection``), which the tests' collections then leave alone.
 * **A quick exit.**  At its end a process freezes what the tests left (``gc.freeze`` in
   ``pytest_unconfigure``): the interpreter's exit then frees it without its garbage
   collections walking every object of the package, numba and sympy again (``skfem-cable``
@@ -27,6 +30,8 @@ a file's tests on one worker).  Four things here keep that fast from a cold kern
 import gc
 import os
 from pathlib import Path
+
+import pytest
 
 #: ``SKFEM_CABLE_COMPILE_LOG=DIR``: what numba compiles, test by test (``compile_recorder``).
 pytest_plugins = ["compile_recorder"]
@@ -86,6 +91,21 @@ def pytest_unconfigure(config):
     """Freeze the objects left, the session over (``gc.freeze``): a worker's exit took 5.2
     CPU s of a one-process run of six files (170 tests), measured."""
     gc.freeze()
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_collection(session):
+    """Collect without the cyclic garbage collector and freeze what the collection left
+    (``gc.freeze``): its seven full collections walked the 440,000 objects of the
+    package, numba, sympy and the test modules, 0.75 of its 3.5 CPU s, and the tests'
+    full collections walked them again (measured).  Its garbage, 28,000 objects in a
+    process of 470 MB, is kept: collecting it took 0.35 s."""
+    gc.disable()
+    try:
+        return (yield)
+    finally:
+        gc.freeze()
+        gc.enable()
 
 
 def pytest_collection_modifyitems(config, items):
