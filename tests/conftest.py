@@ -1,7 +1,7 @@
 """The test session's set-up: what the suite's processes share, and the order of its files.
 
 ``python3 tasks.py test`` runs the suite on every core (pytest-xdist, ``--dist loadfile``:
-a file's tests on one worker).  Five things here keep that fast from a cold kernel cache:
+a file's tests on one worker).  Six things here keep that fast from a cold kernel cache:
 
 * **One package for every process.**  Tests that start Python processes (the CLI under a
   signal, the dask workers of a sweep) import ``skfem_cable`` from this checkout: its
@@ -12,6 +12,12 @@ a file's tests on one worker).  Five things here keep that fast from a cold kern
 * **No fsync.**  The suite's faults are killed processes, never power cuts: its writes
   skip ``fsync`` (``SKFEM_CABLE_FSYNC=0``, ``util.atomic.durable``; ``tests/test_faults.py``
   alone made 11,067 calls, 6.0 s of system time).
+* **One BLAS thread.**  A process's OpenBLAS (numpy's and scipy's) starts a thread per core
+  at import, which spin while they wait for work: with two workers on two cores they
+  only burn CPU (``OPENBLAS_NUM_THREADS=1``, as the benchmarks' timed processes run; eight
+  files of 275 tests in one process: 31.3 -> 28.1 CPU s, a ``skfem-cable run`` child
+  1.72 -> 1.60, minimum of repeats).  The package's own threads are one unless asked
+  (``SKFEM_CABLE_THREADS``).
 * **The longest files first.**  xdist hands out the files in the order of its collection
   (``--loadscope-reorder``, its default, would sort them by their number of tests, which
   sent the few long E-sail runs last, onto one worker while the other waited).
@@ -78,6 +84,9 @@ def _lead_pythonpath(folder):
 _lead_pythonpath(ROOT)
 #: No ``fsync`` (module notes), in this process and those it starts.
 os.environ["SKFEM_CABLE_FSYNC"] = "0"
+#: One BLAS thread (module notes), in this process and those it starts: set before any
+#: of them imports numpy.
+os.environ["OPENBLAS_NUM_THREADS"] = "1"
 
 
 def pytest_configure(config):
