@@ -75,12 +75,16 @@ def _check_folder(option, path):
 
 
 class _Parser(argparse.ArgumentParser):
-    """An ``ArgumentParser`` whose ``epilog`` may be a function that returns it, called
-    only when the help is shown (it may import the scenes' modules)."""
+    """An ``ArgumentParser`` whose ``epilog`` and options' helps may be functions that
+    return them, called only when the help is shown (they may import the scenes' modules,
+    the formulations, the element types)."""
 
     def format_help(self):
         if callable(self.epilog):
             self.epilog = self.epilog()
+        for action in self._actions:
+            if callable(action.help):
+                action.help = action.help()
         return super().format_help()
 
 

@@ -16,12 +16,13 @@ class Flag:
 
     Attributes
     ----------
-    help : str
+    help : str or callable
+        The help text, or a function returning it (called when the help is shown).
     type : callable, optional
         Converts and checks the text (``values``); None for a switch.
     metavar : str, optional
     choices : callable, optional
-        Returns the accepted values (called when the parser is built).
+        Returns the accepted values (called when a value is checked or listed).
     negated : bool
         A switch ``--no-NAME`` that sets the option to False (given) or leaves its default
         (the parsed value is then None).
@@ -159,13 +160,31 @@ def flag(name):
     return ("--no-" if FLAGS[name].negated else "--") + name.replace("_", "-")
 
 
+class Choices:
+    """The accepted values of a flag, asked of ``names()`` only when a value is checked
+    or listed: building the parser (``skfem-cable --help``) imports none of the
+    registries that name them (the formulations, the element types: scikit-fem; the
+    output frames: the run store)."""
+
+    def __init__(self, names):
+        self.names = names
+
+    def __contains__(self, value):
+        return value in self.names()
+
+    def __iter__(self):
+        return iter(self.names())
+
+
 def add_flags(parser, names=None, **overrides):
     """Add the flags of the options ``names`` (default: all) to the ``argparse`` parser
     or group ``parser``; ``overrides``: keywords of ``add_argument`` for all of them (a
-    command that gives an option another meaning, e.g. ``help``, ``required``)."""
+    command that gives an option another meaning, e.g. ``help``, ``required``).  A help
+    given as a function stays one: the parser calls it when it shows the help
+    (``cli.command``)."""
     for name in names or FLAGS:
         spec = FLAGS[name]
-        kwargs = {"help": spec.help() if callable(spec.help) else spec.help, "dest": name}
+        kwargs = {"help": spec.help, "dest": name}
         if spec.negated:
             kwargs.update(action="store_const", const=False, default=None)
         elif spec.type is None and spec.choices is None and spec.metavar is None:
@@ -173,5 +192,5 @@ def add_flags(parser, names=None, **overrides):
         else:
             kwargs.update(type=spec.type, metavar=spec.metavar)
             if spec.choices is not None:
-                kwargs["choices"] = spec.choices()
+                kwargs["choices"] = Choices(spec.choices)
         parser.add_argument(flag(name), **{**kwargs, **overrides})
