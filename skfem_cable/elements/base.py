@@ -190,7 +190,7 @@ class CableElement(Element):
 
     def remembered_shape(self, xi, h):
         """``shape(xi, h)``, remembered for the last ``xi`` and ``h`` (by value), shared:
-        the caller reads the arrays and does not write into them.  scikit-fem asks
+        read-only arrays.  scikit-fem asks
         ``gbasis`` for the functions one at a time, each with the same points and lengths,
         and a cable's fields at a set of points (``CableFields.sample``: positions,
         velocities, strain, tension and curvature) read them there five times or more
@@ -199,7 +199,10 @@ class CableElement(Element):
         key = (xi.shape, h.shape, xi.tobytes(), h.tobytes())
         last = self._last_shape  # one read: another thread may remember its own meanwhile
         if last[0] != key:
-            last = self._last_shape = key, self.shape(xi, h)
+            shape = self.shape(xi, h)
+            for table in shape:
+                table.flags.writeable = False  # shared
+            last = self._last_shape = key, shape
         return last[1]
 
     def __repr__(self):
