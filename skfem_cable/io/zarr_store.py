@@ -8,7 +8,7 @@ import asyncio
 import dataclasses
 import warnings
 
-from ..util.atomic import write_atomic
+from ..util.atomic import durable, write_atomic
 
 
 def sync(coro):
@@ -79,15 +79,24 @@ def _define_store():
             self._check_writable()
             write_atomic(self.root / key, value.as_buffer_like(), exclusive=exclusive)
 
-        async def set(self, key, value):
+        async def _write(self, key, value, exclusive=False):
+            """``_put`` on a thread when it flushes to the disk (``durable``): the
+            ``fsync`` calls of the objects of a commit then overlap; without them a
+            write is a copy into the page cache, done on zarr's event loop: handing it
+            to a thread cost more than the write (a commit of the 3-element pendulum's
+            18 arrays, 47 -> 34 ms of CPU)."""
             if not self._is_open:
                 await self._open()
-            await asyncio.to_thread(self._put, key, value)
+            if durable():
+                await asyncio.to_thread(self._put, key, value, exclusive)
+            else:
+                self._put(key, value, exclusive)
+
+        async def set(self, key, value):
+            await self._write(key, value)
 
         async def set_if_not_exists(self, key, value):
-            if not self._is_open:
-                await self._open()
-            await asyncio.to_thread(self._put, key, value, True)
+            await self._write(key, value, True)
 
         def set_sync(self, key, value):
             self._ensure_open_sync()
