@@ -56,6 +56,40 @@ def test_writes_skip_fsync_only_where_the_environment_says_so(tmp_path, monkeypa
         assert not [p for p in tmp_path.iterdir() if atomic.is_temporary(p)]
 
 
+def test_a_store_is_the_same_with_and_without_fsync(tmp_path, monkeypatch):
+    """The run store's objects (``io.zarr_store.atomic_store``): without ``fsync``
+    (``SKFEM_CABLE_FSYNC=0``) written on zarr's event loop, with it (unset) on threads,
+    every one flushed; the two stores hold the same bytes but for their creation times."""
+    import asyncio
+
+    from skfem_cable.cli import command as cli
+    from skfem_cable.util import atomic
+
+    flushed, threaded = [], []
+    monkeypatch.setattr(atomic.os, "fsync", lambda fd: flushed.append(fd))
+    to_thread = asyncio.to_thread
+    monkeypatch.setattr(asyncio, "to_thread",
+                        lambda f, *a, **k: threaded.append(f) or to_thread(f, *a, **k))
+    stores = {}
+    for value in ("0", None):
+        if value is None:
+            monkeypatch.delenv("SKFEM_CABLE_FSYNC")
+        flushed.clear(), threaded.clear()
+        out = tmp_path / f"fsync-{value}"
+        assert cli.main(["run", "pendulum", "--elements", "3", "--t-end", "0.03", "--no-plots",
+                         "--no-progress", "--out", str(out)]) == 0
+        files = sorted(p for p in (out / "results.zarr").rglob("*") if p.is_file())
+        puts = [f for f in threaded if getattr(f, "__name__", "") == "_put"]
+        if value == "0":
+            assert not puts and not flushed
+        else:  # every object at least once (the metadata again at each commit)
+            assert len(puts) >= len(files) and len(flushed) >= len(puts)
+        stores[value] = {p.relative_to(out): p.read_bytes() for p in files}
+    assert stores["0"].keys() == stores[None].keys()
+    differ = [k for k in stores["0"] if stores["0"][k] != stores[None][k]]
+    assert all(k.name == "zarr.json" for k in differ)
+
+
 def test_the_frames_of_a_run_are_counted_once(tmp_path, monkeypatch):
     """Before: ``described_files`` counted the VTU frames again for each frame (a glob of
     every frame per frame: 73,712 path matches at 271 frames).  Now once, with the same
