@@ -84,7 +84,7 @@ def _define_store():
             ``fsync`` calls of the objects of a commit then overlap; without them a
             write is a copy into the page cache, done on zarr's event loop: handing it
             to a thread cost more than the write (a commit of the 3-element pendulum's
-            18 arrays, 47 -> 34 ms of CPU)."""
+            18 arrays, 52 -> 38 ms of CPU)."""
             if not self._is_open:
                 await self._open()
             if durable():
