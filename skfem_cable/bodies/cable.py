@@ -427,9 +427,8 @@ class Cable(CableFields, CableShapes):
                     "the material's; use an undamped law for a deploying cable")
             if deployment is not None:  # the term's own tables, rescaled in time
                 tables = tuple(np.array(t) for t in tables)
-            module = piece.compiled(kind, self.element.orders)
-            passes.append((module.kernel_parallel if threads > 1 else module.kernel, tables,
-                           values, damped))
+            function, span = piece.hook(kind, self.element.orders, threads)
+            passes.append((function, tables, values, damped, span))
             key.append((piece.key, kind, damped, tables[0].shape[1]))
         term = cable_term(self.global_element_dofs(system), passes,
                           ("ancf-cable", self.element.name, values, *key), self.name)

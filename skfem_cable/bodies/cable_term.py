@@ -17,9 +17,10 @@ def cable_term(edofs, passes, key, name):
     ----------
     edofs : int ndarray (ne, 3 n_functions)
         Global coordinates of each element (``n_functions`` of its element type).
-    passes : sequence of ``(function, tables, values, damped)``
-        One kernel call each: a compiled hook of the generated module of a law (or of a
-        part of it, ``CableLaw.part``), its tables ``(Sx, Sxx, weights, h)``
+    passes : sequence of ``(function, tables, values, damped, span)``
+        One kernel call each: a compiled hook of the element loop of the laws and the
+        address of the ``span`` of a law (or of a part of it, ``CableLaw.part``) that it
+        calls (``CableLaw.hook``), its tables ``(Sx, Sxx, weights, h)``
         (shape-function derivatives and weights of its own rule, element lengths), its
         parameter values and whether its dissipation is active (the assumed strain's
         tables end with its map, ``kernels.assumed_strain.Rule.map``, which no stretch changes).
@@ -30,8 +31,8 @@ def cable_term(edofs, passes, key, name):
     """
     edofs = np.ascontiguousarray(edofs, dtype=np.int64)
     kernels = tuple((function, (edofs, *(np.ascontiguousarray(t) for t in tables),
-                                np.array(values, dtype=float), bool(damped)))
-                    for function, tables, values, damped in passes)
+                                np.array(values, dtype=float), bool(damped), span))
+                    for function, tables, values, damped, span in passes)
     return Term(kernels=kernels, rows=edofs[:, :, None], cols=edofs[:, None, :], key=key,
                 merge=merge_cable_terms, name=name)
 

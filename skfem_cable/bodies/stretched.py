@@ -25,7 +25,7 @@ class Stretched:
 
     def __init__(self, deployment, term, passes):
         self.deployment = deployment
-        self.built = [tuple(np.array(t) for t in tables[:4]) for _, tables, _, _ in passes]
+        self.built = [tuple(np.array(t) for t in tables[:4]) for _, tables, *_ in passes]
         self.kernels = term.kernels
         self.dofs_per_element = term.rows.shape[1]
         #: no tangent entries, as the kernels take them (int, 3-D)

@@ -32,9 +32,9 @@ class Varying:
         its values at index ``VALUES``.
     """
 
-    #: Index of the parameter values in a pass's pack (``cable_term``): the last but one,
-    #: after the tables of the pass's rule.
-    VALUES = -2
+    #: Index of the parameter values in a pass's pack (``cable_term``): after the tables
+    #: of the pass's rule, before whether it damps and its ``span``'s address.
+    VALUES = -3
 
     def __init__(self, law, section, term):
         self.law, self.section = law, section

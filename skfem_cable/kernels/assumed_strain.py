@@ -47,8 +47,8 @@ The bending part (the law's terms with ``r_xx``) is integrated as ``kernels.cabl
 at the Gauss points (the samples ``2 .. ng + 1``).  ``span`` is compiled
 in the assumed-strain module of each law (``laws.codegen``, kind ``"assumed-strain"``) next
 to the law's ``strain_point`` functions and the ``point_*`` functions of its bending part,
-as ``kernels.cable``'s template is in the law's Gauss module, with the element loop of
-``kernels.chunks`` around ``span``.  The tables are those of
+as ``kernels.cable``'s template is in the law's Gauss module; the element loop of
+``kernels.chunks`` calls it at its address.  The tables are those of
 ``kernels.cable`` with ``Sx`` at the sampling points and ``Sxx`` at the Gauss points, and
 ``MAP``.
 """

@@ -1,8 +1,8 @@
 """Template of the compiled cable kernel: forces and tangents of all elements in one pass.
 
-``span`` is not compiled here: ``laws.codegen`` copies its source, with the element loop
-of ``kernels.chunks``, into the module it generates for each element law, next to that
-law's point functions ``point_g``,
+``span`` is not compiled here: ``laws.codegen`` copies its source into the module it
+generates for each element law (the element loop of ``kernels.chunks`` calls it at its
+address), next to that law's point functions ``point_g``,
 ``point_gh``, ``point_gd``, ``point_ghd`` and the constants ``BENDING`` and ``DAMPED``,
 and compiles it there with ``numba.njit(cache=True)`` (numba cannot cache a kernel that
 receives its point function as an argument).  The mathematics is one chain rule: with

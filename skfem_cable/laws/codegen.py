@@ -16,9 +16,10 @@ in a module of their own (``points``, one per expressions and damping):
   force reads, without the Hessians.
 
 The ``"gauss"`` module imports the law's point functions and holds ``span``, the loop of
-``kernels.cable`` over a range of elements compiled around them, the element loop of
-``kernels.chunks`` around it, and ``kernel`` and ``kernel_parallel`` (on numba's threads),
-its hooks of the evaluation contract (``contract.Term.kernels``).
+``kernels.cable`` over a range of elements compiled around them.  The element loop of
+``kernels.chunks``, ``kernel`` and ``kernel_parallel`` (on numba's threads), the hooks of
+the evaluation contract (``contract.Term.kernels``), is one module for every law
+(``loop``): it calls a law's ``span`` at the address its pack ends with (``hook``).
 
 The ``"assumed-strain"`` module imports the point functions of the law's bending part
 (``CableLaw.part(1)``; with the law's damping: the module that part's ``"gauss"`` module
@@ -43,11 +44,12 @@ import inspect
 import re
 import sys
 
+import numba
 import sympy as sp
 from sympy.printing.numpy import NumPyPrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from ..kernels import assumed_strain, chunks, generated
+from ..kernels import assumed_strain, chunks, erased, generated
 from ..kernels import cable as template
 from .symbolic import SLOPE_FLOOR
 
@@ -55,10 +57,11 @@ from .symbolic import SLOPE_FLOOR
 #: never used before: a cache may hold the modules of any earlier commit ("8" was used,
 #: then reverted to "7"; "10": the point functions in modules of their own; "11": the element
 #: loop one function, ``kernel``; "13": ``numpy_gradient``, and no numba wrappers where
-#: compiled code alone calls; "12" was used by the two branches that made them).  The
+#: compiled code alone calls; "12" was used by the two branches that made them; "14": the
+#: element loop in one module for every law, ``loop``).  The
 #: digest also holds this module's own text (``_generator_id``), so an edit of the
 #: generator never meets a module of the text before.
-GENERATOR = "13"
+GENERATOR = "14"
 
 #: The decorator of the point functions: numba types and lowers each once, apart, and
 #: LLVM inlines its code into ``span`` (``forceinline``; the same instructions).  Numba's
@@ -283,11 +286,14 @@ def _point_functions(sym, damped):
 #: would crash.
 SPAN = "@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)"
 
-#: The element loop (``kernels.chunks``) around a template's ``span``: its ``kernel``
-#: under the names of the hooks and with their decorators.  Numba compiles each at its
-#: first call, so the threaded loop only where a system runs on threads.  Called from
-#: Python (``contract.Term.evaluate``) and at their machine addresses (``kernels.erased``),
-#: never through a C pointer: no C wrapper.
+#: The element loop (``kernels.chunks``) around the laws' ``span``: its ``kernel`` under
+#: the names of the hooks and with their decorators, in one module for every law and
+#: template (``loop``), which calls a law's ``span`` at its address (``hook``).  Numba
+#: compiles each at its first call, so the threaded loop only where a system runs on
+#: threads.  Called from Python (``contract.Term.evaluate``) and at their machine
+#: addresses (``kernels.erased``), never through a C pointer: no C wrapper.  Compiled in
+#: each law's module around its ``span``, it was 30 compilations of a cold test run (22 s
+#: of CPU), LLVM optimising the linked ``span`` again in each.
 LOOP = (("kernel", "@njit(cache=True, no_cfunc_wrapper=True)"),
         ("kernel_parallel", "@njit(cache=True, parallel=True, no_cfunc_wrapper=True)"))
 
@@ -356,8 +362,8 @@ def source(law, kind="gauss", orders=None):
     element type of nodal fields ``orders`` (``sizing``): the point functions of the law
     (``"gauss"``) or of its bending part (``"assumed-strain"``), imported from their
     points module (``points``), the strain functions of the axial part
-    (``"assumed-strain"``), the element type's constants, the template's ``span`` and the
-    element loop (``LOOP``)."""
+    (``"assumed-strain"``), the element type's constants and the template's ``span`` (the
+    element loop is ``loop``'s)."""
     module = TEMPLATES[kind]
     names = (*POINTS, "numpy_point", "numpy_gradient") if kind == "gauss" else POINTS
     parts = [
@@ -371,10 +377,41 @@ def source(law, kind="gauss", orders=None):
         f"PARAMETERS = {law.parameters!r}",
         *([] if kind == "gauss" else _strain_functions(law.strain)),
         SPAN + "\n" + inspect.getsource(module.span),
-        *(decorator + "\n" + inspect.getsource(chunks.kernel).replace("def kernel(", f"def {name}(")
-          for name, decorator in LOOP),
     ]
     return "\n\n\n".join(parts) + "\n"
+
+
+def loop_source():
+    """The text of the element loop's module (``loop``): ``kernels.chunks.kernel`` as each
+    hook of ``LOOP``."""
+    return "\n\n\n".join([
+        *_header("the element loop of every law (kernels.chunks)"),
+        "from skfem_cable.kernels.chunks import CHUNK  # noqa: F401\n"
+        "from skfem_cable.kernels.erased import function  # noqa: F401",
+        *(decorator + "\n" + inspect.getsource(chunks.kernel).replace("def kernel(", f"def {name}(")
+          for name, decorator in LOOP)]) + "\n"
+
+
+@functools.cache
+def loop():
+    """Import (generating it first if needed) the element loop's module: its hooks
+    ``kernel`` and ``kernel_parallel`` serve every law, each calling the law's ``span`` at
+    the address its pack ends with (``hook``)."""
+    name = "skfem_cable_law_loop_" + generated.digest(GENERATOR, _generator_id(),
+                                                      inspect.getsource(chunks))
+    return generated.load("laws", name, loop_source,
+                          namespace={"SPAN": numba.types.FunctionType(chunks.SPAN)},
+                          description="the element loop of the laws")
+
+
+def hook(module, threads):
+    """``(function, span)``: the element loop's hook for ``threads`` (``kernel``, or
+    ``kernel_parallel`` on more than one) and the address of the ``span`` of the law's
+    ``module`` (``load``), compiled for ``chunks.SPAN``, that the pack of ``function``
+    ends with (``bodies.cable_term``)."""
+    functions = loop()
+    function = functions.kernel_parallel if threads > 1 else functions.kernel
+    return function, erased.address(module.span, chunks.SPAN)
 
 
 @functools.cache

@@ -384,6 +384,14 @@ class CableLaw:
             self._compiled[key] = load(self, kind, key[1])
         return self._compiled[key]
 
+    def hook(self, kind="gauss", orders=(0, 1), threads=1):
+        """``(function, span)``: the compiled hook of the element loop for ``threads`` and
+        the address of the ``span`` of this law's module (``compiled``) that the hook's
+        pack ends with (``laws.codegen.hook``)."""
+        from .codegen import hook
+
+        return hook(self.compiled(kind, orders), threads)
+
 
 def cable_law(energy=None, *, dissipation=None, name=None):
     """Decorator: an energy density function becomes a ``CableLaw``.
