@@ -371,8 +371,7 @@ def source(law, kind="gauss", orders=None):
                  f"module kind {kind!r}"),
         f"from {points_name(*_shared(law, kind))} import {', '.join(names)}  # noqa: F401"
         + ("" if orders is None else f"\nfrom {module.__name__} import rule"),
-        f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}\n"
-        f"CHUNK = {chunks.CHUNK}"
+        f"BENDING = {law.bending}\nDAMPED = {law.damped}\nSLOPE_FLOOR = {SLOPE_FLOOR!r}"
         + ("" if orders is None else "\n" + module.constants(orders)),
         f"PARAMETERS = {law.parameters!r}",
         *([] if kind == "gauss" else _strain_functions(law.strain)),
