@@ -5,6 +5,7 @@ scripts' output, passes ``--quick`` on and writes a JSON record per run."""
 
 import importlib.util
 import json
+import sys
 import textwrap
 from pathlib import Path
 from types import SimpleNamespace
@@ -54,6 +55,28 @@ def test_rodchain_solve_table():
     figures = load(BENCH / "rodchain_speed.py").solve_table([300, 10_000, 100_000], budget=0)
     assert figures["rows"][0]["diff_to_lu"] < 1e-10
     assert np.isfinite(figures["growth_exponent"])
+
+
+def test_law_benchmark_runs_on_this_tree(tmp_path, monkeypatch, capsys):
+    """The snippets of ``benchmarks/laws.py`` (run in this process, not in fresh ones as
+    the benchmark does), on a 4-element cable: the generated kernel of the built-in law
+    gives the force and tangent of the scikit-fem forms (the benchmark's own check, to
+    1e-12 of the largest entry), and the one-off costs of a law are measured (the
+    snippets had fallen behind the API twice unseen: a law module's ``force_tangent``,
+    ``System.evaluate``'s ``layout``)."""
+    laws = load(BENCH / "laws.py")
+
+    def run(snippet, *args):
+        monkeypatch.setattr(sys, "argv", ["snippet", *map(str, args)])
+        exec(compile(snippet, "snippet", "exec"), {"__name__": "snippet"})
+        return json.loads(capsys.readouterr().out.strip().splitlines()[-1])
+
+    for case in ("kernel", "forms"):
+        out = run(laws.EVALUATE, case, 4, 0.0, tmp_path / case)
+        assert out["calls"] >= 3 and out["ms"] > 0.0
+    assert max(laws.relative_difference(tmp_path / "forms", tmp_path / "kernel")) < 1e-12
+    costs = run(laws.ONE_OFF, "builtin")
+    assert all(costs[key] >= 0.0 for key in ("import", "sym", "gen", "jit"))
 
 
 def test_compiled_step_is_faster_than_python():
