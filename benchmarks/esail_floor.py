@@ -230,10 +230,11 @@ def part_times(newton, integrator, repeats):
     times = {"factor": measured["factor_us"], "solve": measured["solve_us"]}
     for name, kernel in zip(KERNELS, measured["kernels"]):
         times[(name, False)], times[(name, True)] = kernel["residual_us"], kernel["tangent_us"]
-    a, residual = newton.arrays, compiled_step.module()._residual
+    a, residual, prm = newton.arrays, compiled_step.module()._residual, newton.prm
+    written = (prm[step_template.DAMPING] != 0.0, prm[step_template.EXTERNAL] != 0.0)
     for tangent, matrix in ((False, a["nodata"]), (True, a["data"])):
         args = (newton.terms, newton.model, a["q1"], a["v1"], a["a1"], a["lam1"], a["r"],
-                matrix, newton.out, float(newton.prm[step_template.MBAR]), 1.0)
+                matrix, newton.out, float(prm[step_template.MBAR]), 1.0, written)
         times[("residual", tangent)] = cpu_us(residual, args, 200 if tangent else 400,
                                               repeats)
     return times

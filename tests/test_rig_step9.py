@@ -48,11 +48,13 @@ def test_stored_zeros_leave_the_mass_strided_and_its_products_the_same_bits():
     x[::4] = -0.0
     general = csr_product(M.indptr, M.indices, M.data, x, np.empty(M.shape[0]))
     zero = np.zeros_like(x)
-    books = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, x, x, zero.copy())
+    written = (True, True)  # the damping and external forces read
+    books = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, x, x, zero.copy(),
+                       written)
     reference = step_books(zero, (zero,) * 3, (zero,) * 3, (M.indptr, M.indices, M.data, 1),
-                           zero, x, x, zero.copy())
+                           zero, x, x, zero.copy(), written)
     mv = np.empty_like(x)
-    step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, x, x, mv)
+    step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, x, x, mv, written)
     assert np.array_equal(mv.view(np.int64), general.view(np.int64))
     assert books == reference
 

@@ -1,17 +1,21 @@
 """The working set of a Newton iteration (issue 47, linear cost at scale): the band
 solves read the factor split into ``L`` and ``U`` (``kernels.band_sweeps.split``), with
 the same results bit for bit as from LAPACK's storage; the mass matrix in the compact
-form of the step (``FastCSR.strided``); the exponent's measure
-(``benchmarks/step_exponent.py``)."""
+form of the step (``FastCSR.strided``); the forces no term writes, left alone
+(``Term.writes``); the exponent's measure (``benchmarks/step_exponent.py``)."""
 
 import numpy as np
 import pytest
 import scipy.sparse as sp
 from scipy.linalg import lapack
 
+import skfem_cable as sc
+from skfem_cable.core.contract import Term
 from skfem_cable.core.linalg import FastCSR
 from skfem_cable.kernels import band_sweeps
 from skfem_cable.kernels.books import step_books
+from skfem_cable.scenes import classics
+from skfem_cable.solvers.galpha import GeneralizedAlpha
 
 
 @pytest.fixture(scope="module", params=[False, True], ids=["no interchanges", "pivoting"])
@@ -69,9 +73,11 @@ def test_mass_of_three_alike_components_is_strided_and_the_same_product():
     assert k == 3 and indices.dtype == np.int32 and indptr.size - 1 == M.shape[0] // 3
     v = np.linspace(-1.0, 1.0, M.shape[0])
     zero = np.zeros_like(v)
-    kinetic = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, v, v, zero.copy())[2]
+    written = (True, True)  # the damping and external forces read
+    kinetic = step_books(zero, (zero,) * 3, (zero,) * 3, M.strided, zero, v, v, zero.copy(),
+                         written)[2]
     reference = step_books(zero, (zero,) * 3, (zero,) * 3,
-                           (M.indptr, M.indices, M.data, 1), zero, v, v, zero.copy())[2]
+                           (M.indptr, M.indices, M.data, 1), zero, v, v, zero.copy(), written)[2]
     assert kinetic == reference
     assert kinetic == pytest.approx(0.5 * float(v @ (M @ v)), rel=1e-12)
     skew = M.scipy.tolil()
@@ -95,3 +101,52 @@ def test_exponent_halves_are_the_minima_of_even_and_odd_rounds():
     times[0::2, -1] *= 1.2
     even, odd = exponent.exponents(sizes, times, np.full(3, 2.4 * steps), steps)["halves"]
     assert abs(odd - 1.01) < 1e-12 and even > odd + 0.05
+
+
+def _pendulum_run(poison, steps=20):
+    """An undamped pendulum of 8 elements (pinned, under gravity) after ``steps`` steps of
+    1 ms; with ``poison``, NaN first in the step's arrays of the forces no term writes
+    (``fd``, ``f_ext``)."""
+    scene = classics.pendulum(n_elements=8)
+    g = GeneralizedAlpha(scene.system, rho_inf=0.8)
+    g.initialize(scene.initial.q, scene.initial.v, 0.0)
+    arrays = g.compiled.arrays
+    if poison:
+        arrays["fd"][:] = arrays["f_ext"][:] = np.nan
+    for _ in range(steps):
+        assert g.step(1e-3)[0]
+    return g, arrays
+
+
+def test_the_step_leaves_alone_the_forces_no_term_writes():
+    """The undamped cable's term declares ``writes=("f",)`` and gravity is a constant
+    force: the compiled step neither clears nor reads ``fd`` and ``f_ext``
+    (``Layout.writes``): NaN put there stays, and the state and the books after 20 steps
+    are the same bits as without it (two passes fewer over a vector per iteration, four
+    reads and two copies per step); the state's damping and external forces of the books
+    stay zero.  ``C_q^T lam`` is cleared only where a constraint holds the coordinate
+    (``Layout.constrained``) and stays zero elsewhere."""
+    clean, _ = _pendulum_run(False)
+    g, arrays = _pendulum_run(True)
+    assert g.lay.writes == {"f"} and g.lay.constrained.tolist() == [0, 1, 2]
+    assert np.isnan(arrays["fd"]).all() and np.isnan(arrays["f_ext"]).all()
+    for name in ("q", "v", "a", "lam", "abar"):
+        assert np.array_equal(getattr(g, name).view(np.int64),
+                              getattr(clean, name).view(np.int64)), name
+    assert g.energies() == clean.energies()
+    assert not (g.fd.any() or g.fnc.any() or g.fcon[3:].any()) and g.fcon[:3].any()
+
+
+def test_terms_declare_the_forces_they_write():
+    """A damped cable writes ``f`` and ``f_damping``, a point load that varies in time
+    ``f_ext`` alone (``Term.writes``): the layout takes their union; a term naming
+    another accumulator is refused, with the accepted names."""
+    damped = classics.pendulum(n_elements=4, gamma_axial=0.01).system
+    assert damped.current_layout().writes == {"f", "f_damping"}
+    pushed = classics.pendulum(n_elements=4).system
+    cable = pushed.bodies[0]
+    pushed.add_load(sc.PointLoad(cable.node(-1), lambda t: [0.0, 0.0, np.sin(t)]))
+    assert pushed.current_layout().writes == {"f", "f_ext"}
+    with pytest.raises(ValueError, match=r"writes must name accumulators of \('f', "
+                                         r"'f_damping', 'f_ext'\), got \('f', 'force'\)"):
+        Term(add=lambda ev, index: None, writes=("f", "force"), name="bad")

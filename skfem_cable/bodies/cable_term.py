@@ -33,8 +33,10 @@ def cable_term(edofs, passes, key, name):
     kernels = tuple((function, (edofs, *(np.ascontiguousarray(t) for t in tables),
                                 np.array(values, dtype=float), bool(damped), span))
                     for function, tables, values, damped, span in passes)
+    damped = any(pack[-2] for _, pack in kernels)
     return Term(kernels=kernels, rows=edofs[:, :, None], cols=edofs[:, None, :], key=key,
-                merge=merge_cable_terms, name=name)
+                merge=merge_cable_terms, name=name,
+                writes=("f", "f_damping") if damped else ("f",))
 
 
 def merge_cable_terms(terms):
@@ -47,4 +49,4 @@ def merge_cable_terms(terms):
     edofs = kernels[0][1][0]
     return Term(kernels=tuple(kernels), rows=edofs[:, :, None], cols=edofs[:, None, :],
                 key=terms[0].key, merge=merge_cable_terms,
-                name=" + ".join(t.name for t in terms))
+                name=" + ".join(t.name for t in terms), writes=terms[0].writes)

@@ -126,7 +126,8 @@ class Reel:
 
         pack = (dof, c, np.array([1.0 / self.radius]))
         return Term(kernels=((drives.reel_torque, pack),), prepare=prepare,
-                    rows=dof[:, None], cols=dof[None, :], name=f"{self.name} torque")
+                    rows=dof[:, None], cols=dof[None, :], name=f"{self.name} torque",
+                    writes=("f_ext",))
 
 
 class Drive:

@@ -74,6 +74,9 @@ from .protocols import Body, Constraint, Line, Load, Observer, check_body  # noq
 #: another kind of stored energy adds it to ``AXIAL``.
 AXIAL, BENDING = 0, 1
 
+#: The force accumulators of an ``Evaluation`` a term may write (``Term.writes``).
+WRITTEN = ("f", "f_damping", "f_ext")
+
 #: What compiled hooks receive for "no matrix values" (no tangent wanted) and for "no
 #: tangent entries": empty arrays of the right types.
 NO_DATA = np.zeros(0)
@@ -259,6 +262,12 @@ class Term:
         them back to its factored matrix (the Woodbury identity), so that Newton is exact
         on the pattern.  E.g. line-to-line contact with ``tangent="woodbury"``.  At most
         one term of a system.
+    writes : tuple of str
+        The accumulators of the evaluation its forces go into, of ``WRITTEN``: ``"f"``,
+        ``"f_damping"`` (the damping part of ``f``) and ``"f_ext"`` (all three unless
+        said).  The compiled step clears, reads, books and keeps an accumulator only if a
+        term of the system writes it: an undamped cable declares ``("f",)``, and its
+        step makes no pass over the other two (``kernels.step._residual``).
     """
 
     add: Callable[..., None] | None = None
@@ -277,10 +286,14 @@ class Term:
     outputs: Callable[[], dict] | None = None
     check: Callable[[Any, Any], str | None] | None = None
     correction: tuple | None = None
+    writes: tuple = ("f", "f_damping", "f_ext")
 
     def __post_init__(self):
         if self.add is not None and self.kernels:
             raise ValueError(f"term {self.name!r}: give add or kernels, not both")
+        if not set(self.writes) <= set(WRITTEN):
+            raise ValueError(f"term {self.name!r}: writes must name accumulators of "
+                             f"{WRITTEN}, got {self.writes!r}")
 
     @property
     def has_tangent(self):

@@ -70,7 +70,7 @@ class PointLoad:
 
         pack = (np.ascontiguousarray(dofs, dtype=np.int64), np.ascontiguousarray(G), force)
         return Term(kernels=((drives.point_force, pack),), prepare=prepare,
-                    name=f"point load {self.point!r}")
+                    name=f"point load {self.point!r}", writes=("f_ext",))
 
 
 class PointMoment:

@@ -73,6 +73,12 @@ class Layout:
         The constant Jacobians of the linear constraints in the KKT pattern.
     cdofs, crows
         Coordinates and multiplier rows of each constraint.
+    constrained : int ndarray
+        The coordinates some constraint holds (the union of ``cdofs``, sorted): the only
+        ones where ``C_q^T lambda`` can differ from zero.
+    writes : frozenset of str
+        The force accumulators some term writes (``Term.writes``): the compiled step
+        clears, reads and books only these.
     border
         Unknowns of the hubs, ordered last by the linear solver (``_border``).
     junctions
@@ -129,6 +135,9 @@ class Layout:
         self.cindex = [tuple(np.ascontiguousarray(a, dtype=np.int64) for a in (
             d, r, j, jt, NO_INDEX if h is None else h)) for d, r, j, jt, h in zip(
             self.cdofs, self.crows, self.jac_index, self.jacT_index, self.hess_index)]
+        self.constrained = np.unique(np.concatenate([NO_INDEX, *self.cdofs]))
+        self.writes = frozenset().union(*(t.writes for t, _ in self.body_terms
+                                          + self.load_terms))
         self._mass(M)
         owner, count, hubs = self._hubs(system)
         self.border = self._border(system, owner, hubs)

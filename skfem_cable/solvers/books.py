@@ -47,10 +47,10 @@ class Books:
         no work yet, the kinetic and potential energy there (``kernels.books``).  The
         forces are kept as given: accepted steps write theirs into them
         (``GeneralizedAlpha._accept``), so they must be arrays nothing else holds."""
-        q, M = self.q, self.lay.mass
+        q, lay = self.q, self.lay
         dissipated, external, kinetic, potential = step_books(
-            np.zeros_like(q), forces, forces, M.strided, self.lay.f_const, q, self.v,
-            np.empty(q.size))
+            q, forces, forces, lay.mass.strided, lay.f_const, q, self.v,
+            np.empty(q.size), (True, True))
         rate = self.system.energy_rate(q, self.t) if self.energy_depends_on_time else 0.0
         fd, fnc, fcon = forces
         return {"fd": fd, "fnc": fnc, "fcon": fcon, "dissipated": dissipated,
