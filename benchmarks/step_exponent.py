@@ -17,23 +17,34 @@ elements).  How the measure is made stable:
   size takes its minimum over the rounds (a spell of the machine slowed by the other
   jobs' memory traffic, which CPU time does not remove, spoils a chunk of 20 steps, not
   a whole run), the chunks' minima add up to the window's cost;
+- **rounds in fresh processes** (``processes``, one after the other): the cost of the
+  1000 elements moved by up to 8 % from one process to the next and stayed in every
+  round of a process (where its arrays fell, presumably), so that runs of one process
+  each differed by 0.02-0.04 in the exponent while their halves agreed to 0.01; the
+  minimum over four processes takes the best of four such draws;
 - **the slope fitted over all five sizes** (least squares of ``log cost`` on
   ``log elements``) with its standard error, and the **spread**: the slopes fitted to each
   round alone (their range), a measure of what one round would have said, and the slopes
-  of the minima over the even and over the odd rounds (the **halves**: two measures of
-  half the length, taken in the same time window; their difference says how far two runs
-  of the measure would differ, the issue's stability to 0.02).
+  of the minima over the rounds of the even and of the odd processes (the **halves**: two
+  measures of half the length in processes of their own, taken in the same time window;
+  their difference says how far two runs of the measure would differ, the issue's
+  stability to 0.02).
 
-Eight rounds (five before): the other jobs' memory traffic, which slows the largest
-sizes (out of the L3 cache) and not the smallest, comes in spells of seconds to minutes;
-more rounds spread over a longer window give each chunk more chances of a quiet spell.
+Twelve rounds, three in each of four processes (eight in one before, five before
+that): the other jobs' memory traffic, which slows the largest sizes (out of the L3
+cache) and not the smallest, comes in spells of seconds to minutes; more rounds spread
+over a longer window give each chunk more chances of a quiet spell.
 
 Prints a row per size (CPU ms per step, Newton iterations per step, ms per iteration) and
 the exponents per step and per Newton iteration.  Run ``python benchmarks/step_exponent.py
-[--quick]`` (``--quick``: 300 to 3000 elements, 20 steps, two rounds; indicative only).
+[--quick]`` (about 80 s; ``--quick``: 300 to 3000 elements, 20 steps, two rounds in this
+process; indicative only).
 """
 
+import json
 import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -43,8 +54,9 @@ from skfem_cable.cli.bench import arguments
 from skfem_cable.scenes import classics
 from skfem_cable.solvers.galpha import GeneralizedAlpha
 
-SETTINGS = {"full": {"sizes": (1000, 1800, 3200, 5600, 10000), "steps": 200, "rounds": 8},
-            "quick": {"sizes": (300, 1000, 3000), "steps": 20, "rounds": 2}}
+SETTINGS = {"full": {"sizes": (1000, 1800, 3200, 5600, 10000), "steps": 200, "rounds": 3,
+                     "processes": 4},
+            "quick": {"sizes": (300, 1000, 3000), "steps": 20, "rounds": 2, "processes": 1}}
 
 #: Goal of the exponent per step (linear cost).
 GOAL = 1.05
@@ -113,6 +125,38 @@ def measure(sizes, steps, rounds, chunk=CHUNK):
     return times, newton
 
 
+#: What a fresh process of ``apart`` runs: ``measure`` of this file, its arrays as JSON.
+WORKER = """
+import importlib.util, json, sys
+spec = importlib.util.spec_from_file_location("step_exponent", sys.argv[1])
+module = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(module)
+times, newton = module.measure(*json.loads(sys.argv[2]))
+print(json.dumps([times.tolist(), newton.tolist()]))
+"""
+
+
+def apart(sizes, steps, rounds, processes):
+    """``measure`` in ``processes`` fresh processes one after the other, ``rounds`` rounds
+    each: the same arrays with the rounds of all, round ``r`` of process ``p`` at
+    ``times[r * processes + p]`` (with an even number of processes the even rounds are
+    those of the even processes, ``exponents``' halves); one process: in this one."""
+    if processes == 1:
+        return measure(sizes, steps, rounds)
+    runs = [json.loads(subprocess.run(
+        [sys.executable, "-c", WORKER, __file__, json.dumps([list(sizes), steps, rounds])],
+        check=True, capture_output=True, text=True).stdout.splitlines()[-1])
+        for _ in range(processes)]
+    return interleaved([np.array(t) for t, _ in runs]), np.array(runs[0][1])
+
+
+def interleaved(runs):
+    """The rounds of ``runs`` (a ``times`` array of ``measure`` per process) in one array,
+    round ``r`` of process ``p`` at ``r * len(runs) + p``."""
+    times = np.stack(runs, axis=1)
+    return times.reshape(-1, *times.shape[2:])
+
+
 def slope(sizes, costs):
     """``(slope, standard error)`` of the least-squares line of ``log costs`` on
     ``log sizes``."""
@@ -133,8 +177,8 @@ def exponents(sizes, times, newton, steps):
         ``per_step`` and ``per_iteration`` (``(slope, standard error)`` of the minima),
         ``rounds_range`` (least and largest slope per step of a single round),
         ``halves`` (the slopes per step of the minima over the even rounds and over the
-        odd ones; the even ones alone for a single round) and ``ms_per_step`` (per size,
-        of the minima).
+        odd ones, those of the even and of the odd processes, ``apart``; the even ones
+        alone for a single round) and ``ms_per_step`` (per size, of the minima).
     """
     def minima(t):
         return t.min(axis=0).sum(axis=1) / steps
@@ -149,7 +193,7 @@ def exponents(sizes, times, newton, steps):
             "ms_per_step": 1e3 * per_step}
 
 
-def table(sizes, steps=200, rounds=8, quick=False):
+def table(sizes, steps=200, rounds=3, processes=4, quick=False):
     """Measure, print the rows and the exponents, and return their figures.
 
     Parameters
@@ -159,7 +203,10 @@ def table(sizes, steps=200, rounds=8, quick=False):
     steps : int
         Timed steps after the release step.
     rounds : int
-        Rounds over all sizes (sizes alternated); each run takes the minimum over them.
+        Rounds over all sizes in each process (sizes alternated); each run takes the
+        minimum over all.
+    processes : int
+        Fresh processes, one after the other (``apart``).
     quick : bool
         Label the exponents indicative.
 
@@ -171,7 +218,7 @@ def table(sizes, steps=200, rounds=8, quick=False):
         ``exponents``).
     """
     load = os.getloadavg()[0]
-    times, newton = measure(sizes, steps, rounds)
+    times, newton = apart(sizes, steps, rounds, processes)
     fit = exponents(sizes, times, newton, steps)
     rows = []
     print(f"{'elements':>9} {'CPU ms/step':>12} {'Newton/step':>12} {'ms/Newton':>10}")
@@ -185,11 +232,12 @@ def table(sizes, steps=200, rounds=8, quick=False):
         "" if s <= GOAL else " ABOVE THE GOAL")
     halves = " and ".join(f"{h:.3f}" for h in fit["halves"])
     print(f"exponent per step {s:.3f} +- {err:.3f} (goal <= {GOAL}){note}; single rounds "
-          f"{low:.3f} to {high:.3f}; even and odd rounds {halves}; per Newton iteration "
+          f"{low:.3f} to {high:.3f}; even and odd {'processes' if processes > 1 else 'rounds'} "
+          f"{halves}; per Newton iteration "
           f"{si:.3f} +- {erri:.3f}")
-    print(f"({steps} steps after the release, CPU time, minimum of {rounds} rounds chunk by "
-          f"chunk of {CHUNK} steps, sizes alternated; load average {load:.1f} before, "
-          f"{os.getloadavg()[0]:.1f} after)")
+    print(f"({steps} steps after the release, CPU time, minimum of {processes} process(es) x "
+          f"{rounds} rounds chunk by chunk of {CHUNK} steps, sizes alternated; load average "
+          f"{load:.1f} before, {os.getloadavg()[0]:.1f} after)")
     return {"rows": rows, "load": (load, os.getloadavg()[0]),
             "exponents": {k: v for k, v in fit.items() if k != "ms_per_step"}}
 

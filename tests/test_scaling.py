@@ -1,6 +1,7 @@
 """The measures of issue 47's linear cost and floor (``benchmarks/step_exponent.py``,
 ``benchmarks/esail_floor.py``): the exponent fitted to the minima over rounds with its
-spread, and the work counted of the bordered band LU.  No timing is asserted."""
+spread and halves, and the work counted of the bordered band LU.  No timing is
+asserted."""
 
 import numpy as np
 import scipy.sparse as sp
@@ -27,6 +28,25 @@ def test_exponent_is_fitted_to_the_minima_over_rounds():
     low, high = fit["rounds_range"]
     assert abs(low - 1.02) < 1e-12 and high > 1.1
     assert abs(fit["per_iteration"][0] - 1.02) < 1e-12
+
+
+def test_exponent_halves_are_those_of_the_even_and_odd_processes():
+    """``step_exponent.interleaved``: the rounds of four processes, round ``r`` of process
+    ``p`` at ``4 r + p``, so that the halves of ``exponents`` (the even and the odd rounds)
+    are the minima over the even and over the odd processes: the odd processes slow at
+    the largest size all along (a draw of the layout, a spell of the machine) move their
+    half only."""
+    exponent = load(BENCH / "step_exponent.py")
+    sizes = np.array([1000, 3200, 10000])
+    steps, chunk = 40, 20
+    runs = [np.empty((3, sizes.size, steps // chunk)) for _ in range(4)]
+    for p, run in enumerate(runs):
+        run[:] = (chunk * 1e-3 * (sizes / 1000) ** 1.01)[:, None]
+        run[:, -1] *= 1.2 if p % 2 else 1.0
+    times = exponent.interleaved(runs)
+    assert times.shape == (12, 3, 2) and np.array_equal(times[4 * 2 + 1], runs[1][2])
+    even, odd = exponent.exponents(sizes, times, np.full(3, 2.4 * steps), steps)["halves"]
+    assert abs(even - 1.01) < 1e-12 and odd > even + 0.05
 
 
 def test_band_work_is_counted_from_the_storage():
