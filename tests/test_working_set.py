@@ -138,11 +138,15 @@ def test_the_step_leaves_alone_the_forces_no_term_writes():
 
 
 def test_terms_declare_the_forces_they_write():
-    """A damped cable writes ``f`` and ``f_damping``, a point load that varies in time
-    ``f_ext`` alone (``Term.writes``): the layout takes their union; a term naming
-    another accumulator is refused, with the accepted names."""
+    """A damped cable writes ``f`` and ``f_damping``, an undamped rod (its cable's term
+    and its twist kernel) ``f`` alone, a point load that varies in time ``f_ext`` alone
+    (``Term.writes``): the layout takes their union; a term naming another accumulator is
+    refused, with the accepted names."""
     damped = classics.pendulum(n_elements=4, gamma_axial=0.01).system
     assert damped.current_layout().writes == {"f", "f_damping"}
+    section = sc.Section(E=1e3, A=1e-4, I=1e-6, rho=1e3, G=2e3, J=3e-6, I_edge=4e-6)
+    rod = sc.Rod.straight([0, 0, 0], [1, 0, 0], 3, section, normal=[0, 0.3, 1])
+    assert sc.System([rod]).current_layout().writes == {"f"}
     pushed = classics.pendulum(n_elements=4).system
     cable = pushed.bodies[0]
     pushed.add_load(sc.PointLoad(cable.node(-1), lambda t: [0.0, 0.0, np.sin(t)]))

@@ -167,7 +167,8 @@ class Rod(Cable):
         pack = self.kernel_pack(edofs, frames.t0, frames.d0)
         return Term(kernels=(*cable.kernels, (kernel.kernel, pack)), rows=edofs[:, :, None],
                     cols=edofs[:, None, :], name=self.name, prepare=cable.prepare,
-                    energy_change=cable.energy_change, hooks=(frames,))
+                    energy_change=cable.energy_change, hooks=(frames,),
+                    writes=cable.writes)  # the twist kernel writes f alone
 
     def reference_frames(self, system):
         """The nodal reference frames of this rod's term in ``system`` (its last binding
