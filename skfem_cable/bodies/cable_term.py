@@ -33,7 +33,7 @@ def cable_term(edofs, passes, key, name):
     kernels = tuple((function, (edofs, *(np.ascontiguousarray(t) for t in tables),
                                 np.array(values, dtype=float), bool(damped), span))
                     for function, tables, values, damped, span in passes)
-    damped = any(pack[-2] for _, pack in kernels)
+    damped = any(damped for _, _, _, damped, _ in passes)
     return Term(kernels=kernels, rows=edofs[:, :, None], cols=edofs[:, None, :], key=key,
                 merge=merge_cable_terms, name=name,
                 writes=("f", "f_damping") if damped else ("f",))

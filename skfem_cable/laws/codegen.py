@@ -291,9 +291,8 @@ SPAN = "@njit(cache=True, no_cpython_wrapper=True, no_cfunc_wrapper=True)"
 #: template (``loop``), which calls a law's ``span`` at its address (``hook``).  Numba
 #: compiles each at its first call, so the threaded loop only where a system runs on
 #: threads.  Called from Python (``contract.Term.evaluate``) and at their machine
-#: addresses (``kernels.erased``), never through a C pointer: no C wrapper.  Compiled in
-#: each law's module around its ``span``, it was 30 compilations of a cold test run (22 s
-#: of CPU), LLVM optimising the linked ``span`` again in each.
+#: addresses (``kernels.erased``), never through a C pointer: no C wrapper (why one module
+#: for every law: ``kernels.chunks``).
 LOOP = (("kernel", "@njit(cache=True, no_cfunc_wrapper=True)"),
         ("kernel_parallel", "@njit(cache=True, parallel=True, no_cfunc_wrapper=True)"))
 
