@@ -35,10 +35,11 @@ that): the other jobs' memory traffic, which slows the largest sizes (out of the
 cache) and not the smallest, comes in spells of seconds to minutes; more rounds spread
 over a longer window give each chunk more chances of a quiet spell.
 
-Prints a row per size (CPU ms per step, Newton iterations per step, ms per iteration) and
-the exponents per step and per Newton iteration.  Run ``python benchmarks/step_exponent.py
-[--quick]`` (about 80 s; ``--quick``: 300 to 3000 elements, 20 steps, two rounds in this
-process; indicative only).
+Prints a row per size (CPU ms per step, Newton iterations per step, ms per iteration)
+and the exponents per step and per Newton iteration, and the slope between the smallest
+and the largest size alone. Run ``python benchmarks/step_exponent.py [--quick]`` (about
+80 s; ``--quick``: 300 to 3000 elements, 20 steps, two rounds in this process;
+indicative only).
 """
 
 import json
@@ -178,7 +179,9 @@ def exponents(sizes, times, newton, steps):
         ``rounds_range`` (least and largest slope per step of a single round),
         ``halves`` (the slopes per step of the minima over the even rounds and over the
         odd ones, those of the even and of the odd processes, ``apart``; the even ones
-        alone for a single round) and ``ms_per_step`` (per size, of the minima).
+        alone for a single round), ``ends`` (the slope between the first and the last
+        size alone, which the count of a middle size does not move) and ``ms_per_step``
+        (per size, of the minima).
     """
     def minima(t):
         return t.min(axis=0).sum(axis=1) / steps
@@ -190,6 +193,7 @@ def exponents(sizes, times, newton, steps):
             "per_iteration": slope(sizes, per_step * steps / newton),
             "rounds_range": (min(per_round), max(per_round)),
             "halves": halves,
+            "ends": float(np.log(per_step[-1] / per_step[0]) / np.log(sizes[-1] / sizes[0])),
             "ms_per_step": 1e3 * per_step}
 
 
@@ -234,7 +238,7 @@ def table(sizes, steps=200, rounds=3, processes=4, quick=False):
     print(f"exponent per step {s:.3f} +- {err:.3f} (goal <= {GOAL}){note}; single rounds "
           f"{low:.3f} to {high:.3f}; even and odd {'processes' if processes > 1 else 'rounds'} "
           f"{halves}; per Newton iteration "
-          f"{si:.3f} +- {erri:.3f}")
+          f"{si:.3f} +- {erri:.3f}; between the first and last size alone {fit['ends']:.3f}")
     print(f"({steps} steps after the release, CPU time, minimum of {processes} process(es) x "
           f"{rounds} rounds chunk by chunk of {CHUNK} steps, sizes alternated; load average "
           f"{load:.1f} before, {os.getloadavg()[0]:.1f} after)")

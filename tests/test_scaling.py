@@ -28,6 +28,7 @@ def test_exponent_is_fitted_to_the_minima_over_rounds():
     low, high = fit["rounds_range"]
     assert abs(low - 1.02) < 1e-12 and high > 1.1
     assert abs(fit["per_iteration"][0] - 1.02) < 1e-12
+    assert abs(fit["ends"] - 1.02) < 1e-12
 
 
 def test_exponent_halves_are_those_of_the_even_and_odd_processes():
