@@ -231,7 +231,7 @@ def part_times(newton, integrator, repeats):
     for name, kernel in zip(KERNELS, measured["kernels"]):
         times[(name, False)], times[(name, True)] = kernel["residual_us"], kernel["tangent_us"]
     a, residual, prm = newton.arrays, compiled_step.module()._residual, newton.prm
-    written = (prm[step_template.DAMPING] != 0.0, prm[step_template.EXTERNAL] != 0.0)
+    written = step_template.forces_written(prm)
     for tangent, matrix in ((False, a["nodata"]), (True, a["data"])):
         args = (newton.terms, newton.model, a["q1"], a["v1"], a["a1"], a["lam1"], a["r"],
                 matrix, newton.out, float(prm[step_template.MBAR]), 1.0, written)

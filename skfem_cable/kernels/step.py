@@ -47,6 +47,12 @@ def pseudo_acceleration(a1, a, abar, am, af):
     return ((1.0 - af) * a1 + af * a - am * abar) / (1.0 - am)
 
 
+def forces_written(prm):
+    """``(damping, external)``: whether some term writes a damping force and a
+    non-constant external force, from their slots of ``prm`` (``PRM_SLOTS``)."""
+    return prm[DAMPING] != 0.0, prm[EXTERNAL] != 0.0
+
+
 def first_error_factor(rate):
     """The error factor ``eta`` of a step's first correction: the last step's ``rate``
     relaxed to ``rate^0.8`` and at least ``ETA_FIRST`` (Hairer & Wanner)."""
@@ -93,8 +99,7 @@ def _finish(model, state, out, prm):
     for i in range(q.size):
         abar1[i] = pseudo_acceleration(a1[i], a[i], abar[i], am, af)
     books[0], books[1], books[2], books[3] = step_books(
-        q, before, after, model[0], model[2], q1, v1, mv,
-        (prm[DAMPING] != 0.0, prm[EXTERNAL] != 0.0))
+        q, before, after, model[0], model[2], q1, v1, mv, forces_written(prm))
 
 
 def _iterate(terms, model, lu, state, out, prm):
@@ -166,7 +171,7 @@ def _iterate(terms, model, lu, state, out, prm):
     tol_local, error_constant = prm[TOL_LOCAL], prm[ERROR_CONSTANT]
     eta = first_error_factor(prm[RATE])
     max_iter, need, full = int(prm[MAX_ITER]), prm[NEED] != 0.0, prm[FULL] != 0.0
-    written = (prm[DAMPING] != 0.0, prm[EXTERNAL] != 0.0)
+    written = forces_written(prm)
     n = q.size
     c1, c0 = prm[C1], prm[C0]
     constant = c1 == 0.0 and c0 == 0.0

@@ -57,8 +57,8 @@ from .slots import PYTHON
 GENERATOR = "20"
 
 _TEMPLATE_FUNCTIONS = ("newton_held", "newton", "_finish", "_iterate", "_residual",
-                       "_dynamic_rows", "_dynamic_row", "_constraints", "_factor",
-                       "pseudo_acceleration", "first_error_factor", "error_factor")
+                       "_dynamic_rows", "_dynamic_row", "_constraints", "_factor", "error_factor",
+                       "pseudo_acceleration", "forces_written", "first_error_factor")
 
 
 def python_parts(system: IntegrableSystem, solver):
