@@ -126,9 +126,12 @@ def measure(sizes, steps, rounds, chunk=CHUNK):
     return times, newton
 
 
-#: What a fresh process of ``apart`` runs: ``measure`` of this file, its arrays as JSON.
+#: What a fresh process of ``apart`` runs: ``measure`` of this file, its arrays as JSON,
+#: on the package this process imported (its folder first on the path: a child started
+#: in another tree's folder imported that tree's, the current folder first on its path).
 WORKER = """
 import importlib.util, json, sys
+sys.path.insert(0, sys.argv[3])
 spec = importlib.util.spec_from_file_location("step_exponent", sys.argv[1])
 module = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(module)
@@ -145,7 +148,8 @@ def apart(sizes, steps, rounds, processes):
     if processes == 1:
         return measure(sizes, steps, rounds)
     runs = [json.loads(subprocess.run(
-        [sys.executable, "-c", WORKER, __file__, json.dumps([list(sizes), steps, rounds])],
+        [sys.executable, "-c", WORKER, __file__, json.dumps([list(sizes), steps, rounds]),
+         os.path.dirname(os.path.dirname(os.path.abspath(sc.__file__)))],
         check=True, capture_output=True, text=True).stdout.splitlines()[-1])
         for _ in range(processes)]
     return interleaved([np.array(t) for t, _ in runs]), np.array(runs[0][1])

@@ -50,6 +50,17 @@ def test_exponent_halves_are_those_of_the_even_and_odd_processes():
     assert abs(even - 1.01) < 1e-12 and odd > even + 0.05
 
 
+def test_the_exponents_processes_run_the_package_of_the_caller(tmp_path, monkeypatch):
+    """``step_exponent.apart`` started in another tree's folder (a side-by-side
+    comparison): its fresh processes import the package the caller imported, not the
+    folder's, which is first on a child's path."""
+    exponent = load(BENCH / "step_exponent.py")
+    (tmp_path / "skfem_cable").mkdir()
+    (tmp_path / "skfem_cable" / "__init__.py").write_text("raise ImportError('a decoy')\n")
+    monkeypatch.chdir(tmp_path)
+    times, newton = exponent.apart((8,), 20, 1, 2)
+    assert times.shape == (2, 1, 1) and np.all(times > 0) and newton[0] >= 20
+
 def test_band_work_is_counted_from_the_storage():
     """A tridiagonal-by-blocks band of half-width 2 without border: a factorization of
     ``4 n b^2`` flops and a solve of ``6 n b`` (``esail_floor.band_flops``)."""
