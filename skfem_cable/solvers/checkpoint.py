@@ -37,8 +37,9 @@ class Checkpoint:
             snap["abar_h"] = np.float64(self.abar_h)
         if not self.fit_start:
             snap["plain_start"] = np.float64(1.0)
-        if self.fresh_steps or self.strikes:
-            snap["newton_choice"] = np.array([self.fresh_steps, self.strikes])
+        if self.fresh_steps or self.strikes or self.tangent_age:
+            snap["newton_choice"] = np.array([self.fresh_steps, self.strikes,
+                                              self.tangent_age])
         if self.h_factored is not None:
             snap.update({"fact_" + k: np.copy(v) for k, v in self.factored_at.items()})
         return snap
@@ -60,8 +61,10 @@ class Checkpoint:
         # a checkpoint written before abar_h existed: abar belongs to the last step
         self.abar_h = float(snap["abar_h"]) if "abar_h" in snap else self.h_prev
         self.fit_start = "plain_start" not in snap
-        choice = snap["newton_choice"] if "newton_choice" in snap else (0, 0)
-        self.fresh_steps, self.strikes = (int(k) for k in choice)
+        choice = snap["newton_choice"] if "newton_choice" in snap else ()
+        # (a checkpoint written before the tangent's age was kept: a fresh one)
+        self.fresh_steps, self.strikes, self.tangent_age = (
+            int(k) for k in (*choice, 0, 0, 0)[:3])
         self.h_factored = None
         if "guard_lowest" in snap:
             self.guard.restore(snap)

@@ -30,6 +30,7 @@ from .compiled import CompiledNewton, python_parts
 from .diagnosis import Diagnosis
 from .guard import EnergyGuard, refusal
 from .initial_state import InitialState
+from .newton_choice import NewtonChoice
 from .step_control import StepControl
 
 
@@ -52,7 +53,8 @@ def _total_mass(system, lay):
     return float(unit @ (lay.mass @ unit))
 
 
-class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
+class GeneralizedAlpha(StepControl, Diagnosis, InitialState, NewtonChoice, Books,
+                       Checkpoint):
     """Integrator state and one step of the generalized-alpha method.
 
     Parameters
@@ -206,7 +208,8 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         self.a_prev = self.h_prev = self.da_prev = self.h_prev2 = None
         self.abar_h = None  # the step the pseudo-acceleration fits (_fit_abar)
         self.newton_rate = 1.0  # Newton's contraction estimate of the last step
-        self.fresh_steps = self.strikes = 0  # modified Newton's choice (_choose_newton)
+        # modified Newton's choice (_choose_newton)
+        self.fresh_steps = self.strikes = self.tangent_age = 0
         self.energy_depends_on_time = any(
             term.energy_rate is not None for term, _ in lay.body_terms + lay.load_terms)
         self.energy_changes = any(
@@ -290,53 +293,6 @@ class GeneralizedAlpha(StepControl, Diagnosis, InitialState, Books, Checkpoint):
         if ok and not full:
             self._choose_newton(fresh, self.stats["factorizations"] - factorizations)
         return ok, msg
-
-    @property
-    def fresh_tangent(self):
-        """Whether the next step starts from a fresh tangent: ``newton="full"`` (which
-        refactors at every iteration), or modified Newton's choice (``_choose_newton``)."""
-        return self.newton == "full" or self.fresh_steps > 0
-
-    #: The longest run of steps from a fresh tangent before the stale one is tried again.
-    FRESH_STEPS_MAX = 64
-
-    #: The contraction above which a step of two corrections or more has the next step
-    #: refactor (``_choose_newton``).
-    STALE_RATE = 0.05
-
-    def _choose_newton(self, fresh, factorizations):
-        """Modified Newton's choice for the next steps after an accepted step (one that
-        started from a fresh tangent if ``fresh``) that made ``factorizations``.  After
-        ``k >= 2`` steps in a row that had to refactor (the stale tangent did not
-        contract, or the step changed size: adaptive steps), the next ``2^(k-2)`` steps
-        (at most ``FRESH_STEPS_MAX``) factor the tangent at their predictor and iterate on
-        it; then a step tries the stale tangent again.  Long steps of a stiff spinning
-        cable turn the tangent within a step (the axial stiffness turns with the tether):
-        the full-size E-sail at 5 s steps took 5.9 corrections and 2.0 factorizations per
-        step on the stale tangent and 2.25 and 2.0 in full Newton; it takes 2.1 and 1.0,
-        7.0 ms on one thread against full Newton's 11.6.  The flexible pendulum at 1 ms
-        steps, which refactored in two steps of three, takes 2.9 corrections per step
-        instead of 4.5, 0.84 of the time.  Steps whose stale tangent serves (the E-sail
-        rig) keep it, until it serves slowly: a step (after any run of fresh ones) that
-        took two corrections or more at a contraction above ``STALE_RATE`` (its first
-        correction's error estimate, ``kernels.step.first_error_factor``, then misses the
-        tolerance) has the next step factor at its predictor (as Hairer & Wanner's RADAU5
-        refactors after a step that contracted above its ``THET``, 0.001 by default and
-        about 0.1 advised for small systems).  The E-sail rig's tangent of ``t = 0``
-        contracts at 0.13 by ``t = 25 s``, and 154 of its first 400 steps took a second
-        correction: 557 corrections and 3 factorizations in 400 steps, 406 and 5 with the
-        refresh (the compiled Newton call 60.6 -> 50.3 us a step; the tips' radius the
-        same to 1e-6 m)."""
-        if fresh:
-            self.fresh_steps -= 1
-        elif factorizations >= 1:
-            self.strikes = min(self.strikes + 1, 2 + self.FRESH_STEPS_MAX.bit_length())
-            if self.strikes >= 2:
-                self.fresh_steps = min(2 ** (self.strikes - 2), self.FRESH_STEPS_MAX)
-        else:
-            self.strikes = 0
-        if self.fresh_steps <= 0 and self.iterations >= 2 and self.newton_rate > self.STALE_RATE:
-            self.fresh_steps = 1
 
     def local_error(self, h, q1, a1):
         """Estimated local error of the coordinates of a step ``h`` ending at
