@@ -61,6 +61,7 @@ def test_the_exponents_processes_run_the_package_of_the_caller(tmp_path, monkeyp
     times, newton = exponent.apart((8,), 20, 1, 2)
     assert times.shape == (2, 1, 1) and np.all(times > 0) and newton[0] >= 20
 
+
 def test_band_work_is_counted_from_the_storage():
     """A tridiagonal-by-blocks band of half-width 2 without border: a factorization of
     ``4 n b^2`` flops and a solve of ``6 n b`` (``esail_floor.band_flops``)."""

@@ -58,15 +58,15 @@ class NewtonChoice:
           served at most ``YOUNG_TANGENT`` steps before this one, the tangent changes
           within a step or two and the next step starts fresh, as above; if it had served
           longer, the next step iterates on the one just factored.  The released 100 m
-          pendulum of ``benchmarks/step_exponent.py`` at 10,000 elements replaces its
-          tangent of step 34 at steps 119 and 189 and refactored again at steps 120 and
-          190: 4 factorizations in the 200 steps after the release instead of 6, with the
-          same 491 corrections (1.5 % of the window's CPU time); at 3200 and 5600 elements
-          one fewer, at 1000 and 1800 none.  The 16-element pendulum (1070 corrections,
-          181 factorizations in 300 steps), the E-sail rig, the orbiting and the
-          full-size sail, the catenary and the controller run make the same iterations;
-          the damped pendulum 874 corrections and 255 factorizations instead of 872 and
-          260.  Any bound from 0 to 16 steps gives these counts.
+          pendulum of ``benchmarks/step_exponent.py`` at 10,000 elements replaces an old
+          tangent twice in the 200 steps after the release (at step 119 that of step 34)
+          and factored again at the next predictor each time: 4 factorizations in those
+          steps instead of 6, with the same 491 corrections (1.5 % of their CPU time); at
+          3200 and 5600 elements one fewer, at 1000 and 1800 none.  The 16-element
+          pendulum (1070 corrections, 181 factorizations in 300 steps), the E-sail rig,
+          the orbiting and the full-size sail, the catenary and the controller run make
+          the same iterations; the damped pendulum 874 corrections and 255 factorizations
+          instead of 872 and 260.  Any bound from 0 to 16 steps gives these counts.
         """
         replaced_age = self.tangent_age
         self.tangent_age = 0 if factorizations else self.tangent_age + 1
