@@ -68,17 +68,17 @@ class NewtonChoice:
           the same iterations; the damped pendulum 874 corrections and 255 factorizations
           instead of 872 and 260.  Any bound from 0 to 16 steps gives these counts.
         """
-        replaced_age = self.tangent_age
-        self.tangent_age = 0 if factorizations else self.tangent_age + 1
+        mended = False  # an old tangent replaced within the step
         if fresh:
             self.fresh_steps -= 1
         elif factorizations >= 1:
+            mended = self.tangent_age > self.YOUNG_TANGENT
             self.strikes = min(self.strikes + 1, 2 + self.FRESH_STEPS_MAX.bit_length())
             if self.strikes >= 2:
                 self.fresh_steps = min(2 ** (self.strikes - 2), self.FRESH_STEPS_MAX)
         else:
             self.strikes = 0
-        mended = not fresh and factorizations >= 1 and replaced_age > self.YOUNG_TANGENT
+        self.tangent_age = 0 if factorizations else self.tangent_age + 1
         if (self.fresh_steps <= 0 and self.iterations >= 2 and not mended
                 and self.newton_rate > self.STALE_RATE):
             self.fresh_steps = 1
