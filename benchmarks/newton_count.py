@@ -10,8 +10,13 @@ steps, the scaled residual before each correction (``kernels.step._iterate``'s h
 and the coordinate where the last one was largest (``System.describe_dof``).  No timing:
 the counts are the same on every run (and it runs on trees before the predictor's
 choice was kept, ``GeneralizedAlpha.extrapolated``: it reads the step's predictor from
-its Newton parameters).  Run ``python benchmarks/newton_count.py [--quick]``
-(``--quick``: 1000 and 3200 elements).
+its Newton parameters).  Then, for each size, the corrections per step of full Newton
+(``newton="full"``: the tangent refactored at every iterate) over the same window, and
+the exponents of both counts (their least-squares slopes on the sizes, log-log): full
+Newton's is the growth that belongs to the problem (the predictor's miss at the pin
+grows with the mesh; no choice of stale tangent does better than the exact one),
+modified Newton's adds what its stale tangent costs.  Run ``python
+benchmarks/newton_count.py [--quick]`` (``--quick``: 1000 and 3200 elements).
 """
 
 import numpy as np
@@ -66,13 +71,19 @@ class StepLog:
         GeneralizedAlpha.step = self.original
 
 
-def steps_of(n_elements, steps=STEPS):
-    """The system, the rows of ``StepLog`` of the release and the ``steps`` steps after it,
-    and the run's ``Result``."""
+def steps_of(n_elements, steps=STEPS, newton="modified"):
+    """The system, the rows of ``StepLog`` of the release and the ``steps`` steps after it
+    (in ``newton``: ``simulate``'s option), and the run's ``Result``."""
     system = classics.pendulum(n_elements=n_elements, length=100.0, radius=0.01).system
     with StepLog() as log:
-        result = sc.simulate(system, t_end=(steps + 1) * DT, dt=DT, every=steps + 1)
+        result = sc.simulate(system, t_end=(steps + 1) * DT, dt=DT, every=steps + 1,
+                             newton=newton)
     return system, log.rows, result
+
+
+def window_count(rows, steps):
+    """The corrections per step over the window (the ``steps`` rows after the release)."""
+    return float(np.mean([r["corrections"] for r in rows[1:steps + 1]]))
 
 
 def pattern(rows):
@@ -82,16 +93,18 @@ def pattern(rows):
 
 
 def report(sizes, steps=STEPS, shown=SHOWN):
-    """Print each size's counts, pattern and the histories of the steps ``shown``; return
-    the corrections per step of the window (the ``steps`` after the release) by size."""
-    per_step = {}
+    """Print each size's counts, pattern and the histories of the steps ``shown``, then
+    full Newton's counts and both counts' exponents; return the corrections per step of
+    the window (the ``steps`` after the release) by size, ``{"modified": {n: count},
+    "full": {n: count}}``."""
+    per_step = {"modified": {}, "full": {}}
     for n in sizes:
         system, rows, _ = steps_of(n, steps)
         window = rows[1:steps + 1]
         counts = np.array([r["corrections"] for r in window])
-        per_step[n] = counts.mean()
+        per_step["modified"][n] = window_count(rows, steps)
         spread = {k: int(np.sum(counts == k)) for k in range(1, counts.max() + 1)}
-        print(f"{n} elements: {per_step[n]:.3f} corrections per step, "
+        print(f"{n} elements: {per_step['modified'][n]:.3f} corrections per step, "
               f"{sum(r['factorizations'] for r in window)} factorizations; steps by "
               f"corrections {spread}")
         print("  steps 1-80: " + pattern(rows[:80]))
@@ -99,6 +112,13 @@ def report(sizes, steps=STEPS, shown=SHOWN):
             r = rows[k - 1]
             history = " ".join(f"{e:.1e}" for e in r["history"])
             print(f"  step {k}: {history}; largest at {system.describe_dof(r['largest'])}")
+    for n in sizes:
+        per_step["full"][n] = window_count(steps_of(n, steps, "full")[1], steps)
+        print(f"{n} elements, full Newton: {per_step['full'][n]:.3f} corrections per step")
+    if len(sizes) > 1:
+        print("exponent of the corrections per step: " + ", ".join(
+            f"{newton} Newton {np.polyfit(np.log(sizes), np.log(list(c.values())), 1)[0]:.3f}"
+            for newton, c in per_step.items()))
     return per_step
 
 

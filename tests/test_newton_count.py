@@ -39,8 +39,20 @@ def test_the_rows_carry_the_predictor_and_the_residual_before_each_correction(lo
     assert newton_count.pattern(rows).split()[0].startswith("c")
 
 
-def test_the_report_prints_each_size(capsys):
-    per_step = newton_count.report((30,), steps=4, shown=(3,))
+def test_the_report_prints_each_size_in_modified_and_full_newton(capsys):
+    per_step = newton_count.report((20, 30), steps=4, shown=(3,))
     out = capsys.readouterr().out
     assert "30 elements:" in out and "step 3:" in out and "steps 1-80: c" in out
-    assert per_step[30] >= 1
+    assert "30 elements, full Newton:" in out and "exponent of the corrections" in out
+    for newton in ("modified", "full"):
+        assert set(per_step[newton]) == {20, 30}
+        assert all(c >= 1 for c in per_step[newton].values())
+
+
+def test_full_newton_counts_what_its_log_counts():
+    """Full Newton's window count is its run's corrections less the release's (a tangent
+    refactored at every iterate: as many factorizations as corrections, and more)."""
+    _, rows, result = newton_count.steps_of(30, steps=4, newton="full")
+    assert newton_count.window_count(rows, 4) * 4 == (result.stats["newton"]
+                                                      - rows[0]["corrections"])
+    assert result.stats["factorizations"] >= result.stats["newton"]
