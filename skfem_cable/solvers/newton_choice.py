@@ -20,6 +20,12 @@ class NewtonChoice:
     #: (``_choose_newton``).
     YOUNG_TANGENT = 1
 
+    #: The corrections of a stale step, and the age of its tangent (in steps), from which
+    #: the next step refactors whatever the contraction (``_choose_newton``): more than
+    #: the two of a step on a fresh tangent in smooth motion, on a tangent that has
+    #: served long enough for a refresh to pay.
+    SLOW_STEP, OLD_TANGENT = 3, 16
+
     @property
     def fresh_tangent(self):
         """Whether the next step starts from a fresh tangent: ``newton="full"`` (which
@@ -51,6 +57,23 @@ class NewtonChoice:
           a second correction: 557 corrections and 3 factorizations in 400 steps, 406
           and 5 with the refresh (the compiled Newton call 60.6 -> 50.3 us a step; the
           tips' radius the same to 1e-6 m).
+        * **A slow step on an old tangent.** A stale step that took ``SLOW_STEP``
+          corrections or more on a tangent that has served ``OLD_TANGENT`` steps or more
+          has the next step factor at its predictor, whatever its contraction: the
+          tangent has drifted, and its first correction, not the contraction after it,
+          says so.  The released 100 m pendulum of ``benchmarks/step_exponent.py`` at
+          1000 elements took 4 corrections a step for 30 steps (7-37) on the release's
+          tangent, contracting by 2e-3 to 4e-2 (below ``STALE_RATE``) from scaled
+          residuals of 4e-5 to 6e-5 at the predictor against a tolerance of 1e-11; a
+          fresh tangent takes 2.
+          Over the 202 steps from the release, 472, 489, 500, 540 and 505 corrections
+          at 1000, 1800, 3200, 5600 and 10,000 elements become 432, 433, 438, 475 and
+          492 (7-12 % of the step's CPU time up to 5600 elements; with 4 corrections for
+          a slow step the 10,000 elements take 504, with a tangent 8 or 32 steps old
+          1000 elements 424 with one more factorization or 462).  The 16-element
+          pendulum takes 1062 corrections and 182 factorizations in 300 steps instead of
+          1070 and 181; the E-sail rig, the orbiting and the full-size sail, the
+          catenary and the controller run make the same iterations.
         * **Unless the step replaced an old tangent.** A step that refactored within its
           iteration reports a contraction measured across the two matrices (its first
           correction on the new one against its last on the old): it says that the old
@@ -59,14 +82,15 @@ class NewtonChoice:
           within a step or two and the next step starts fresh, as above; if it had served
           longer, the next step iterates on the one just factored.  The released 100 m
           pendulum of ``benchmarks/step_exponent.py`` at 10,000 elements replaces an old
-          tangent twice in the 200 steps after the release (at step 119 that of step 34)
-          and factored again at the next predictor each time: 4 factorizations in those
-          steps instead of 6, with the same 491 corrections (1.5 % of their CPU time); at
-          3200 and 5600 elements one fewer, at 1000 and 1800 none.  The 16-element
-          pendulum (1070 corrections, 181 factorizations in 300 steps), the E-sail rig,
-          the orbiting and the full-size sail, the catenary and the controller run make
-          the same iterations; the damped pendulum 874 corrections and 255 factorizations
-          instead of 872 and 260.  Any bound from 0 to 16 steps gives these counts.
+          tangent at step 146 (that of step 49) and factored again at the next predictor:
+          11 factorizations in the 202 steps from the release instead of 12, with the same
+          492 corrections (before the slow-step rule it replaced two, at steps 119 and
+          189, and saved two of 13); at 3200 and 5600 elements one fewer, at 1000 and
+          1800 none.  The
+          16-element pendulum, the E-sail rig, the orbiting and the full-size sail, the
+          catenary and the controller run make the same iterations; the damped pendulum
+          874 corrections and 255 factorizations instead of 872 and 260 (300 steps).
+          Any bound from 0 to 16 steps gave these counts.
         """
         mended = False  # an old tangent replaced within the step
         if fresh:
@@ -79,6 +103,7 @@ class NewtonChoice:
         else:
             self.strikes = 0
         self.tangent_age = 0 if factorizations else self.tangent_age + 1
+        slow = self.iterations >= self.SLOW_STEP and self.tangent_age >= self.OLD_TANGENT
         if (self.fresh_steps <= 0 and self.iterations >= 2 and not mended
-                and self.newton_rate > self.STALE_RATE):
+                and (slow or self.newton_rate > self.STALE_RATE)):
             self.fresh_steps = 1
