@@ -38,12 +38,20 @@ def test_a_fast_stale_tangent_is_kept():
     (NewtonChoice.OLD_TANGENT - 1, NewtonChoice.SLOW_STEP, True),
     (NewtonChoice.OLD_TANGENT - 2, NewtonChoice.SLOW_STEP, False),
     (NewtonChoice.OLD_TANGENT + 20, NewtonChoice.SLOW_STEP - 1, False)])
-def test_a_slow_step_on_an_old_tangent_refreshes_whatever_its_contraction(age, iterations,
-                                                                          fresh_next):
+def test_a_slow_step_on_an_old_tangent_refreshes_below_the_stale_rate(age, iterations,
+                                                                     fresh_next):
     """``age``: the steps the tangent served before this one (which makes it one older)."""
-    choice = Choice(age=age, iterations=iterations, rate=0.01)
+    choice = Choice(age=age, iterations=iterations, rate=NewtonChoice.STALE_RATE / 5)
     choice._choose_newton(fresh=False, factorizations=0)
     assert choice.fresh_tangent == fresh_next and choice.tangent_age == age + 1
+
+
+def test_a_slow_step_of_exact_corrections_keeps_its_old_tangent():
+    """A linear body's corrections contract by 0: its slow steps are the test's, not the
+    tangent's."""
+    choice = Choice(age=40, iterations=NewtonChoice.SLOW_STEP, rate=0.0)
+    choice._choose_newton(fresh=False, factorizations=0)
+    assert not choice.fresh_tangent
 
 
 def test_the_released_pendulum_replaces_the_release_tangent_once_it_serves_slowly():
