@@ -241,6 +241,18 @@ def test_user_body_is_called_through_its_own_hook():
     assert r.q[-1, 0] == pytest.approx(np.sin(w * r.t[-1]) / w, abs=2e-5)
 
 
+def test_a_one_point_system_is_one_metre_long_for_newtons_test():
+    """A system whose position points coincide (a bead) has no size of its own: its
+    length scale is 1 m, not the 1e-300 it was, which scaled its residual by 1e300 and
+    left Newton a tolerance of exact zeros (2.3 corrections a step instead of 1.25)."""
+    bead = Bead(m=2.0, k=50.0, anchor=[0, 0, 0])
+    system = sc.System([bead])
+    assert system.current_layout().length_scale == 1.0
+    initial = sc.State(system, np.zeros(3), v=np.array([1.0, 0.0, 0.0]))
+    r = sc.simulate(system, t_end=0.2, dt=1e-3, rho_inf=1.0, initial=initial)
+    assert r.stats["newton"] <= 1.5 * r.stats["steps"]
+
+
 def test_user_body_appears_in_paraview_and_the_summary(tmp_path):
     """A user body with the hooks of ``contract.Body`` is drawn by the ParaView export as
     it says (a vertex with its own point data, NaN on the cable's points, the cable's
