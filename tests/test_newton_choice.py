@@ -1,7 +1,7 @@
 """Modified Newton's choice of tangent from step to step (``solvers.newton_choice``): a
 step whose stale tangent served slowly has the next one refactor, unless the step itself
 replaced an old tangent (its contraction is then measured across two matrices); a slow
-step on an old tangent too, whatever its contraction."""
+step on an old tangent too, at a contraction far below that bound."""
 
 import pytest
 from test_benchmarks import BENCH, load

@@ -21,9 +21,9 @@ class NewtonChoice:
     YOUNG_TANGENT = 1
 
     #: The corrections of a stale step, and the age of its tangent (in steps), from which
-    #: the next step refactors whatever the contraction (``_choose_newton``): more than
-    #: the two of a step on a fresh tangent in smooth motion, on a tangent that has
-    #: served long enough for a refresh to pay.
+    #: the next step refactors at a contraction far below ``STALE_RATE``
+    #: (``_choose_newton``): more than the two of a step on a fresh tangent in smooth
+    #: motion, on a tangent that has served long enough for a refresh to pay.
     SLOW_STEP, OLD_TANGENT = 3, 16
 
     #: The contraction above which such a slow step blames its tangent: RADAU5's default
@@ -96,11 +96,10 @@ class NewtonChoice:
           11 factorizations in the 202 steps from the release instead of 12, with the same
           492 corrections (before the slow-step rule it replaced two, at steps 119 and
           189, and saved two of 13); at 3200 and 5600 elements one fewer, at 1000 and
-          1800 none.  The
-          16-element pendulum, the E-sail rig, the orbiting and the full-size sail, the
-          catenary and the controller run make the same iterations; the damped pendulum
-          874 corrections and 255 factorizations instead of 872 and 260 (300 steps).
-          Any bound from 0 to 16 steps gave these counts.
+          1800 none.  The 16-element pendulum, the E-sail rig, the orbiting and the
+          full-size sail, the catenary and the controller run make the same iterations;
+          the damped pendulum 874 corrections and 255 factorizations instead of 872 and
+          260 (300 steps).  Any bound from 0 to 16 steps gave these counts.
         """
         mended = False  # an old tangent replaced within the step
         if fresh:
