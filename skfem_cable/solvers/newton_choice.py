@@ -75,9 +75,9 @@ class NewtonChoice:
           1e-11; a fresh tangent takes 2.  Over the 202 steps from the release, 472, 489,
           500, 540 and 505 corrections at 1000, 1800, 3200, 5600 and 10,000 elements
           become 432, 433, 438, 475 and 492 (7-12 % of the step's CPU time up to 5600
-          elements; with 4 corrections for a slow step the 10,000 elements take 504,
-          with a tangent 8 or 32 steps old 1000 elements 424 with one more
-          factorization or 462).  The 16-element pendulum takes 1062 corrections and 182
+          elements; with 4 corrections for a slow step, 504 at 10,000 elements; with 4
+          and a tangent 8 or 32 steps old, 424 with one more factorization or 462 at
+          1000).  The 16-element pendulum takes 1062 corrections and 182
           factorizations in 300 steps instead of 1070 and 181; the E-sail rig, the
           orbiting and the full-size sail, the catenary and the controller run make the
           same iterations.  Over the test suite's runs: 2.7 % fewer corrections
