@@ -351,9 +351,10 @@ class Layout:
     def _scales(self, system):
         """Coordinate scales for convergence tests: system size for positions, 1 for
         slopes.  The size is the diameter of the position points about their centroid
-        (the same in any frame), or 1 (m) where it is 0: a system of one point (a bead, a
-        rigid body alone) has no size of its own (it read 1e-300, which scaled its
-        residual by 1e300 and made Newton's tolerance one of exact zeros)."""
+        (the same in any frame), or 1 (m) where it is 0: a system of one point (a user's
+        bead; a rigid body has its four base points) has no size of its own (it read
+        1e-300, which scaled its residual by 1e300 and made Newton's tolerance one of
+        exact zeros)."""
         is_position = np.concatenate([b.position_mask for b in system.bodies])
         points = system.q0[system.vectors[system.vector_is_position]]
         extent = 2 * np.linalg.norm(points - points.mean(axis=0), axis=1).max() \
