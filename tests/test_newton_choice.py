@@ -3,6 +3,8 @@ step whose stale tangent served slowly has the next one refactor, unless the ste
 replaced an old tangent (its contraction is then measured across two matrices); a slow
 step on an old tangent too, at a contraction far below that bound."""
 
+import functools
+
 import pytest
 from test_benchmarks import BENCH, load
 
@@ -84,13 +86,34 @@ def test_a_fresh_step_that_contracts_slowly_still_refreshes():
     assert choice.fresh_tangent and choice.tangent_age == 0
 
 
+@functools.cache
+def released_10000():
+    """The rows of ``newton_count.StepLog`` of the 100 m pendulum at 10,000 elements, the
+    release and 150 steps."""
+    return newton_count.steps_of(10000, steps=150)[1]
+
+
 def test_the_released_pendulum_keeps_the_tangent_it_replaced_after_long_service():
     """At 10,000 elements the tangent factored at the end of the release's ringing (step
-    49) contracts too slowly at step 146, which refactors; step 147 iterates on that
+    52) contracts too slowly at step 147, which refactors; step 148 iterates on that
     factor (it refactored again before: one more factorization in the window,
     ``benchmarks/newton_count.py``)."""
-    _, rows, _ = newton_count.steps_of(10000, steps=150)
+    rows = released_10000()
     factored = [k for k, r in enumerate(rows) if r["factorizations"]]
     late = factored[-1]
     assert late - factored[-2] > 80 and late + 1 < len(rows)
     assert rows[late]["factorizations"] == 1 and rows[late + 1]["factorizations"] == 0
+
+
+def test_the_ringing_keeps_the_extrapolation_on_a_kept_tangent():
+    """At 10,000 elements the ringing's steps on the tangent that replaced the release's
+    (step 18) keep the extrapolating predictor and take 3 corrections each, as full
+    Newton does there (``GeneralizedAlpha.predictor``): when a step of 4 corrections on
+    a kept tangent switched them to the constant acceleration they took 4 (steps 19-31),
+    and a third factorization came at step 32."""
+    rows = released_10000()
+    factored = [k for k, r in enumerate(rows) if r["factorizations"]]
+    second, third = factored[1], factored[2]
+    ringing = rows[second + 2:third]
+    assert len(ringing) >= 12
+    assert all(r["extrapolated"] and r["corrections"] <= 3 for r in ringing)

@@ -58,11 +58,16 @@ def test_predictor_follows_the_unresolved_modes():
 
 def test_predictor_after_a_start_and_after_hard_steps():
     """After a start the constant acceleration; after one step linear extrapolation; after
-    a step of more than ``SMOOTH_ITERATIONS`` iterations the constant acceleration."""
+    a step of more than ``SMOOTH_ITERATIONS`` iterations the constant acceleration if
+    the step factored its tangent (``tangent_age == 0``), the extrapolation if it
+    iterated on an older one (whose drift its count measures too)."""
     g = integrator()
     assert g.predictor(0.1) == (0.0, 0.0)
     g.a_prev, g.h_prev, g.iterations = g.a.copy(), 0.2, 2
     assert g.predictor(0.1) == (0.5, 0.0)
     g.da_prev, g.h_prev2 = np.zeros(g.n), 0.2
-    g.iterations = g.SMOOTH_ITERATIONS + 1
+    g.iterations, g.tangent_age = g.SMOOTH_ITERATIONS + 1, 0
     assert g.predictor(0.1) == (0.0, 0.0)
+    g.tangent_age = 1
+    kappa = (0.1 + 0.8 * 0.2) / (0.2 + 0.8 * 0.2)
+    assert g.predictor(0.1) == pytest.approx((kappa - 0.8, kappa * 0.8), rel=1e-15)
