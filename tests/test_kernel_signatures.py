@@ -7,6 +7,10 @@ signature of each kernel per stage of a block (literal: the other stages pruned)
 ``parallel`` flag (None or True: the threaded loop pruned on one thread), the variants
 that are needed."""
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pytest
 import scipy.sparse as sp
@@ -14,6 +18,8 @@ from numba.core import types
 
 from skfem_cable.core.contract import NO_INDEX, Term
 from skfem_cable.kernels import band_blocks, bordered, lapack, oml
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def arrowhead(sizes, k, seed):
@@ -103,3 +109,33 @@ def test_an_evaluation_without_the_tangent_has_the_index_dimensions():
     assert Term(kernels=(), rows=rows[:, :, :1].reshape(4, 6), cols=np.zeros(
         (1, 6), dtype=np.int64)).no_index().shape == (0, 6)
     assert Term(kernels=()).no_index() is NO_INDEX
+
+
+#: A fresh process: numba's threading layer before and after a threaded storage of two
+#: blocks (unknowns 0-1 and 2-3) and one border unknown (4).
+LAUNCH = """
+import numba, numpy as np
+from skfem_cable.kernels import bordered, lapack
+def layer():
+    try:
+        return numba.threading_layer()
+    except ValueError:
+        return None
+before = layer()
+A = 4.0 * np.eye(5)
+A[0, 1] = A[1, 0] = A[2, 3] = A[3, 2] = 1.0
+A[4, :4] = A[:4, 4] = 1.0
+rows, cols = np.nonzero(A)
+lu = bordered.storage(lapack.ADDRESSES, rows, cols, np.arange(5), 4, 1, threads=2)
+print(before, lu[3], layer())
+"""
+
+
+def test_a_threaded_storage_starts_numbas_threads():
+    """``band_layout.launch_threads``: a storage on threads starts numba's thread pool
+    before any kernel runs on it.  A kernel loaded from numba's cache that calls a
+    threaded one does not start it (numba issues 8578, 9938), and called it at address 0:
+    with a cache written by other processes, the first test of this module segfaulted."""
+    out = subprocess.run([sys.executable, "-c", LAUNCH], cwd=ROOT, check=True,
+                         capture_output=True, text=True).stdout.split()
+    assert out[0] == "None" and out[1] == "True" and out[2] != "None"

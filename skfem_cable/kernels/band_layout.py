@@ -3,6 +3,7 @@
 every CSR value, and the rows and columns of ``E_j`` its ``W_j`` takes by band solves.
 Python, run once per pattern."""
 
+import numba
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.csgraph import maximum_bipartite_matching
@@ -38,7 +39,7 @@ def storage(addresses, pr, pc, n, nb, band, least, threads=1):
     left to the border's LU, ``near`` the blocks' ``Touch``.  ``least``: ``W_j`` by the
     fewest band solves (``Touch.cover``), else as the bordered band LU always took it
     (``Touch.cover_by_count``).  With ``threads > 1`` and more than one block, the blocks
-    are factored and solved on numba's threads."""
+    are factored and solved on numba's threads, which it launches (``launch_threads``)."""
     k = n - nb
     ldab = 3 * band + 1
     if nb * ldab >= 2**31:
@@ -63,8 +64,21 @@ def storage(addresses, pr, pc, n, nb, band, least, threads=1):
               np.zeros(near.e_ptr[-1]), np.zeros(near.e_ptr[-1]), near.e_ptr,
               np.zeros(near.p_ptr[-1]), near.p_ptr, np.zeros(nblocks, dtype=np.int64),
               np.zeros((nb, band)), np.zeros((nb, 2 * band + 1)))
-    return (arrays, target, position.astype(np.int32), near,
-            True if threads > 1 and nblocks > 1 else None)
+    parallel = threads > 1 and nblocks > 1
+    if parallel:
+        launch_threads()
+    return arrays, target, position.astype(np.int32), near, True if parallel else None
+
+
+def launch_threads():
+    """Start numba's thread pool (``numba.get_num_threads`` starts it once per process).
+    numba starts it when it compiles a ``parallel=True`` kernel, and when it loads one
+    from its cache, but not when it loads from its cache a kernel that calls one
+    (``kernels.bordered``'s ``factor`` and ``solve`` call ``band_blocks``' threaded
+    loops; numba issues 8578 and 9938): that call jumped to address 0.  A worker of the
+    test suite died so (``tests/test_kernel_signatures.py``, a cache written by another
+    process), and pytest-xdist then waited for it without end."""
+    numba.get_num_threads()
 
 
 #: The places in ``storage``'s ``arrays`` (``kernels.band_blocks``' ``blocks``) of what
