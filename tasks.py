@@ -32,8 +32,11 @@ SYSTEM_DEPS = ROOT / "scripts" / "install_system_deps.sh"
 TASKS = {
     "demo": [["demos/esail_baseline.py"]],
     # zarr's pytest plugin (the base class of zarr's own store tests, no fixture the suite
-    # uses) would import zarr into every pytest process, xdist's controller too (0.45 CPU s)
-    "test": [["-m", "pytest", "-q", "-p", "no:zarr", "-n", "auto", "--dist", "loadfile"]],
+    # uses) would import zarr into every pytest process, xdist's controller too (0.45 CPU s).
+    # A worker that dies (a segfault) ends the run, its test named as failed: restarted
+    # under ``--dist loadfile``, the suite waited without end (pytest-xdist 3).
+    "test": [["-m", "pytest", "-q", "-p", "no:zarr", "-n", "auto", "--dist", "loadfile",
+              "--max-worker-restart", "0"]],
     "docs": [["-m", "mkdocs", "build", "--strict", "--quiet"]],
     "bench": [["-u", "-m", "skfem_cable.cli", "bench"]],
     "lint": [["-m", "ruff", "check", "."]],

@@ -5,6 +5,8 @@ and each process the suite starts would compile the package again) and leaves ou
 pytest plugin; the suite's writes skip ``fsync``; a run's summary counts its frames once."""
 
 import os
+import subprocess
+import sys
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -29,11 +31,40 @@ def test_the_test_task_writes_bytecode_and_the_others_keep_the_environment(monke
     monkeypatch.setenv("PYTHONDONTWRITEBYTECODE", "1")
     assert tasks.main(["test", "-x"]) == 0 and tasks.main(["lint"]) == 0
     (test, test_env), (lint, lint_env) = seen
-    assert test[-2:] == ["loadfile", "-x"] and lint[-2:] == ["check", "."]
+    assert test[-4:] == ["loadfile", "--max-worker-restart", "0", "-x"]
+    assert lint[-2:] == ["check", "."]
     assert test[test.index("-p") + 1] == "no:zarr"  # zarr's plugin, in no process
     assert "PYTHONDONTWRITEBYTECODE" not in test_env
     assert test_env == {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     assert lint_env == dict(os.environ)
+
+
+#: A test file whose first test kills its process as a segfault does.
+CRASH = """import os, signal
+
+
+def test_crash():
+    os.kill(os.getpid(), signal.SIGSEGV)
+
+
+def test_after():
+    pass
+"""
+
+
+def test_a_dead_worker_ends_the_run_naming_its_test(tmp_path):
+    """The test command's pytest-xdist options on a file whose test segfaults its worker
+    (as ``tests/test_kernel_signatures.py`` did on a stale numba cache): the run fails
+    at once, naming the test.  Restarting the worker under ``--dist loadfile`` (the
+    default), the run waited without end."""
+    (tmp_path / "test_crash.py").write_text(CRASH)
+    (tmp_path / "test_other.py").write_text("def test_other():\n    pass\n")
+    command = load(ROOT / "tasks.py").TASKS["test"][0]
+    done = subprocess.run([sys.executable, *command, "-p", "no:cacheprovider"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 1
+    assert "worker 'gw" in done.stdout and "crashed while running" in done.stdout
+    assert "test_crash.py::test_crash" in done.stdout
 
 
 def test_writes_skip_fsync_only_where_the_environment_says_so(tmp_path, monkeypatch):
