@@ -98,10 +98,11 @@ class NewtonChoice:
           189, and saved two of 13); at 3200 and 5600 elements one fewer, at 1000 and
           1800 none.  (Since the ringing keeps the extrapolating predictor on a kept
           tangent, ``GeneralizedAlpha.predictor``, the replacement is at step 147, of
-          the tangent of step 52.)  The 16-element pendulum, the E-sail rig, the orbiting and the
-          full-size sail, the catenary and the controller run make the same iterations;
-          the damped pendulum 874 corrections and 255 factorizations instead of 872 and
-          260 (300 steps).  Any bound from 0 to 16 steps gave these counts.
+          the tangent of step 52.)  The 16-element pendulum, the E-sail rig, the
+          orbiting and the full-size sail, the catenary and the controller run make the
+          same iterations; the damped pendulum 874 corrections and 255 factorizations
+          instead of 872 and 260 (300 steps).  Any bound from 0 to 16 steps gave these
+          counts.
         """
         mended = False  # an old tangent replaced within the step
         if fresh:
